@@ -1,0 +1,124 @@
+/* KineticGyro: bodies, particles and their shapes. */
+#ifndef KGYRO_BODY_H
+#define KGYRO_BODY_H
+
+#include "types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum kg_body_type {
+    KG_BODY_STATIC = 0,    /* never moves; infinite mass */
+    KG_BODY_DYNAMIC = 1,   /* moved by forces and contacts */
+    KG_BODY_KINEMATIC = 2, /* moved by its velocity only; infinite mass */
+    KG_BODY_PARTICLE = 3   /* mass-aggregate point: position and velocity, never rotates */
+} kg_body_type;
+
+typedef enum kg_shape_type {
+    KG_SHAPE_NONE = 0,    /* a point: only for particles, which then need a mass */
+    KG_SHAPE_CIRCLE = 1,
+    KG_SHAPE_POLYGON = 2  /* convex, up to KG_MAX_POLYGON_VERTICES; boxes are polygons */
+} kg_shape_type;
+
+/* A shape in the body's local frame (around the body origin). Build it with
+ * kg_box_shape, kg_circle_shape or kg_polygon_shape: polygon vertices may come in any
+ * order; the convex hull is taken and duplicate or collinear points are dropped. */
+typedef struct kg_shape_def {
+    kg_shape_type type;
+    kg_vec2 center;  /* circle centre */
+    float radius;    /* circle radius */
+    int count;       /* polygon vertex count */
+    kg_vec2 vertices[KG_MAX_POLYGON_VERTICES];
+} kg_shape_def;
+
+/* A box of the given full width and height, centred on the body origin. */
+KG_API kg_shape_def kg_box_shape(float width, float height);
+/* A box centred at center, turned by angle (radians), in the body frame. */
+KG_API kg_shape_def kg_offset_box_shape(float width, float height, kg_vec2 center, float angle);
+KG_API kg_shape_def kg_circle_shape(float radius);
+KG_API kg_shape_def kg_polygon_shape(const kg_vec2* vertices, int count);
+
+/* Mass, centre of mass (body frame) and rotational inertia about the centre of mass. */
+typedef struct kg_mass_data {
+    float mass;
+    kg_vec2 center;
+    float inertia;
+} kg_mass_data;
+
+/* Exact mass properties of a shape of uniform density (kg/m^2). */
+KG_API kg_result kg_shape_mass(const kg_shape_def* shape, float density, kg_mass_data* out);
+
+typedef struct kg_body_def {
+    kg_body_type type;
+    kg_vec2 position;         /* body origin, world frame (m) */
+    float angle;              /* radians; ignored for particles */
+    kg_vec2 velocity;         /* m/s */
+    float angular_velocity;   /* rad/s */
+    kg_shape_def shape;
+    float density;            /* kg/m^2, used when mass is 0 */
+    float mass;               /* kg; > 0 overrides density */
+    float friction;           /* Coulomb coefficient, >= 0 */
+    float restitution;        /* 0 = no bounce, 1 = elastic, in [0, 1] */
+    float linear_damping;     /* 1/s, >= 0 */
+    float angular_damping;    /* 1/s, >= 0 */
+    uint32_t category;        /* collision filtering: a and b collide when */
+    uint32_t mask;            /* (a.category & b.mask) && (b.category & a.mask) */
+    int fixed_rotation;       /* non-zero: infinite rotational inertia */
+    void* user_data;
+} kg_body_def;
+
+/* A dynamic body at the origin with density 1, friction 0.6, restitution 0, no shape. */
+KG_API kg_body_def kg_default_body_def(void);
+
+KG_API kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_body);
+KG_API kg_result kg_destroy_body(kg_world* world, kg_body body);
+KG_API int kg_body_is_valid(const kg_world* world, kg_body body);
+
+/* The state a renderer or game reads: origin position, angle and velocities. */
+typedef struct kg_body_state {
+    kg_vec2 position;
+    float angle;
+    kg_vec2 velocity;
+    float angular_velocity;
+} kg_body_state;
+
+KG_API kg_result kg_body_get_state(const kg_world* world, kg_body body, kg_body_state* out);
+/* Reads the states of count bodies in one call (the cheap way to feed a renderer). */
+KG_API kg_result kg_world_get_body_states(const kg_world* world, const kg_body* bodies, int count,
+                                          kg_body_state* out);
+KG_API kg_result kg_body_get_position(const kg_world* world, kg_body body, kg_vec2* out);
+KG_API kg_result kg_body_get_angle(const kg_world* world, kg_body body, float* out);
+KG_API kg_result kg_body_get_velocity(const kg_world* world, kg_body body, kg_vec2* out);
+KG_API kg_result kg_body_get_angular_velocity(const kg_world* world, kg_body body, float* out);
+KG_API kg_result kg_body_get_type(const kg_world* world, kg_body body, kg_body_type* out);
+KG_API kg_result kg_body_get_shape(const kg_world* world, kg_body body, kg_shape_def* out);
+KG_API kg_result kg_body_get_mass_data(const kg_world* world, kg_body body, kg_mass_data* out);
+/* Inverse mass and inverse rotational inertia; 0 means infinite. */
+KG_API kg_result kg_body_get_inverse_mass(const kg_world* world, kg_body body, float* inv_mass,
+                                          float* inv_inertia);
+KG_API kg_result kg_body_get_aabb(const kg_world* world, kg_body body, kg_aabb* out);
+KG_API void* kg_body_get_user_data(const kg_world* world, kg_body body);
+
+KG_API kg_result kg_body_set_transform(kg_world* world, kg_body body, kg_vec2 position, float angle);
+KG_API kg_result kg_body_set_velocity(kg_world* world, kg_body body, kg_vec2 velocity);
+KG_API kg_result kg_body_set_angular_velocity(kg_world* world, kg_body body, float omega);
+/* Overrides mass properties. inv_mass/inv_inertia 0 = infinite; only for dynamic bodies. */
+KG_API kg_result kg_body_set_inverse_mass(kg_world* world, kg_body body, float inv_mass,
+                                          float inv_inertia);
+KG_API kg_result kg_body_set_friction(kg_world* world, kg_body body, float friction);
+KG_API kg_result kg_body_set_restitution(kg_world* world, kg_body body, float restitution);
+KG_API kg_result kg_body_set_damping(kg_world* world, kg_body body, float linear, float angular);
+KG_API kg_result kg_body_set_filter(kg_world* world, kg_body body, uint32_t category, uint32_t mask);
+
+/* Forces and torques accumulate until the end of the next step. Impulses act at once. */
+KG_API kg_result kg_body_apply_force(kg_world* world, kg_body body, kg_vec2 force, kg_vec2 world_point);
+KG_API kg_result kg_body_apply_force_to_center(kg_world* world, kg_body body, kg_vec2 force);
+KG_API kg_result kg_body_apply_torque(kg_world* world, kg_body body, float torque);
+KG_API kg_result kg_body_apply_impulse(kg_world* world, kg_body body, kg_vec2 impulse, kg_vec2 world_point);
+KG_API kg_result kg_body_apply_angular_impulse(kg_world* world, kg_body body, float impulse);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

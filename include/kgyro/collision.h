@@ -1,0 +1,30 @@
+/* KineticGyro: the contacts of the last step, for drawing and game logic. */
+#ifndef KGYRO_COLLISION_H
+#define KGYRO_COLLISION_H
+
+#include "types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One touching (or speculatively close) pair. The normal points from a to b.
+ * depth > 0 is penetration; depth < 0 is a gap within the speculative distance. */
+typedef struct kg_contact_info {
+    kg_body a, b;
+    kg_vec2 normal;
+    int point_count;
+    kg_vec2 points[2];          /* world frame */
+    float depths[2];
+    float normal_impulses[2];   /* accumulated in the last step (N s) */
+    float tangent_impulses[2];
+    uint32_t feature_ids[2];
+} kg_contact_info;
+
+KG_API int kg_world_contact_count(const kg_world* world);
+KG_API kg_result kg_world_get_contact(const kg_world* world, int index, kg_contact_info* out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

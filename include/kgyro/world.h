@@ -1,0 +1,68 @@
+/* KineticGyro: creating, configuring and stepping a world. */
+#ifndef KGYRO_WORLD_H
+#define KGYRO_WORLD_H
+
+#include "types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum kg_backend {
+    KG_BACKEND_AUTO = 0, /* OpenCL when a device works, else the CPU; KGYRO_BACKEND overrides */
+    KG_BACKEND_CPU = 1,
+    KG_BACKEND_OPENCL = 2
+} kg_backend;
+
+/* Everything a world is sized and tuned by. Start from kg_default_world_def(). */
+typedef struct kg_world_def {
+    kg_vec2 gravity;          /* m/s^2, applied to every dynamic body and particle */
+    int max_bodies;           /* pool capacity: bodies and particles together */
+    int max_contacts;         /* pool capacity: touching or nearly touching pairs */
+    int max_applicators;      /* force applicators */
+    int substeps;             /* solver sub-steps per step (>= 1) */
+    float contact_hertz;      /* stiffness of the soft contact constraint */
+    float contact_damping_ratio;
+    float max_push_out_speed; /* m/s: penetration is resolved no faster than this */
+    float restitution_threshold; /* m/s: slower impacts do not bounce */
+    float linear_slop;        /* m: penetration allowed, to keep contacts stable */
+    float speculative_distance; /* m: contacts are reported this far before touching */
+    float max_linear_speed;   /* m/s: velocities are clamped to this (numerical safety) */
+    kg_backend backend;
+    int device_index;         /* OpenCL device, counted over all platforms */
+    int threads;              /* CPU worker threads; 0 = 1 */
+} kg_world_def;
+
+KG_API kg_world_def kg_default_world_def(void);
+
+/* Creates a world; all memory it will ever use in a step is allocated here. */
+KG_API kg_result kg_create_world(const kg_world_def* def, kg_world** out_world);
+KG_API void kg_destroy_world(kg_world* world);
+
+/* Advances the world by dt seconds (dt > 0 and finite). */
+KG_API kg_result kg_world_step(kg_world* world, float dt);
+
+KG_API kg_result kg_world_set_gravity(kg_world* world, kg_vec2 gravity);
+KG_API kg_vec2 kg_world_get_gravity(const kg_world* world);
+KG_API const kg_world_def* kg_world_get_def(const kg_world* world);
+
+/* Number of live bodies (particles included). */
+KG_API int kg_world_body_count(const kg_world* world);
+/* Writes up to capacity live body handles, in slot order; *count gets how many. */
+KG_API kg_result kg_world_get_bodies(const kg_world* world, kg_body* out, int capacity, int* count);
+
+/* The backend actually running (never KG_BACKEND_AUTO). */
+KG_API kg_backend kg_world_backend(const kg_world* world);
+
+/* Names of the stages of a step and their wall-clock time in the last step, in ms. */
+typedef struct kg_stage_times {
+    int count;
+    const char* names[16];
+    double ms[16];
+} kg_stage_times;
+KG_API kg_result kg_world_get_stage_times(const kg_world* world, kg_stage_times* out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,19 @@
+/* Turning a user's shape description into a collision shape, and its mass. Host only. */
+#ifndef KG_SHAPE_H
+#define KG_SHAPE_H
+
+#include "collide/aabb.h"
+#include "kgyro/body.h"
+
+/* Points closer than this are one point; a polygon needs area above KG_MIN_AREA. */
+#define KG_WELD_DISTANCE 1.0e-4f
+#define KG_MIN_AREA 1.0e-8f
+
+/* Validates def and builds the collision shape (hull for polygons). */
+kg_result kg_shape_build(const kg_shape_def* def, kg_shape* out);
+/* Back from a collision shape to a description (for kg_body_get_shape). */
+kg_shape_def kg_shape_describe(const kg_shape* shape);
+/* Mass properties of a built shape of uniform density. */
+kg_mass_data kg_shape_mass_of(const kg_shape* shape, float density);
+
+#endif

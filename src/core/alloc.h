@@ -1,0 +1,11 @@
+/* All engine memory goes through here: 16-byte aligned (SIMD- and device-friendly),
+ * zeroed, and only ever called outside a step. */
+#ifndef KG_ALLOC_H
+#define KG_ALLOC_H
+
+#include <stddef.h>
+
+void* kg_alloc_zeroed(size_t size);
+void kg_free(void* p);
+
+#endif

@@ -1,0 +1,50 @@
+/* Data layout shared by the host and the OpenCL kernels: the compiled shape of a body
+ * and the contact manifold. Sizes are asserted at the bottom, on both sides, so a
+ * change that breaks the agreement fails to compile. */
+#ifndef KG_LAYOUT_H
+#define KG_LAYOUT_H
+
+#include "kg_math.h"
+
+#define KG_MAX_VERTS 8
+
+/* A body's collision shape in the body's frame (around its origin), ready for
+ * collision: polygons are convex, counter-clockwise, with unit outward edge normals.
+ * count 1 is a circle (or a point when radius is 0) centred at vertices[0]. */
+typedef struct kg_shape {
+    kg_vec2 vertices[KG_MAX_VERTS];
+    kg_vec2 normals[KG_MAX_VERTS];
+    kg_vec2 centroid;
+    float radius;
+    kg_i32 count;
+} kg_shape;
+
+/* Feature id of a contact point: which features of a and b made it, stable across
+ * steps while the same features touch, so impulses can be carried over. */
+#define KG_FEATURE_ID(a, b) ((((kg_u32)(a) & 0xFFu) << 8) | ((kg_u32)(b) & 0xFFu))
+
+typedef struct kg_manifold_point {
+    kg_vec2 point;          /* world frame, midway between the two surfaces */
+    kg_vec2 anchor_a;       /* point relative to body a's origin (world frame axes) */
+    kg_vec2 anchor_b;       /* point relative to body b's origin (world frame axes) */
+    float separation;       /* < 0 when overlapping */
+    float normal_impulse;   /* accumulated, carried across steps for warm starting */
+    float tangent_impulse;
+    float normal_velocity;  /* relative approach speed before solving (restitution) */
+    kg_u32 id;              /* KG_FEATURE_ID */
+    kg_u32 pad;
+} kg_manifold_point;
+
+typedef struct kg_manifold {
+    kg_manifold_point points[2];
+    kg_vec2 normal;         /* unit, from shape a towards shape b */
+    kg_i32 point_count;     /* 0 when not touching within the speculative distance */
+    kg_i32 pad;
+} kg_manifold;
+
+KG_STATIC_ASSERT(sizeof(kg_vec2) == 8, vec2_size);
+KG_STATIC_ASSERT(sizeof(kg_shape) == 144, shape_size);
+KG_STATIC_ASSERT(sizeof(kg_manifold_point) == 48, manifold_point_size);
+KG_STATIC_ASSERT(sizeof(kg_manifold) == 112, manifold_size);
+
+#endif

@@ -1,0 +1,41 @@
+/* Portability layer for code compiled both as C (CPU backend) and as OpenCL C (kernels).
+ * Everything included after this header must stay within what both languages accept:
+ * no pointers to global memory in shared functions (kernels copy elements to private
+ * memory first), no libc beyond sqrtf/fabsf/fminf/fmaxf, no double. */
+#ifndef KG_SHARED_H
+#define KG_SHARED_H
+
+#ifdef __OPENCL_VERSION__
+#pragma OPENCL FP_CONTRACT OFF
+typedef uint kg_u32;
+typedef int kg_i32;
+#define KG_FN static inline
+#define KG_GLOBAL __global
+#define sqrtf sqrt
+#define fabsf fabs
+#define fminf fmin
+#define fmaxf fmax
+#define KG_FLT_MAX 3.402823466e+38f
+typedef struct kg_vec2 {
+    float x, y;
+} kg_vec2;
+typedef struct kg_aabb {
+    kg_vec2 lower, upper;
+} kg_aabb;
+#else
+#include <math.h>
+#include <stdint.h>
+#include <float.h>
+#include "kgyro/types.h"
+typedef uint32_t kg_u32;
+typedef int32_t kg_i32;
+#define KG_FN static inline
+#define KG_GLOBAL
+#define KG_FLT_MAX FLT_MAX
+#endif
+
+/* A compile-time check usable in C99 and OpenCL C alike; both sides assert the same
+ * sizes so the host and device agree on every shared struct. */
+#define KG_STATIC_ASSERT(cond, name) typedef char kg_static_assert_##name[(cond) ? 1 : -1]
+
+#endif

@@ -1,0 +1,186 @@
+#include "core/world.h"
+#include "backend/backend.h"
+#include "core/alloc.h"
+#include "core/error.h"
+#include "collide/collide.h"
+#include "solve/solver.h"
+
+#include <math.h>
+#include <string.h>
+
+kg_world_def kg_default_world_def(void)
+{
+    kg_world_def def;
+    memset(&def, 0, sizeof def);
+    def.gravity = kg_v2(0.0f, -10.0f);
+    def.max_bodies = 4096;
+    def.max_contacts = 0; /* 0 = 4 per body */
+    def.max_applicators = 32;
+    def.substeps = 4;
+    def.contact_hertz = 30.0f;
+    def.contact_damping_ratio = 10.0f;
+    def.max_push_out_speed = 3.0f;
+    def.restitution_threshold = 1.0f;
+    def.linear_slop = 0.005f;
+    def.speculative_distance = 0.02f;
+    def.max_linear_speed = 400.0f;
+    def.backend = KG_BACKEND_AUTO;
+    def.threads = 1;
+    return def;
+}
+
+static int kg_positive_finite(float v) { return isfinite(v) && v > 0.0f; }
+
+static kg_result kg_validate_world_def(const kg_world_def* d)
+{
+    if (!isfinite(d->gravity.x) || !isfinite(d->gravity.y)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "world gravity must be finite");
+    }
+    if (d->max_bodies <= 0 || d->max_bodies > (1 << 26) || d->max_applicators < 0 || d->max_contacts < 0) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "world capacities must be positive (max_bodies %d, max_contacts %d)",
+                       d->max_bodies, d->max_contacts);
+    }
+    if (d->substeps < 1 || d->substeps > 64) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "substeps must be in [1, 64] (got %d)", d->substeps);
+    }
+    if (!kg_positive_finite(d->contact_hertz) || !kg_positive_finite(d->contact_damping_ratio) ||
+        !kg_positive_finite(d->max_push_out_speed) || !kg_positive_finite(d->max_linear_speed) ||
+        !isfinite(d->restitution_threshold) || d->restitution_threshold < 0.0f || !isfinite(d->linear_slop) ||
+        d->linear_slop < 0.0f || !isfinite(d->speculative_distance) || d->speculative_distance < 0.0f) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "world solver parameters must be finite and positive");
+    }
+    if (d->threads < 0 || d->threads > 256 || d->device_index < 0 || d->backend < KG_BACKEND_AUTO ||
+        d->backend > KG_BACKEND_OPENCL) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "invalid backend, device index or thread count");
+    }
+    return KG_OK;
+}
+
+kg_result kg_create_world(const kg_world_def* def, kg_world** out_world)
+{
+    if (!def || !out_world) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_create_world: NULL argument");
+    }
+    *out_world = NULL;
+    kg_result r = kg_validate_world_def(def);
+    if (r != KG_OK) {
+        return r;
+    }
+    kg_world* w = kg_alloc_zeroed(sizeof *w);
+    if (!w) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate a world");
+    }
+    w->def = *def;
+    if (w->def.max_contacts == 0) {
+        w->def.max_contacts = 4 * def->max_bodies;
+    }
+    if (w->def.threads == 0) {
+        w->def.threads = 1;
+    }
+    r = kg_body_pool_init(&w->bodies, w->def.max_bodies);
+    if (r == KG_OK) {
+        w->applicators = kg_alloc_zeroed((size_t)(w->def.max_applicators + 1) * sizeof *w->applicators);
+        w->handle_scratch = kg_alloc_zeroed((size_t)w->def.max_bodies * sizeof *w->handle_scratch);
+        r = (w->applicators && w->handle_scratch) ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate a world");
+    }
+    if (r == KG_OK) {
+        r = kg_collision_create(w);
+    }
+    if (r == KG_OK) {
+        r = kg_solver_create(w);
+    }
+    if (r == KG_OK) {
+        r = kg_backend_select(w);
+    }
+    if (r != KG_OK) {
+        kg_destroy_world(w);
+        return r;
+    }
+    *out_world = w;
+    return KG_OK;
+}
+
+void kg_destroy_world(kg_world* world)
+{
+    if (!world) {
+        return;
+    }
+    if (world->backend && world->backend->destroy) {
+        world->backend->destroy(world);
+    }
+    kg_solver_destroy(world);
+    kg_collision_destroy(world);
+    for (int i = 0; world->applicators && i < world->def.max_applicators; ++i) {
+        kg_free(world->applicators[i].bodies);
+    }
+    kg_free(world->applicators);
+    kg_free(world->handle_scratch);
+    kg_body_pool_free(&world->bodies);
+    kg_free(world);
+}
+
+kg_result kg_world_step(kg_world* world, float dt)
+{
+    if (!world) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_world_step: NULL world");
+    }
+    if (!kg_positive_finite(dt)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "time step must be finite and > 0 (got %g)", (double)dt);
+    }
+    kg_result r = world->backend->step(world, dt);
+    world->step_index += 1;
+    return r;
+}
+
+kg_result kg_world_set_gravity(kg_world* world, kg_vec2 gravity)
+{
+    if (!world || !isfinite(gravity.x) || !isfinite(gravity.y)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "gravity must be finite");
+    }
+    world->def.gravity = gravity;
+    return KG_OK;
+}
+
+kg_vec2 kg_world_get_gravity(const kg_world* world) { return world ? world->def.gravity : kg_v2(0.0f, 0.0f); }
+
+const kg_world_def* kg_world_get_def(const kg_world* world) { return world ? &world->def : NULL; }
+
+int kg_world_body_count(const kg_world* world) { return world ? world->bodies.count : 0; }
+
+kg_result kg_world_get_bodies(const kg_world* world, kg_body* out, int capacity, int* count)
+{
+    if (!world || !count || (capacity > 0 && !out) || capacity < 0) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_world_get_bodies: bad arguments");
+    }
+    const kg_body_pool* p = &world->bodies;
+    int n = 0;
+    for (int i = 0; i < p->high_water && n < capacity; ++i) {
+        if (kg_pool_alive(p, i)) {
+            out[n].index = (uint32_t)i;
+            out[n].generation = p->generation[i];
+            n++;
+        }
+    }
+    *count = n;
+    return KG_OK;
+}
+
+kg_backend kg_world_backend(const kg_world* world) { return world ? world->backend->kind : KG_BACKEND_CPU; }
+
+kg_result kg_world_get_stage_times(const kg_world* world, kg_stage_times* out)
+{
+    if (!world || !out) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_world_get_stage_times: NULL argument");
+    }
+    *out = world->times;
+    return KG_OK;
+}
+
+int kg_world_resolve(const kg_world* world, kg_body body)
+{
+    if (!world) {
+        kg_fail(KG_ERROR_INVALID_ARGUMENT, "NULL world");
+        return -1;
+    }
+    return kg_body_pool_resolve(&world->bodies, body);
+}

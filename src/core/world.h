@@ -1,0 +1,48 @@
+/* The world: pools sized once at creation, and the backend that steps them. */
+#ifndef KG_WORLD_INTERNAL_H
+#define KG_WORLD_INTERNAL_H
+
+#include "core/body_pool.h"
+#include "kgyro/force.h"
+#include "kgyro/world.h"
+
+typedef enum kg_applicator_kind {
+    KG_APPLICATOR_FREE = 0,
+    KG_APPLICATOR_USER,
+    KG_APPLICATOR_GRAVITY,
+    KG_APPLICATOR_WIND
+} kg_applicator_kind;
+
+typedef struct kg_applicator_slot {
+    kg_applicator_kind kind;
+    kg_u32 generation;
+    kg_force_fn* fn;
+    void* user_data;
+    kg_vec2 vector;  /* gravity: acceleration; wind: unit direction */
+    float strength;  /* wind force, N */
+    float drag;      /* wind drag, N s/m */
+    kg_body* bodies; /* NULL = all bodies */
+    int body_count;
+} kg_applicator_slot;
+
+struct kg_backend_ops;
+struct kg_collision;
+struct kg_solver;
+
+struct kg_world {
+    kg_world_def def;
+    kg_body_pool bodies;
+    kg_applicator_slot* applicators;
+    kg_body* handle_scratch; /* capacity max_bodies: the body list handed to applicators */
+    struct kg_collision* collision;
+    struct kg_solver* solver;
+    const struct kg_backend_ops* backend;
+    void* backend_state;
+    kg_stage_times times;
+    uint64_t step_index;
+};
+
+/* The slot of a live body handle, or -1 with the error set. */
+int kg_world_resolve(const kg_world* world, kg_body body);
+
+#endif

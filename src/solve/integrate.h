@@ -1,0 +1,44 @@
+/* Semi-implicit (symplectic) Euler, per body: velocities first from forces, gravity and
+ * damping, then positions from the new velocities. Shared by the CPU backend and the
+ * kernels. Damping is implicit, v' = v / (1 + h c), so it is stable for any h and c. */
+#ifndef KG_INTEGRATE_H
+#define KG_INTEGRATE_H
+
+#include "core/kg_math.h"
+
+/* Largest rotation per sub-step: beyond this the linearised rotation update loses accuracy. */
+#define KG_MAX_ROTATION_PER_SUBSTEP (0.25f * 3.14159265f)
+
+typedef struct kg_integrate_params {
+    kg_vec2 gravity;
+    float h;               /* sub-step length */
+    float max_linear_speed;
+} kg_integrate_params;
+
+KG_FN void kg_integrate_velocity(kg_vec2* v, float* w, kg_vec2 force, float torque, float inv_mass,
+                                 float inv_inertia, float linear_damping, float angular_damping,
+                                 kg_integrate_params prm)
+{
+    float h = prm.h;
+    kg_vec2 acc = inv_mass > 0.0f ? kg_mul_add(prm.gravity, inv_mass, force) : kg_v2(0.0f, 0.0f);
+    float lin_factor = 1.0f / (1.0f + h * linear_damping);
+    float ang_factor = 1.0f / (1.0f + h * angular_damping);
+    kg_vec2 nv = kg_mul_add(kg_scale(lin_factor, *v), h, acc);
+    float nw = ang_factor * (*w) + h * inv_inertia * torque;
+    float speed_sq = kg_length_sq(nv);
+    float max_speed = prm.max_linear_speed;
+    if (speed_sq > max_speed * max_speed) {
+        nv = kg_scale(max_speed / sqrtf(speed_sq), nv);
+    }
+    float max_w = KG_MAX_ROTATION_PER_SUBSTEP / h;
+    *v = nv;
+    *w = kg_clampf(nw, -max_w, max_w);
+}
+
+KG_FN void kg_integrate_position(kg_vec2* center, kg_rot* q, kg_vec2 v, float w, float h)
+{
+    *center = kg_mul_add(*center, h, v);
+    *q = kg_rot_integrate(*q, h * w);
+}
+
+#endif

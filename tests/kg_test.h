@@ -1,0 +1,74 @@
+/* Minimal test harness: KG_CHECK records failures without stopping, KG_TEST_MAIN runs the
+ * listed tests and prints "N passed, N failed" (one per test function). Exit code 1 on
+ * any failure. Numbers are printed on failure so a failing physics test says by how much. */
+#ifndef KG_TEST_H
+#define KG_TEST_H
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+static int kg_test_failures;
+
+#define KG_CHECK(cond)                                                                  \
+    do {                                                                                \
+        if (!(cond)) {                                                                  \
+            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond);    \
+            kg_test_failures++;                                                         \
+        }                                                                               \
+    } while (0)
+
+/* |a - b| <= tol, printing both values when not. */
+#define KG_CHECK_NEAR(a, b, tol)                                                        \
+    do {                                                                                \
+        double kg_a_ = (double)(a), kg_b_ = (double)(b), kg_t_ = (double)(tol);         \
+        if (!(fabs(kg_a_ - kg_b_) <= kg_t_)) {                                          \
+            fprintf(stderr, "%s:%d: %s = %.9g, expected %s = %.9g within %.3g (off by %.3g)\n", \
+                    __FILE__, __LINE__, #a, kg_a_, #b, kg_b_, kg_t_, fabs(kg_a_ - kg_b_)); \
+            kg_test_failures++;                                                         \
+        }                                                                               \
+    } while (0)
+
+#define KG_CHECK_OK(expr)                                                               \
+    do {                                                                                \
+        int kg_r_ = (int)(expr);                                                        \
+        if (kg_r_ != 0) {                                                               \
+            fprintf(stderr, "%s:%d: %s returned %d: %s\n", __FILE__, __LINE__, #expr,   \
+                    kg_r_, kg_last_error());                                            \
+            kg_test_failures++;                                                         \
+        }                                                                               \
+    } while (0)
+
+typedef struct kg_test_case {
+    const char* name;
+    void (*fn)(void);
+} kg_test_case;
+
+#define KG_TEST(fn) {#fn, fn}
+
+static inline int kg_run_tests(const kg_test_case* tests, int count)
+{
+    int passed = 0, failed = 0;
+    for (int i = 0; i < count; ++i) {
+        int before = kg_test_failures;
+        tests[i].fn();
+        if (kg_test_failures == before) {
+            passed++;
+            printf("ok   %s\n", tests[i].name);
+        } else {
+            failed++;
+            printf("FAIL %s\n", tests[i].name);
+        }
+    }
+    printf("%d passed, %d failed\n", passed, failed);
+    return failed == 0 ? 0 : 1;
+}
+
+#define KG_TEST_MAIN(...)                                                               \
+    int main(void)                                                                      \
+    {                                                                                   \
+        static const kg_test_case tests[] = {__VA_ARGS__};                              \
+        return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));              \
+    }
+
+#endif
