@@ -64,15 +64,11 @@ void kg_body_pool_release(kg_body_pool* pool, int index)
 
 int kg_body_pool_resolve(const kg_body_pool* pool, kg_body handle)
 {
-    if (handle.generation == 0 || handle.index >= (uint32_t)pool->high_water) {
-        kg_fail(KG_ERROR_INVALID_HANDLE, "body handle {%u, %u} does not name a live body", handle.index,
-                handle.generation);
-        return -1;
-    }
     int i = (int)handle.index;
-    if (!kg_pool_alive(pool, i) || pool->generation[i] != handle.generation) {
-        kg_fail(KG_ERROR_INVALID_HANDLE, "body handle {%u, %u} is stale (slot now at generation %u)",
-                handle.index, handle.generation, pool->generation[i]);
+    if (handle.generation == 0 || handle.index >= (uint32_t)pool->capacity || !kg_pool_alive(pool, i) ||
+        pool->generation[i] != handle.generation) {
+        kg_fail(KG_ERROR_INVALID_HANDLE, "body handle {%u, %u} is stale or invalid (no live body has it)",
+                handle.index, handle.generation);
         return -1;
     }
     return i;
