@@ -6,7 +6,7 @@ ASAN_BUILD  ?= build-asan
 JOBS        ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps build test test-release test-sanitize demo bench fuzz soak clean
+.PHONY: all deps build test test-release test-sanitize test-fuzz demo bench fuzz soak clean
 
 all: build
 
@@ -17,7 +17,7 @@ build: deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) >/dev/null
 	@cmake --build $(BUILD) -j$(JOBS)
 
-test: test-release test-sanitize
+test: test-release test-sanitize test-fuzz
 
 test-release: build
 	@cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
@@ -28,6 +28,19 @@ test-sanitize: deps
 	@cmake --build $(ASAN_BUILD) -j$(JOBS)
 	@cd $(ASAN_BUILD) && KGYRO_SANITIZED=1 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 		UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j$(JOBS) -LE slow
+
+# Short fuzzing runs of every parser (libFuzzer, clang, ASan+UBSan).
+test-fuzz: deps
+	@bash scripts/fuzz.sh --short
+
+fuzz: deps
+	@bash scripts/fuzz.sh
+
+soak: deps
+	@bash scripts/soak.sh
+
+bench: build
+	@bash scripts/bench.sh $(BUILD)
 
 demo: build
 	@bash scripts/demo.sh $(BUILD)

@@ -1,12 +1,97 @@
-/* Placeholder until this command is built; replaced by its real implementation. */
+/* kgyro view: parses the options and opens the SDL2 viewer (tools/render/viewer_sdl.c). */
 #include "commands.h"
+#include "render/args.h"
+#include "render/sim.h"
+#include "render/viewer.h"
 
 #include <stdio.h>
+#include <string.h>
+
+static void kg_view_usage(FILE* out)
+{
+    fprintf(out,
+            "usage: kgyro view SCENE [OPTIONS]\n"
+            "Opens SCENE (a scene file or a generator name such as pyramid_10) in a window.\n\n"
+            "  mouse: left drag moves a body; left click on empty space spawns a box, with shift a circle;\n"
+            "         right drag pans; the wheel zooms\n"
+            "  keys:  space pause, . or n single step, c contacts, b bounding boxes, t tiles,\n"
+            "         o switch backend (CPU / OpenCL), arrows pan, + and - zoom, r restart, q or Esc quit\n\n"
+            "  --size WxH          window size (default 960x640)\n"
+            "  --view X0,Y0,X1,Y1  world box to show first, in metres (default: fitted to the scene)\n"
+            "  --frames N          quit by itself after N frames\n"
+            "  --screenshot FILE   write the last frame shown as PNG\n"
+            "  --script TEXT       scripted input, one command per frame, separated by ';':\n"
+            "                      click X Y, shift-click X Y, down X Y, move X Y, up X Y,\n"
+            "                      wheel N, key NAME (SDL key names: space, n, c, o, ...), wait N\n"
+            "  --seed S            seed for generated scenes (default 1)\n"
+            "  --backend B         auto, cpu or opencl (default auto)\n");
+}
+
+/* Options that take a value; 0 parsed, -1 bad value, 1 not one of them. */
+static int kg_parse_view_valued(int argc, char** argv, int* i, kg_view_config* c)
+{
+    static const char* const kValued[] = {"--size", "--view", "--frames", "--screenshot",
+                                          "--script", "--seed", "--backend"};
+    const char* name = argv[*i];
+    int known = 0;
+    for (size_t k = 0; k < sizeof kValued / sizeof kValued[0]; ++k) {
+        known |= strcmp(name, kValued[k]) == 0;
+    }
+    if (!known) {
+        return 1;
+    }
+    if (*i + 1 >= argc) {
+        fprintf(stderr, "kgyro view: %s needs a value\n", name);
+        return -1;
+    }
+    const char* value = argv[++*i];
+    int bad = 0, seed = 1;
+    if (strcmp(name, "--size") == 0) {
+        bad = kg_parse_size(value, &c->width, &c->height);
+    } else if (strcmp(name, "--view") == 0) {
+        bad = kg_parse_box(value, &c->view);
+        c->has_view = 1;
+    } else if (strcmp(name, "--frames") == 0) {
+        bad = kg_parse_int(value, 1, 100000000, &c->frames);
+    } else if (strcmp(name, "--screenshot") == 0) {
+        c->screenshot = value;
+    } else if (strcmp(name, "--script") == 0) {
+        c->script = value;
+    } else if (strcmp(name, "--seed") == 0) {
+        bad = kg_parse_int(value, 0, 2147483647, &seed);
+        c->seed = (uint32_t)seed;
+    } else {
+        bad = kg_parse_backend(value, &c->backend);
+    }
+    if (bad) {
+        fprintf(stderr, "kgyro view: bad value for %s: '%s'\n", name, value);
+    }
+    return bad ? -1 : 0;
+}
 
 int kg_cmd_view(int argc, char** argv)
 {
-    (void)argc;
-    (void)argv;
-    fprintf(stderr, "kgyro view: not built yet\n");
-    return 1;
+    kg_view_config config = {NULL, 1, KG_BACKEND_AUTO, 960, 640, 0, NULL, NULL, 0, {{0, 0}, {0, 0}}};
+    for (int i = 1; i < argc; ++i) {
+        int valued = kg_parse_view_valued(argc, argv, &i, &config);
+        if (valued < 0) {
+            return 2;
+        } else if (valued == 0) {
+            continue;
+        }
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            kg_view_usage(stdout);
+            return 0;
+        } else if (argv[i][0] != '-' && !config.scene) {
+            config.scene = argv[i];
+        } else {
+            fprintf(stderr, "kgyro view: unexpected argument '%s'\n", argv[i]);
+            return 2;
+        }
+    }
+    if (!config.scene) {
+        fprintf(stderr, "kgyro view: need a SCENE (see --help)\n");
+        return 2;
+    }
+    return kg_view_run(&config);
 }

@@ -34,7 +34,9 @@ typedef struct kg_scene_force {
 KG_API kg_result kg_scene_load_file(const char* path, kg_scene** out);
 KG_API kg_result kg_scene_parse(const char* json, size_t length, const char* source_name, kg_scene** out);
 
-/* Building from code. */
+/* Building from code. A name is 1 to 63 characters among letters, digits and _-.:/#
+ * (so that it goes into a CSV field as is), unique in the scene; NULL means "body<i>"
+ * with i the new body's index. Bodies are checked when instantiated, not here. */
 KG_API kg_result kg_scene_create(kg_scene** out);
 KG_API void kg_scene_destroy(kg_scene* scene);
 KG_API kg_result kg_scene_add_body(kg_scene* scene, const char* name, const kg_body_def* def);
@@ -42,22 +44,43 @@ KG_API kg_result kg_scene_add_force(kg_scene* scene, const kg_scene_force* force
 KG_API kg_world_def* kg_scene_world_def(kg_scene* scene); /* editable in place */
 KG_API float kg_scene_dt(const kg_scene* scene);
 KG_API int kg_scene_steps(const kg_scene* scene); /* suggested step count, 0 = none */
+KG_API kg_result kg_scene_set_dt(kg_scene* scene, float dt);    /* > 0, default 1/60 */
+KG_API kg_result kg_scene_set_steps(kg_scene* scene, int steps); /* >= 0 */
+/* Makes kinematic body index turn rigidly about the world point pivot at its angular
+ * velocity (a wall of a rotating container): kg_scene_step re-aims its linear velocity
+ * every step so that it stays on its circle. A kinematic body's velocity is otherwise
+ * constant, so without a pivot it would fly off along the tangent. */
+KG_API kg_result kg_scene_set_body_pivot(kg_scene* scene, int index, kg_vec2 pivot);
 
 /* Reading. */
 KG_API int kg_scene_body_count(const kg_scene* scene);
 KG_API const kg_body_def* kg_scene_body_def(const kg_scene* scene, int index);
 KG_API const char* kg_scene_body_name(const kg_scene* scene, int index);
+/* The index of the body called name, or -1. */
+KG_API int kg_scene_find_body(const kg_scene* scene, const char* name);
+/* Non-zero when body index has a pivot (then written to out, which may be NULL). */
+KG_API int kg_scene_body_pivot(const kg_scene* scene, int index, kg_vec2* out);
 KG_API int kg_scene_force_count(const kg_scene* scene);
 KG_API const kg_scene_force* kg_scene_get_force(const kg_scene* scene, int index);
 
-/* Creates a world holding the scene (capacities grown to fit), its bodies and forces.
- * out_bodies, if not NULL, receives kg_scene_body_count() handles in scene order. */
+/* Creates a world holding the scene, its bodies and forces. The world is made from
+ * override_def when given (the scene's gravity and substeps are then not used), else
+ * from the scene's own def; either way max_bodies, max_contacts and max_applicators are
+ * grown to fit the scene. out_bodies, if not NULL, receives kg_scene_body_count()
+ * handles in scene order. */
 KG_API kg_result kg_scene_instantiate(const kg_scene* scene, const kg_world_def* override_def,
                                       kg_world** out_world, kg_body* out_bodies);
 
+/* Steps a world made by kg_scene_instantiate: drives the pivoted kinematic bodies round
+ * their pivots for this step, then calls kg_world_step. bodies are the handles that
+ * kg_scene_instantiate returned. With no pivots this is just kg_world_step. */
+KG_API kg_result kg_scene_step(const kg_scene* scene, kg_world* world, const kg_body* bodies, float dt);
+
 /* Generators. Names: "pyramid_B" (base B), "stack_N", "rain_N" (mixed boxes and circles),
  * "particles_N", and the benchmark scenes "large_pyramid", "many_pyramids", "smash",
- * "tumbler". seed drives the random ones. */
+ * "tumbler" (as in Box2D v3's benchmark set). seed drives the random ones. An unknown
+ * name or a size out of range is KG_ERROR_INVALID_ARGUMENT. docs/scene-format.md has
+ * the layouts. */
 KG_API kg_result kg_scene_generate(const char* name, uint32_t seed, kg_scene** out);
 
 #ifdef __cplusplus

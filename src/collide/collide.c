@@ -1,14 +1,61 @@
+/* The collision stage: broadphase pairs, a manifold per pair (in parallel: pairs are
+ * independent), then the touching pairs become this step's contacts, sorted by (a, b),
+ * with last step's impulses carried over point by point through the feature ids. */
 #include "collide/collide.h"
+#include "backend/cpu/parallel.h"
+#include "collide/broadphase.h"
+#include "collide/manifold.h"
 #include "core/alloc.h"
 #include "core/error.h"
 
+#include <math.h>
 #include <string.h>
 
 struct kg_collision {
+    kg_broadphase* broadphase;
+    kg_pair* pairs;
+    kg_manifold* manifolds; /* one per pair */
     kg_contact* contacts;
+    kg_contact* previous;
     int count;
-    int capacity;
+    int previous_count;
+    int capacity;           /* of pairs, manifolds and both contact arrays */
 };
+
+static void kg_free_buffers(struct kg_collision* c)
+{
+    kg_free(c->pairs);
+    kg_free(c->manifolds);
+    kg_free(c->contacts);
+    kg_free(c->previous);
+}
+
+/* Sizes the pair and contact buffers; contents of the contact arrays are kept. */
+static kg_result kg_reserve(struct kg_collision* c, int capacity)
+{
+    kg_pair* pairs = kg_alloc_zeroed((size_t)capacity * sizeof *pairs);
+    kg_manifold* manifolds = kg_alloc_zeroed((size_t)capacity * sizeof *manifolds);
+    kg_contact* contacts = kg_alloc_zeroed((size_t)capacity * sizeof *contacts);
+    kg_contact* previous = kg_alloc_zeroed((size_t)capacity * sizeof *previous);
+    if (!pairs || !manifolds || !contacts || !previous) {
+        kg_free(pairs);
+        kg_free(manifolds);
+        kg_free(contacts);
+        kg_free(previous);
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate room for %d contacts", capacity);
+    }
+    if (c->contacts) {
+        memcpy(contacts, c->contacts, (size_t)c->count * sizeof *contacts);
+        memcpy(previous, c->previous, (size_t)c->previous_count * sizeof *previous);
+    }
+    kg_free_buffers(c);
+    c->pairs = pairs;
+    c->manifolds = manifolds;
+    c->contacts = contacts;
+    c->previous = previous;
+    c->capacity = capacity;
+    return KG_OK;
+}
 
 kg_result kg_collision_create(kg_world* world)
 {
@@ -17,21 +64,120 @@ kg_result kg_collision_create(kg_world* world)
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the collision state");
     }
     world->collision = c;
-    return KG_OK;
+    kg_result r = kg_broadphase_create(world->def.max_bodies, &c->broadphase);
+    return r == KG_OK ? kg_reserve(c, world->def.max_contacts) : r;
 }
 
 void kg_collision_destroy(kg_world* world)
 {
-    if (world->collision) {
-        kg_free(world->collision->contacts);
-        kg_free(world->collision);
+    struct kg_collision* c = world->collision;
+    if (c) {
+        kg_broadphase_destroy(c->broadphase);
+        kg_free_buffers(c);
+        kg_free(c);
         world->collision = NULL;
     }
 }
 
+/* Pairs into c->pairs. A full buffer is the one case where a step allocates: it grows
+ * (with a warning) and the broadphase runs again, because dropping contacts would let
+ * bodies fall through each other. */
+static kg_result kg_find_pairs(kg_world* world, int* pair_count)
+{
+    struct kg_collision* c = world->collision;
+    float margin = world->def.speculative_distance;
+    int n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->pairs, c->capacity);
+    if (n > c->capacity) {
+        kg_warn_once("contacts-grow", "more touching pairs (%d) than max_contacts (%d): growing the contact pool; "
+                     "raise kg_world_def.max_contacts to avoid this", n, c->capacity);
+        kg_result r = kg_reserve(c, n + n / 2);
+        if (r != KG_OK) {
+            return r;
+        }
+        world->def.max_contacts = c->capacity;
+        n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->pairs, c->capacity);
+    }
+    *pair_count = n;
+    return KG_OK;
+}
+
+typedef struct kg_narrowphase_job {
+    const kg_body_pool* bodies;
+    const kg_pair* pairs;
+    kg_manifold* manifolds;
+    float speculative;
+} kg_narrowphase_job;
+
+static void kg_narrowphase_range(void* context, int begin, int end)
+{
+    const kg_narrowphase_job* job = context;
+    const kg_body_pool* p = job->bodies;
+    for (int k = begin; k < end; ++k) {
+        kg_u32 a = job->pairs[k].a, b = job->pairs[k].b;
+        job->manifolds[k] = kg_collide_shapes(&p->shape[a], p->xf[a], &p->shape[b], p->xf[b], job->speculative);
+    }
+}
+
+static void kg_carry_impulses(kg_manifold* m, const kg_manifold* old)
+{
+    for (int i = 0; i < m->point_count; ++i) {
+        for (int j = 0; j < old->point_count; ++j) {
+            if (m->points[i].id == old->points[j].id) {
+                m->points[i].normal_impulse = old->points[j].normal_impulse;
+                m->points[i].tangent_impulse = old->points[j].tangent_impulse;
+                break;
+            }
+        }
+    }
+}
+
+static int kg_pair_less(kg_u32 a0, kg_u32 b0, kg_u32 a1, kg_u32 b1) { return a0 < a1 || (a0 == a1 && b0 < b1); }
+
+/* Touching pairs become contacts; both lists are sorted by (a, b), so last step's
+ * contact of the same pair is found by walking the two lists together. */
+static void kg_build_contacts(kg_world* world, int pair_count)
+{
+    struct kg_collision* c = world->collision;
+    const kg_body_pool* p = &world->bodies;
+    int count = 0, old = 0;
+    for (int k = 0; k < pair_count; ++k) {
+        kg_manifold* m = &c->manifolds[k];
+        if (m->point_count == 0) {
+            continue;
+        }
+        kg_u32 a = c->pairs[k].a, b = c->pairs[k].b;
+        while (old < c->previous_count && kg_pair_less(c->previous[old].a, c->previous[old].b, a, b)) {
+            old++;
+        }
+        if (old < c->previous_count && c->previous[old].a == a && c->previous[old].b == b) {
+            kg_carry_impulses(m, &c->previous[old].manifold);
+        }
+        kg_contact* ct = &c->contacts[count++];
+        ct->manifold = *m;
+        ct->a = a;
+        ct->b = b;
+        ct->friction = sqrtf(p->friction[a] * p->friction[b]);
+        ct->restitution = fmaxf(p->restitution[a], p->restitution[b]);
+    }
+    c->count = count;
+}
+
 kg_result kg_stage_collide(kg_world* world)
 {
-    world->collision->count = 0;
+    struct kg_collision* c = world->collision;
+    kg_contact* swap = c->previous;
+    c->previous = c->contacts;
+    c->previous_count = c->count;
+    c->contacts = swap;
+    c->count = 0;
+    int pair_count = 0;
+    kg_result r = kg_find_pairs(world, &pair_count);
+    if (r != KG_OK) {
+        return r;
+    }
+    kg_narrowphase_job job = {&world->bodies, c->pairs, c->manifolds, world->def.speculative_distance};
+    kg_parallel_for(world->threads, pair_count, 64, kg_narrowphase_range, &job);
+    kg_build_contacts(world, pair_count);
     return KG_OK;
 }
 
@@ -43,6 +189,16 @@ kg_contact* kg_collision_contacts(kg_world* world, int* count)
 
 int kg_world_contact_count(const kg_world* world) { return world ? world->collision->count : 0; }
 
+static kg_body kg_handle_of(const kg_world* world, kg_u32 slot)
+{
+    kg_body h = KG_NULL_BODY_INIT;
+    if (slot != KG_NULL_INDEX) {
+        h.index = slot;
+        h.generation = world->bodies.generation[slot];
+    }
+    return h;
+}
+
 kg_result kg_world_get_contact(const kg_world* world, int index, kg_contact_info* out)
 {
     if (!world || !out || index < 0 || index >= world->collision->count) {
@@ -50,8 +206,8 @@ kg_result kg_world_get_contact(const kg_world* world, int index, kg_contact_info
     }
     const kg_contact* c = &world->collision->contacts[index];
     memset(out, 0, sizeof *out);
-    out->a = (kg_body){c->a, world->bodies.generation[c->a]};
-    out->b = (kg_body){c->b, world->bodies.generation[c->b]};
+    out->a = kg_handle_of(world, c->a);
+    out->b = kg_handle_of(world, c->b);
     out->normal = c->manifold.normal;
     out->point_count = c->manifold.point_count;
     for (int k = 0; k < c->manifold.point_count; ++k) {

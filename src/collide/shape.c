@@ -183,30 +183,35 @@ kg_shape_def kg_shape_describe(const kg_shape* shape)
     return def;
 }
 
-/* Polygon mass by triangle fan from a point inside (for accuracy far from the origin);
- * inertia about the centroid via the parallel axis theorem. */
+/* Polygon mass in two fans: the first, from a vertex, finds the area and centroid; the
+ * second, from the centroid (inside a convex polygon), integrates the inertia about it
+ * directly, so every triangle adds a non-negative term and slivers cannot come out
+ * with a negative inertia through cancellation. */
 static kg_mass_data kg_polygon_mass(const kg_shape* s, float density)
 {
     kg_vec2 origin = s->vertices[0];
-    float area = 0.0f, rot_inertia = 0.0f;
+    float area = 0.0f;
     kg_vec2 center = kg_v2(0.0f, 0.0f);
     for (int i = 1; i < s->count - 1; ++i) {
         kg_vec2 e1 = kg_sub(s->vertices[i], origin);
         kg_vec2 e2 = kg_sub(s->vertices[i + 1], origin);
-        float d = kg_cross(e1, e2);
-        float tri = 0.5f * d;
+        float tri = 0.5f * kg_cross(e1, e2);
         area += tri;
         center = kg_mul_add(center, tri / 3.0f, kg_add(e1, e2));
-        float intx2 = e1.x * e1.x + e2.x * e1.x + e2.x * e2.x;
-        float inty2 = e1.y * e1.y + e2.y * e1.y + e2.y * e2.y;
-        rot_inertia += (0.25f / 3.0f) * d * (intx2 + inty2);
     }
     kg_mass_data md;
     md.mass = density * area;
-    center = kg_scale(1.0f / area, center);
-    md.center = kg_add(origin, center);
-    /* rot_inertia is about the fan origin; move it to the centroid */
-    md.inertia = density * rot_inertia - md.mass * kg_dot(center, center);
+    md.center = kg_add(origin, kg_scale(1.0f / area, center));
+    float inertia = 0.0f;
+    for (int i = 0; i < s->count; ++i) {
+        kg_vec2 e1 = kg_sub(s->vertices[i], md.center);
+        kg_vec2 e2 = kg_sub(s->vertices[(i + 1) % s->count], md.center);
+        float d = kg_cross(e1, e2);
+        float intx2 = e1.x * e1.x + e2.x * e1.x + e2.x * e2.x;
+        float inty2 = e1.y * e1.y + e2.y * e1.y + e2.y * e2.y;
+        inertia += (0.25f / 3.0f) * d * (intx2 + inty2);
+    }
+    md.inertia = density * inertia;
     return md;
 }
 

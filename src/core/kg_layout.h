@@ -8,6 +8,9 @@
 
 #define KG_MAX_VERTS 8
 
+/* A contact's body index meaning "no body": the static world (tile maps). */
+#define KG_NULL_INDEX 0xFFFFFFFFu
+
 /* A body's collision shape in the body's frame (around its origin), ready for
  * collision: polygons are convex, counter-clockwise, with unit outward edge normals.
  * count 1 is a circle (or a point when radius is 0) centred at vertices[0]. */

@@ -1,52 +1,277 @@
+/* The solve stage (Box2D v3's soft step, see contact_solver.h and docs/design.md):
+ *
+ *   prepare constraints from the contacts; colour the constraint graph
+ *   for each sub-step:
+ *       integrate velocities; warm start; solve (soft push-out);
+ *       integrate positions; relax (no push-out)
+ *   restitution; store the impulses back into the contacts for warm starting
+ *
+ * Every loop over constraints runs colour by colour; within a colour the constraints
+ * share no moving body, so they run in parallel with results independent of the order. */
 #include "solve/solver.h"
+#include "backend/cpu/parallel.h"
+#include "collide/collide.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "solve/contact_solver.h"
+#include "solve/graph_color.h"
 #include "solve/integrate.h"
 
+#include <string.h>
+
+#define KG_BODY_GRAIN 256
+#define KG_CONSTRAINT_GRAIN 64
+
 struct kg_solver {
-    int unused;
+    kg_contact_constraint* constraints;
+    int* scratch_colors;
+    int capacity;
+    kg_graph_coloring coloring;
+    kg_vec2* center0; /* pose at the start of the step, for the separation updates */
+    kg_rot* rot0;
 };
+
+static kg_result kg_solver_reserve(struct kg_solver* s, int body_capacity, int capacity)
+{
+    kg_free(s->constraints);
+    kg_free(s->scratch_colors);
+    kg_graph_coloring_free(&s->coloring);
+    s->constraints = kg_alloc_zeroed((size_t)capacity * sizeof *s->constraints);
+    s->scratch_colors = kg_alloc_zeroed((size_t)capacity * sizeof *s->scratch_colors);
+    s->capacity = capacity;
+    kg_result r = kg_graph_coloring_init(&s->coloring, body_capacity, capacity);
+    if (r == KG_OK && (!s->constraints || !s->scratch_colors)) {
+        r = kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d contact constraints", capacity);
+    }
+    return r;
+}
 
 kg_result kg_solver_create(kg_world* world)
 {
-    world->solver = kg_alloc_zeroed(sizeof *world->solver);
-    return world->solver ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the solver");
+    struct kg_solver* s = kg_alloc_zeroed(sizeof *s);
+    if (!s) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the solver");
+    }
+    world->solver = s;
+    int bodies = world->def.max_bodies;
+    s->center0 = kg_alloc_zeroed((size_t)bodies * sizeof *s->center0);
+    s->rot0 = kg_alloc_zeroed((size_t)bodies * sizeof *s->rot0);
+    if (!s->center0 || !s->rot0) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the solver");
+    }
+    return kg_solver_reserve(s, bodies, world->def.max_contacts);
 }
 
 void kg_solver_destroy(kg_world* world)
 {
-    kg_free(world->solver);
+    struct kg_solver* s = world->solver;
+    if (!s) {
+        return;
+    }
+    kg_free(s->constraints);
+    kg_free(s->scratch_colors);
+    kg_graph_coloring_free(&s->coloring);
+    kg_free(s->center0);
+    kg_free(s->rot0);
+    kg_free(s);
     world->solver = NULL;
 }
 
-static void kg_integrate_velocities(kg_body_pool* p, kg_integrate_params prm)
+/* ---- per-body loops ---------------------------------------------------------------- */
+
+typedef struct kg_body_job {
+    kg_body_pool* bodies;
+    struct kg_solver* solver;
+    kg_integrate_params prm;
+} kg_body_job;
+
+static void kg_save_poses(void* context, int begin, int end)
 {
-    for (int i = 0; i < p->high_water; ++i) {
+    kg_body_job* job = context;
+    for (int i = begin; i < end; ++i) {
+        job->solver->center0[i] = job->bodies->center[i];
+        job->solver->rot0[i] = job->bodies->rot[i];
+    }
+}
+
+static void kg_integrate_velocities(void* context, int begin, int end)
+{
+    kg_body_job* job = context;
+    kg_body_pool* p = job->bodies;
+    for (int i = begin; i < end; ++i) {
         if (kg_pool_is_simulated(p, i)) {
             kg_integrate_velocity(&p->velocity[i], &p->omega[i], p->force[i], p->torque[i], p->inv_mass[i],
-                                  p->inv_inertia[i], p->linear_damping[i], p->angular_damping[i], prm);
+                                  p->inv_inertia[i], p->linear_damping[i], p->angular_damping[i], job->prm);
         }
     }
 }
 
-static void kg_integrate_positions(kg_body_pool* p, float h)
+static void kg_integrate_positions(void* context, int begin, int end)
 {
-    for (int i = 0; i < p->high_water; ++i) {
-        kg_body_type t = kg_pool_type(p, i);
-        if (kg_pool_alive(p, i) && t != KG_BODY_STATIC && !(p->flags[i] & KG_FLAG_FROZEN)) {
-            kg_integrate_position(&p->center[i], &p->rot[i], p->velocity[i], p->omega[i], h);
+    kg_body_job* job = context;
+    kg_body_pool* p = job->bodies;
+    for (int i = begin; i < end; ++i) {
+        if (kg_pool_alive(p, i) && kg_pool_type(p, i) != KG_BODY_STATIC && !(p->flags[i] & KG_FLAG_FROZEN)) {
+            kg_integrate_position(&p->center[i], &p->rot[i], p->velocity[i], p->omega[i], job->prm.h);
         }
     }
+}
+
+/* ---- per-constraint loops ---------------------------------------------------------- */
+
+typedef enum kg_constraint_pass { KG_PASS_WARM_START, KG_PASS_SOLVE, KG_PASS_RELAX, KG_PASS_RESTITUTION } kg_constraint_pass;
+
+typedef struct kg_constraint_job {
+    kg_body_pool* bodies;
+    struct kg_solver* solver;
+    kg_contact* contacts;
+    const int* order; /* the constraints of the colour being solved */
+    kg_solver_params prm;
+    kg_constraint_pass pass;
+} kg_constraint_job;
+
+static kg_body_motion kg_load_motion(const kg_constraint_job* job, kg_u32 slot)
+{
+    kg_body_motion m;
+    m.v = kg_v2(0.0f, 0.0f);
+    m.w = 0.0f;
+    m.dp = kg_v2(0.0f, 0.0f);
+    m.dq = kg_rot_identity();
+    if (slot != KG_NULL_INDEX) {
+        const kg_body_pool* p = job->bodies;
+        m.v = p->velocity[slot];
+        m.w = p->omega[slot];
+        m.dp = kg_sub(p->center[slot], job->solver->center0[slot]);
+        m.dq = kg_rot_inv_mul(job->solver->rot0[slot], p->rot[slot]);
+    }
+    return m;
+}
+
+static void kg_store_motion(const kg_constraint_job* job, kg_u32 slot, const kg_body_motion* m)
+{
+    if (slot != KG_NULL_INDEX && kg_pool_is_simulated(job->bodies, (int)slot)) {
+        job->bodies->velocity[slot] = m->v;
+        job->bodies->omega[slot] = m->w;
+    }
+}
+
+static void kg_constraint_range(void* context, int begin, int end)
+{
+    const kg_constraint_job* job = context;
+    for (int k = begin; k < end; ++k) {
+        kg_contact_constraint* c = &job->solver->constraints[job->order[k]];
+        kg_body_motion a = kg_load_motion(job, c->a), b = kg_load_motion(job, c->b);
+        switch (job->pass) {
+        case KG_PASS_WARM_START: kg_contact_warm_start(c, &a, &b); break;
+        case KG_PASS_SOLVE: kg_contact_solve(c, &a, &b, job->prm, 1); break;
+        case KG_PASS_RELAX: kg_contact_solve(c, &a, &b, job->prm, 0); break;
+        case KG_PASS_RESTITUTION: kg_contact_restitution(c, &a, &b, job->prm); break;
+        }
+        kg_store_motion(job, c->a, &a);
+        kg_store_motion(job, c->b, &b);
+    }
+}
+
+/* One pass over all constraints: the colours in parallel one after another, then the
+ * overflow serially in order. */
+static void kg_constraint_pass_run(kg_world* world, kg_constraint_job* job, kg_constraint_pass pass)
+{
+    const kg_graph_coloring* g = &world->solver->coloring;
+    job->pass = pass;
+    for (int c = 0; c < g->color_count; ++c) {
+        job->order = g->order + g->color_start[c];
+        kg_parallel_for(world->threads, g->color_start[c + 1] - g->color_start[c], KG_CONSTRAINT_GRAIN,
+                        kg_constraint_range, job);
+    }
+    job->order = g->order + g->color_start[KG_COLOR_COUNT];
+    kg_constraint_range(job, 0, g->color_start[KG_COLOR_COUNT + 1] - g->color_start[KG_COLOR_COUNT]);
+}
+
+static void kg_prepare_range(void* context, int begin, int end)
+{
+    const kg_constraint_job* job = context;
+    const kg_body_pool* p = job->bodies;
+    for (int k = begin; k < end; ++k) {
+        const kg_contact* ct = &job->contacts[k];
+        kg_contact_constraint* c = &job->solver->constraints[k];
+        c->a = ct->a;
+        c->b = ct->b;
+        c->contact = (kg_u32)k;
+        c->friction = ct->friction;
+        c->restitution = ct->restitution;
+        int a_moves = ct->a != KG_NULL_INDEX && kg_pool_is_simulated(p, (int)ct->a);
+        int b_moves = ct->b != KG_NULL_INDEX && kg_pool_is_simulated(p, (int)ct->b);
+        c->inv_mass_a = a_moves ? p->inv_mass[ct->a] : 0.0f;
+        c->inv_i_a = a_moves ? p->inv_inertia[ct->a] : 0.0f;
+        c->inv_mass_b = b_moves ? p->inv_mass[ct->b] : 0.0f;
+        c->inv_i_b = b_moves ? p->inv_inertia[ct->b] : 0.0f;
+        kg_body_motion ma = kg_load_motion(job, ct->a), mb = kg_load_motion(job, ct->b);
+        kg_vec2 origin_a = ct->a != KG_NULL_INDEX ? p->xf[ct->a].p : kg_v2(0.0f, 0.0f);
+        kg_vec2 origin_b = ct->b != KG_NULL_INDEX ? p->xf[ct->b].p : kg_v2(0.0f, 0.0f);
+        kg_vec2 center_a = ct->a != KG_NULL_INDEX ? p->center[ct->a] : origin_a;
+        kg_vec2 center_b = ct->b != KG_NULL_INDEX ? p->center[ct->b] : origin_b;
+        kg_contact_prepare(c, &ct->manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w, job->prm);
+    }
+}
+
+static void kg_store_impulses_range(void* context, int begin, int end)
+{
+    const kg_constraint_job* job = context;
+    for (int k = begin; k < end; ++k) {
+        const kg_contact_constraint* c = &job->solver->constraints[k];
+        kg_manifold* m = &job->contacts[k].manifold;
+        for (int j = 0; j < c->point_count; ++j) {
+            m->points[j].normal_impulse = c->points[j].normal_impulse;
+            m->points[j].tangent_impulse = c->points[j].tangent_impulse;
+            m->points[j].normal_velocity = c->points[j].relative_velocity;
+        }
+    }
+}
+
+static kg_solver_params kg_make_params(const kg_world_def* def, float h)
+{
+    kg_solver_params prm;
+    prm.h = h;
+    prm.inv_h = 1.0f / h;
+    prm.max_push_out_speed = def->max_push_out_speed;
+    prm.linear_slop = def->linear_slop;
+    prm.restitution_threshold = def->restitution_threshold;
+    /* Springs stiffer than a quarter of the sub-step rate go unstable (measured: stacks
+     * explode at half of it), and that holds for the stiffer static contacts too. */
+    float max_hertz = 0.25f * prm.inv_h;
+    float hertz = fminf(def->contact_hertz, max_hertz);
+    prm.contact_softness = kg_make_softness(hertz, def->contact_damping_ratio, h);
+    prm.static_softness = kg_make_softness(fminf(2.0f * hertz, max_hertz), def->contact_damping_ratio, h);
+    return prm;
 }
 
 void kg_stage_solve(kg_world* world, float dt)
 {
-    int n = world->def.substeps;
-    kg_integrate_params prm = {world->def.gravity, dt / (float)n, world->def.max_linear_speed};
-    for (int s = 0; s < n; ++s) {
-        kg_integrate_velocities(&world->bodies, prm);
-        kg_integrate_positions(&world->bodies, prm.h);
+    struct kg_solver* s = world->solver;
+    int count = 0;
+    kg_contact* contacts = kg_collision_contacts(world, &count);
+    if (count > s->capacity && kg_solver_reserve(s, world->def.max_bodies, world->def.max_contacts) != KG_OK) {
+        kg_warn_once("solver-grow", "out of memory for contact constraints: contacts ignored this step");
+        count = 0;
     }
+    int n = world->def.substeps;
+    float h = dt / (float)n;
+    kg_body_pool* p = &world->bodies;
+    kg_body_job bjob = {p, s, {world->def.gravity, h, world->def.max_linear_speed}};
+    kg_constraint_job cjob = {p, s, contacts, NULL, kg_make_params(&world->def, h), KG_PASS_SOLVE};
+
+    kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_save_poses, &bjob);
+    kg_parallel_for(world->threads, count, KG_CONSTRAINT_GRAIN, kg_prepare_range, &cjob);
+    kg_graph_color(&s->coloring, s->constraints, count, p, s->scratch_colors);
+    for (int step = 0; step < n; ++step) {
+        kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_integrate_velocities, &bjob);
+        kg_constraint_pass_run(world, &cjob, KG_PASS_WARM_START);
+        kg_constraint_pass_run(world, &cjob, KG_PASS_SOLVE);
+        kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_integrate_positions, &bjob);
+        kg_constraint_pass_run(world, &cjob, KG_PASS_RELAX);
+    }
+    kg_constraint_pass_run(world, &cjob, KG_PASS_RESTITUTION);
+    kg_parallel_for(world->threads, count, KG_CONSTRAINT_GRAIN, kg_store_impulses_range, &cjob);
 }
 
 static int kg_body_state_finite(const kg_body_pool* p, int i)

@@ -1,0 +1,196 @@
+/* Collision benchmark: broadphase and narrowphase time per step for growing body counts
+ * at a constant density, so the per-body cost shows how each stage scales.
+ *
+ *   bench_collide [body_count ...]   (default: 1000 10000 100000)
+ *
+ * Random boxes and circles, mostly not touching, drift a little every step; the
+ * broadphase pairs are then turned into manifolds by the narrowphase. */
+#define _POSIX_C_SOURCE 200809L
+
+#include "collide/broadphase.h"
+#include "collide/manifold.h"
+#include "collide/shape.h"
+#include "core/body_pool.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+#define BODIES_PER_SQUARE_METRE 0.6f
+#define MARGIN 0.1f
+#define SPECULATIVE_DISTANCE 0.02f
+#define WARMUP_STEPS 3
+
+typedef struct bench_scene {
+    kg_body_pool pool;
+    kg_vec2* drift; /* m per step */
+    float side;     /* the bodies stay in [0, side]^2 */
+    kg_u32 rng;
+} bench_scene;
+
+typedef struct bench_result {
+    double broadphase_ms;
+    double narrowphase_ms;
+    double pairs;
+    double touching; /* pairs whose manifold has points */
+} bench_result;
+
+static double now_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return 1000.0 * (double)t.tv_sec + 1.0e-6 * (double)t.tv_nsec;
+}
+
+static float random_range(bench_scene* s, float lo, float hi)
+{
+    s->rng ^= s->rng << 13;
+    s->rng ^= s->rng >> 17;
+    s->rng ^= s->rng << 5;
+    return lo + (hi - lo) * (float)(s->rng >> 8) * (1.0f / 16777216.0f);
+}
+
+/* Half boxes (0.2 to 1 m sides, any angle), half circles (0.1 to 0.5 m radius). */
+static kg_shape_def random_shape(bench_scene* s, int k)
+{
+    if (k % 2 == 0) {
+        return kg_circle_shape(random_range(s, 0.1f, 0.5f));
+    }
+    return kg_box_shape(random_range(s, 0.2f, 1.0f), random_range(s, 0.2f, 1.0f));
+}
+
+static int create_scene(bench_scene* s, int count)
+{
+    s->rng = 0x9E3779B9u;
+    s->side = sqrtf((float)count / BODIES_PER_SQUARE_METRE);
+    s->drift = malloc((size_t)count * sizeof *s->drift);
+    if (!s->drift || kg_body_pool_init(&s->pool, count) != KG_OK) {
+        return 0;
+    }
+    kg_body_pool* p = &s->pool;
+    for (int k = 0; k < count; ++k) {
+        int i = kg_body_pool_acquire(p);
+        kg_shape_def def = random_shape(s, k);
+        if (i < 0 || kg_shape_build(&def, &p->shape[i]) != KG_OK) {
+            return 0;
+        }
+        p->flags[i] = KG_FLAG_ALIVE | ((kg_u32)KG_BODY_DYNAMIC << KG_TYPE_SHIFT);
+        p->category[i] = 1u;
+        p->mask[i] = 0xFFFFFFFFu;
+        p->center[i] = kg_v2(random_range(s, 0.0f, s->side), random_range(s, 0.0f, s->side));
+        float angle = random_range(s, -3.14159f, 3.14159f);
+        p->rot[i].c = cosf(angle);
+        p->rot[i].s = sinf(angle);
+        s->drift[i] = kg_v2(random_range(s, -0.02f, 0.02f), random_range(s, -0.02f, 0.02f));
+        kg_body_update_transform(p, i);
+    }
+    return 1;
+}
+
+static void destroy_scene(bench_scene* s)
+{
+    kg_body_pool_free(&s->pool);
+    free(s->drift);
+}
+
+/* Drifts every body, bouncing off the region's sides, and turns it a little. */
+static void move_scene(bench_scene* s)
+{
+    kg_body_pool* p = &s->pool;
+    for (int i = 0; i < p->high_water; ++i) {
+        kg_vec2 c = kg_add(p->center[i], s->drift[i]);
+        if (c.x < 0.0f || c.x > s->side) {
+            s->drift[i].x = -s->drift[i].x;
+        }
+        if (c.y < 0.0f || c.y > s->side) {
+            s->drift[i].y = -s->drift[i].y;
+        }
+        p->center[i] = c;
+        p->rot[i] = kg_rot_integrate(p->rot[i], 0.01f);
+        kg_body_update_transform(p, i);
+    }
+}
+
+/* Finds the pairs, growing the buffer when the broadphase reports more than fit. */
+static int find_pairs(kg_broadphase* bp, const kg_body_pool* pool, kg_pair** pairs, int* capacity)
+{
+    int count = kg_broadphase_find_pairs(bp, pool, MARGIN, *pairs, *capacity);
+    if (count <= *capacity) {
+        return count;
+    }
+    free(*pairs);
+    *capacity = count + count / 2;
+    *pairs = malloc((size_t)*capacity * sizeof **pairs);
+    return *pairs ? kg_broadphase_find_pairs(bp, pool, MARGIN, *pairs, *capacity) : 0;
+}
+
+/* Manifolds of every pair; returns how many have contact points. */
+static int collide_pairs(const kg_body_pool* pool, const kg_pair* pairs, int count)
+{
+    int touching = 0;
+    for (int k = 0; k < count; ++k) {
+        kg_u32 a = pairs[k].a, b = pairs[k].b;
+        kg_manifold m =
+            kg_collide_shapes(&pool->shape[a], pool->xf[a], &pool->shape[b], pool->xf[b], SPECULATIVE_DISTANCE);
+        touching += m.point_count > 0;
+    }
+    return touching;
+}
+
+static int run_case(int count, int steps, bench_result* result)
+{
+    bench_scene scene;
+    kg_broadphase* bp = NULL;
+    int pair_capacity = 4 * count;
+    kg_pair* pairs = malloc((size_t)pair_capacity * sizeof *pairs);
+    if (!pairs || !create_scene(&scene, count) || kg_broadphase_create(count, &bp) != KG_OK) {
+        return 0;
+    }
+    bench_result sum = {0.0, 0.0, 0.0, 0.0};
+    for (int step = 0; step < WARMUP_STEPS + steps; ++step) {
+        move_scene(&scene);
+        double t0 = now_ms();
+        int pair_count = find_pairs(bp, &scene.pool, &pairs, &pair_capacity);
+        double t1 = now_ms();
+        int touching = collide_pairs(&scene.pool, pairs, pair_count);
+        double t2 = now_ms();
+        if (step >= WARMUP_STEPS) {
+            sum.broadphase_ms += t1 - t0;
+            sum.narrowphase_ms += t2 - t1;
+            sum.pairs += pair_count;
+            sum.touching += touching;
+        }
+    }
+    result->broadphase_ms = sum.broadphase_ms / steps;
+    result->narrowphase_ms = sum.narrowphase_ms / steps;
+    result->pairs = sum.pairs / steps;
+    result->touching = sum.touching / steps;
+    kg_broadphase_destroy(bp);
+    destroy_scene(&scene);
+    free(pairs);
+    return 1;
+}
+
+int main(int argc, char** argv)
+{
+    int default_counts[] = {1000, 10000, 100000};
+    int case_count = argc > 1 ? argc - 1 : 3;
+    printf("%9s %9s %9s %14s %14s %14s %14s\n", "bodies", "pairs", "touching", "broad ms/step", "broad us/body",
+           "narrow ms/step", "narrow us/body");
+    for (int c = 0; c < case_count; ++c) {
+        int count = argc > 1 ? atoi(argv[c + 1]) : default_counts[c];
+        if (count <= 0) {
+            fprintf(stderr, "bad body count '%s'\n", argv[c + 1]);
+            return 1;
+        }
+        int steps = count >= 100000 ? 20 : 100;
+        bench_result r;
+        if (!run_case(count, steps, &r)) {
+            fprintf(stderr, "cannot set up %d bodies\n", count);
+            return 1;
+        }
+        printf("%9d %9.0f %9.0f %14.3f %14.4f %14.3f %14.4f\n", count, r.pairs, r.touching, r.broadphase_ms,
+               1000.0 * r.broadphase_ms / count, r.narrowphase_ms, 1000.0 * r.narrowphase_ms / count);
+    }
+    return 0;
+}

@@ -1,0 +1,275 @@
+/* Chipmunk 7 adapter: one cpBody with at most one cpShape per scene body.
+ *
+ * Chipmunk's conventions differ from kgyro's in ways that matter here:
+ *  - a body's position is its centre of gravity; shapes are given in body-local
+ *    coordinates around the body origin, so the centre of gravity is set explicitly
+ *    (cpBodySetCenterOfGravity) and the origin placed after it;
+ *  - mass and moment are the caller's to give: cpAreaFor*, cpCentroidForPoly and
+ *    cpMomentFor* compute them from the same shape and density kgyro uses;
+ *  - materials combine by product, where kgyro and Box2D take sqrt(fa * fb) for friction:
+ *    each shape gets sqrt(f), so the product is kgyro's mix. Elasticity is passed the
+ *    same way (kgyro takes the larger restitution; the benchmark scenes use 0);
+ *  - its defaults are tuned for pixels: the collision slop (allowed overlap) is 0.1
+ *    units, 10 cm here, so it gets the scene's linear slop instead;
+ *  - damping is per space: per-body damping goes through a velocity update function.
+ * Sleeping is off (its default). The spatial index is its default bounding-box tree.
+ * With threads > 1 it runs cpHastySpace, whose solver uses at most 2 threads. */
+#include "peer_adapter.h"
+
+#include <chipmunk/chipmunk.h>
+#include <chipmunk/cpHastySpace.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+enum { KG_CP_ITERATIONS = 10, KG_CP_MAX_THREADS = 2 };
+
+typedef struct kg_cp_item {
+    cpBody* body;
+    cpShape* shape; /* NULL for a point particle */
+    kg_shape_type shape_type;
+    cpFloat linear_damping, angular_damping;
+} kg_cp_item;
+
+typedef struct kg_cp_world {
+    cpSpace* space;
+    int hasty;
+    int count;
+    kg_cp_item* items; /* scene order; never reallocated, bodies point into it */
+} kg_cp_world;
+
+static int kg_cp_threads(int threads) { return threads > KG_CP_MAX_THREADS ? KG_CP_MAX_THREADS : threads; }
+
+static const char* kg_cp_describe(int threads)
+{
+    static char text[256];
+    snprintf(text, sizeof text,
+             "Chipmunk %s: %d iterations, slop = the scene's linear slop, bounding-box tree, sleeping off, %d thread%s",
+             cpVersionString, KG_CP_ITERATIONS, threads > 1 ? kg_cp_threads(threads) : 1,
+             threads > 1 ? "s (cpHastySpace; it uses at most 2)" : "");
+    return text;
+}
+
+static void* kg_cp_create(const kg_peer_setup* setup)
+{
+    kg_cp_world* w = calloc(1, sizeof *w);
+    if (!w) {
+        return NULL;
+    }
+    w->items = calloc((size_t)setup->body_count + 1, sizeof *w->items);
+    if (!w->items) {
+        free(w);
+        return NULL;
+    }
+    w->hasty = setup->threads > 1;
+    w->space = w->hasty ? cpHastySpaceNew() : cpSpaceNew();
+    if (w->hasty) {
+        cpHastySpaceSetThreads(w->space, (unsigned long)kg_cp_threads(setup->threads));
+    }
+    cpSpaceSetGravity(w->space, cpv(setup->gravity.x, setup->gravity.y));
+    cpSpaceSetIterations(w->space, KG_CP_ITERATIONS);
+    cpSpaceSetCollisionSlop(w->space, setup->linear_slop);
+    return w;
+}
+
+/* Chipmunk frees neither bodies nor shapes with the space. */
+static void kg_cp_destroy(void* world)
+{
+    kg_cp_world* w = world;
+    if (w->hasty) {
+        cpHastySpaceFree(w->space);
+    } else {
+        cpSpaceFree(w->space);
+    }
+    for (int i = 0; i < w->count; ++i) {
+        cpShapeFree(w->items[i].shape);
+        cpBodyFree(w->items[i].body);
+    }
+    free(w->items);
+    free(w);
+}
+
+typedef struct kg_cp_mass_props {
+    cpFloat mass, moment;
+    cpVect cog; /* body-local */
+} kg_cp_mass_props;
+
+static int kg_cp_polygon_vertices(const kg_shape_def* shape, cpVect* out)
+{
+    for (int i = 0; i < shape->count; ++i) {
+        out[i] = cpv(shape->vertices[i].x, shape->vertices[i].y);
+    }
+    return shape->count;
+}
+
+/* Mass about the centre of gravity; fixed rotation is an infinite moment. */
+static kg_cp_mass_props kg_cp_mass_of(const kg_peer_body* pb)
+{
+    const kg_body_def* def = pb->def;
+    const kg_shape_def* shape = &def->shape;
+    kg_cp_mass_props m = {def->mass, INFINITY, cpvzero};
+    if (shape->type == KG_SHAPE_POLYGON) {
+        cpVect verts[KG_MAX_POLYGON_VERTICES];
+        int n = kg_cp_polygon_vertices(shape, verts);
+        m.mass = pb->density * cpAreaForPoly(n, verts, 0.0);
+        m.cog = cpCentroidForPoly(n, verts);
+        m.moment = cpMomentForPoly(m.mass, n, verts, cpvneg(m.cog), 0.0);
+    } else if (shape->type == KG_SHAPE_CIRCLE) {
+        m.mass = pb->density * cpAreaForCircle(0.0, shape->radius);
+        m.cog = cpv(shape->center.x, shape->center.y);
+        m.moment = cpMomentForCircle(m.mass, 0.0, shape->radius, cpvzero);
+    }
+    if (def->fixed_rotation || def->type == KG_BODY_PARTICLE) {
+        m.moment = INFINITY;
+    }
+    return m;
+}
+
+static void kg_cp_damped_velocity(cpBody* body, cpVect gravity, cpFloat damping, cpFloat dt)
+{
+    const kg_cp_item* item = cpBodyGetUserData(body);
+    cpBodyUpdateVelocity(body, gravity, damping, dt);
+    cpBodySetVelocity(body, cpvmult(cpBodyGetVelocity(body), 1.0 / (1.0 + dt * item->linear_damping)));
+    cpBodySetAngularVelocity(body, cpBodyGetAngularVelocity(body) / (1.0 + dt * item->angular_damping));
+}
+
+static cpBody* kg_cp_new_dynamic(kg_cp_item* item, const kg_peer_body* pb)
+{
+    const kg_body_def* def = pb->def;
+    kg_cp_mass_props m = kg_cp_mass_of(pb);
+    cpBody* body = cpBodyNew(m.mass, m.moment);
+    cpBodySetCenterOfGravity(body, m.cog);
+    if (def->linear_damping > 0.0f || def->angular_damping > 0.0f) {
+        item->linear_damping = def->linear_damping;
+        item->angular_damping = def->angular_damping;
+        cpBodySetUserData(body, item);
+        cpBodySetVelocityUpdateFunc(body, kg_cp_damped_velocity);
+    }
+    return body;
+}
+
+/* The angle first: placing the origin goes through the rotated centre of gravity. */
+static cpBody* kg_cp_new_body(kg_cp_item* item, const kg_peer_body* pb)
+{
+    const kg_body_def* def = pb->def;
+    cpBody* body;
+    if (def->type == KG_BODY_STATIC) {
+        body = cpBodyNewStatic();
+    } else if (def->type == KG_BODY_KINEMATIC) {
+        body = cpBodyNewKinematic();
+    } else {
+        body = kg_cp_new_dynamic(item, pb);
+    }
+    cpBodySetAngle(body, def->angle);
+    cpBodySetPosition(body, cpv(def->position.x, def->position.y));
+    if (def->type != KG_BODY_STATIC) {
+        cpBodySetVelocity(body, cpv(def->velocity.x, def->velocity.y));
+        cpBodySetAngularVelocity(body, def->angular_velocity);
+    }
+    return body;
+}
+
+static cpShape* kg_cp_new_shape(cpBody* body, const kg_body_def* def)
+{
+    const kg_shape_def* shape = &def->shape;
+    cpShape* s;
+    if (shape->type == KG_SHAPE_POLYGON) {
+        cpVect verts[KG_MAX_POLYGON_VERTICES];
+        int n = kg_cp_polygon_vertices(shape, verts);
+        s = cpPolyShapeNew(body, n, verts, cpTransformIdentity, 0.0);
+    } else {
+        s = cpCircleShapeNew(body, shape->radius, cpv(shape->center.x, shape->center.y));
+    }
+    cpShapeSetFriction(s, sqrt(def->friction));
+    cpShapeSetElasticity(s, sqrt(def->restitution));
+    cpShapeSetFilter(s, cpShapeFilterNew(CP_NO_GROUP, def->category, def->mask));
+    return s;
+}
+
+static const char* kg_cp_add_body(void* world, const kg_peer_body* pb)
+{
+    kg_cp_world* w = world;
+    if (pb->def->shape.type == KG_SHAPE_POLYGON && pb->def->shape.count < 3) {
+        return "a polygon needs at least 3 vertices";
+    }
+    kg_cp_item* item = &w->items[w->count++];
+    item->body = cpSpaceAddBody(w->space, kg_cp_new_body(item, pb));
+    item->shape_type = pb->def->shape.type;
+    if (item->shape_type != KG_SHAPE_NONE) {
+        item->shape = cpSpaceAddShape(w->space, kg_cp_new_shape(item->body, pb->def));
+    }
+    return NULL;
+}
+
+static void kg_cp_step(void* world, float dt)
+{
+    kg_cp_world* w = world;
+    if (w->hasty) {
+        cpHastySpaceStep(w->space, dt);
+    } else {
+        cpSpaceStep(w->space, dt);
+    }
+}
+
+static cpBody* kg_cp_body(const void* world, int index) { return ((const kg_cp_world*)world)->items[index].body; }
+
+static kg_vec2 kg_cp_vec(cpVect v) { return (kg_vec2){(float)v.x, (float)v.y}; }
+
+static void kg_cp_get_state(const void* world, int index, kg_body_state* out)
+{
+    const cpBody* body = kg_cp_body(world, index);
+    out->position = kg_cp_vec(cpBodyGetPosition(body));
+    out->angle = (float)cpBodyGetAngle(body);
+    out->velocity = kg_cp_vec(cpBodyGetVelocity(body));
+    out->angular_velocity = (float)cpBodyGetAngularVelocity(body);
+}
+
+static kg_vec2 kg_cp_rotation_center(const void* world, int index)
+{
+    const cpBody* body = kg_cp_body(world, index);
+    return kg_cp_vec(cpBodyLocalToWorld(body, cpBodyGetCenterOfGravity(body)));
+}
+
+static void kg_cp_set_velocity(void* world, int index, kg_vec2 velocity)
+{
+    cpBodySetVelocity(kg_cp_body(world, index), cpv(velocity.x, velocity.y));
+}
+
+static double kg_cp_mass(const void* world, int index)
+{
+    cpBody* body = kg_cp_body(world, index);
+    return cpBodyGetType(body) == CP_BODY_TYPE_DYNAMIC ? cpBodyGetMass(body) : 0.0;
+}
+
+static void kg_cp_include(kg_aabb* box, cpVect p, cpFloat radius)
+{
+    box->lower.x = fminf(box->lower.x, (float)(p.x - radius));
+    box->lower.y = fminf(box->lower.y, (float)(p.y - radius));
+    box->upper.x = fmaxf(box->upper.x, (float)(p.x + radius));
+    box->upper.y = fmaxf(box->upper.y, (float)(p.y + radius));
+}
+
+/* From the shape's vertices: the shape's cached box is only refreshed when it is stepped. */
+static kg_aabb kg_cp_bounds(const void* world, int index)
+{
+    const kg_cp_item* item = &((const kg_cp_world*)world)->items[index];
+    const cpBody* body = item->body;
+    const cpShape* shape = item->shape;
+    kg_aabb box = {{INFINITY, INFINITY}, {-INFINITY, -INFINITY}};
+    if (item->shape_type == KG_SHAPE_NONE) {
+        kg_cp_include(&box, cpBodyGetPosition(body), 0.0);
+    } else if (item->shape_type == KG_SHAPE_POLYGON) {
+        for (int i = 0; i < cpPolyShapeGetCount(shape); ++i) {
+            kg_cp_include(&box, cpBodyLocalToWorld(body, cpPolyShapeGetVert(shape, i)), 0.0);
+        }
+    } else {
+        kg_cp_include(&box, cpBodyLocalToWorld(body, cpCircleShapeGetOffset(shape)), cpCircleShapeGetRadius(shape));
+    }
+    return box;
+}
+
+const kg_peer_adapter kg_chipmunk_adapter = {
+    "chipmunk", kg_cp_describe, kg_cp_create, kg_cp_destroy, kg_cp_add_body, kg_cp_step, kg_cp_get_state,
+    kg_cp_rotation_center, kg_cp_set_velocity, kg_cp_mass, kg_cp_bounds,
+};

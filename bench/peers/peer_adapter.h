@@ -1,0 +1,56 @@
+/* What each peer adapter implements: a handful of per-body primitives. peers.c does the
+ * rest once for every engine (walking the scene, pivots, totals), so the adapters stay
+ * a direct translation of a kg_body_def into the engine's own calls. */
+#ifndef KG_PEER_ADAPTER_H
+#define KG_PEER_ADAPTER_H
+
+#include "kgyro/body.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct kg_peer_setup {
+    kg_vec2 gravity;
+    float restitution_threshold; /* m/s, from the scene's world def */
+    float linear_slop;           /* m: overlap allowed to keep contacts, from the world def */
+    int body_count;              /* bodies that will be added, for sizing */
+    int threads;
+} kg_peer_setup;
+
+/* A body to add. density is resolved: a def with a mass override and a shape comes with
+ * the density that gives that mass; a def without a shape (a point particle) uses
+ * def->mass. */
+typedef struct kg_peer_body {
+    const kg_body_def* def;
+    float density;
+} kg_peer_body;
+
+typedef struct kg_peer_adapter {
+    const char* name;
+    const char* (*describe)(int threads);
+    void* (*create)(const kg_peer_setup* setup);
+    void (*destroy)(void* world);
+    /* Adds the next body (bodies are numbered in the order added). NULL on success, else
+     * why the engine cannot take it. */
+    const char* (*add_body)(void* world, const kg_peer_body* body);
+    void (*step)(void* world, float dt);
+    void (*get_state)(const void* world, int index, kg_body_state* out);
+    /* The world point the engine turns the body about (its centre of mass). */
+    kg_vec2 (*rotation_center)(const void* world, int index);
+    void (*set_velocity)(void* world, int index, kg_vec2 velocity);
+    double (*mass)(const void* world, int index); /* 0 unless dynamic */
+    kg_aabb (*bounds)(const void* world, int index);
+} kg_peer_adapter;
+
+#ifdef KG_PEER_HAVE_BOX2D
+extern const kg_peer_adapter kg_box2d_adapter;
+#endif
+#ifdef KG_PEER_HAVE_CHIPMUNK
+extern const kg_peer_adapter kg_chipmunk_adapter;
+#endif
+
+#ifdef __cplusplus
+}
+#endif
+#endif

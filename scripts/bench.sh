@@ -1,0 +1,3 @@
+#!/usr/bin/env bash
+# Placeholder until 'make bench' is built.
+echo "make bench: not built yet"

@@ -1,0 +1,3 @@
+#!/usr/bin/env bash
+# Placeholder until 'make soak' is built.
+echo "make soak: not built yet"

@@ -1,0 +1,45 @@
+/* The OpenCL backend: the step as kernels over the pools kept on the device (cl_step.c),
+ * the backend operations and the fallback to the CPU (cl_backend.c). */
+#ifndef KG_CL_BACKEND_H
+#define KG_CL_BACKEND_H
+
+#include "backend/backend.h"
+#include "backend/opencl/backend_state.h"
+#include "backend/opencl/cl_world.h"
+#include "solve/graph_color.h"
+
+typedef struct kg_cl_backend {
+    kg_cl_world* w;
+    /* host scratch, grown (never in a steady state) when a step needs more */
+    cl_uint* target_pairs;           /* (slot, multiplicity) lists of this step's applicators */
+    int target_pair_capacity;
+    kg_contact_constraint* color_input; /* only .a and .b: what the colouring reads */
+    int* color_scratch;
+    int color_capacity;
+    kg_graph_coloring coloring;
+    cl_kernel* force_kernels;        /* per applicator slot, for device forces */
+    cl_mem* force_params;
+    int steps_since_snapshot;        /* steps since the host last had the whole state */
+    int frozen_count;                /* frozen bodies the host knows of, to warn of new ones */
+    int checkpoint_valid;            /* this step's start state is saved on the device */
+} kg_cl_backend;
+
+extern const kg_backend_ops kg_opencl_backend;
+
+/* Starts OpenCL on the device kg_backend_select chose. */
+kg_result kg_cl_backend_start(kg_world* world, int device_index);
+/* Releases the OpenCL state (not the backend state). */
+void kg_cl_backend_stop(kg_world* world);
+
+/* The step on the device, stage by stage; a failure leaves the error set. */
+kg_result kg_cl_step(kg_world* world, kg_cl_backend* b, float dt);
+/* Builds the program of the device force in slot, its kernel and its parameter buffer. */
+kg_result kg_cl_prepare_device_force(kg_world* world, kg_cl_backend* b, int slot);
+/* The device forces' kernels and buffers of slots no longer holding one are released. */
+void kg_cl_release_device_force(kg_cl_backend* b, int slot);
+
+/* Devices auto may choose: GPUs and accelerators (a CPU device through OpenCL is no
+ * faster than the CPU backend, and compiling its kernels costs seconds). */
+int kg_cl_auto_device(void);
+
+#endif

@@ -1,0 +1,466 @@
+/* The step on the device, in the CPU backend's order (backend/cpu/cpu_backend.c):
+ *
+ *   upload what the host changed; checkpoint the state (on the device)
+ *   forces     built-in and device force applicators as kernels; C callbacks on the host
+ *   collide    on the host for now: transforms, bounds and flags read back, contacts built
+ *              by collide/collide.c, then uploaded
+ *   solve      on the device: poses saved, constraints prepared, colours solved one
+ *              launch each (the colouring itself is computed on the host from the
+ *              contacts), sub-steps, restitution, impulses stored and read back
+ *   finalize   on the device; the queue drained, so errors surface inside the step
+ *
+ * Each kernel calls the shared per-element function the CPU loop calls, so the state
+ * agrees bit for bit with the CPU backend's. */
+#ifdef KG_HAVE_OPENCL
+#include "backend/opencl/cl_backend.h"
+#include "collide/collide.h"
+#include "core/alloc.h"
+#include "core/error.h"
+#include "solve/contact_solver.h"
+#include "solve/integrate.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+KG_STATIC_ASSERT(sizeof(kg_contact) == 128, host_contact_size);
+KG_STATIC_ASSERT(sizeof(kg_force_body) == 56, host_force_body_size);
+
+/* The kernels' pass numbers (kernels/kg_step.cl). */
+enum { KG_CL_PASS_WARM_START, KG_CL_PASS_SOLVE, KG_CL_PASS_RELAX, KG_CL_PASS_RESTITUTION };
+enum { KG_CL_GRAVITY, KG_CL_WIND };
+
+#define KG_TRY(expr)                 \
+    do {                             \
+        kg_result kg_try_ = (expr);  \
+        if (kg_try_ != KG_OK) {      \
+            return kg_try_;          \
+        }                            \
+    } while (0)
+
+/* ---- kernel arguments ------------------------------------------------------------- */
+
+static kg_result kg_bind(kg_cl_world* w, kg_cl_kernel_id id, int first, const cl_mem* buffers, int count)
+{
+    for (int k = 0; k < count; ++k) {
+        KG_TRY(kg_cl_arg(w, w->kernels[id], first + k, sizeof(cl_mem), &buffers[k]));
+    }
+    return KG_OK;
+}
+
+#define KG_A(name) w->arrays[KG_CL_##name]
+#define KG_BIND(id, first, ...)                                                                   \
+    do {                                                                                          \
+        const cl_mem list_[] = {__VA_ARGS__};                                                     \
+        KG_TRY(kg_bind(w, KG_CL_K_##id, first, list_, (int)(sizeof list_ / sizeof list_[0])));    \
+    } while (0)
+
+kg_result kg_cl_bind_buffers(kg_cl_world* w)
+{
+    KG_BIND(APPLY_BUILTIN_FORCE, 8, KG_A(FLAGS), KG_A(MASS), KG_A(VELOCITY), KG_A(FORCE));
+    KG_BIND(INTEGRATE_VELOCITIES, 5, KG_A(FLAGS), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE), KG_A(TORQUE),
+            KG_A(INV_MASS), KG_A(INV_INERTIA), KG_A(LINEAR_DAMPING), KG_A(ANGULAR_DAMPING));
+    KG_BIND(INTEGRATE_POSITIONS, 2, KG_A(FLAGS), KG_A(CENTER), KG_A(ROT), KG_A(VELOCITY), KG_A(OMEGA));
+    KG_BIND(SAVE_POSES, 1, KG_A(CENTER), KG_A(ROT), w->center0, w->rot0);
+    KG_BIND(PREPARE_CONTACTS, 2, w->contacts, w->constraints, KG_A(FLAGS), KG_A(INV_MASS), KG_A(INV_INERTIA),
+            KG_A(XF), KG_A(VELOCITY), KG_A(OMEGA), KG_A(CENTER), KG_A(ROT), w->center0, w->rot0);
+    KG_BIND(SOLVE_COLOR, 5, w->order, w->constraints, KG_A(FLAGS), KG_A(VELOCITY), KG_A(OMEGA), KG_A(CENTER),
+            KG_A(ROT), w->center0, w->rot0);
+    KG_BIND(STORE_IMPULSES, 1, w->constraints, w->contacts);
+    KG_BIND(FINALIZE, 1, KG_A(FLAGS), KG_A(CENTER), KG_A(ROT), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE),
+            KG_A(TORQUE), KG_A(XF), KG_A(AABB), KG_A(SHAPE), KG_A(LOCAL_CENTER));
+    return KG_OK;
+}
+
+static kg_result kg_arg_int(kg_cl_world* w, cl_kernel k, int index, int value)
+{
+    cl_int v = value;
+    return kg_cl_arg(w, k, index, sizeof v, &v);
+}
+
+static kg_result kg_arg_float(kg_cl_world* w, cl_kernel k, int index, float value)
+{
+    cl_float v = value;
+    return kg_cl_arg(w, k, index, sizeof v, &v);
+}
+
+/* ---- timing ----------------------------------------------------------------------- */
+
+static double kg_now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+/* Host time of a stage: always when not profiling; when profiling, only for the stages
+ * that run on the host (the kernels are timed by their events). */
+static void kg_time_stage(kg_world* world, const char* name, int on_host, double* start)
+{
+    const kg_backend_state* s = world->backend_state;
+    double now = kg_now_ms();
+    kg_stage_times* t = &world->times;
+    if ((!s->profiling || on_host) && t->count < 16) {
+        t->names[t->count] = name;
+        t->ms[t->count] = now - *start;
+        t->count += 1;
+    }
+    *start = now;
+}
+
+static void kg_add_kernel_times(kg_world* world, kg_cl_world* w)
+{
+    kg_cl_collect_timing(w);
+    kg_stage_times* t = &world->times;
+    for (int k = 0; k < w->timing.count && t->count < 16; ++k) {
+        t->names[t->count] = w->timing.names[k];
+        t->ms[t->count] = (double)w->timing.ns[k] * 1e-6;
+        t->count += 1;
+    }
+    memset(&w->timing, 0, sizeof w->timing);
+}
+
+/* ---- forces ----------------------------------------------------------------------- */
+
+static int kg_pair_compare(const void* a, const void* b)
+{
+    cl_uint x = ((const cl_uint*)a)[0], y = ((const cl_uint*)b)[0];
+    return (x > y) - (x < y);
+}
+
+static kg_result kg_reserve_pairs(kg_cl_backend* b, int pairs)
+{
+    if (pairs <= b->target_pair_capacity) {
+        return KG_OK;
+    }
+    /* earlier lists of this step may still be read by non-blocking writes */
+    KG_TRY(kg_cl_finish(b->w));
+    cl_uint* grown = kg_alloc_zeroed((size_t)pairs * 2u * sizeof *grown);
+    if (!grown) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate applicator targets");
+    }
+    kg_free(b->target_pairs);
+    b->target_pairs = grown;
+    b->target_pair_capacity = pairs;
+    return KG_OK;
+}
+
+/* The live bodies of an applicator's list as (slot, multiplicity) pairs sorted by slot,
+ * written at pairs[*used]; *count gets how many. A body listed n times is one pair with
+ * multiplicity n: the kernel adds its force n times in sequence, as the CPU loop does. */
+static kg_result kg_list_targets(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, int* used, int* count)
+{
+    KG_TRY(kg_reserve_pairs(b, *used + a->body_count));
+    cl_uint* out = b->target_pairs + 2 * *used;
+    int n = 0;
+    for (int k = 0; k < a->body_count; ++k) {
+        if (kg_body_is_valid(world, a->bodies[k])) {
+            out[2 * n] = a->bodies[k].index;
+            out[2 * n + 1] = 1u;
+            n++;
+        }
+    }
+    qsort(out, (size_t)n, 2 * sizeof *out, kg_pair_compare);
+    int unique = 0;
+    for (int k = 0; k < n; ++k) {
+        if (unique > 0 && out[2 * (unique - 1)] == out[2 * k]) {
+            out[2 * (unique - 1) + 1] += 1u;
+        } else {
+            out[2 * unique] = out[2 * k];
+            out[2 * unique + 1] = 1u;
+            unique++;
+        }
+    }
+    *count = unique;
+    return KG_OK;
+}
+
+/* Binds the targets of applicator a to arguments 0..2 (count, all, targets) of kernel and
+ * returns the work-item count in *items. Each list is written from its own range of the
+ * host scratch (a non-blocking write reads it later); on the device they all go to the
+ * start of the targets buffer, which the in-order queue makes safe. A list has at most
+ * one pair per slot, so the buffer, sized max_bodies, always holds it. */
+static kg_result kg_bind_targets(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, cl_kernel kernel,
+                                 int* used, int* items)
+{
+    kg_cl_world* w = b->w;
+    int all = a->bodies == NULL;
+    int count = world->bodies.high_water;
+    if (!all) {
+        KG_TRY(kg_list_targets(world, b, a, used, &count));
+        KG_TRY(kg_cl_write(w, w->targets, 0, (size_t)count * 2u * sizeof(cl_uint), b->target_pairs + 2 * *used, 0));
+        *used += count;
+    }
+    KG_TRY(kg_arg_int(w, kernel, 0, count));
+    KG_TRY(kg_arg_int(w, kernel, 1, all));
+    KG_TRY(kg_cl_arg(w, kernel, 2, sizeof(cl_mem), &w->targets));
+    *items = count;
+    return KG_OK;
+}
+
+static kg_result kg_run_builtin_force(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, int* used)
+{
+    kg_cl_world* w = b->w;
+    cl_kernel k = w->kernels[KG_CL_K_APPLY_BUILTIN_FORCE];
+    int items = 0;
+    KG_TRY(kg_bind_targets(world, b, a, k, used, &items));
+    KG_TRY(kg_arg_int(w, k, 3, a->kind == KG_APPLICATOR_GRAVITY ? KG_CL_GRAVITY : KG_CL_WIND));
+    KG_TRY(kg_arg_float(w, k, 4, a->vector.x));
+    KG_TRY(kg_arg_float(w, k, 5, a->vector.y));
+    KG_TRY(kg_arg_float(w, k, 6, a->strength));
+    KG_TRY(kg_arg_float(w, k, 7, a->drag));
+    return kg_cl_run(w, KG_CL_K_APPLY_BUILTIN_FORCE, items);
+}
+
+static kg_result kg_run_device_force(kg_world* world, kg_cl_backend* b, int slot, kg_device_force* f, int* used)
+{
+    kg_cl_world* w = b->w;
+    if (!b->force_kernels[slot]) {
+        KG_TRY(kg_cl_prepare_device_force(world, b, slot));
+    }
+    cl_kernel k = b->force_kernels[slot];
+    if (f->params_changed) {
+        KG_TRY(kg_cl_write(w, b->force_params[slot], 0, sizeof f->params, f->params, 1));
+        f->params_changed = 0;
+    }
+    int items = 0;
+    KG_TRY(kg_bind_targets(world, b, &world->applicators[slot], k, used, &items));
+    const cl_mem buffers[] = {b->force_params[slot], KG_A(FLAGS), KG_A(CENTER), KG_A(ROT), KG_A(VELOCITY),
+                              KG_A(OMEGA), KG_A(MASS), KG_A(INERTIA), KG_A(FORCE), KG_A(TORQUE)};
+    for (int i = 0; i < (int)(sizeof buffers / sizeof buffers[0]); ++i) {
+        KG_TRY(kg_cl_arg(w, k, 3 + i, sizeof(cl_mem), &buffers[i]));
+    }
+    return kg_cl_launch(w, k, w->group_size[KG_CL_K_APPLY_BUILTIN_FORCE], items, f->function_name);
+}
+
+/* The bodies a C callback is given, as forces.c gives them: every live body, or the live
+ * bodies of its list in list order. */
+static int kg_callback_targets(kg_world* world, const kg_applicator_slot* a)
+{
+    const kg_body_pool* p = &world->bodies;
+    kg_body* out = world->handle_scratch;
+    int n = 0;
+    if (!a->bodies) {
+        for (int i = 0; i < p->high_water; ++i) {
+            if (kg_pool_alive(p, i)) {
+                out[n].index = (uint32_t)i;
+                out[n++].generation = p->generation[i];
+            }
+        }
+        return n;
+    }
+    for (int k = 0; k < a->body_count; ++k) {
+        if (kg_body_is_valid(world, a->bodies[k])) {
+            out[n++] = a->bodies[k];
+        }
+    }
+    return n;
+}
+
+/* A C callback runs on the host. It reads and writes through the body API, whose getters
+ * read back what the device changed (sync_to_host) and whose setters mark the host copy
+ * changed (host_changed); what it changed is uploaded before the next kernel. */
+static kg_result kg_run_callback(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a)
+{
+    int count = kg_callback_targets(world, a);
+    a->fn(world, world->handle_scratch, count, a->user_data);
+    if (world->backend_state != NULL && ((kg_backend_state*)world->backend_state)->cl != b) {
+        return kg_fail(KG_ERROR_BACKEND, "OpenCL: the device failed during a force callback");
+    }
+    return kg_cl_to_device(b->w, &world->bodies, KG_CL_ALL_ARRAYS);
+}
+
+static kg_result kg_stage_forces(kg_world* world, kg_cl_backend* b)
+{
+    int used = 0;
+    for (int slot = 0; slot < world->def.max_applicators; ++slot) {
+        const kg_applicator_slot* a = &world->applicators[slot];
+        kg_device_force* f = kg_device_force_of(world, slot);
+        if (a->kind == KG_APPLICATOR_FREE) {
+            continue;
+        }
+        if (a->kind != KG_APPLICATOR_USER || f) {
+            b->w->forces_cleared = 0;
+            b->w->host_stale |= KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE);
+        }
+        if (f) {
+            KG_TRY(kg_run_device_force(world, b, slot, f, &used));
+        } else if (a->kind == KG_APPLICATOR_USER) {
+            KG_TRY(kg_run_callback(world, b, a));
+        } else {
+            KG_TRY(kg_run_builtin_force(world, b, a, &used));
+        }
+    }
+    return KG_OK;
+}
+
+/* ---- collide (host) --------------------------------------------------------------- */
+
+static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b)
+{
+    KG_TRY(kg_cl_to_host(b->w, &world->bodies, KG_CL_BIT(XF) | KG_CL_BIT(AABB) | KG_CL_BIT(FLAGS)));
+    return kg_stage_collide(world);
+}
+
+/* ---- solve ------------------------------------------------------------------------ */
+
+/* kg_make_params of solve/solver.c (static there). */
+static kg_solver_params kg_solver_params_of(const kg_world_def* def, float h)
+{
+    kg_solver_params prm;
+    prm.h = h;
+    prm.inv_h = 1.0f / h;
+    prm.max_push_out_speed = def->max_push_out_speed;
+    prm.linear_slop = def->linear_slop;
+    prm.restitution_threshold = def->restitution_threshold;
+    float hertz = fminf(def->contact_hertz, 0.25f * prm.inv_h);
+    prm.contact_softness = kg_make_softness(hertz, def->contact_damping_ratio, h);
+    prm.static_softness = kg_make_softness(2.0f * hertz, def->contact_damping_ratio, h);
+    return prm;
+}
+
+static kg_result kg_reserve_coloring(kg_world* world, kg_cl_backend* b, int count)
+{
+    if (count <= b->color_capacity && b->coloring.order) {
+        return KG_OK;
+    }
+    int capacity = count > world->def.max_contacts ? count : world->def.max_contacts;
+    kg_free(b->color_input);
+    kg_free(b->color_scratch);
+    kg_graph_coloring_free(&b->coloring);
+    b->color_capacity = 0;
+    b->color_input = kg_alloc_zeroed((size_t)capacity * sizeof *b->color_input);
+    b->color_scratch = kg_alloc_zeroed((size_t)capacity * sizeof *b->color_scratch);
+    if (!b->color_input || !b->color_scratch) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the colouring of %d contacts", capacity);
+    }
+    KG_TRY(kg_graph_coloring_init(&b->coloring, world->def.max_bodies, capacity));
+    b->color_capacity = capacity;
+    return kg_cl_reserve_contacts(b->w, capacity);
+}
+
+/* The colouring the CPU solver computes (solve/graph_color.c, greedy in contact order),
+ * from the contacts' bodies: the colours must be the same for the passes to be. */
+static void kg_color_contacts(kg_world* world, kg_cl_backend* b, const kg_contact* contacts, int count)
+{
+    for (int k = 0; k < count; ++k) {
+        b->color_input[k].a = contacts[k].a;
+        b->color_input[k].b = contacts[k].b;
+    }
+    kg_graph_color(&b->coloring, b->color_input, count, &world->bodies, b->color_scratch);
+}
+
+static kg_result kg_run_pass(kg_cl_backend* b, int pass)
+{
+    kg_cl_world* w = b->w;
+    cl_kernel k = w->kernels[KG_CL_K_SOLVE_COLOR];
+    const kg_graph_coloring* g = &b->coloring;
+    KG_TRY(kg_arg_int(w, k, 3, pass));
+    for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
+        int serial = c == KG_COLOR_COUNT;
+        int count = g->color_start[c + 1] - g->color_start[c];
+        if (count == 0 || (!serial && c >= g->color_count)) {
+            continue;
+        }
+        KG_TRY(kg_arg_int(w, k, 0, g->color_start[c]));
+        KG_TRY(kg_arg_int(w, k, 1, count));
+        KG_TRY(kg_arg_int(w, k, 2, serial));
+        KG_TRY(kg_cl_run(w, KG_CL_K_SOLVE_COLOR, serial ? 1 : count));
+    }
+    return KG_OK;
+}
+
+static kg_result kg_set_solver_scalars(kg_cl_world* w, int bodies, int contacts, kg_solver_params prm,
+                                       kg_integrate_params ip)
+{
+    cl_kernel v = w->kernels[KG_CL_K_INTEGRATE_VELOCITIES], p = w->kernels[KG_CL_K_INTEGRATE_POSITIONS];
+    KG_TRY(kg_arg_int(w, v, 0, bodies));
+    KG_TRY(kg_arg_float(w, v, 1, ip.h));
+    KG_TRY(kg_arg_float(w, v, 2, ip.gravity.x));
+    KG_TRY(kg_arg_float(w, v, 3, ip.gravity.y));
+    KG_TRY(kg_arg_float(w, v, 4, ip.max_linear_speed));
+    KG_TRY(kg_arg_int(w, p, 0, bodies));
+    KG_TRY(kg_arg_float(w, p, 1, ip.h));
+    KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_SAVE_POSES], 0, bodies));
+    KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_PREPARE_CONTACTS], 0, contacts));
+    KG_TRY(kg_cl_arg(w, w->kernels[KG_CL_K_PREPARE_CONTACTS], 1, sizeof prm, &prm));
+    KG_TRY(kg_cl_arg(w, w->kernels[KG_CL_K_SOLVE_COLOR], 4, sizeof prm, &prm));
+    return kg_arg_int(w, w->kernels[KG_CL_K_STORE_IMPULSES], 0, contacts);
+}
+
+static kg_result kg_upload_contacts(kg_world* world, kg_cl_backend* b, kg_contact* contacts, int count)
+{
+    KG_TRY(kg_reserve_coloring(world, b, count));
+    kg_color_contacts(world, b, contacts, count);
+    KG_TRY(kg_cl_write(b->w, b->w->contacts, 0, (size_t)count * sizeof *contacts, contacts, 0));
+    return kg_cl_write(b->w, b->w->order, 0, (size_t)count * sizeof(int), b->coloring.order, 0);
+}
+
+static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, float dt)
+{
+    kg_cl_world* w = b->w;
+    int count = 0;
+    kg_contact* contacts = kg_collision_contacts(world, &count);
+    int n = world->def.substeps;
+    float h = dt / (float)n;
+    int bodies = world->bodies.high_water;
+    kg_integrate_params ip = {world->def.gravity, h, world->def.max_linear_speed};
+    KG_TRY(kg_upload_contacts(world, b, contacts, count));
+    KG_TRY(kg_set_solver_scalars(w, bodies, count, kg_solver_params_of(&world->def, h), ip));
+    KG_TRY(kg_cl_run(w, KG_CL_K_SAVE_POSES, bodies));
+    KG_TRY(kg_cl_run(w, KG_CL_K_PREPARE_CONTACTS, count));
+    for (int step = 0; step < n; ++step) {
+        KG_TRY(kg_cl_run(w, KG_CL_K_INTEGRATE_VELOCITIES, bodies));
+        KG_TRY(kg_run_pass(b, KG_CL_PASS_WARM_START));
+        KG_TRY(kg_run_pass(b, KG_CL_PASS_SOLVE));
+        KG_TRY(kg_cl_run(w, KG_CL_K_INTEGRATE_POSITIONS, bodies));
+        KG_TRY(kg_run_pass(b, KG_CL_PASS_RELAX));
+    }
+    KG_TRY(kg_run_pass(b, KG_CL_PASS_RESTITUTION));
+    KG_TRY(kg_cl_run(w, KG_CL_K_STORE_IMPULSES, count));
+    /* the host collide of the next step carries these impulses over, and the contact
+     * getters read them */
+    return kg_cl_read(w, w->contacts, 0, (size_t)count * sizeof *contacts, contacts);
+}
+
+/* ---- finalize --------------------------------------------------------------------- */
+
+static kg_result kg_stage_finalize_on_device(kg_world* world, kg_cl_backend* b)
+{
+    kg_cl_world* w = b->w;
+    KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_FINALIZE], 0, world->bodies.high_water));
+    KG_TRY(kg_cl_run(w, KG_CL_K_FINALIZE, world->bodies.high_water));
+    KG_TRY(kg_cl_finish(w));
+    w->host_stale |= kg_cl_state_arrays();
+    w->forces_cleared = 1;
+    return KG_OK;
+}
+
+/* ---- the step --------------------------------------------------------------------- */
+
+kg_result kg_cl_step(kg_world* world, kg_cl_backend* b, float dt)
+{
+    kg_cl_world* w = b->w;
+    world->times.count = 0;
+    w->profiling = ((kg_backend_state*)world->backend_state)->profiling;
+    b->checkpoint_valid = 0;
+    double t = kg_now_ms();
+    KG_TRY(kg_cl_to_device(w, &world->bodies, KG_CL_ALL_ARRAYS));
+    KG_TRY(kg_cl_save_checkpoint(w, &world->bodies));
+    b->checkpoint_valid = 1;
+    kg_time_stage(world, "upload", 0, &t);
+    KG_TRY(kg_stage_forces(world, b));
+    kg_time_stage(world, "forces", 0, &t);
+    KG_TRY(kg_stage_collide_on_host(world, b));
+    kg_time_stage(world, "collide (host)", 1, &t);
+    KG_TRY(kg_stage_solve_on_device(world, b, dt));
+    kg_time_stage(world, "solve", 0, &t);
+    KG_TRY(kg_stage_finalize_on_device(world, b));
+    kg_time_stage(world, "finalize", 0, &t);
+    if (w->profiling) {
+        kg_add_kernel_times(world, w);
+    }
+    b->steps_since_snapshot += 1;
+    return KG_OK;
+}
+#endif

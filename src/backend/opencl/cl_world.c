@@ -1,0 +1,489 @@
+#ifdef KG_HAVE_OPENCL
+#include "backend/opencl/cl_world.h"
+#include "core/alloc.h"
+#include "core/error.h"
+
+#include <string.h>
+
+/* Work-group size aimed at: a multiple of every GPU's SIMD width (32 or 64), and large
+ * enough that a CPU device's per-group overhead stays small. */
+#define KG_CL_GROUP_TARGET 64
+
+typedef struct kg_cl_host_array {
+    void* data;
+    size_t element_size;
+    int state;
+} kg_cl_host_array;
+
+static kg_cl_host_array kg_cl_host_array_of(const kg_body_pool* pool, kg_cl_array id)
+{
+    kg_cl_host_array out = {NULL, 0, 0};
+    switch (id) {
+#define KG_CL_HOST_CASE(name, member, is_state)                                 \
+    case KG_CL_##name:                                                          \
+        out.data = (void*)pool->member;                                         \
+        out.element_size = sizeof *pool->member;                                \
+        out.state = is_state;                                                   \
+        break;
+        KG_CL_BODY_ARRAYS(KG_CL_HOST_CASE)
+#undef KG_CL_HOST_CASE
+    case KG_CL_ARRAY_COUNT: break;
+    }
+    return out;
+}
+
+unsigned kg_cl_state_arrays(void)
+{
+    unsigned mask = 0;
+#define KG_CL_STATE_BIT(name, member, is_state) mask |= (is_state) ? KG_CL_BIT(name) : 0u;
+    KG_CL_BODY_ARRAYS(KG_CL_STATE_BIT)
+#undef KG_CL_STATE_BIT
+    return mask;
+}
+
+/* ---- checked calls ------------------------------------------------------------------ */
+
+static kg_result kg_cl_check(cl_int err, const char* what)
+{
+    return err == CL_SUCCESS ? KG_OK : kg_fail(KG_ERROR_BACKEND, "OpenCL: %s failed (%s)", what, kg_cl_error_name(err));
+}
+
+static kg_result kg_cl_injected(const char* what)
+{
+    return kg_fail(KG_ERROR_BACKEND, "OpenCL: %s failed (CL_OUT_OF_RESOURCES injected by KGYRO_CL_FAIL)", what);
+}
+
+/* The event to profile a command with, or NULL when not profiling (or the step's event
+ * list is full: later commands then go untimed). */
+static cl_event* kg_cl_event_for(kg_cl_world* w, const char* name)
+{
+    if (!w->profiling || w->event_count >= KG_CL_MAX_EVENTS) {
+        return NULL;
+    }
+    w->event_names[w->event_count] = name;
+    w->events[w->event_count] = NULL;
+    return &w->events[w->event_count];
+}
+
+static void kg_cl_event_done(kg_cl_world* w, cl_event* event, cl_int err)
+{
+    if (event && err == CL_SUCCESS && *event) {
+        w->event_count += 1;
+    }
+}
+
+kg_result kg_cl_buffer(kg_cl_world* w, size_t size, cl_mem* out)
+{
+    *out = NULL;
+    if (kg_cl_fault(&w->faults, KG_CL_FAULT_ALLOC)) {
+        return kg_fail(KG_ERROR_BACKEND, "OpenCL: cannot allocate a buffer of %zu bytes "
+                       "(CL_MEM_OBJECT_ALLOCATION_FAILURE injected by KGYRO_CL_FAIL)", size);
+    }
+    cl_int err = CL_SUCCESS;
+    *out = w->cl->CreateBuffer(w->rt->context, CL_MEM_READ_WRITE, size > 0 ? size : 4, NULL, &err);
+    if (!*out || err != CL_SUCCESS) {
+        *out = NULL;
+        return kg_fail(KG_ERROR_BACKEND, "OpenCL: cannot allocate a buffer of %zu bytes on %s (%s)", size,
+                       w->rt->device->info.name, kg_cl_error_name(err));
+    }
+    return KG_OK;
+}
+
+static void kg_cl_release(kg_cl_world* w, cl_mem* buffer)
+{
+    if (*buffer) {
+        w->cl->ReleaseMemObject(*buffer);
+        *buffer = NULL;
+    }
+}
+
+kg_result kg_cl_write(kg_cl_world* w, cl_mem buffer, size_t offset, size_t size, const void* data, int blocking)
+{
+    if (size == 0) {
+        return KG_OK;
+    }
+    if (kg_cl_fault(&w->faults, KG_CL_FAULT_ENQUEUE)) {
+        return kg_cl_injected("a write to the device");
+    }
+    cl_event* event = kg_cl_event_for(w, "upload");
+    cl_int err = w->cl->EnqueueWriteBuffer(w->queue, buffer, blocking ? CL_TRUE : CL_FALSE, offset, size, data, 0,
+                                           NULL, event);
+    kg_cl_event_done(w, event, err);
+    w->transfers.bytes_to_device += size;
+    w->transfers.writes += 1;
+    return kg_cl_check(err, "a write to the device");
+}
+
+kg_result kg_cl_read(kg_cl_world* w, cl_mem buffer, size_t offset, size_t size, void* data)
+{
+    if (size == 0) {
+        return KG_OK;
+    }
+    if (kg_cl_fault(&w->faults, KG_CL_FAULT_READ)) {
+        return kg_cl_injected("a read from the device");
+    }
+    cl_event* event = kg_cl_event_for(w, "download");
+    cl_int err = w->cl->EnqueueReadBuffer(w->queue, buffer, CL_TRUE, offset, size, data, 0, NULL, event);
+    kg_cl_event_done(w, event, err);
+    w->transfers.bytes_to_host += size;
+    w->transfers.reads += 1;
+    return kg_cl_check(err, "a read from the device");
+}
+
+kg_result kg_cl_copy(kg_cl_world* w, cl_mem from, cl_mem to, size_t size)
+{
+    if (size == 0) {
+        return KG_OK;
+    }
+    if (kg_cl_fault(&w->faults, KG_CL_FAULT_ENQUEUE)) {
+        return kg_cl_injected("a copy on the device");
+    }
+    cl_event* event = kg_cl_event_for(w, "checkpoint");
+    cl_int err = w->cl->EnqueueCopyBuffer(w->queue, from, to, 0, 0, size, 0, NULL, event);
+    kg_cl_event_done(w, event, err);
+    return kg_cl_check(err, "a copy on the device");
+}
+
+kg_result kg_cl_arg(kg_cl_world* w, cl_kernel kernel, int index, size_t size, const void* value)
+{
+    return kg_cl_check(w->cl->SetKernelArg(kernel, (cl_uint)index, size, value), "setting a kernel argument");
+}
+
+kg_result kg_cl_launch(kg_cl_world* w, cl_kernel kernel, size_t group_size, int count, const char* name)
+{
+    if (count <= 0) {
+        return KG_OK;
+    }
+    if (kg_cl_fault(&w->faults, KG_CL_FAULT_ENQUEUE)) {
+        return kg_cl_injected(name);
+    }
+    size_t global = ((size_t)count + group_size - 1) / group_size * group_size;
+    cl_event* event = kg_cl_event_for(w, name);
+    cl_int err = w->cl->EnqueueNDRangeKernel(w->queue, kernel, 1, NULL, &global, &group_size, 0, NULL, event);
+    kg_cl_event_done(w, event, err);
+    if (err != CL_SUCCESS) {
+        return kg_fail(KG_ERROR_BACKEND, "OpenCL: launching %s failed (%s)", name, kg_cl_error_name(err));
+    }
+    return KG_OK;
+}
+
+static const char* const kKernelNames[KG_CL_KERNEL_COUNT] = {
+#define KG_CL_KERNEL_NAME(id, name) #name,
+    KG_CL_KERNELS(KG_CL_KERNEL_NAME)
+#undef KG_CL_KERNEL_NAME
+};
+
+kg_result kg_cl_run(kg_cl_world* w, kg_cl_kernel_id id, int count)
+{
+    return kg_cl_launch(w, w->kernels[id], w->group_size[id], count, kKernelNames[id]);
+}
+
+kg_result kg_cl_finish(kg_cl_world* w)
+{
+    if (kg_cl_fault(&w->faults, KG_CL_FAULT_FINISH)) {
+        return kg_fail(KG_ERROR_BACKEND, "OpenCL: a kernel failed while running (CL_OUT_OF_RESOURCES injected by "
+                       "KGYRO_CL_FAIL)");
+    }
+    return kg_cl_check(w->cl->Finish(w->queue), "waiting for the device");
+}
+
+/* ---- residency ---------------------------------------------------------------------- */
+
+static size_t kg_cl_span(const kg_body_pool* pool, kg_cl_host_array a)
+{
+    return (size_t)pool->high_water * a.element_size;
+}
+
+kg_result kg_cl_upload(kg_cl_world* w, const kg_body_pool* pool, unsigned arrays)
+{
+    for (int id = 0; id < KG_CL_ARRAY_COUNT; ++id) {
+        if (arrays & (1u << id)) {
+            kg_cl_host_array a = kg_cl_host_array_of(pool, (kg_cl_array)id);
+            /* blocking: user code may change the pool as soon as a callback returns */
+            kg_result r = kg_cl_write(w, w->arrays[id], 0, kg_cl_span(pool, a), a.data, 1);
+            if (r != KG_OK) {
+                return r;
+            }
+            w->device_stale &= ~(1u << id);
+        }
+    }
+    return KG_OK;
+}
+
+/* Force and torque after a step are zero for every live body: no need to read them. */
+static void kg_cl_clear_forces(kg_body_pool* pool)
+{
+    for (int i = 0; i < pool->high_water; ++i) {
+        if (kg_pool_alive(pool, i)) {
+            pool->force[i].x = 0.0f;
+            pool->force[i].y = 0.0f;
+            pool->torque[i] = 0.0f;
+        }
+    }
+}
+
+kg_result kg_cl_download(kg_cl_world* w, kg_body_pool* pool, unsigned arrays)
+{
+    unsigned forces = KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE);
+    if (w->forces_cleared && (arrays & forces)) {
+        kg_cl_clear_forces(pool);
+        w->host_stale &= ~forces;
+        arrays &= ~forces;
+    }
+    for (int id = 0; id < KG_CL_ARRAY_COUNT; ++id) {
+        if (arrays & (1u << id)) {
+            kg_cl_host_array a = kg_cl_host_array_of(pool, (kg_cl_array)id);
+            kg_result r = kg_cl_read(w, w->arrays[id], 0, kg_cl_span(pool, a), a.data);
+            if (r != KG_OK) {
+                return r;
+            }
+            w->host_stale &= ~(1u << id);
+        }
+    }
+    return KG_OK;
+}
+
+kg_result kg_cl_to_device(kg_cl_world* w, const kg_body_pool* pool, unsigned arrays)
+{
+    return kg_cl_upload(w, pool, arrays & w->device_stale);
+}
+
+kg_result kg_cl_to_host(kg_cl_world* w, kg_body_pool* pool, unsigned arrays)
+{
+    return kg_cl_download(w, pool, arrays & w->host_stale);
+}
+
+kg_result kg_cl_save_checkpoint(kg_cl_world* w, const kg_body_pool* pool)
+{
+    unsigned state = kg_cl_state_arrays();
+    for (int id = 0; id < KG_CL_ARRAY_COUNT; ++id) {
+        if (state & (1u << id)) {
+            kg_cl_host_array a = kg_cl_host_array_of(pool, (kg_cl_array)id);
+            kg_result r = kg_cl_copy(w, w->arrays[id], w->checkpoint[id], kg_cl_span(pool, a));
+            if (r != KG_OK) {
+                return r;
+            }
+        }
+    }
+    return KG_OK;
+}
+
+kg_result kg_cl_read_checkpoint(kg_cl_world* w, kg_body_pool* pool)
+{
+    unsigned state = kg_cl_state_arrays();
+    for (int id = 0; id < KG_CL_ARRAY_COUNT; ++id) {
+        if (state & (1u << id)) {
+            kg_cl_host_array a = kg_cl_host_array_of(pool, (kg_cl_array)id);
+            kg_result r = kg_cl_read(w, w->checkpoint[id], 0, kg_cl_span(pool, a), a.data);
+            if (r != KG_OK) {
+                return r;
+            }
+        }
+    }
+    w->host_stale = 0;
+    return KG_OK;
+}
+
+/* ---- profiling ---------------------------------------------------------------------- */
+
+/* Sums ns under name; past KG_CL_MAX_TIMED names, the last entry becomes "other". */
+static void kg_cl_add_time(kg_cl_timing* t, const char* name, cl_ulong ns)
+{
+    for (int k = 0; k < t->count; ++k) {
+        if (strcmp(t->names[k], name) == 0) {
+            t->ns[k] += ns;
+            return;
+        }
+    }
+    if (t->count == KG_CL_MAX_TIMED) {
+        t->names[KG_CL_MAX_TIMED - 1] = "other";
+        t->ns[KG_CL_MAX_TIMED - 1] += ns;
+        return;
+    }
+    t->names[t->count] = name;
+    t->ns[t->count++] = ns;
+}
+
+void kg_cl_collect_timing(kg_cl_world* w)
+{
+    for (int k = 0; k < w->event_count; ++k) {
+        cl_ulong start = 0, end = 0;
+        if (w->cl->GetEventProfilingInfo(w->events[k], CL_PROFILING_COMMAND_START, sizeof start, &start, NULL) ==
+                CL_SUCCESS &&
+            w->cl->GetEventProfilingInfo(w->events[k], CL_PROFILING_COMMAND_END, sizeof end, &end, NULL) ==
+                CL_SUCCESS &&
+            end >= start) {
+            kg_cl_add_time(&w->timing, w->event_names[k], end - start);
+        }
+        w->cl->ReleaseEvent(w->events[k]);
+    }
+    w->event_count = 0;
+}
+
+/* ---- creation ----------------------------------------------------------------------- */
+
+static size_t kg_cl_pick_group_size(kg_cl_world* w, cl_kernel kernel)
+{
+    size_t max = 1, multiple = 1;
+    cl_device_id device = w->rt->device->id;
+    if (w->cl->GetKernelWorkGroupInfo(kernel, device, CL_KERNEL_WORK_GROUP_SIZE, sizeof max, &max, NULL) != CL_SUCCESS) {
+        max = 1;
+    }
+    if (w->cl->GetKernelWorkGroupInfo(kernel, device, CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE, sizeof multiple,
+                                      &multiple, NULL) != CL_SUCCESS || multiple == 0) {
+        multiple = 1;
+    }
+    size_t size = max < KG_CL_GROUP_TARGET ? max : KG_CL_GROUP_TARGET;
+    if (multiple <= size) {
+        size -= size % multiple;
+    }
+    return size > 0 ? size : 1;
+}
+
+static kg_result kg_cl_create_kernels(kg_cl_world* w)
+{
+    for (int k = 0; k < KG_CL_KERNEL_COUNT; ++k) {
+        cl_int err = CL_SUCCESS;
+        w->kernels[k] = w->cl->CreateKernel(w->rt->step_program, kKernelNames[k], &err);
+        if (!w->kernels[k] || err != CL_SUCCESS) {
+            w->kernels[k] = NULL;
+            return kg_fail(KG_ERROR_BACKEND, "OpenCL: no kernel %s in the step program (%s)", kKernelNames[k],
+                           kg_cl_error_name(err));
+        }
+        w->group_size[k] = kg_cl_pick_group_size(w, w->kernels[k]);
+    }
+    return KG_OK;
+}
+
+static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
+{
+    const kg_body_pool* pool = &world->bodies;
+    unsigned state = kg_cl_state_arrays();
+    kg_result r = KG_OK;
+    for (int id = 0; id < KG_CL_ARRAY_COUNT && r == KG_OK; ++id) {
+        size_t size = (size_t)pool->capacity * kg_cl_host_array_of(pool, (kg_cl_array)id).element_size;
+        r = kg_cl_buffer(w, size, &w->arrays[id]);
+        if (r == KG_OK && (state & (1u << id))) {
+            r = kg_cl_buffer(w, size, &w->checkpoint[id]);
+        }
+    }
+    if (r == KG_OK) {
+        r = kg_cl_buffer(w, (size_t)pool->capacity * sizeof(kg_vec2), &w->center0);
+    }
+    if (r == KG_OK) {
+        r = kg_cl_buffer(w, (size_t)pool->capacity * sizeof(kg_rot), &w->rot0);
+    }
+    if (r == KG_OK) {
+        r = kg_cl_reserve_targets(w, pool->capacity);
+    }
+    if (r == KG_OK) {
+        r = kg_cl_reserve_contacts(w, world->def.max_contacts); /* last: it binds every buffer */
+    }
+    return r;
+}
+
+kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
+{
+    if (capacity <= w->contact_capacity && w->contacts) {
+        return KG_OK;
+    }
+    kg_cl_release(w, &w->contacts);
+    kg_cl_release(w, &w->constraints);
+    kg_cl_release(w, &w->order);
+    w->contact_capacity = 0;
+    size_t n = (size_t)(capacity > 0 ? capacity : 1);
+    kg_result r = kg_cl_buffer(w, n * 128u, &w->contacts);
+    if (r == KG_OK) {
+        r = kg_cl_buffer(w, n * 160u, &w->constraints);
+    }
+    if (r == KG_OK) {
+        r = kg_cl_buffer(w, n * sizeof(int), &w->order);
+    }
+    if (r == KG_OK) {
+        w->contact_capacity = (int)n;
+        r = kg_cl_bind_buffers(w);
+    }
+    return r;
+}
+
+kg_result kg_cl_reserve_targets(kg_cl_world* w, int capacity)
+{
+    if (capacity <= w->target_capacity && w->targets) {
+        return KG_OK;
+    }
+    kg_cl_release(w, &w->targets);
+    w->target_capacity = 0;
+    size_t n = (size_t)(capacity > 0 ? capacity : 1);
+    kg_result r = kg_cl_buffer(w, n * 2u * sizeof(cl_uint), &w->targets);
+    if (r == KG_OK) {
+        w->target_capacity = (int)n;
+    }
+    return r;
+}
+
+kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_faults* faults, kg_cl_world** out)
+{
+    *out = NULL;
+    kg_cl_world* w = kg_alloc_zeroed(sizeof *w);
+    if (!w) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the OpenCL world state");
+    }
+    w->cl = rt->cl;
+    w->rt = rt;
+    w->faults = *faults;
+    w->events = kg_alloc_zeroed(KG_CL_MAX_EVENTS * sizeof *w->events);
+    w->event_names = kg_alloc_zeroed(KG_CL_MAX_EVENTS * sizeof *w->event_names);
+    kg_result r = (w->events && w->event_names) ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate events");
+    if (r == KG_OK) {
+        cl_int err = CL_SUCCESS;
+        w->queue = w->cl->CreateCommandQueue(rt->context, rt->device->id, CL_QUEUE_PROFILING_ENABLE, &err);
+        r = (w->queue && err == CL_SUCCESS) ? KG_OK : kg_cl_check(err != CL_SUCCESS ? err : CL_INVALID_COMMAND_QUEUE,
+                                                                   "creating a command queue");
+    }
+    if (r == KG_OK) {
+        r = kg_cl_create_kernels(w);
+    }
+    if (r == KG_OK) {
+        r = kg_cl_create_buffers(w, world);
+    }
+    if (r != KG_OK) {
+        kg_cl_world_destroy(w);
+        return r;
+    }
+    /* everything the host has is newer than the empty buffers */
+    w->device_stale = KG_CL_ALL_ARRAYS;
+    *out = w;
+    return KG_OK;
+}
+
+void kg_cl_world_destroy(kg_cl_world* w)
+{
+    if (!w) {
+        return;
+    }
+    for (int k = 0; k < w->event_count; ++k) {
+        w->cl->ReleaseEvent(w->events[k]);
+    }
+    for (int id = 0; id < KG_CL_ARRAY_COUNT; ++id) {
+        kg_cl_release(w, &w->arrays[id]);
+        kg_cl_release(w, &w->checkpoint[id]);
+    }
+    kg_cl_release(w, &w->center0);
+    kg_cl_release(w, &w->rot0);
+    kg_cl_release(w, &w->contacts);
+    kg_cl_release(w, &w->constraints);
+    kg_cl_release(w, &w->order);
+    kg_cl_release(w, &w->targets);
+    for (int k = 0; k < KG_CL_KERNEL_COUNT; ++k) {
+        if (w->kernels[k]) {
+            w->cl->ReleaseKernel(w->kernels[k]);
+        }
+    }
+    if (w->queue) {
+        w->cl->ReleaseCommandQueue(w->queue);
+    }
+    kg_free(w->events);
+    kg_free(w->event_names);
+    kg_free(w);
+}
+#endif

@@ -1,0 +1,133 @@
+/* A world's OpenCL state: its queue, kernels and buffers (all sized once, when the backend
+ * starts, from the world's capacities), and where the newest copy of each body array is.
+ *
+ * Residency: each body pool array has a bit in host_stale (the device has newer data:
+ * read it back before the host reads) and in device_stale (the host has newer data:
+ * upload it before a kernel reads). Reads and uploads cover slots [0, high_water) only.
+ *
+ * Every OpenCL call goes through the wrappers below, which check its result, set the
+ * error (KG_ERROR_BACKEND, naming the call and the CL error) and count injected faults
+ * (cl_fault.h); the step stops at the first failure and the backend falls back. */
+#ifndef KG_CL_WORLD_H
+#define KG_CL_WORLD_H
+
+#include "backend/opencl/cl_fault.h"
+#include "backend/opencl/cl_runtime.h"
+#include "core/world.h"
+#include "kgyro/opencl.h"
+
+/* name, pool member, 1 if a step changes it (then it is checkpointed and read back) */
+#define KG_CL_BODY_ARRAYS(X)                                                   \
+    X(CENTER, center, 1) X(ROT, rot, 1) X(VELOCITY, velocity, 1)               \
+    X(OMEGA, omega, 1) X(FORCE, force, 1) X(TORQUE, torque, 1) X(XF, xf, 1)     \
+    X(AABB, aabb, 1) X(FLAGS, flags, 1) X(SHAPE, shape, 0)                      \
+    X(LOCAL_CENTER, local_center, 0) X(MASS, mass, 0) X(INERTIA, inertia, 0)    \
+    X(INV_MASS, inv_mass, 0) X(INV_INERTIA, inv_inertia, 0)                     \
+    X(LINEAR_DAMPING, linear_damping, 0) X(ANGULAR_DAMPING, angular_damping, 0)
+
+typedef enum kg_cl_array {
+#define KG_CL_ARRAY_ENUM(id, member, state) KG_CL_##id,
+    KG_CL_BODY_ARRAYS(KG_CL_ARRAY_ENUM)
+#undef KG_CL_ARRAY_ENUM
+    KG_CL_ARRAY_COUNT
+} kg_cl_array;
+
+#define KG_CL_BIT(id) (1u << KG_CL_##id)
+#define KG_CL_ALL_ARRAYS ((1u << KG_CL_ARRAY_COUNT) - 1u)
+
+#define KG_CL_KERNELS(X)                                                                   \
+    X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force) X(INTEGRATE_VELOCITIES, kg_integrate_velocities) \
+    X(INTEGRATE_POSITIONS, kg_integrate_positions) X(SAVE_POSES, kg_save_poses)            \
+    X(PREPARE_CONTACTS, kg_prepare_contacts) X(SOLVE_COLOR, kg_solve_color)                 \
+    X(STORE_IMPULSES, kg_store_impulses) X(FINALIZE, kg_finalize)
+
+typedef enum kg_cl_kernel_id {
+#define KG_CL_KERNEL_ENUM(id, name) KG_CL_K_##id,
+    KG_CL_KERNELS(KG_CL_KERNEL_ENUM)
+#undef KG_CL_KERNEL_ENUM
+    KG_CL_KERNEL_COUNT
+} kg_cl_kernel_id;
+
+#define KG_CL_MAX_TIMED 16
+
+/* Device time per kernel name over one step, from profiling events. */
+typedef struct kg_cl_timing {
+    int count;
+    const char* names[KG_CL_MAX_TIMED];
+    cl_ulong ns[KG_CL_MAX_TIMED];
+} kg_cl_timing;
+
+typedef struct kg_cl_world {
+    const kg_cl_api* cl;
+    kg_cl_runtime* rt;
+    kg_cl_faults faults;
+    cl_command_queue queue;
+    cl_kernel kernels[KG_CL_KERNEL_COUNT];
+    size_t group_size[KG_CL_KERNEL_COUNT];
+    cl_mem arrays[KG_CL_ARRAY_COUNT];
+    cl_mem checkpoint[KG_CL_ARRAY_COUNT]; /* state arrays at the start of the step */
+    cl_mem center0, rot0;                 /* poses at the start of the solve */
+    cl_mem contacts, constraints, order;  /* contact_capacity each */
+    int contact_capacity;
+    cl_mem targets;                       /* applicator targets, (slot, multiplicity) */
+    int target_capacity;
+    unsigned host_stale;
+    unsigned device_stale;
+    int forces_cleared; /* the last step cleared force and torque of every live body */
+    int profiling;
+    cl_event* events;          /* profiled commands of this step, KG_CL_MAX_EVENTS */
+    const char** event_names;
+    int event_count;
+    kg_cl_timing timing;
+    kg_transfer_stats transfers;
+} kg_cl_world;
+
+#define KG_CL_MAX_EVENTS 4096
+
+/* Creates the queue, kernels and buffers for world on rt. */
+kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_faults* faults, kg_cl_world** out);
+void kg_cl_world_destroy(kg_cl_world* w);
+
+/* A buffer of size bytes (KGYRO_CL_FAIL=alloc counts here). */
+kg_result kg_cl_buffer(kg_cl_world* w, size_t size, cl_mem* out);
+/* Grows the contact buffers to hold capacity contacts (only when a step finds more than
+ * ever before: the broadphase grows its pool then too). */
+kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity);
+kg_result kg_cl_reserve_targets(kg_cl_world* w, int capacity);
+
+/* Writes data into buffer. A non-blocking write reads data later: it must stay unchanged
+ * until the next kg_cl_finish. */
+kg_result kg_cl_write(kg_cl_world* w, cl_mem buffer, size_t offset, size_t size, const void* data, int blocking);
+kg_result kg_cl_read(kg_cl_world* w, cl_mem buffer, size_t offset, size_t size, void* data);
+kg_result kg_cl_copy(kg_cl_world* w, cl_mem from, cl_mem to, size_t size);
+/* Sets argument index of a kernel; a failure is a backend error like any other. */
+kg_result kg_cl_arg(kg_cl_world* w, cl_kernel kernel, int index, size_t size, const void* value);
+/* Launches kernel over count work-items (rounded up to its work-group size; the kernels
+ * return early past count). name labels it in the profile. */
+kg_result kg_cl_launch(kg_cl_world* w, cl_kernel kernel, size_t group_size, int count, const char* name);
+kg_result kg_cl_run(kg_cl_world* w, kg_cl_kernel_id id, int count);
+/* Waits for the queue; errors of kernels that failed while running surface here. */
+kg_result kg_cl_finish(kg_cl_world* w);
+
+/* Residency (see above). */
+kg_result kg_cl_upload(kg_cl_world* w, const kg_body_pool* pool, unsigned arrays);
+kg_result kg_cl_download(kg_cl_world* w, kg_body_pool* pool, unsigned arrays);
+/* Uploads what the host changed, downloads what the device changed, for the given arrays. */
+kg_result kg_cl_to_device(kg_cl_world* w, const kg_body_pool* pool, unsigned arrays);
+kg_result kg_cl_to_host(kg_cl_world* w, kg_body_pool* pool, unsigned arrays);
+/* Copies the state arrays into the checkpoint buffers (on the device), or reads the
+ * checkpoint back into the host pool. */
+kg_result kg_cl_save_checkpoint(kg_cl_world* w, const kg_body_pool* pool);
+kg_result kg_cl_read_checkpoint(kg_cl_world* w, kg_body_pool* pool);
+
+/* The mask of the arrays a step changes. */
+unsigned kg_cl_state_arrays(void);
+
+/* Sets the buffer arguments of every kernel (again after a buffer grows). In cl_step.c,
+ * which knows the kernels' signatures. */
+kg_result kg_cl_bind_buffers(kg_cl_world* w);
+
+/* Adds the device time of the step's profiled commands to w->timing, and releases them. */
+void kg_cl_collect_timing(kg_cl_world* w);
+
+#endif

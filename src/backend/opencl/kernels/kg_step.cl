@@ -1,0 +1,302 @@
+/* The kernels of a step: one work-item per body, contact or constraint, each calling the
+ * per-element functions the CPU backend calls, on the same data layout (the body pool's
+ * arrays, kg_contact, kg_contact_constraint), so both backends compute the same bits.
+ *
+ * Work-items copy what they need from global memory into private variables, call the
+ * shared function, and write back only the element they own (gather, never scatter).
+ * Every kernel takes its element count and returns for the padding work-items.
+ * The body flag constants (KG_FLAG_*, KG_TYPE_*, KG_BODY_*) come as build options from
+ * the host's definitions, so the two sides cannot disagree. */
+#include "core/kg_layout.h"
+#include "collide/aabb.h"
+#include "solve/integrate.h"
+#include "solve/contact_solver.h"
+
+/* kg_contact of collide/collide.h (the host asserts the same size). */
+typedef struct kg_contact {
+    kg_manifold manifold;
+    kg_u32 a, b;
+    float friction;
+    float restitution;
+} kg_contact;
+
+KG_STATIC_ASSERT(sizeof(kg_contact) == 128, contact_size);
+
+#define KG_APPLICATOR_GRAVITY_KIND 0
+#define KG_APPLICATOR_WIND_KIND 1
+
+#define KG_PASS_WARM_START 0
+#define KG_PASS_SOLVE 1
+#define KG_PASS_RELAX 2
+#define KG_PASS_RESTITUTION 3
+
+KG_FN int kg_is_alive(kg_u32 flags) { return (flags & KG_FLAG_ALIVE) != 0u; }
+KG_FN kg_u32 kg_type_of(kg_u32 flags) { return (flags & KG_TYPE_MASK) >> KG_TYPE_SHIFT; }
+
+/* kg_pool_is_simulated of core/body_pool.h: dynamic bodies and particles, alive, not frozen. */
+KG_FN int kg_is_simulated(kg_u32 flags)
+{
+    kg_u32 t = kg_type_of(flags);
+    return (flags & (KG_FLAG_ALIVE | KG_FLAG_FROZEN)) == KG_FLAG_ALIVE && (t == KG_BODY_DYNAMIC || t == KG_BODY_PARTICLE);
+}
+
+/* ---- forces ---------------------------------------------------------------------- */
+
+/* A built-in applicator (gravity or wind) on every body (all != 0: work-item i is slot i)
+ * or on a list of (slot, multiplicity) pairs, each slot once: a body listed twice gets
+ * the force added twice, in sequence, as the CPU backend's loop over the list does. */
+__kernel void kg_apply_builtin_force(int count, int all, __global const uint2* targets, int kind, float vx, float vy,
+                                     float strength, float drag, __global const kg_u32* flags,
+                                     __global const float* mass, __global const kg_vec2* velocity,
+                                     __global kg_vec2* force)
+{
+    int k = (int)get_global_id(0);
+    if (k >= count) {
+        return;
+    }
+    kg_u32 i = all ? (kg_u32)k : targets[k].x;
+    kg_u32 repeat = all ? 1u : targets[k].y;
+    if (!kg_is_simulated(flags[i])) {
+        return;
+    }
+    kg_vec2 vector = kg_v2(vx, vy);
+    kg_vec2 f = kind == KG_APPLICATOR_GRAVITY_KIND ? kg_scale(mass[i], vector)
+                                                   : kg_sub(kg_scale(strength, vector), kg_scale(drag, velocity[i]));
+    kg_vec2 sum = force[i];
+    for (kg_u32 r = 0; r < repeat; ++r) {
+        sum = kg_add(sum, f);
+    }
+    force[i] = sum;
+}
+
+/* ---- integration ----------------------------------------------------------------- */
+
+__kernel void kg_integrate_velocities(int count, float h, float gx, float gy, float max_linear_speed,
+                                      __global const kg_u32* flags, __global kg_vec2* velocity, __global float* omega,
+                                      __global const kg_vec2* force, __global const float* torque,
+                                      __global const float* inv_mass, __global const float* inv_inertia,
+                                      __global const float* linear_damping, __global const float* angular_damping)
+{
+    int i = (int)get_global_id(0);
+    if (i >= count || !kg_is_simulated(flags[i])) {
+        return;
+    }
+    kg_integrate_params prm;
+    prm.gravity = kg_v2(gx, gy);
+    prm.h = h;
+    prm.max_linear_speed = max_linear_speed;
+    kg_vec2 v = velocity[i];
+    float w = omega[i];
+    kg_integrate_velocity(&v, &w, force[i], torque[i], inv_mass[i], inv_inertia[i], linear_damping[i],
+                          angular_damping[i], prm);
+    velocity[i] = v;
+    omega[i] = w;
+}
+
+__kernel void kg_integrate_positions(int count, float h, __global const kg_u32* flags, __global kg_vec2* center,
+                                     __global kg_rot* rot, __global const kg_vec2* velocity,
+                                     __global const float* omega)
+{
+    int i = (int)get_global_id(0);
+    if (i >= count) {
+        return;
+    }
+    kg_u32 f = flags[i];
+    if (!kg_is_alive(f) || kg_type_of(f) == KG_BODY_STATIC || (f & KG_FLAG_FROZEN) != 0u) {
+        return;
+    }
+    kg_vec2 c = center[i];
+    kg_rot q = rot[i];
+    kg_integrate_position(&c, &q, velocity[i], omega[i], h);
+    center[i] = c;
+    rot[i] = q;
+}
+
+/* ---- contact solver -------------------------------------------------------------- */
+
+__kernel void kg_save_poses(int count, __global const kg_vec2* center, __global const kg_rot* rot,
+                            __global kg_vec2* center0, __global kg_rot* rot0)
+{
+    int i = (int)get_global_id(0);
+    if (i < count) {
+        center0[i] = center[i];
+        rot0[i] = rot[i];
+    }
+}
+
+typedef struct kg_body_arrays {
+    __global kg_vec2* velocity;
+    __global float* omega;
+    __global const kg_vec2* center;
+    __global const kg_rot* rot;
+    __global const kg_vec2* center0;
+    __global const kg_rot* rot0;
+    __global const kg_u32* flags;
+} kg_body_arrays;
+
+/* kg_load_motion of solve/solver.c: a body's velocity and its motion since the step began. */
+KG_FN kg_body_motion kg_load_motion(kg_body_arrays p, kg_u32 slot)
+{
+    kg_body_motion m;
+    m.v = kg_v2(0.0f, 0.0f);
+    m.w = 0.0f;
+    m.dp = kg_v2(0.0f, 0.0f);
+    m.dq = kg_rot_identity();
+    if (slot != KG_NULL_INDEX) {
+        m.v = p.velocity[slot];
+        m.w = p.omega[slot];
+        m.dp = kg_sub(p.center[slot], p.center0[slot]);
+        m.dq = kg_rot_inv_mul(p.rot0[slot], p.rot[slot]);
+    }
+    return m;
+}
+
+KG_FN void kg_store_motion(kg_body_arrays p, kg_u32 slot, kg_body_motion m)
+{
+    if (slot != KG_NULL_INDEX && kg_is_simulated(p.flags[slot])) {
+        p.velocity[slot] = m.v;
+        p.omega[slot] = m.w;
+    }
+}
+
+KG_FN int kg_moves(__global const kg_u32* flags, kg_u32 slot)
+{
+    return slot != KG_NULL_INDEX && kg_is_simulated(flags[slot]);
+}
+
+/* kg_prepare_range of solve/solver.c: constraint k from contact k. */
+__kernel void kg_prepare_contacts(int count, kg_solver_params prm, __global const kg_contact* contacts,
+                                  __global kg_contact_constraint* constraints, __global const kg_u32* flags,
+                                  __global const float* inv_mass, __global const float* inv_inertia,
+                                  __global const kg_xf* xf, __global kg_vec2* velocity, __global float* omega,
+                                  __global const kg_vec2* center, __global const kg_rot* rot,
+                                  __global const kg_vec2* center0, __global const kg_rot* rot0)
+{
+    int k = (int)get_global_id(0);
+    if (k >= count) {
+        return;
+    }
+    kg_body_arrays p = {velocity, omega, center, rot, center0, rot0, flags};
+    kg_contact ct = contacts[k];
+    kg_contact_constraint c;
+    c.a = ct.a;
+    c.b = ct.b;
+    c.contact = (kg_u32)k;
+    c.friction = ct.friction;
+    c.restitution = ct.restitution;
+    c.pad = 0;
+    int a_moves = kg_moves(flags, ct.a);
+    int b_moves = kg_moves(flags, ct.b);
+    c.inv_mass_a = a_moves ? inv_mass[ct.a] : 0.0f;
+    c.inv_i_a = a_moves ? inv_inertia[ct.a] : 0.0f;
+    c.inv_mass_b = b_moves ? inv_mass[ct.b] : 0.0f;
+    c.inv_i_b = b_moves ? inv_inertia[ct.b] : 0.0f;
+    kg_body_motion ma = kg_load_motion(p, ct.a), mb = kg_load_motion(p, ct.b);
+    kg_vec2 origin_a = ct.a != KG_NULL_INDEX ? xf[ct.a].p : kg_v2(0.0f, 0.0f);
+    kg_vec2 origin_b = ct.b != KG_NULL_INDEX ? xf[ct.b].p : kg_v2(0.0f, 0.0f);
+    kg_vec2 center_a = ct.a != KG_NULL_INDEX ? center[ct.a] : origin_a;
+    kg_vec2 center_b = ct.b != KG_NULL_INDEX ? center[ct.b] : origin_b;
+    kg_contact_prepare(&c, &ct.manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w, prm);
+    constraints[k] = c;
+}
+
+KG_FN void kg_solve_one(kg_contact_constraint* c, kg_body_arrays p, kg_solver_params prm, int pass)
+{
+    kg_body_motion a = kg_load_motion(p, c->a), b = kg_load_motion(p, c->b);
+    if (pass == KG_PASS_WARM_START) {
+        kg_contact_warm_start(c, &a, &b);
+    } else if (pass == KG_PASS_SOLVE) {
+        kg_contact_solve(c, &a, &b, prm, 1);
+    } else if (pass == KG_PASS_RELAX) {
+        kg_contact_solve(c, &a, &b, prm, 0);
+    } else {
+        kg_contact_restitution(c, &a, &b, prm);
+    }
+    kg_store_motion(p, c->a, a);
+    kg_store_motion(p, c->b, b);
+}
+
+/* One pass over the constraints order[first, first + count): one colour in parallel
+ * (its constraints share no moving body), or, serial != 0, the overflow in order by a
+ * single work-item. */
+__kernel void kg_solve_color(int first, int count, int serial, int pass, kg_solver_params prm,
+                             __global const int* order, __global kg_contact_constraint* constraints,
+                             __global const kg_u32* flags, __global kg_vec2* velocity, __global float* omega,
+                             __global const kg_vec2* center, __global const kg_rot* rot,
+                             __global const kg_vec2* center0, __global const kg_rot* rot0)
+{
+    int k = (int)get_global_id(0);
+    kg_body_arrays p = {velocity, omega, center, rot, center0, rot0, flags};
+    int begin = serial ? 0 : k;
+    int end = serial ? (k == 0 ? count : 0) : (k < count ? k + 1 : 0);
+    for (int j = begin; j < end; ++j) {
+        int index = order[first + j];
+        kg_contact_constraint c = constraints[index];
+        kg_solve_one(&c, p, prm, pass);
+        constraints[index] = c;
+    }
+}
+
+/* kg_store_impulses_range of solve/solver.c: impulses back into the contacts, for warm
+ * starting next step and for kg_world_get_contact. */
+__kernel void kg_store_impulses(int count, __global const kg_contact_constraint* constraints,
+                                __global kg_contact* contacts)
+{
+    int k = (int)get_global_id(0);
+    if (k >= count) {
+        return;
+    }
+    kg_contact_constraint c = constraints[k];
+    for (int j = 0; j < c.point_count; ++j) {
+        contacts[k].manifold.points[j].normal_impulse = c.points[j].normal_impulse;
+        contacts[k].manifold.points[j].tangent_impulse = c.points[j].tangent_impulse;
+        contacts[k].manifold.points[j].normal_velocity = c.points[j].relative_velocity;
+    }
+}
+
+/* ---- finalize -------------------------------------------------------------------- */
+
+KG_FN int kg_state_finite(kg_vec2 c, kg_rot q, kg_vec2 v, float w)
+{
+    return kg_vec_is_finite(c) && kg_vec_is_finite(v) && kg_is_finite(w) && kg_is_finite(q.c) && kg_is_finite(q.s);
+}
+
+/* kg_stage_finalize of solve/solver.c with kg_body_update_transform of core/body_pool.c:
+ * forces cleared, non-finite bodies frozen at their last finite pose (the host warns when
+ * it next reads the flags back), origin transforms and bounds updated. */
+__kernel void kg_finalize(int count, __global kg_u32* flags, __global kg_vec2* center, __global kg_rot* rot,
+                          __global kg_vec2* velocity, __global float* omega, __global kg_vec2* force,
+                          __global float* torque, __global kg_xf* xf, __global kg_aabb* aabb,
+                          __global const kg_shape* shape, __global const kg_vec2* local_center)
+{
+    int i = (int)get_global_id(0);
+    if (i >= count) {
+        return;
+    }
+    kg_u32 f = flags[i];
+    if (!kg_is_alive(f)) {
+        return;
+    }
+    force[i] = kg_v2(0.0f, 0.0f);
+    torque[i] = 0.0f;
+    kg_vec2 c = center[i];
+    kg_rot q = rot[i];
+    if ((f & KG_FLAG_FROZEN) == 0u && !kg_state_finite(c, q, velocity[i], omega[i])) {
+        kg_xf last = xf[i];
+        flags[i] = f | KG_FLAG_FROZEN;
+        velocity[i] = kg_v2(0.0f, 0.0f);
+        omega[i] = 0.0f;
+        rot[i] = last.q;
+        center[i] = kg_xf_point(last, local_center[i]);
+        return;
+    }
+    if (kg_type_of(f) == KG_BODY_STATIC) {
+        return;
+    }
+    kg_xf t;
+    t.q = q;
+    t.p = kg_sub(c, kg_rotate(q, local_center[i]));
+    kg_shape s = shape[i];
+    xf[i] = t;
+    aabb[i] = kg_shape_aabb(&s, t);
+}

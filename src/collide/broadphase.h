@@ -1,0 +1,58 @@
+/* Broadphase: the pairs of bodies whose bounding boxes overlap.
+ *
+ * Design (sort-based, so it ports to OpenCL as histogram + prefix sum + scatter passes):
+ *  - A uniform grid whose cell size is the 90th percentile of the fattened box extents.
+ *    Every box that spans at most 2x2 cells is "small" and is keyed once, by the cell of
+ *    its lower corner (row-major key), and the keys are radix sorted. Two overlapping small
+ *    boxes then have lower-corner cells at most one apart on each axis, so each small box
+ *    scans its own cell, the cell to its right and the three cells above it: every pair once.
+ *  - Boxes spanning more cells (grounds, walls, terrain) are "large": each one scans the
+ *    sorted keys row by row over its own footprint, and large boxes meet each other in a
+ *    sort-and-sweep along x. A few huge static walls therefore cost their footprint, never
+ *    n per small body.
+ *  - The pairs are counted per lower slot, prefix summed and scattered into place, then each
+ *    slot's short run is sorted by the upper slot: the output is sorted by (a, b) without a
+ *    global sort of the pairs.
+ * Everything is integer keyed and stable, so the output depends only on the input. */
+#ifndef KG_BROADPHASE_H
+#define KG_BROADPHASE_H
+
+#include "core/body_pool.h"
+
+/* Two body slots whose fattened boxes overlap, a < b. */
+typedef struct kg_pair {
+    kg_u32 a, b;
+} kg_pair;
+
+typedef struct kg_broadphase kg_broadphase;
+
+/* Allocates every scratch buffer for up to capacity bodies (slots [0, capacity)). */
+kg_result kg_broadphase_create(int capacity, kg_broadphase** out);
+void kg_broadphase_destroy(kg_broadphase* bp);
+
+/* Finds every pair of slots (a, b), a < b, such that:
+ *  - both are alive, not frozen, with finite bounds (others are skipped);
+ *  - at least one is dynamic or a particle: static and kinematic bodies never pair with
+ *    each other;
+ *  - (category[a] & mask[b]) && (category[b] & mask[a]);
+ *  - their aabb fattened by margin on every side overlap (touching counts, as in
+ *    kg_aabb_overlap).
+ * Writes the first min(total, capacity) of them, sorted by (a, b), into out (may be NULL
+ * when capacity is 0) and returns the total, which exceeds capacity on overflow: the caller
+ * grows its buffer to the returned count and calls again. Allocates nothing; the result
+ * depends only on the input. bodies->high_water must not exceed the broadphase capacity,
+ * and margin must be >= 0 (boxes turned inside out would escape the grid). */
+int kg_broadphase_find_pairs(kg_broadphase* bp, const kg_body_pool* bodies, float margin, kg_pair* out,
+                             int capacity);
+
+/* The grid of the last call, for tests and benchmarks: cell size (m) and how many boxes
+ * were small (keyed in the grid) and large (handled apart). */
+typedef struct kg_broadphase_stats {
+    float cell_size;
+    int small_count;
+    int large_count;
+} kg_broadphase_stats;
+
+kg_broadphase_stats kg_broadphase_get_stats(const kg_broadphase* bp);
+
+#endif

@@ -1,0 +1,457 @@
+/* Contact manifolds between two shapes (the narrowphase), shared by the CPU backend and the
+ * OpenCL kernels. Polygons are sharp (their radius is ignored); a shape with one vertex is a
+ * circle around it, or a point when its radius is 0.
+ *
+ * Each pair is solved in shape a's body frame shifted to a's first vertex, so coordinates
+ * stay small and float round-off low wherever the bodies are, then moved to the world frame.
+ * Every contact point lies midway between the two surfaces: the surface of a is at
+ * point - 0.5 * separation * normal, the surface of b at point + 0.5 * separation * normal. */
+#ifndef KG_MANIFOLD_H
+#define KG_MANIFOLD_H
+
+#include "core/kg_layout.h"
+
+/* Marks the byte of a feature id that names the reference edge of a polygon-polygon contact;
+ * the other byte names the incident vertex. Without it both bytes name vertices (corner
+ * against corner). Circle contacts always have id 0: a round shape's closest feature moves
+ * continuously, and so does its impulse, which warm starting should keep. */
+#define KG_FEATURE_FACE 0x80u
+
+/* a's face stays the reference unless b's separation is larger by more than this (a tenth
+ * of the 0.005 m linear slop), so float noise on nearly parallel faces cannot flip the
+ * choice, and with it the feature ids, from one step to the next. Polygons farther apart
+ * than this may touch corner to corner. */
+#define KG_REFERENCE_TOLERANCE (0.1f * 0.005f)
+
+/* Below this a length is treated as zero: no direction can be taken from it. */
+#define KG_LENGTH_EPSILON 1.0e-6f
+
+KG_FN int kg_next_vertex(int i, int count) { return i + 1 < count ? i + 1 : 0; }
+
+KG_FN kg_manifold kg_empty_manifold(void)
+{
+    kg_manifold_point zero;
+    zero.point = kg_v2(0.0f, 0.0f);
+    zero.anchor_a = zero.point;
+    zero.anchor_b = zero.point;
+    zero.separation = 0.0f;
+    zero.normal_impulse = 0.0f;
+    zero.tangent_impulse = 0.0f;
+    zero.normal_velocity = 0.0f;
+    zero.id = 0u;
+    zero.pad = 0u;
+    kg_manifold m;
+    m.points[0] = zero;
+    m.points[1] = zero;
+    m.normal = zero.point;
+    m.point_count = 0;
+    m.pad = 0;
+    return m;
+}
+
+/* Appends a point given in a's shifted frame (kept in .point until kg_manifold_to_world). */
+KG_FN void kg_push_point(kg_manifold* m, kg_vec2 local_point, float separation, kg_u32 id)
+{
+    if (m->point_count >= 2) {
+        return;
+    }
+    kg_manifold_point* mp = m->points + m->point_count;
+    mp->point = local_point;
+    mp->separation = separation;
+    mp->id = id;
+    m->point_count += 1;
+}
+
+/* The pose of b relative to a's frame shifted to origin (a point of a's body frame). */
+KG_FN kg_xf kg_relative_xf(kg_xf xfa, kg_vec2 origin, kg_xf xfb)
+{
+    kg_xf shifted;
+    shifted.p = kg_add(xfa.p, kg_rotate(xfa.q, origin));
+    shifted.q = xfa.q;
+    return kg_xf_inv_mul(shifted, xfb);
+}
+
+/* Moves a manifold built in a's frame shifted to origin into the world frame, keeping only the
+ * points within the speculative distance (farther ones are not contacts; with none left the
+ * manifold is wholly empty). The anchor on b is the anchor on a plus the difference of the
+ * origins, exact to float precision even when both bodies are far from the world origin. */
+KG_FN kg_manifold kg_manifold_to_world(kg_manifold built, kg_xf xfa, kg_vec2 origin, kg_xf xfb, float speculative_distance)
+{
+    kg_manifold m = kg_empty_manifold();
+    kg_vec2 a_to_b = kg_sub(xfa.p, xfb.p);
+    for (int i = 0; i < built.point_count; ++i) {
+        kg_manifold_point mp = built.points[i];
+        if (mp.separation > speculative_distance) {
+            continue;
+        }
+        mp.anchor_a = kg_rotate(xfa.q, kg_add(mp.point, origin));
+        mp.anchor_b = kg_add(mp.anchor_a, a_to_b);
+        mp.point = kg_add(xfa.p, mp.anchor_a);
+        m.points[m.point_count++] = mp;
+    }
+    if (m.point_count > 0) {
+        m.normal = kg_rotate(xfa.q, built.normal);
+    }
+    return m;
+}
+
+/* The manifold of (b, a) from that of (a, b): the normal turns round, anchors and the two
+ * bytes of each feature id trade places. */
+KG_FN kg_manifold kg_flip_manifold(kg_manifold m)
+{
+    m.normal = kg_neg(m.normal);
+    for (int i = 0; i < m.point_count; ++i) {
+        kg_manifold_point* mp = m.points + i;
+        kg_vec2 anchor = mp->anchor_a;
+        mp->anchor_a = mp->anchor_b;
+        mp->anchor_b = anchor;
+        mp->id = KG_FEATURE_ID(mp->id & 0xFFu, mp->id >> 8);
+    }
+    return m;
+}
+
+/* A polygon moved by xf; the count is clamped so every loop below stays within the arrays. */
+KG_FN kg_shape kg_polygon_in_frame(const kg_shape* polygon, kg_xf xf)
+{
+    kg_shape out = *polygon;
+    out.count = polygon->count < KG_MAX_VERTS ? polygon->count : KG_MAX_VERTS;
+    for (int i = 0; i < out.count; ++i) {
+        out.vertices[i] = kg_xf_point(xf, polygon->vertices[i]);
+        out.normals[i] = kg_rotate(xf.q, polygon->normals[i]);
+    }
+    return out;
+}
+
+KG_FN kg_xf kg_translation(kg_vec2 p)
+{
+    kg_xf xf;
+    xf.p = p;
+    xf.q = kg_rot_identity();
+    return xf;
+}
+
+/* ---- polygon against polygon ---- */
+
+/* The largest separation of poly2 from poly1 along poly1's edge normals (the separating axis
+ * test); *edge gets the index of that normal. Negative: the polygons overlap along every one. */
+KG_FN float kg_max_separation(const kg_shape* poly1, const kg_shape* poly2, int* edge)
+{
+    float best = -KG_FLT_MAX;
+    *edge = 0;
+    for (int i = 0; i < poly1->count; ++i) {
+        kg_vec2 n = poly1->normals[i];
+        kg_vec2 v = poly1->vertices[i];
+        float deepest = KG_FLT_MAX;
+        for (int j = 0; j < poly2->count; ++j) {
+            deepest = fminf(deepest, kg_dot(n, kg_sub(poly2->vertices[j], v)));
+        }
+        if (deepest > best) {
+            best = deepest;
+            *edge = i;
+        }
+    }
+    return best;
+}
+
+/* The reference face (on ref) and the incident edge (on inc) of a polygon pair. ref is b when
+ * flip is set; the manifold's normal then points against the reference normal. Positions
+ * along the face are measured on the tangent from v11: the face spans [0, face_length], the
+ * incident edge runs the other way, from upper (v21) down to lower (v22). */
+typedef struct kg_face_contact {
+    kg_vec2 v11, v12; /* reference face */
+    kg_vec2 v21, v22; /* incident edge */
+    kg_vec2 normal;   /* reference face normal */
+    kg_vec2 tangent;  /* from v11 towards v12 */
+    float face_length, upper, lower;
+    int i11, i12, i21, i22;
+    int flip;
+} kg_face_contact;
+
+KG_FN float kg_along_face(const kg_face_contact* fc, kg_vec2 p) { return kg_dot(kg_sub(p, fc->v11), fc->tangent); }
+
+/* The edge of inc facing the reference face: among the edges turned against its normal that
+ * reach between its side planes, the most anti-parallel, which holds inc's deepest point
+ * between those planes; the most anti-parallel of all when none reaches (polygons meeting
+ * corner first). The normal alone could pick a short edge wholly beside the face and lose
+ * the contact. */
+KG_FN void kg_set_incident_edge(kg_face_contact* fc, const kg_shape* inc)
+{
+    int best = 0, best_reaching = -1;
+    float min_dot = KG_FLT_MAX, min_dot_reaching = KG_FLT_MAX;
+    for (int i = 0; i < inc->count; ++i) {
+        float d = kg_dot(fc->normal, inc->normals[i]);
+        /* an edge turned against the normal runs against the tangent: upper end first */
+        float upper = kg_along_face(fc, inc->vertices[i]);
+        float lower = kg_along_face(fc, inc->vertices[kg_next_vertex(i, inc->count)]);
+        if (d < min_dot) {
+            min_dot = d;
+            best = i;
+        }
+        if (d < 0.0f && upper >= 0.0f && lower <= fc->face_length && d < min_dot_reaching) {
+            min_dot_reaching = d;
+            best_reaching = i;
+        }
+    }
+    fc->i21 = best_reaching >= 0 ? best_reaching : best;
+    fc->i22 = kg_next_vertex(fc->i21, inc->count);
+    fc->v21 = inc->vertices[fc->i21];
+    fc->v22 = inc->vertices[fc->i22];
+    fc->upper = kg_along_face(fc, fc->v21);
+    fc->lower = kg_along_face(fc, fc->v22);
+}
+
+/* Reference face edge of ref against the polygon inc. */
+KG_FN kg_face_contact kg_face_contact_of(const kg_shape* ref, int edge, const kg_shape* inc, int flip)
+{
+    kg_face_contact fc;
+    fc.i11 = edge;
+    fc.i12 = kg_next_vertex(edge, ref->count);
+    fc.v11 = ref->vertices[fc.i11];
+    fc.v12 = ref->vertices[fc.i12];
+    fc.normal = ref->normals[edge];
+    fc.tangent = kg_left_perp(fc.normal);
+    fc.face_length = kg_along_face(&fc, fc.v12);
+    fc.flip = flip;
+    kg_set_incident_edge(&fc, inc);
+    return fc;
+}
+
+/* A feature id with the reference's byte on the side of the shape that owns it. */
+KG_FN kg_u32 kg_face_id(const kg_face_contact* fc, kg_u32 ref_feature, kg_u32 inc_feature)
+{
+    return fc->flip ? KG_FEATURE_ID(inc_feature, ref_feature) : KG_FEATURE_ID(ref_feature, inc_feature);
+}
+
+KG_FN kg_vec2 kg_face_manifold_normal(const kg_face_contact* fc, kg_vec2 ref_to_inc)
+{
+    return fc->flip ? kg_neg(ref_to_inc) : ref_to_inc;
+}
+
+/* One incident point v against the reference face: its separation along the face normal and
+ * the point midway between v and the face. */
+KG_FN void kg_push_face_point(kg_manifold* m, const kg_face_contact* fc, kg_vec2 v, kg_u32 inc_vertex)
+{
+    float separation = kg_dot(kg_sub(v, fc->v11), fc->normal);
+    kg_vec2 mid = kg_mul_sub(v, 0.5f * separation, fc->normal);
+    kg_push_point(m, mid, separation, kg_face_id(fc, KG_FEATURE_FACE | (kg_u32)fc->i11, inc_vertex));
+}
+
+/* Clips the incident edge to the side planes of the reference face (Sutherland-Hodgman on two
+ * points) and keeps both clipped ends; none when the edge lies wholly beside the face. Each
+ * point is named by the incident vertex it comes from, which stays the same whether or not
+ * it was clipped, so ids hold while an edge slides. */
+KG_FN kg_manifold kg_clip_to_face(const kg_face_contact* fc)
+{
+    kg_manifold m = kg_empty_manifold();
+    m.normal = kg_face_manifold_normal(fc, fc->normal);
+    float span = fc->upper - fc->lower;
+    float t_lower = 0.0f, t_upper = 1.0f;
+    /* an incident edge (nearly) perpendicular to the face cannot be clipped along it; it is
+     * kept whole, its deeper end giving the depth */
+    if (span > KG_LENGTH_EPSILON) {
+        t_lower = fmaxf(-fc->lower / span, 0.0f);
+        t_upper = fminf((fc->face_length - fc->lower) / span, 1.0f);
+    }
+    if (t_lower <= t_upper) {
+        kg_push_face_point(&m, fc, kg_lerp(fc->v22, fc->v21, t_lower), (kg_u32)fc->i22);
+        kg_push_face_point(&m, fc, kg_lerp(fc->v22, fc->v21, t_upper), (kg_u32)fc->i21);
+    }
+    return m;
+}
+
+/* Polygons touching corner to corner within the tolerance, too close for the direction
+ * between the corners to be trusted: the incident edge's end nearest the face, measured
+ * along the face normal, stands for the contact. */
+KG_FN kg_manifold kg_nearest_end_to_face(const kg_face_contact* fc)
+{
+    kg_manifold m = kg_empty_manifold();
+    m.normal = kg_face_manifold_normal(fc, fc->normal);
+    int beyond_upper = fc->lower > fc->face_length;
+    kg_push_face_point(&m, fc, beyond_upper ? fc->v22 : fc->v21, (kg_u32)(beyond_upper ? fc->i22 : fc->i21));
+    return m;
+}
+
+KG_FN float kg_min_separation(const kg_manifold* m)
+{
+    float s = KG_FLT_MAX;
+    for (int i = 0; i < m->point_count; ++i) {
+        s = fminf(s, m->points[i].separation);
+    }
+    return s;
+}
+
+/* The closest points of an end vertex of the reference face and the incident polygon. */
+typedef struct kg_corner {
+    kg_vec2 on_ref, on_inc;
+    float distance;
+    kg_u32 ref_vertex, inc_vertex;
+} kg_corner;
+
+/* Keeps in *best the closer of itself and the pair (corner, nearest point of inc's edge i). */
+KG_FN void kg_closer_corner(kg_corner* best, const kg_shape* inc, int i, kg_vec2 corner, int corner_index)
+{
+    int j = kg_next_vertex(i, inc->count);
+    kg_vec2 edge = kg_sub(inc->vertices[j], inc->vertices[i]);
+    float t = kg_clampf(kg_dot(kg_sub(corner, inc->vertices[i]), edge) / kg_length_sq(edge), 0.0f, 1.0f);
+    kg_vec2 on_inc = kg_mul_add(inc->vertices[i], t, edge);
+    float distance = kg_distance(corner, on_inc);
+    if (distance < best->distance) {
+        best->on_ref = corner;
+        best->on_inc = on_inc;
+        best->distance = distance;
+        best->ref_vertex = (kg_u32)corner_index;
+        best->inc_vertex = (kg_u32)(t < 0.5f ? i : j);
+    }
+}
+
+/* Separated polygons can meet corner first: when an end vertex of the reference face is
+ * nearer the incident polygon than the clipped points are to the face (by more than the
+ * tolerance, so nearly parallel faces keep their two points), or no part of the incident
+ * edge lies over the face at all, the gap is measured from that corner to the polygon, with
+ * one point along the line between them. The face normal alone would report a gap larger
+ * than the true one and let the bodies run into each other. The whole incident polygon is
+ * searched: its nearest point need not be on the incident edge. separation is the larger
+ * of the two separating axis gaps. */
+KG_FN kg_manifold kg_polygon_manifold(const kg_face_contact* fc, const kg_shape* inc, float separation)
+{
+    kg_manifold clipped = kg_clip_to_face(fc);
+    if (separation <= KG_REFERENCE_TOLERANCE) {
+        return clipped.point_count > 0 ? clipped : kg_nearest_end_to_face(fc);
+    }
+    /* no corner is nearer than the separating axis gap, a lower bound of the true gap */
+    if (kg_min_separation(&clipped) - KG_REFERENCE_TOLERANCE <= separation) {
+        return clipped;
+    }
+    kg_corner c;
+    c.on_ref = fc->v11;
+    c.on_inc = fc->v11;
+    c.distance = KG_FLT_MAX;
+    c.ref_vertex = 0u;
+    c.inc_vertex = 0u;
+    for (int i = 0; i < inc->count; ++i) {
+        kg_closer_corner(&c, inc, i, fc->v11, fc->i11);
+        kg_closer_corner(&c, inc, i, fc->v12, fc->i12);
+    }
+    if (c.distance >= kg_min_separation(&clipped) - KG_REFERENCE_TOLERANCE) {
+        return clipped;
+    }
+    /* apart by more than KG_REFERENCE_TOLERANCE: the gap has a direction */
+    kg_manifold m = kg_empty_manifold();
+    m.normal = kg_face_manifold_normal(fc, kg_scale(1.0f / c.distance, kg_sub(c.on_inc, c.on_ref)));
+    kg_push_point(&m, kg_lerp(c.on_ref, c.on_inc, 0.5f), c.distance, kg_face_id(fc, c.ref_vertex, c.inc_vertex));
+    return m;
+}
+
+KG_FN kg_manifold kg_collide_polygons(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative_distance)
+{
+    kg_vec2 origin = a->vertices[0];
+    kg_shape poly_a = kg_polygon_in_frame(a, kg_translation(kg_neg(origin)));
+    kg_shape poly_b = kg_polygon_in_frame(b, kg_relative_xf(xfa, origin, xfb));
+
+    int edge_a, edge_b;
+    float separation_a = kg_max_separation(&poly_a, &poly_b, &edge_a);
+    float separation_b = kg_max_separation(&poly_b, &poly_a, &edge_b);
+    if (separation_a > speculative_distance || separation_b > speculative_distance) {
+        return kg_empty_manifold();
+    }
+
+    int flip = separation_b > separation_a + KG_REFERENCE_TOLERANCE;
+    const kg_shape* ref = flip ? &poly_b : &poly_a;
+    const kg_shape* inc = flip ? &poly_a : &poly_b;
+    kg_face_contact fc = kg_face_contact_of(ref, flip ? edge_b : edge_a, inc, flip);
+
+    kg_manifold m = kg_polygon_manifold(&fc, inc, fmaxf(separation_a, separation_b));
+    return kg_manifold_to_world(m, xfa, origin, xfb, speculative_distance);
+}
+
+/* ---- circles and points ---- */
+
+/* Polygon a against circle b. The circle's centre is tested against a's faces; outside a
+ * corner's Voronoi region the face normal is the contact normal (this also covers a centre
+ * inside the polygon), inside it the direction from the corner to the centre. */
+KG_FN kg_manifold kg_collide_polygon_circle(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb,
+                                            float speculative_distance)
+{
+    kg_vec2 origin = a->vertices[0];
+    kg_shape poly = kg_polygon_in_frame(a, kg_translation(kg_neg(origin)));
+    kg_vec2 center = kg_xf_point(kg_relative_xf(xfa, origin, xfb), b->vertices[0]);
+    float radius = b->radius;
+
+    int edge = 0;
+    float separation = -KG_FLT_MAX;
+    for (int i = 0; i < poly.count; ++i) {
+        float s = kg_dot(poly.normals[i], kg_sub(center, poly.vertices[i]));
+        if (s > separation) {
+            separation = s;
+            edge = i;
+        }
+    }
+    if (separation > radius + speculative_distance) {
+        return kg_empty_manifold();
+    }
+
+    kg_vec2 v1 = poly.vertices[edge];
+    kg_vec2 v2 = poly.vertices[kg_next_vertex(edge, poly.count)];
+    int before_v1 = kg_dot(kg_sub(center, v1), kg_sub(v2, v1)) < 0.0f;
+    int after_v2 = kg_dot(kg_sub(center, v2), kg_sub(v1, v2)) < 0.0f;
+    kg_vec2 normal = poly.normals[edge];
+    kg_vec2 on_polygon = kg_mul_sub(center, separation, normal);
+    /* a centre within epsilon of the polygon takes the face normal: no direction can be
+     * taken from a corner it (nearly) sits on */
+    if ((before_v1 || after_v2) && separation > KG_LENGTH_EPSILON) {
+        on_polygon = before_v1 ? v1 : v2;
+        kg_vec2 offset = kg_sub(center, on_polygon);
+        separation = kg_length(offset);
+        normal = kg_scale(1.0f / separation, offset);
+    }
+
+    kg_manifold m = kg_empty_manifold();
+    m.normal = normal;
+    kg_vec2 on_circle = kg_mul_sub(center, radius, normal);
+    kg_push_point(&m, kg_lerp(on_polygon, on_circle, 0.5f), separation - radius, 0u);
+    return kg_manifold_to_world(m, xfa, origin, xfb, speculative_distance);
+}
+
+/* Circle (or point) against circle (or point). Coincident centres have no direction between
+ * them; a's local y axis is used, any unit vector being as right as another. */
+KG_FN kg_manifold kg_collide_circles(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative_distance)
+{
+    kg_vec2 origin = a->vertices[0];
+    kg_vec2 center_b = kg_xf_point(kg_relative_xf(xfa, origin, xfb), b->vertices[0]);
+    float distance = kg_length(center_b);
+    float separation = distance - a->radius - b->radius;
+    if (separation > speculative_distance) {
+        return kg_empty_manifold();
+    }
+    kg_vec2 normal = distance > KG_LENGTH_EPSILON ? kg_scale(1.0f / distance, center_b) : kg_v2(0.0f, 1.0f);
+    kg_vec2 on_a = kg_scale(a->radius, normal);
+    kg_vec2 on_b = kg_mul_sub(center_b, b->radius, normal);
+
+    kg_manifold m = kg_empty_manifold();
+    m.normal = normal;
+    kg_push_point(&m, kg_lerp(on_a, on_b, 0.5f), separation, 0u);
+    return kg_manifold_to_world(m, xfa, origin, xfb, speculative_distance);
+}
+
+/* ---- dispatch ---- */
+
+/* The contact manifold of shapes a and b (in their bodies' frames) with the bodies at xfa and
+ * xfb: normal from a to b, up to two points with separation <= speculative_distance. A shape
+ * with 3 or more vertices is a polygon, any other a circle (a point when its radius is 0). */
+KG_FN kg_manifold kg_collide_shapes(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative_distance)
+{
+    int a_is_polygon = a->count >= 3;
+    int b_is_polygon = b->count >= 3;
+    if (a_is_polygon && b_is_polygon) {
+        return kg_collide_polygons(a, xfa, b, xfb, speculative_distance);
+    }
+    if (a_is_polygon) {
+        return kg_collide_polygon_circle(a, xfa, b, xfb, speculative_distance);
+    }
+    if (b_is_polygon) {
+        return kg_flip_manifold(kg_collide_polygon_circle(b, xfb, a, xfa, speculative_distance));
+    }
+    return kg_collide_circles(a, xfa, b, xfb, speculative_distance);
+}
+
+#endif

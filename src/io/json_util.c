@@ -1,0 +1,274 @@
+#include "io/json_util.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+/* A path too long for its buffer ends in "..." rather than being cut silently. */
+static void kg_json_mark_truncated(kg_json_path* path, int written)
+{
+    if (written < 0 || (size_t)written >= sizeof path->text) {
+        memcpy(path->text + sizeof path->text - 4, "...", 4);
+    }
+}
+
+kg_json_path kg_json_path_key(const kg_json_path* parent, const char* key)
+{
+    kg_json_path path;
+    int written;
+    if (parent->text[0] == '\0') {
+        written = snprintf(path.text, sizeof path.text, "%s", key);
+    } else {
+        written = snprintf(path.text, sizeof path.text, "%s.%s", parent->text, key);
+    }
+    kg_json_mark_truncated(&path, written);
+    return path;
+}
+
+kg_json_path kg_json_path_index(const kg_json_path* parent, int index)
+{
+    kg_json_path path;
+    kg_json_mark_truncated(&path, snprintf(path.text, sizeof path.text, "%s[%d]", parent->text, index));
+    return path;
+}
+
+kg_result kg_json_fail(const kg_json_reader* reader, const kg_json_path* path, const char* fmt, ...)
+{
+    char what[256];
+    va_list args;
+    va_start(args, fmt);
+    vsnprintf(what, sizeof what, fmt, args);
+    va_end(args);
+    const char* where = path->text[0] != '\0' ? path->text : "(root)";
+    return kg_fail(KG_ERROR_PARSE, "%s: %s: %s", reader->source, where, what);
+}
+
+/* Up to 20 characters of the text at the error, on one line, to show what was found. */
+static void kg_json_excerpt(const char* at, const char* end, char* out, size_t size)
+{
+    size_t n = 0;
+    while (at + n < end && n + 1 < size && n < 20 && at[n] != '\n' && at[n] != '\r' && at[n] != '\0') {
+        out[n] = at[n];
+        n++;
+    }
+    out[n] = '\0';
+}
+
+kg_result kg_json_parse(const kg_json_reader* reader, const char* text, size_t length, cJSON** out)
+{
+    const char* end = NULL;
+    *out = cJSON_ParseWithLengthOpts(text, length, &end, 0);
+    if (*out) {
+        /* cJSON stops after the first value; anything but whitespace after it is an error */
+        while (end < text + length && strchr(" \t\r\n", *end) != NULL && *end != '\0') {
+            end++;
+        }
+        if (end == text + length) {
+            return KG_OK;
+        }
+        cJSON_Delete(*out);
+        *out = NULL;
+    }
+    if (!end || end < text || end > text + length) {
+        end = text + length;
+    }
+    int line = 1, column = 1;
+    for (const char* c = text; c < end; ++c) {
+        if (*c == '\n') {
+            line++;
+            column = 1;
+        } else {
+            column++;
+        }
+    }
+    char excerpt[32];
+    kg_json_excerpt(end, text + length, excerpt, sizeof excerpt);
+    if (excerpt[0] == '\0') {
+        return kg_fail(KG_ERROR_PARSE, "%s: line %d, column %d: malformed JSON (unexpected end of input)",
+                       reader->source, line, column);
+    }
+    return kg_fail(KG_ERROR_PARSE, "%s: line %d, column %d: malformed JSON near '%s'", reader->source, line,
+                   column, excerpt);
+}
+
+static int kg_json_allowed(const char* key, const char* const* allowed)
+{
+    for (int i = 0; allowed[i]; ++i) {
+        if (strcmp(key, allowed[i]) == 0) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+kg_result kg_json_check_object(const kg_json_reader* reader, const cJSON* value, const kg_json_path* path,
+                               const char* const* allowed)
+{
+    if (!cJSON_IsObject(value)) {
+        return kg_json_fail(reader, path, "must be an object");
+    }
+    for (const cJSON* field = value->child; field; field = field->next) {
+        kg_json_path field_path = kg_json_path_key(path, field->string);
+        if (!kg_json_allowed(field->string, allowed)) {
+            return kg_json_fail(reader, &field_path, "unknown field");
+        }
+        /* cJSON keeps repeated keys; the later one would silently shadow the earlier */
+        for (const cJSON* earlier = value->child; earlier != field; earlier = earlier->next) {
+            if (strcmp(earlier->string, field->string) == 0) {
+                return kg_json_fail(reader, &field_path, "field given twice");
+            }
+        }
+    }
+    return KG_OK;
+}
+
+kg_result kg_json_check_array(const kg_json_reader* reader, const cJSON* value, const kg_json_path* path)
+{
+    return cJSON_IsArray(value) ? KG_OK : kg_json_fail(reader, path, "must be an array");
+}
+
+kg_result kg_json_require(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                          const char* key)
+{
+    if (cJSON_GetObjectItemCaseSensitive(object, key)) {
+        return KG_OK;
+    }
+    kg_json_path field_path = kg_json_path_key(path, key);
+    return kg_json_fail(reader, &field_path, "is required");
+}
+
+static kg_result kg_json_number_value(const kg_json_reader* reader, const cJSON* value, const kg_json_path* path,
+                                      kg_json_rule rule, float* out)
+{
+    if (!cJSON_IsNumber(value)) {
+        return kg_json_fail(reader, path, "must be a number");
+    }
+    float f = (float)value->valuedouble;
+    if (!isfinite(f)) {
+        return kg_json_fail(reader, path, "must be a finite number (got %g)", value->valuedouble);
+    }
+    switch (rule) {
+    case KG_JSON_ANY:
+        break;
+    case KG_JSON_POSITIVE:
+        if (!(f > 0.0f)) {
+            return kg_json_fail(reader, path, "must be > 0");
+        }
+        break;
+    case KG_JSON_NON_NEGATIVE:
+        if (!(f >= 0.0f)) {
+            return kg_json_fail(reader, path, "must be >= 0");
+        }
+        break;
+    case KG_JSON_UNIT:
+        if (!(f >= 0.0f && f <= 1.0f)) {
+            return kg_json_fail(reader, path, "must be in [0, 1]");
+        }
+        break;
+    }
+    *out = f;
+    return KG_OK;
+}
+
+kg_result kg_json_float(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                        const char* key, kg_json_rule rule, float* out)
+{
+    const cJSON* value = cJSON_GetObjectItemCaseSensitive(object, key);
+    if (!value) {
+        return KG_OK;
+    }
+    kg_json_path field_path = kg_json_path_key(path, key);
+    return kg_json_number_value(reader, value, &field_path, rule, out);
+}
+
+kg_result kg_json_vec2_value(const kg_json_reader* reader, const cJSON* value, const kg_json_path* path,
+                             kg_vec2* out)
+{
+    if (!cJSON_IsArray(value) || cJSON_GetArraySize(value) != 2) {
+        return kg_json_fail(reader, path, "must be [x, y] (an array of two numbers)");
+    }
+    kg_vec2 v;
+    kg_json_path x_path = kg_json_path_index(path, 0);
+    kg_json_path y_path = kg_json_path_index(path, 1);
+    KG_TRY(kg_json_number_value(reader, value->child, &x_path, KG_JSON_ANY, &v.x));
+    KG_TRY(kg_json_number_value(reader, value->child->next, &y_path, KG_JSON_ANY, &v.y));
+    *out = v;
+    return KG_OK;
+}
+
+kg_result kg_json_vec2(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                       const char* key, kg_vec2* out)
+{
+    const cJSON* value = cJSON_GetObjectItemCaseSensitive(object, key);
+    if (!value) {
+        return KG_OK;
+    }
+    kg_json_path field_path = kg_json_path_key(path, key);
+    return kg_json_vec2_value(reader, value, &field_path, out);
+}
+
+/* An integral number in [min, max]; doubles hold every 32-bit integer exactly. */
+static kg_result kg_json_integer(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                                 const char* key, double min, double max, double* out)
+{
+    const cJSON* value = cJSON_GetObjectItemCaseSensitive(object, key);
+    if (!value) {
+        return KG_OK;
+    }
+    kg_json_path field_path = kg_json_path_key(path, key);
+    double d = cJSON_IsNumber(value) ? value->valuedouble : NAN;
+    if (!(d >= min && d <= max) || d != floor(d)) {
+        return kg_json_fail(reader, &field_path, "must be an integer in [%.0f, %.0f]", min, max);
+    }
+    *out = d;
+    return KG_OK;
+}
+
+kg_result kg_json_int(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                      const char* key, int min, int max, int* out)
+{
+    double d = *out;
+    KG_TRY(kg_json_integer(reader, object, path, key, min, max, &d));
+    *out = (int)d;
+    return KG_OK;
+}
+
+kg_result kg_json_uint32(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                         const char* key, uint32_t* out)
+{
+    double d = *out;
+    KG_TRY(kg_json_integer(reader, object, path, key, 0.0, 4294967295.0, &d));
+    *out = (uint32_t)d;
+    return KG_OK;
+}
+
+kg_result kg_json_bool(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                       const char* key, int* out)
+{
+    const cJSON* value = cJSON_GetObjectItemCaseSensitive(object, key);
+    if (!value) {
+        return KG_OK;
+    }
+    if (!cJSON_IsBool(value)) {
+        kg_json_path field_path = kg_json_path_key(path, key);
+        return kg_json_fail(reader, &field_path, "must be true or false");
+    }
+    *out = cJSON_IsTrue(value) ? 1 : 0;
+    return KG_OK;
+}
+
+kg_result kg_json_string(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                         const char* key, const char** out)
+{
+    const cJSON* value = cJSON_GetObjectItemCaseSensitive(object, key);
+    if (!value) {
+        return KG_OK;
+    }
+    if (!cJSON_IsString(value)) {
+        kg_json_path field_path = kg_json_path_key(path, key);
+        return kg_json_fail(reader, &field_path, "must be a string");
+    }
+    *out = value->valuestring;
+    return KG_OK;
+}

@@ -1,0 +1,78 @@
+/* Strict JSON reading for the loaders. Every accessor checks the type and range of one
+ * field; on failure it sets kg_last_error() to "SOURCE: PATH: what is wrong" and returns
+ * KG_ERROR_PARSE, so a loader is a chain of KG_TRY(...) calls and every message names
+ * the file and the JSON path of the offending value. */
+#ifndef KG_JSON_UTIL_H
+#define KG_JSON_UTIL_H
+
+#include "core/error.h"
+#include "kgyro/types.h"
+
+#include <cjson/cJSON.h>
+#include <stdint.h>
+
+/* Returns the result of expr when it fails; the loaders' and generators' error chaining. */
+#define KG_TRY(expr)                     \
+    do {                                 \
+        kg_result kg_try_ = (expr);      \
+        if (kg_try_ != KG_OK) {          \
+            return kg_try_;              \
+        }                                \
+    } while (0)
+
+/* A JSON path such as "bodies[3].shape.radius"; "" is the document itself. */
+typedef struct kg_json_path {
+    char text[192];
+} kg_json_path;
+
+kg_json_path kg_json_path_key(const kg_json_path* parent, const char* key);
+kg_json_path kg_json_path_index(const kg_json_path* parent, int index);
+
+/* What a number must satisfy; each has its own message ("must be > 0"...). */
+typedef enum kg_json_rule {
+    KG_JSON_ANY,          /* finite */
+    KG_JSON_POSITIVE,     /* > 0 */
+    KG_JSON_NON_NEGATIVE, /* >= 0 */
+    KG_JSON_UNIT          /* in [0, 1] */
+} kg_json_rule;
+
+typedef struct kg_json_reader {
+    const char* source; /* the file name the messages start with */
+} kg_json_reader;
+
+kg_result kg_json_fail(const kg_json_reader* reader, const kg_json_path* path, const char* fmt, ...)
+    KG_PRINTF(3, 4);
+
+/* Parses a whole document. Syntax errors read "SOURCE: line L, column C: ...". */
+kg_result kg_json_parse(const kg_json_reader* reader, const char* text, size_t length, cJSON** out);
+
+/* Checks that value is an object whose keys are all in allowed (a NULL-terminated list)
+ * and none is repeated. */
+kg_result kg_json_check_object(const kg_json_reader* reader, const cJSON* value, const kg_json_path* path,
+                               const char* const* allowed);
+kg_result kg_json_check_array(const kg_json_reader* reader, const cJSON* value, const kg_json_path* path);
+/* Fails with "is required" when object has no field key. */
+kg_result kg_json_require(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                          const char* key);
+
+/* Optional fields: an absent key leaves *out unchanged (the default). */
+kg_result kg_json_float(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                        const char* key, kg_json_rule rule, float* out);
+kg_result kg_json_vec2(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                       const char* key, kg_vec2* out);
+/* An integer in [min, max]. */
+kg_result kg_json_int(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                      const char* key, int min, int max, int* out);
+kg_result kg_json_uint32(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                         const char* key, uint32_t* out);
+kg_result kg_json_bool(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                       const char* key, int* out);
+/* *out points into the document (valid while it lives). */
+kg_result kg_json_string(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                         const char* key, const char** out);
+
+/* Reads an array element [x, y] (value itself, not a field). */
+kg_result kg_json_vec2_value(const kg_json_reader* reader, const cJSON* value, const kg_json_path* path,
+                             kg_vec2* out);
+
+#endif

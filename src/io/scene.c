@@ -1,0 +1,502 @@
+/* The scene container and builder: body definitions with unique names, forces that
+ * refer to bodies by scene index, and turning all of it into a world. */
+#include "kgyro/scene.h"
+#include "kgyro/force.h"
+
+#include "core/error.h"
+#include "io/json_util.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define KG_SCENE_NAME_MAX 63
+
+typedef struct kg_scene_pivot {
+    int body;
+    kg_vec2 point;
+} kg_scene_pivot;
+
+struct kg_scene {
+    kg_world_def world_def;
+    float dt;
+    int steps;
+
+    int body_count, body_capacity;
+    kg_body_def* bodies;
+    size_t* name_offsets; /* into names, one per body */
+    char* names;          /* NUL-terminated names back to back */
+    size_t names_length, names_capacity;
+
+    /* open addressing on name, holds body index + 1 (0 = empty); power-of-two size */
+    int* name_table;
+    int name_table_size;
+
+    int force_count, force_capacity;
+    kg_scene_force* forces; /* each owns its body_indices */
+
+    int pivot_count, pivot_capacity;
+    kg_scene_pivot* pivots;
+};
+
+/* Grows *items to hold at least needed elements, doubling. */
+static int kg_grow(void** items, int* capacity, int needed, size_t item_size)
+{
+    if (needed <= *capacity) {
+        return 1;
+    }
+    int next = *capacity > 0 ? *capacity : 16;
+    while (next < needed) {
+        next *= 2;
+    }
+    void* grown = realloc(*items, (size_t)next * item_size);
+    if (!grown) {
+        return 0;
+    }
+    *items = grown;
+    *capacity = next;
+    return 1;
+}
+
+kg_result kg_scene_create(kg_scene** out)
+{
+    if (!out) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_create: out is NULL");
+    }
+    kg_scene* scene = calloc(1, sizeof *scene);
+    if (!scene) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_create: out of memory");
+    }
+    scene->world_def = kg_default_world_def();
+    scene->world_def.gravity = (kg_vec2){0.0f, -10.0f};
+    scene->dt = 1.0f / 60.0f;
+    *out = scene;
+    return KG_OK;
+}
+
+void kg_scene_destroy(kg_scene* scene)
+{
+    if (!scene) {
+        return;
+    }
+    for (int i = 0; i < scene->force_count; ++i) {
+        free((void*)scene->forces[i].body_indices);
+    }
+    free(scene->forces);
+    free(scene->pivots);
+    free(scene->name_table);
+    free(scene->names);
+    free(scene->name_offsets);
+    free(scene->bodies);
+    free(scene);
+}
+
+kg_world_def* kg_scene_world_def(kg_scene* scene) { return scene ? &scene->world_def : NULL; }
+float kg_scene_dt(const kg_scene* scene) { return scene ? scene->dt : 0.0f; }
+int kg_scene_steps(const kg_scene* scene) { return scene ? scene->steps : 0; }
+int kg_scene_body_count(const kg_scene* scene) { return scene ? scene->body_count : 0; }
+int kg_scene_force_count(const kg_scene* scene) { return scene ? scene->force_count : 0; }
+
+kg_result kg_scene_set_dt(kg_scene* scene, float dt)
+{
+    if (!scene || !isfinite(dt) || !(dt > 0.0f)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_set_dt: dt must be finite and > 0");
+    }
+    scene->dt = dt;
+    return KG_OK;
+}
+
+kg_result kg_scene_set_steps(kg_scene* scene, int steps)
+{
+    if (!scene || steps < 0) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_set_steps: steps must be >= 0");
+    }
+    scene->steps = steps;
+    return KG_OK;
+}
+
+const kg_body_def* kg_scene_body_def(const kg_scene* scene, int index)
+{
+    return scene && index >= 0 && index < scene->body_count ? &scene->bodies[index] : NULL;
+}
+
+const char* kg_scene_body_name(const kg_scene* scene, int index)
+{
+    return scene && index >= 0 && index < scene->body_count ? scene->names + scene->name_offsets[index] : NULL;
+}
+
+const kg_scene_force* kg_scene_get_force(const kg_scene* scene, int index)
+{
+    return scene && index >= 0 && index < scene->force_count ? &scene->forces[index] : NULL;
+}
+
+/* ---- names ---- */
+
+static uint32_t kg_name_hash(const char* name)
+{
+    uint32_t h = 2166136261u; /* FNV-1a */
+    for (const unsigned char* c = (const unsigned char*)name; *c; ++c) {
+        h = (h ^ *c) * 16777619u;
+    }
+    return h;
+}
+
+/* The table slot holding name, or the empty slot where it would go. */
+static int kg_name_slot(const kg_scene* scene, const char* name)
+{
+    uint32_t mask = (uint32_t)scene->name_table_size - 1u;
+    uint32_t slot = kg_name_hash(name) & mask;
+    while (scene->name_table[slot] != 0) {
+        int body = scene->name_table[slot] - 1;
+        if (strcmp(scene->names + scene->name_offsets[body], name) == 0) {
+            break;
+        }
+        slot = (slot + 1u) & mask;
+    }
+    return (int)slot;
+}
+
+int kg_scene_find_body(const kg_scene* scene, const char* name)
+{
+    if (!scene || !name || scene->name_table_size == 0) {
+        return -1;
+    }
+    return scene->name_table[kg_name_slot(scene, name)] - 1;
+}
+
+/* Keeps the table at most half full, so probes stay short. */
+static int kg_name_table_reserve(kg_scene* scene, int count)
+{
+    if (2 * count <= scene->name_table_size) {
+        return 1;
+    }
+    int size = scene->name_table_size > 0 ? scene->name_table_size : 64;
+    while (size < 2 * count) {
+        size *= 2;
+    }
+    int* table = calloc((size_t)size, sizeof *table);
+    if (!table) {
+        return 0;
+    }
+    free(scene->name_table);
+    scene->name_table = table;
+    scene->name_table_size = size;
+    for (int body = 0; body < scene->body_count; ++body) {
+        scene->name_table[kg_name_slot(scene, scene->names + scene->name_offsets[body])] = body + 1;
+    }
+    return 1;
+}
+
+static int kg_name_char_ok(char c)
+{
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || strchr("_-.:/#", c);
+}
+
+static kg_result kg_check_name(const char* name)
+{
+    size_t length = strlen(name);
+    if (length == 0 || length > KG_SCENE_NAME_MAX) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "must be 1 to %d characters long", KG_SCENE_NAME_MAX);
+    }
+    for (size_t i = 0; i < length; ++i) {
+        if (!kg_name_char_ok(name[i])) {
+            return kg_fail(KG_ERROR_INVALID_ARGUMENT,
+                           "'%s' may only contain letters, digits and the characters _-.:/#", name);
+        }
+    }
+    return KG_OK;
+}
+
+static int kg_append_name(kg_scene* scene, const char* name)
+{
+    size_t length = strlen(name) + 1;
+    if (scene->names_length + length > scene->names_capacity) {
+        size_t capacity = scene->names_capacity > 0 ? scene->names_capacity : 1024;
+        while (capacity < scene->names_length + length) {
+            capacity *= 2;
+        }
+        char* grown = realloc(scene->names, capacity);
+        if (!grown) {
+            return 0;
+        }
+        scene->names = grown;
+        scene->names_capacity = capacity;
+    }
+    memcpy(scene->names + scene->names_length, name, length);
+    scene->name_offsets[scene->body_count] = scene->names_length;
+    scene->names_length += length;
+    return 1;
+}
+
+/* ---- building ---- */
+
+static int kg_reserve_bodies(kg_scene* scene, int needed)
+{
+    if (needed <= scene->body_capacity) {
+        return 1;
+    }
+    int capacity = scene->body_capacity > 0 ? 2 * scene->body_capacity : 64;
+    while (capacity < needed) {
+        capacity *= 2;
+    }
+    kg_body_def* bodies = realloc(scene->bodies, (size_t)capacity * sizeof *bodies);
+    if (!bodies) {
+        return 0;
+    }
+    scene->bodies = bodies;
+    size_t* offsets = realloc(scene->name_offsets, (size_t)capacity * sizeof *offsets);
+    if (!offsets) {
+        return 0;
+    }
+    scene->name_offsets = offsets;
+    scene->body_capacity = capacity;
+    return 1;
+}
+
+kg_result kg_scene_add_body(kg_scene* scene, const char* name, const kg_body_def* def)
+{
+    if (!scene || !def) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_add_body: NULL argument");
+    }
+    char default_name[32];
+    if (!name) {
+        snprintf(default_name, sizeof default_name, "body%d", scene->body_count);
+        name = default_name;
+    }
+    kg_result r = kg_check_name(name);
+    if (r != KG_OK) {
+        return r;
+    }
+    int existing = kg_scene_find_body(scene, name);
+    if (existing >= 0) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "duplicate name '%s' (body %d has it)", name, existing);
+    }
+    int needed = scene->body_count + 1;
+    if (!kg_reserve_bodies(scene, needed) || !kg_name_table_reserve(scene, needed) || !kg_append_name(scene, name)) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_add_body: out of memory");
+    }
+    scene->bodies[scene->body_count] = *def;
+    scene->name_table[kg_name_slot(scene, name)] = scene->body_count + 1;
+    scene->body_count++;
+    return KG_OK;
+}
+
+static kg_result kg_check_force(const kg_scene* scene, const kg_scene_force* force)
+{
+    if (force->type != KG_SCENE_FORCE_GRAVITY && force->type != KG_SCENE_FORCE_WIND) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "unknown force type %d", (int)force->type);
+    }
+    if (!isfinite(force->vector.x) || !isfinite(force->vector.y) || !isfinite(force->strength) ||
+        !isfinite(force->drag) || force->strength < 0.0f || force->drag < 0.0f) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "force needs a finite vector, strength >= 0 and drag >= 0");
+    }
+    if (force->body_count < 0 || (force->body_count > 0 && !force->body_indices)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "force body list: count %d with %s indices", force->body_count,
+                       force->body_indices ? "some" : "no");
+    }
+    for (int i = 0; i < force->body_count; ++i) {
+        int body = force->body_indices[i];
+        if (body < 0 || body >= scene->body_count) {
+            return kg_fail(KG_ERROR_INVALID_ARGUMENT, "force body %d is not a scene body (the scene has %d)", body,
+                           scene->body_count);
+        }
+    }
+    return KG_OK;
+}
+
+kg_result kg_scene_add_force(kg_scene* scene, const kg_scene_force* force)
+{
+    if (!scene || !force) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_add_force: NULL argument");
+    }
+    kg_result r = kg_check_force(scene, force);
+    if (r != KG_OK) {
+        return r;
+    }
+    int* indices = NULL;
+    if (force->body_count > 0) {
+        indices = malloc((size_t)force->body_count * sizeof *indices);
+        if (!indices) {
+            return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_add_force: out of memory");
+        }
+        memcpy(indices, force->body_indices, (size_t)force->body_count * sizeof *indices);
+    }
+    if (!kg_grow((void**)&scene->forces, &scene->force_capacity, scene->force_count + 1, sizeof *scene->forces)) {
+        free(indices);
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_add_force: out of memory");
+    }
+    kg_scene_force* copy = &scene->forces[scene->force_count++];
+    *copy = *force;
+    copy->body_indices = indices;
+    return KG_OK;
+}
+
+/* ---- pivots ---- */
+
+static kg_scene_pivot* kg_find_pivot(const kg_scene* scene, int index)
+{
+    for (int i = 0; i < scene->pivot_count; ++i) {
+        if (scene->pivots[i].body == index) {
+            return &scene->pivots[i];
+        }
+    }
+    return NULL;
+}
+
+kg_result kg_scene_set_body_pivot(kg_scene* scene, int index, kg_vec2 pivot)
+{
+    if (!scene || index < 0 || index >= scene->body_count) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_set_body_pivot: no body %d", index);
+    }
+    if (scene->bodies[index].type != KG_BODY_KINEMATIC) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "only kinematic bodies can turn about a pivot");
+    }
+    if (!isfinite(pivot.x) || !isfinite(pivot.y)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "pivot must be finite");
+    }
+    kg_scene_pivot* existing = kg_find_pivot(scene, index);
+    if (existing) {
+        existing->point = pivot;
+        return KG_OK;
+    }
+    if (!kg_grow((void**)&scene->pivots, &scene->pivot_capacity, scene->pivot_count + 1, sizeof *scene->pivots)) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_set_body_pivot: out of memory");
+    }
+    scene->pivots[scene->pivot_count++] = (kg_scene_pivot){index, pivot};
+    return KG_OK;
+}
+
+int kg_scene_body_pivot(const kg_scene* scene, int index, kg_vec2* out)
+{
+    const kg_scene_pivot* pivot = scene ? kg_find_pivot(scene, index) : NULL;
+    if (pivot && out) {
+        *out = pivot->point;
+    }
+    return pivot != NULL;
+}
+
+/* The velocity that carries the centre of mass along the chord of its circle about the
+ * pivot in one step. The tangent velocity would move it outwards a little every step. */
+static kg_result kg_drive_pivot(kg_world* world, kg_body body, kg_vec2 pivot, float dt)
+{
+    kg_body_state state;
+    kg_mass_data mass;
+    KG_TRY(kg_body_get_state(world, body, &state));
+    KG_TRY(kg_body_get_mass_data(world, body, &mass));
+    float c = cosf(state.angle), s = sinf(state.angle);
+    kg_vec2 com = {state.position.x + c * mass.center.x - s * mass.center.y,
+                   state.position.y + s * mass.center.x + c * mass.center.y};
+    float turn = state.angular_velocity * dt;
+    float tc = cosf(turn), ts = sinf(turn);
+    kg_vec2 r = {com.x - pivot.x, com.y - pivot.y};
+    kg_vec2 next = {pivot.x + tc * r.x - ts * r.y, pivot.y + ts * r.x + tc * r.y};
+    return kg_body_set_velocity(world, body, (kg_vec2){(next.x - com.x) / dt, (next.y - com.y) / dt});
+}
+
+kg_result kg_scene_step(const kg_scene* scene, kg_world* world, const kg_body* bodies, float dt)
+{
+    if (!scene || !world || (scene->pivot_count > 0 && !bodies)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_step: NULL argument");
+    }
+    if (!isfinite(dt) || !(dt > 0.0f)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_step: dt must be finite and > 0 (got %g)", (double)dt);
+    }
+    for (int i = 0; i < scene->pivot_count; ++i) {
+        KG_TRY(kg_drive_pivot(world, bodies[scene->pivots[i].body], scene->pivots[i].point, dt));
+    }
+    return kg_world_step(world, dt);
+}
+
+/* ---- instantiating ---- */
+
+static int kg_max_int(int a, int b) { return a > b ? a : b; }
+
+/* Room for the scene: pairs in contact stay below a few per body even in dense piles. */
+static kg_world_def kg_fitted_world_def(const kg_scene* scene, const kg_world_def* override_def)
+{
+    kg_world_def def = override_def ? *override_def : scene->world_def;
+    def.max_bodies = kg_max_int(def.max_bodies, scene->body_count);
+    def.max_contacts = kg_max_int(def.max_contacts, 6 * scene->body_count + 64);
+    def.max_applicators = kg_max_int(def.max_applicators, scene->force_count);
+    return def;
+}
+
+static kg_result kg_create_scene_bodies(const kg_scene* scene, kg_world* world, kg_body* handles)
+{
+    for (int i = 0; i < scene->body_count; ++i) {
+        kg_result r = kg_create_body(world, &scene->bodies[i], &handles[i]);
+        if (r != KG_OK) {
+            char reason[256];
+            snprintf(reason, sizeof reason, "%s", kg_last_error());
+            return kg_fail(r, "body %d ('%s'): %s", i, kg_scene_body_name(scene, i), reason);
+        }
+    }
+    return KG_OK;
+}
+
+static kg_result kg_add_scene_force(const kg_scene_force* force, kg_world* world, const kg_body* handles)
+{
+    kg_body* subset = NULL;
+    if (force->body_count > 0) {
+        subset = malloc((size_t)force->body_count * sizeof *subset);
+        if (!subset) {
+            return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_instantiate: out of memory");
+        }
+        for (int i = 0; i < force->body_count; ++i) {
+            subset[i] = handles[force->body_indices[i]];
+        }
+    }
+    kg_result r;
+    kg_applicator applicator;
+    if (force->type == KG_SCENE_FORCE_GRAVITY) {
+        r = kg_add_gravity_applicator(world, force->vector, subset, force->body_count, &applicator);
+    } else {
+        r = kg_add_wind_applicator(world, force->vector, force->strength, force->drag, subset, force->body_count,
+                                   &applicator);
+    }
+    free(subset);
+    return r;
+}
+
+static kg_result kg_fill_world(const kg_scene* scene, kg_world* world, kg_body* handles)
+{
+    KG_TRY(kg_create_scene_bodies(scene, world, handles));
+    for (int i = 0; i < scene->force_count; ++i) {
+        KG_TRY(kg_add_scene_force(&scene->forces[i], world, handles));
+    }
+    return KG_OK;
+}
+
+kg_result kg_scene_instantiate(const kg_scene* scene, const kg_world_def* override_def, kg_world** out_world,
+                               kg_body* out_bodies)
+{
+    if (!scene || !out_world) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_instantiate: NULL argument");
+    }
+    *out_world = NULL;
+    kg_body* handles = out_bodies;
+    if (!handles) {
+        handles = malloc((size_t)kg_max_int(scene->body_count, 1) * sizeof *handles);
+        if (!handles) {
+            return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_instantiate: out of memory");
+        }
+    }
+    kg_world_def def = kg_fitted_world_def(scene, override_def);
+    kg_world* world = NULL;
+    kg_result r = kg_create_world(&def, &world);
+    if (r == KG_OK) {
+        r = kg_fill_world(scene, world, handles);
+    }
+    if (handles != out_bodies) {
+        free(handles);
+    }
+    if (r != KG_OK) {
+        if (world) {
+            kg_destroy_world(world);
+        }
+        return r;
+    }
+    *out_world = world;
+    return KG_OK;
+}

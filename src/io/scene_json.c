@@ -1,0 +1,709 @@
+/* The JSON scene loader: reads a document strictly (unknown fields, wrong types and
+ * impossible values are errors naming their JSON path) into a kg_scene. Shapes are
+ * checked by the library itself (kg_shape_mass), so the loader and the engine agree on
+ * what a valid polygon is. docs/scene-format.md is the format's reference. */
+#include "kgyro/scene.h"
+
+#include "io/json_util.h"
+#include "io/scene_generate.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct kg_loader {
+    kg_json_reader reader;
+    kg_scene* scene;
+} kg_loader;
+
+static const char* const kSceneFields[] = {"description", "gravity", "dt", "steps", "substeps",
+                                           "bodies", "forces", "generators", NULL};
+static const char* const kBodyFields[] = {"name", "type", "position", "angle", "velocity", "angular_velocity",
+                                          "shape", "density", "mass", "friction", "restitution",
+                                          "linear_damping", "angular_damping", "category", "mask",
+                                          "fixed_rotation", "pivot", NULL};
+static const char* const kBoxFields[] = {"type", "width", "height", "center", "angle", NULL};
+static const char* const kCircleFields[] = {"type", "radius", "center", NULL};
+static const char* const kPolygonFields[] = {"type", "vertices", NULL};
+
+static const char* const kBodyTypes[] = {"static", "dynamic", "kinematic", "particle", NULL};
+
+/* The index of value's string in names, or a "must be one of" error. */
+static kg_result kg_read_choice(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                                const char* key, const char* const* names, int* out)
+{
+    const char* text = NULL;
+    KG_TRY(kg_json_string(reader, object, path, key, &text));
+    if (!text) {
+        return KG_OK;
+    }
+    for (int i = 0; names[i]; ++i) {
+        if (strcmp(text, names[i]) == 0) {
+            *out = i;
+            return KG_OK;
+        }
+    }
+    char list[160] = "";
+    for (int i = 0; names[i]; ++i) {
+        size_t used = strlen(list);
+        snprintf(list + used, sizeof list - used, "%s\"%s\"", i > 0 ? ", " : "", names[i]);
+    }
+    kg_json_path field_path = kg_json_path_key(path, key);
+    return kg_json_fail(reader, &field_path, "must be one of %s (got \"%s\")", list, text);
+}
+
+/* ---- shapes ---- */
+
+static kg_result kg_read_box(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                             kg_shape_def* out)
+{
+    float width = 0.0f, height = 0.0f, angle = 0.0f;
+    kg_vec2 center = {0.0f, 0.0f};
+    KG_TRY(kg_json_check_object(reader, json, path, kBoxFields));
+    KG_TRY(kg_json_require(reader, json, path, "width"));
+    KG_TRY(kg_json_require(reader, json, path, "height"));
+    KG_TRY(kg_json_float(reader, json, path, "width", KG_JSON_POSITIVE, &width));
+    KG_TRY(kg_json_float(reader, json, path, "height", KG_JSON_POSITIVE, &height));
+    KG_TRY(kg_json_vec2(reader, json, path, "center", &center));
+    KG_TRY(kg_json_float(reader, json, path, "angle", KG_JSON_ANY, &angle));
+    *out = kg_offset_box_shape(width, height, center, angle);
+    return KG_OK;
+}
+
+static kg_result kg_read_circle(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                kg_shape_def* out)
+{
+    float radius = 0.0f;
+    kg_vec2 center = {0.0f, 0.0f};
+    KG_TRY(kg_json_check_object(reader, json, path, kCircleFields));
+    KG_TRY(kg_json_require(reader, json, path, "radius"));
+    KG_TRY(kg_json_float(reader, json, path, "radius", KG_JSON_POSITIVE, &radius));
+    KG_TRY(kg_json_vec2(reader, json, path, "center", &center));
+    *out = kg_circle_shape(radius);
+    out->center = center;
+    return KG_OK;
+}
+
+static kg_result kg_read_polygon(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                 kg_shape_def* out)
+{
+    KG_TRY(kg_json_check_object(reader, json, path, kPolygonFields));
+    KG_TRY(kg_json_require(reader, json, path, "vertices"));
+    const cJSON* vertices = cJSON_GetObjectItemCaseSensitive(json, "vertices");
+    kg_json_path vertices_path = kg_json_path_key(path, "vertices");
+    KG_TRY(kg_json_check_array(reader, vertices, &vertices_path));
+    int count = cJSON_GetArraySize(vertices);
+    if (count < 3 || count > KG_MAX_POLYGON_VERTICES) {
+        return kg_json_fail(reader, &vertices_path, "must have 3 to %d vertices (got %d)", KG_MAX_POLYGON_VERTICES,
+                            count);
+    }
+    kg_vec2 points[KG_MAX_POLYGON_VERTICES];
+    int i = 0;
+    for (const cJSON* vertex = vertices->child; vertex; vertex = vertex->next, ++i) {
+        kg_json_path vertex_path = kg_json_path_index(&vertices_path, i);
+        KG_TRY(kg_json_vec2_value(reader, vertex, &vertex_path, &points[i]));
+    }
+    *out = kg_polygon_shape(points, count);
+    return KG_OK;
+}
+
+/* Lets the library judge the geometry (degenerate polygons above all). */
+static kg_result kg_check_shape(const kg_json_reader* reader, const kg_shape_def* shape, const kg_json_path* path)
+{
+    kg_mass_data mass;
+    if (kg_shape_mass(shape, 1.0f, &mass) == KG_OK) {
+        return KG_OK;
+    }
+    char reason[256];
+    snprintf(reason, sizeof reason, "%s", kg_last_error());
+    kg_json_path where = shape->type == KG_SHAPE_POLYGON ? kg_json_path_key(path, "vertices") : *path;
+    return kg_json_fail(reader, &where, "%s", reason);
+}
+
+static kg_result kg_read_shape(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                               kg_shape_def* out)
+{
+    static const char* const kinds[] = {"box", "circle", "polygon", NULL};
+    if (!cJSON_IsObject(json)) {
+        return kg_json_fail(reader, path, "must be an object");
+    }
+    KG_TRY(kg_json_require(reader, json, path, "type"));
+    int kind = 0;
+    KG_TRY(kg_read_choice(reader, json, path, "type", kinds, &kind));
+    switch (kind) {
+    case 0:
+        KG_TRY(kg_read_box(reader, json, path, out));
+        break;
+    case 1:
+        KG_TRY(kg_read_circle(reader, json, path, out));
+        break;
+    default:
+        KG_TRY(kg_read_polygon(reader, json, path, out));
+        break;
+    }
+    return kg_check_shape(reader, out, path);
+}
+
+/* ---- bodies ---- */
+
+static int kg_has(const cJSON* object, const char* key) { return cJSON_GetObjectItemCaseSensitive(object, key) != NULL; }
+
+static kg_result kg_read_mass(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                              kg_body_def* def)
+{
+    if (kg_has(json, "density") && kg_has(json, "mass")) {
+        kg_json_path mass_path = kg_json_path_key(path, "mass");
+        return kg_json_fail(reader, &mass_path, "give density or mass, not both");
+    }
+    KG_TRY(kg_json_float(reader, json, path, "density", KG_JSON_NON_NEGATIVE, &def->density));
+    KG_TRY(kg_json_float(reader, json, path, "mass", KG_JSON_POSITIVE, &def->mass));
+    int moves = def->type == KG_BODY_DYNAMIC || def->type == KG_BODY_PARTICLE;
+    if (moves && def->mass == 0.0f && !(def->density > 0.0f)) {
+        kg_json_path density_path = kg_json_path_key(path, "density");
+        return kg_json_fail(reader, &density_path, "must be > 0 for a %s body", kBodyTypes[def->type]);
+    }
+    return KG_OK;
+}
+
+static kg_result kg_read_motion(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                kg_body_def* def)
+{
+    if (def->type == KG_BODY_PARTICLE) {
+        static const char* const turning[] = {"angle", "angular_velocity", "fixed_rotation", NULL};
+        for (int i = 0; turning[i]; ++i) {
+            if (kg_has(json, turning[i])) {
+                kg_json_path field_path = kg_json_path_key(path, turning[i]);
+                return kg_json_fail(reader, &field_path, "particles do not rotate");
+            }
+        }
+    }
+    KG_TRY(kg_json_vec2(reader, json, path, "position", &def->position));
+    KG_TRY(kg_json_float(reader, json, path, "angle", KG_JSON_ANY, &def->angle));
+    KG_TRY(kg_json_vec2(reader, json, path, "velocity", &def->velocity));
+    KG_TRY(kg_json_float(reader, json, path, "angular_velocity", KG_JSON_ANY, &def->angular_velocity));
+    return kg_json_bool(reader, json, path, "fixed_rotation", &def->fixed_rotation);
+}
+
+static kg_result kg_read_material(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                  kg_body_def* def)
+{
+    KG_TRY(kg_json_float(reader, json, path, "friction", KG_JSON_NON_NEGATIVE, &def->friction));
+    KG_TRY(kg_json_float(reader, json, path, "restitution", KG_JSON_UNIT, &def->restitution));
+    KG_TRY(kg_json_float(reader, json, path, "linear_damping", KG_JSON_NON_NEGATIVE, &def->linear_damping));
+    KG_TRY(kg_json_float(reader, json, path, "angular_damping", KG_JSON_NON_NEGATIVE, &def->angular_damping));
+    KG_TRY(kg_json_uint32(reader, json, path, "category", &def->category));
+    return kg_json_uint32(reader, json, path, "mask", &def->mask);
+}
+
+static kg_result kg_read_body_shape(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                    kg_body_def* def)
+{
+    const cJSON* shape = cJSON_GetObjectItemCaseSensitive(json, "shape");
+    if (shape) {
+        kg_json_path shape_path = kg_json_path_key(path, "shape");
+        return kg_read_shape(reader, shape, &shape_path, &def->shape);
+    }
+    if (def->type != KG_BODY_PARTICLE) {
+        kg_json_path shape_path = kg_json_path_key(path, "shape");
+        return kg_json_fail(reader, &shape_path, "is required (only particles may omit it)");
+    }
+    if (!kg_has(json, "mass")) {
+        kg_json_path mass_path = kg_json_path_key(path, "mass");
+        return kg_json_fail(reader, &mass_path, "is required for a particle without a shape");
+    }
+    def->shape.type = KG_SHAPE_NONE;
+    return KG_OK;
+}
+
+static kg_result kg_add_named_body(kg_loader* loader, const cJSON* json, const kg_json_path* path,
+                                   const kg_body_def* def)
+{
+    const char* name = NULL;
+    KG_TRY(kg_json_string(&loader->reader, json, path, "name", &name));
+    kg_json_path name_path = kg_json_path_key(path, "name");
+    int existing = name ? kg_scene_find_body(loader->scene, name) : -1;
+    if (existing >= 0) {
+        return kg_json_fail(&loader->reader, &name_path, "duplicate name '%s' (also bodies[%d])", name, existing);
+    }
+    if (kg_scene_add_body(loader->scene, name, def) != KG_OK) {
+        char reason[256];
+        snprintf(reason, sizeof reason, "%s", kg_last_error());
+        return kg_json_fail(&loader->reader, name ? &name_path : path, "%s", reason);
+    }
+    return KG_OK;
+}
+
+static kg_result kg_read_body(kg_loader* loader, const cJSON* json, const kg_json_path* path)
+{
+    const kg_json_reader* reader = &loader->reader;
+    KG_TRY(kg_json_check_object(reader, json, path, kBodyFields));
+    kg_body_def def = kg_default_body_def();
+    int type = (int)KG_BODY_DYNAMIC;
+    KG_TRY(kg_read_choice(reader, json, path, "type", kBodyTypes, &type));
+    def.type = (kg_body_type)type;
+    KG_TRY(kg_read_motion(reader, json, path, &def));
+    KG_TRY(kg_read_body_shape(reader, json, path, &def));
+    KG_TRY(kg_read_mass(reader, json, path, &def));
+    KG_TRY(kg_read_material(reader, json, path, &def));
+    kg_vec2 pivot;
+    int has_pivot = kg_has(json, "pivot");
+    KG_TRY(kg_json_vec2(reader, json, path, "pivot", &pivot));
+    if (has_pivot && def.type != KG_BODY_KINEMATIC) {
+        kg_json_path pivot_path = kg_json_path_key(path, "pivot");
+        return kg_json_fail(reader, &pivot_path, "only kinematic bodies can have a pivot");
+    }
+    KG_TRY(kg_add_named_body(loader, json, path, &def));
+    if (has_pivot) {
+        KG_TRY(kg_scene_set_body_pivot(loader->scene, kg_scene_body_count(loader->scene) - 1, pivot));
+    }
+    return KG_OK;
+}
+
+/* ---- generators ---- */
+
+static kg_result kg_read_gen_material(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                      kg_gen_material* out)
+{
+    *out = kg_gen_default_material();
+    KG_TRY(kg_json_float(reader, json, path, "density", KG_JSON_POSITIVE, &out->density));
+    KG_TRY(kg_json_float(reader, json, path, "friction", KG_JSON_NON_NEGATIVE, &out->friction));
+    return kg_json_float(reader, json, path, "restitution", KG_JSON_UNIT, &out->restitution);
+}
+
+/* "region": [x0, y0, x1, y1], required, non-empty. */
+static kg_result kg_read_region(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                kg_aabb* out)
+{
+    KG_TRY(kg_json_require(reader, json, path, "region"));
+    const cJSON* value = cJSON_GetObjectItemCaseSensitive(json, "region");
+    kg_json_path region_path = kg_json_path_key(path, "region");
+    float corners[4];
+    int count = cJSON_IsArray(value) ? cJSON_GetArraySize(value) : 0;
+    int i = 0;
+    for (const cJSON* item = count == 4 ? value->child : NULL; item; item = item->next) {
+        if (!cJSON_IsNumber(item) || !isfinite((float)item->valuedouble)) {
+            break;
+        }
+        corners[i++] = (float)item->valuedouble;
+    }
+    if (i != 4 || !(corners[0] < corners[2]) || !(corners[1] < corners[3])) {
+        return kg_json_fail(reader, &region_path, "must be [x0, y0, x1, y1] with x0 < x1 and y0 < y1");
+    }
+    *out = (kg_aabb){{corners[0], corners[1]}, {corners[2], corners[3]}};
+    return KG_OK;
+}
+
+/* Turns a generator's own failure (a bad name, say) into a message at its path. */
+static kg_result kg_generated(const kg_json_reader* reader, const kg_json_path* path, kg_result result)
+{
+    if (result == KG_OK) {
+        return KG_OK;
+    }
+    char reason[256];
+    snprintf(reason, sizeof reason, "%s", kg_last_error());
+    return kg_json_fail(reader, path, "%s", reason);
+}
+
+typedef kg_result kg_gen_reader(kg_loader* loader, const cJSON* json, const kg_json_path* path, const char* prefix);
+
+static kg_result kg_read_pyramid(kg_loader* loader, const cJSON* json, const kg_json_path* path, const char* prefix)
+{
+    const kg_json_reader* reader = &loader->reader;
+    kg_gen_pyramid p = {0, 1.0f, {0.0f, 0.0f}, kg_gen_default_material()};
+    KG_TRY(kg_json_require(reader, json, path, "base"));
+    KG_TRY(kg_json_int(reader, json, path, "base", 1, 2000, &p.base));
+    KG_TRY(kg_json_float(reader, json, path, "box_size", KG_JSON_POSITIVE, &p.box_size));
+    KG_TRY(kg_json_vec2(reader, json, path, "origin", &p.origin));
+    KG_TRY(kg_read_gen_material(reader, json, path, &p.material));
+    return kg_generated(reader, path, kg_gen_pyramid_bodies(loader->scene, prefix, &p));
+}
+
+static kg_result kg_read_stack(kg_loader* loader, const cJSON* json, const kg_json_path* path, const char* prefix)
+{
+    const kg_json_reader* reader = &loader->reader;
+    kg_gen_stack p = {0, 1.0f, 0.0f, {0.0f, 0.0f}, kg_gen_default_material()};
+    KG_TRY(kg_json_require(reader, json, path, "count"));
+    KG_TRY(kg_json_int(reader, json, path, "count", 1, 100000, &p.count));
+    KG_TRY(kg_json_float(reader, json, path, "box_size", KG_JSON_POSITIVE, &p.box_size));
+    KG_TRY(kg_json_float(reader, json, path, "gap", KG_JSON_NON_NEGATIVE, &p.gap));
+    KG_TRY(kg_json_vec2(reader, json, path, "origin", &p.origin));
+    KG_TRY(kg_read_gen_material(reader, json, path, &p.material));
+    return kg_generated(reader, path, kg_gen_stack_bodies(loader->scene, prefix, &p));
+}
+
+static kg_result kg_read_container(kg_loader* loader, const cJSON* json, const kg_json_path* path,
+                                   const char* prefix)
+{
+    const kg_json_reader* reader = &loader->reader;
+    kg_gen_container p = {{0.0f, 0.0f}, 0.0f, 0.0f, 1.0f, kg_gen_default_material()};
+    KG_TRY(kg_json_require(reader, json, path, "width"));
+    KG_TRY(kg_json_require(reader, json, path, "height"));
+    KG_TRY(kg_json_vec2(reader, json, path, "origin", &p.origin));
+    KG_TRY(kg_json_float(reader, json, path, "width", KG_JSON_POSITIVE, &p.width));
+    KG_TRY(kg_json_float(reader, json, path, "height", KG_JSON_POSITIVE, &p.height));
+    KG_TRY(kg_json_float(reader, json, path, "thickness", KG_JSON_POSITIVE, &p.thickness));
+    KG_TRY(kg_read_gen_material(reader, json, path, &p.material));
+    return kg_generated(reader, path, kg_gen_container_bodies(loader->scene, prefix, &p));
+}
+
+static kg_result kg_read_rain(kg_loader* loader, const cJSON* json, const kg_json_path* path, const char* prefix)
+{
+    const kg_json_reader* reader = &loader->reader;
+    kg_gen_rain p = {0, 1u, {{0.0f, 0.0f}, {0.0f, 0.0f}}, 0.2f, 0.8f, kg_gen_default_material()};
+    KG_TRY(kg_json_require(reader, json, path, "count"));
+    KG_TRY(kg_json_int(reader, json, path, "count", 1, 1000000, &p.count));
+    KG_TRY(kg_json_uint32(reader, json, path, "seed", &p.seed));
+    KG_TRY(kg_read_region(reader, json, path, &p.region));
+    KG_TRY(kg_json_float(reader, json, path, "min_size", KG_JSON_POSITIVE, &p.min_size));
+    KG_TRY(kg_json_float(reader, json, path, "max_size", KG_JSON_POSITIVE, &p.max_size));
+    if (p.max_size < p.min_size) {
+        kg_json_path max_path = kg_json_path_key(path, "max_size");
+        return kg_json_fail(reader, &max_path, "must be >= min_size (%g)", (double)p.min_size);
+    }
+    KG_TRY(kg_read_gen_material(reader, json, path, &p.material));
+    int capacity = kg_gen_rain_capacity(&p);
+    if (p.count > capacity) {
+        kg_json_path region_path = kg_json_path_key(path, "region");
+        return kg_json_fail(reader, &region_path, "holds %d bodies of max_size %g, not %d", capacity,
+                            (double)p.max_size, p.count);
+    }
+    return kg_generated(reader, path, kg_gen_rain_bodies(loader->scene, prefix, &p));
+}
+
+static kg_result kg_read_particles(kg_loader* loader, const cJSON* json, const kg_json_path* path,
+                                   const char* prefix)
+{
+    const kg_json_reader* reader = &loader->reader;
+    kg_gen_particles p = {0, 1u, {{0.0f, 0.0f}, {0.0f, 0.0f}}, 0.05f, 0.0f, kg_gen_default_material()};
+    KG_TRY(kg_json_require(reader, json, path, "count"));
+    KG_TRY(kg_json_int(reader, json, path, "count", 1, 1000000, &p.count));
+    KG_TRY(kg_json_uint32(reader, json, path, "seed", &p.seed));
+    KG_TRY(kg_read_region(reader, json, path, &p.region));
+    KG_TRY(kg_json_float(reader, json, path, "radius", KG_JSON_POSITIVE, &p.radius));
+    if (kg_has(json, "density") && kg_has(json, "mass")) {
+        kg_json_path mass_path = kg_json_path_key(path, "mass");
+        return kg_json_fail(reader, &mass_path, "give density or mass, not both");
+    }
+    KG_TRY(kg_json_float(reader, json, path, "mass", KG_JSON_POSITIVE, &p.mass));
+    KG_TRY(kg_read_gen_material(reader, json, path, &p.material));
+    int capacity = kg_gen_particles_capacity(&p);
+    if (p.count > capacity) {
+        kg_json_path region_path = kg_json_path_key(path, "region");
+        return kg_json_fail(reader, &region_path, "holds %d particles of radius %g, not %d", capacity,
+                            (double)p.radius, p.count);
+    }
+    return kg_generated(reader, path, kg_gen_particle_bodies(loader->scene, prefix, &p));
+}
+
+typedef struct kg_gen_kind {
+    const char* type;
+    const char* const* fields;
+    kg_gen_reader* read; /* NULL: a benchmark scene, which has no parameters */
+} kg_gen_kind;
+
+static const char* const kPyramidFields[] = {"type", "name", "base", "box_size", "origin",
+                                             "density", "friction", "restitution", NULL};
+static const char* const kStackFields[] = {"type", "name", "count", "box_size", "gap", "origin",
+                                           "density", "friction", "restitution", NULL};
+static const char* const kContainerFields[] = {"type", "name", "origin", "width", "height", "thickness",
+                                               "friction", "restitution", NULL};
+static const char* const kRainFields[] = {"type", "name", "count", "seed", "region", "min_size", "max_size",
+                                          "density", "friction", "restitution", NULL};
+static const char* const kParticleFields[] = {"type", "name", "count", "seed", "region", "radius", "mass",
+                                              "density", "friction", "restitution", NULL};
+static const char* const kBenchmarkFields[] = {"type", "name", NULL};
+
+static const kg_gen_kind kGeneratorKinds[] = {
+    {"pyramid", kPyramidFields, kg_read_pyramid},
+    {"stack", kStackFields, kg_read_stack},
+    {"container", kContainerFields, kg_read_container},
+    {"rain", kRainFields, kg_read_rain},
+    {"particles", kParticleFields, kg_read_particles},
+    {"large_pyramid", kBenchmarkFields, NULL},
+    {"many_pyramids", kBenchmarkFields, NULL},
+    {"smash", kBenchmarkFields, NULL},
+    {"tumbler", kBenchmarkFields, NULL},
+};
+
+#define KG_GENERATOR_KIND_COUNT ((int)(sizeof kGeneratorKinds / sizeof kGeneratorKinds[0]))
+
+static kg_result kg_read_generator(kg_loader* loader, const cJSON* json, const kg_json_path* path, int index)
+{
+    const kg_json_reader* reader = &loader->reader;
+    const char* types[KG_GENERATOR_KIND_COUNT + 1];
+    for (int i = 0; i < KG_GENERATOR_KIND_COUNT; ++i) {
+        types[i] = kGeneratorKinds[i].type;
+    }
+    types[KG_GENERATOR_KIND_COUNT] = NULL;
+    if (!cJSON_IsObject(json)) {
+        return kg_json_fail(reader, path, "must be an object");
+    }
+    KG_TRY(kg_json_require(reader, json, path, "type"));
+    int kind_index = 0;
+    KG_TRY(kg_read_choice(reader, json, path, "type", types, &kind_index));
+    const kg_gen_kind* kind = &kGeneratorKinds[kind_index];
+    KG_TRY(kg_json_check_object(reader, json, path, kind->fields));
+    char prefix[64];
+    snprintf(prefix, sizeof prefix, "%s%d_", kind->type, index);
+    const char* name = prefix;
+    KG_TRY(kg_json_string(reader, json, path, "name", &name));
+    if (kind->read) {
+        return kind->read(loader, json, path, name);
+    }
+    return kg_generated(reader, path, kg_gen_benchmark_bodies(loader->scene, name, kind->type));
+}
+
+/* ---- forces ---- */
+
+static const char* const kGravityFields[] = {"type", "acceleration", "bodies", NULL};
+static const char* const kWindFields[] = {"type", "direction", "strength", "drag", "bodies", NULL};
+
+/* Marks the bodies that entry names: one name, or every name starting with the text
+ * before a final '*'. */
+static kg_result kg_mark_bodies(kg_loader* loader, const char* entry, const kg_json_path* path,
+                                unsigned char* marks)
+{
+    size_t length = strlen(entry);
+    if (length == 0 || entry[length - 1] != '*') {
+        int body = kg_scene_find_body(loader->scene, entry);
+        if (body < 0) {
+            return kg_json_fail(&loader->reader, path, "unknown body '%s'", entry);
+        }
+        marks[body] = 1;
+        return KG_OK;
+    }
+    int found = 0;
+    int count = kg_scene_body_count(loader->scene);
+    for (int i = 0; i < count; ++i) {
+        if (strncmp(kg_scene_body_name(loader->scene, i), entry, length - 1) == 0) {
+            marks[i] = 1;
+            found = 1;
+        }
+    }
+    return found ? KG_OK : kg_json_fail(&loader->reader, path, "no body name matches '%s'", entry);
+}
+
+static kg_result kg_mark_force_bodies(kg_loader* loader, const cJSON* list, const kg_json_path* path,
+                                      unsigned char* marks)
+{
+    KG_TRY(kg_json_check_array(&loader->reader, list, path));
+    if (cJSON_GetArraySize(list) == 0) {
+        return kg_json_fail(&loader->reader, path, "must name at least one body (leave it out for all bodies)");
+    }
+    int i = 0;
+    for (const cJSON* item = list->child; item; item = item->next, ++i) {
+        kg_json_path item_path = kg_json_path_index(path, i);
+        if (!cJSON_IsString(item)) {
+            return kg_json_fail(&loader->reader, &item_path, "must be a string (a body name)");
+        }
+        KG_TRY(kg_mark_bodies(loader, item->valuestring, &item_path, marks));
+    }
+    return KG_OK;
+}
+
+/* Resolves "bodies" into scene indices, each once, in scene order. */
+static kg_result kg_read_force_bodies(kg_loader* loader, const cJSON* json, const kg_json_path* path,
+                                      kg_scene_force* force)
+{
+    const cJSON* list = cJSON_GetObjectItemCaseSensitive(json, "bodies");
+    if (!list) {
+        return KG_OK;
+    }
+    int count = kg_scene_body_count(loader->scene);
+    unsigned char* marks = calloc((size_t)(count > 0 ? count : 1), 1);
+    int* indices = malloc((size_t)(count > 0 ? count : 1) * sizeof *indices);
+    if (!marks || !indices) {
+        free(marks);
+        free(indices);
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", loader->reader.source);
+    }
+    kg_json_path list_path = kg_json_path_key(path, "bodies");
+    kg_result r = kg_mark_force_bodies(loader, list, &list_path, marks);
+    for (int i = 0; i < count; ++i) {
+        if (marks[i]) {
+            indices[force->body_count++] = i;
+        }
+    }
+    free(marks);
+    force->body_indices = indices;
+    return r;
+}
+
+static kg_result kg_read_force_fields(kg_loader* loader, const cJSON* json, const kg_json_path* path,
+                                      kg_scene_force* force)
+{
+    const kg_json_reader* reader = &loader->reader;
+    if (force->type == KG_SCENE_FORCE_GRAVITY) {
+        KG_TRY(kg_json_check_object(reader, json, path, kGravityFields));
+        KG_TRY(kg_json_require(reader, json, path, "acceleration"));
+        return kg_json_vec2(reader, json, path, "acceleration", &force->vector);
+    }
+    KG_TRY(kg_json_check_object(reader, json, path, kWindFields));
+    KG_TRY(kg_json_require(reader, json, path, "direction"));
+    KG_TRY(kg_json_require(reader, json, path, "strength"));
+    KG_TRY(kg_json_vec2(reader, json, path, "direction", &force->vector));
+    if (force->vector.x == 0.0f && force->vector.y == 0.0f) {
+        kg_json_path direction_path = kg_json_path_key(path, "direction");
+        return kg_json_fail(reader, &direction_path, "must not be [0, 0]");
+    }
+    KG_TRY(kg_json_float(reader, json, path, "strength", KG_JSON_NON_NEGATIVE, &force->strength));
+    return kg_json_float(reader, json, path, "drag", KG_JSON_NON_NEGATIVE, &force->drag);
+}
+
+static kg_result kg_read_force(kg_loader* loader, const cJSON* json, const kg_json_path* path)
+{
+    static const char* const types[] = {"gravity", "wind", NULL};
+    if (!cJSON_IsObject(json)) {
+        return kg_json_fail(&loader->reader, path, "must be an object");
+    }
+    KG_TRY(kg_json_require(&loader->reader, json, path, "type"));
+    int type = 0;
+    KG_TRY(kg_read_choice(&loader->reader, json, path, "type", types, &type));
+    kg_scene_force force;
+    memset(&force, 0, sizeof force);
+    force.type = (kg_scene_force_type)type;
+    KG_TRY(kg_read_force_fields(loader, json, path, &force));
+    kg_result r = kg_read_force_bodies(loader, json, path, &force);
+    if (r == KG_OK) {
+        r = kg_scene_add_force(loader->scene, &force);
+    }
+    free((void*)force.body_indices);
+    return r;
+}
+
+/* ---- the document ---- */
+
+typedef kg_result kg_item_reader(kg_loader* loader, const cJSON* json, const kg_json_path* path, int index);
+
+static kg_result kg_read_body_item(kg_loader* loader, const cJSON* json, const kg_json_path* path, int index)
+{
+    (void)index;
+    return kg_read_body(loader, json, path);
+}
+
+static kg_result kg_read_force_item(kg_loader* loader, const cJSON* json, const kg_json_path* path, int index)
+{
+    (void)index;
+    return kg_read_force(loader, json, path);
+}
+
+static kg_result kg_read_list(kg_loader* loader, const cJSON* root, const char* key, kg_item_reader* read)
+{
+    const cJSON* list = cJSON_GetObjectItemCaseSensitive(root, key);
+    if (!list) {
+        return KG_OK;
+    }
+    kg_json_path root_path = {""};
+    kg_json_path list_path = kg_json_path_key(&root_path, key);
+    KG_TRY(kg_json_check_array(&loader->reader, list, &list_path));
+    int i = 0;
+    for (const cJSON* item = list->child; item; item = item->next, ++i) {
+        kg_json_path item_path = kg_json_path_index(&list_path, i);
+        KG_TRY(read(loader, item, &item_path, i));
+    }
+    return KG_OK;
+}
+
+static kg_result kg_read_settings(kg_loader* loader, const cJSON* root)
+{
+    const kg_json_reader* reader = &loader->reader;
+    kg_json_path root_path = {""};
+    kg_world_def* def = kg_scene_world_def(loader->scene);
+    const char* description = NULL;
+    float dt = kg_scene_dt(loader->scene);
+    int steps = 0;
+    KG_TRY(kg_json_string(reader, root, &root_path, "description", &description));
+    KG_TRY(kg_json_vec2(reader, root, &root_path, "gravity", &def->gravity));
+    KG_TRY(kg_json_float(reader, root, &root_path, "dt", KG_JSON_POSITIVE, &dt));
+    KG_TRY(kg_json_int(reader, root, &root_path, "steps", 0, 100000000, &steps));
+    KG_TRY(kg_json_int(reader, root, &root_path, "substeps", 1, 1000, &def->substeps));
+    KG_TRY(kg_scene_set_dt(loader->scene, dt));
+    return kg_scene_set_steps(loader->scene, steps);
+}
+
+/* Bodies first, then generators, so an explicit body's scene index is its place in
+ * "bodies"; forces last, so they can name any body. */
+static kg_result kg_read_scene(kg_loader* loader, const cJSON* root)
+{
+    kg_json_path root_path = {""};
+    KG_TRY(kg_json_check_object(&loader->reader, root, &root_path, kSceneFields));
+    KG_TRY(kg_read_settings(loader, root));
+    KG_TRY(kg_read_list(loader, root, "bodies", kg_read_body_item));
+    KG_TRY(kg_read_list(loader, root, "generators", kg_read_generator));
+    return kg_read_list(loader, root, "forces", kg_read_force_item);
+}
+
+kg_result kg_scene_parse(const char* json, size_t length, const char* source_name, kg_scene** out)
+{
+    if (!out) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_parse: out is NULL");
+    }
+    *out = NULL;
+    if (!json) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_parse: json is NULL");
+    }
+    kg_loader loader = {{source_name ? source_name : "(scene)"}, NULL};
+    cJSON* root = NULL;
+    KG_TRY(kg_json_parse(&loader.reader, json, length, &root));
+    kg_result r = kg_scene_create(&loader.scene);
+    if (r == KG_OK) {
+        r = kg_read_scene(&loader, root);
+    }
+    cJSON_Delete(root);
+    if (r != KG_OK) {
+        kg_scene_destroy(loader.scene);
+        return r;
+    }
+    *out = loader.scene;
+    return KG_OK;
+}
+
+/* Reads a whole file; works for pipes too, whose size is not known in advance. */
+static kg_result kg_read_file(const char* path, char** out, size_t* length)
+{
+    FILE* file = fopen(path, "rb");
+    if (!file) {
+        return kg_fail(KG_ERROR_IO, "%s: cannot open (%s)", path, strerror(errno));
+    }
+    size_t capacity = 1 << 16, used = 0;
+    char* text = malloc(capacity);
+    int out_of_memory = text == NULL;
+    while (!out_of_memory) {
+        used += fread(text + used, 1, capacity - used, file);
+        if (used < capacity) {
+            break;
+        }
+        char* grown = realloc(text, capacity * 2);
+        out_of_memory = grown == NULL;
+        if (grown) {
+            text = grown;
+            capacity *= 2;
+        }
+    }
+    int read_error = ferror(file);
+    int error = errno;
+    fclose(file);
+    if (out_of_memory || read_error) {
+        free(text);
+        return kg_fail(KG_ERROR_IO, "%s: cannot read (%s)", path, out_of_memory ? "out of memory" : strerror(error));
+    }
+    *out = text;
+    *length = used;
+    return KG_OK;
+}
+
+kg_result kg_scene_load_file(const char* path, kg_scene** out)
+{
+    if (!path || !out) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_load_file: NULL argument");
+    }
+    *out = NULL;
+    char* text = NULL;
+    size_t length = 0;
+    KG_TRY(kg_read_file(path, &text, &length));
+    kg_result r = kg_scene_parse(text, length, path, out);
+    free(text);
+    return r;
+}

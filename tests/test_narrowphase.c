@@ -1,0 +1,983 @@
+/* Narrowphase: contact manifolds against brute-force references computed in double in this
+ * file (polygon clipping for intersection areas, projections on every edge normal for the
+ * minimum translation distance, point-to-segment distances for gaps and surfaces), over
+ * tens of thousands of random pairs with fixed seeds, and hand cases with known answers.
+ *
+ * Every manifold point p with separation s and normal n (from a to b) stands for two surface
+ * points: a's at p - s/2 n and b's at p + s/2 n. The tests check that each lies on the
+ * feature of its shape that the point's id names (within 1e-4 m) and, for polygon pairs, that
+ * the incident shape's point is not in front of the reference face. They do not ask it to lie
+ * inside the reference polygon: clipping against the face's side planes (perpendicular to the
+ * face, as in Box2D) leaves it outside when the face meets its neighbours at acute corners,
+ * or when one polygon swallows much of the other. */
+#include "kg_test.h"
+#include "collide/manifold.h"
+#include "collide/shape.h"
+
+#include <string.h>
+#include <time.h>
+
+/* ---- a small deterministic generator (splitmix64) ---- */
+
+static uint64_t g_rng;
+
+static uint64_t rng_next(void)
+{
+    uint64_t z = (g_rng += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+static double rng_uniform(double lo, double hi) { return lo + (hi - lo) * (double)(rng_next() >> 11) / 9007199254740992.0; }
+static int rng_int(int lo, int hi) { return lo + (int)(rng_next() % (uint64_t)(hi - lo + 1)); }
+/* log-uniform in [lo, hi]: as many small shapes as large ones */
+static double rng_size(double lo, double hi) { return lo * pow(hi / lo, rng_uniform(0.0, 1.0)); }
+
+/* ---- double-precision geometry for the references ---- */
+
+#define MAX_CLIP 32
+#define PI 3.14159265358979323846
+
+typedef struct dvec {
+    double x, y;
+} dvec;
+
+typedef struct dpoly {
+    dvec v[MAX_CLIP];
+    int n;
+} dpoly;
+
+static dvec dv(double x, double y) { dvec r = {x, y}; return r; }
+static dvec dsub(dvec a, dvec b) { return dv(a.x - b.x, a.y - b.y); }
+static dvec dadd(dvec a, dvec b) { return dv(a.x + b.x, a.y + b.y); }
+static dvec dscale(double s, dvec a) { return dv(s * a.x, s * a.y); }
+static double ddot(dvec a, dvec b) { return a.x * b.x + a.y * b.y; }
+static double dcross(dvec a, dvec b) { return a.x * b.y - a.y * b.x; }
+static double dlen(dvec a) { return sqrt(ddot(a, a)); }
+static dvec dfrom(kg_vec2 v) { return dv(v.x, v.y); }
+
+/* The same rigid motion the engine applies, evaluated in double from the float pose. */
+static dvec dxf_point(kg_xf xf, kg_vec2 p)
+{
+    double c = xf.q.c, s = xf.q.s;
+    return dv(c * p.x - s * p.y + xf.p.x, s * p.x + c * p.y + xf.p.y);
+}
+
+static dpoly world_polygon(const kg_shape* shape, kg_xf xf)
+{
+    dpoly out;
+    out.n = shape->count;
+    for (int i = 0; i < shape->count; ++i) {
+        out.v[i] = dxf_point(xf, shape->vertices[i]);
+    }
+    return out;
+}
+
+static dpoly translated(dpoly p, dvec d)
+{
+    for (int i = 0; i < p.n; ++i) {
+        p.v[i] = dadd(p.v[i], d);
+    }
+    return p;
+}
+
+static double polygon_area(const dpoly* p)
+{
+    double area = 0.0;
+    for (int i = 0; i < p->n; ++i) {
+        area += dcross(p->v[i], p->v[(i + 1) % p->n]);
+    }
+    return 0.5 * area;
+}
+
+/* Sutherland-Hodgman: the part of p to the left of the line a->b. */
+static dpoly clip_to_left_of(const dpoly* p, dvec a, dvec b)
+{
+    dpoly out;
+    out.n = 0;
+    dvec e = dsub(b, a);
+    for (int i = 0; i < p->n; ++i) {
+        dvec cur = p->v[i], nxt = p->v[(i + 1) % p->n];
+        double dc = dcross(e, dsub(cur, a)), dn = dcross(e, dsub(nxt, a));
+        if (dc >= 0.0) {
+            out.v[out.n++] = cur;
+        }
+        if ((dc >= 0.0) != (dn >= 0.0)) {
+            double t = dc / (dc - dn);
+            out.v[out.n++] = dadd(cur, dscale(t, dsub(nxt, cur)));
+        }
+    }
+    return out;
+}
+
+/* Area of the intersection of two counter-clockwise convex polygons. */
+static double intersection_area(const dpoly* a, const dpoly* b)
+{
+    dpoly p = *a;
+    for (int i = 0; i < b->n && p.n > 0; ++i) {
+        p = clip_to_left_of(&p, b->v[i], b->v[(i + 1) % b->n]);
+    }
+    return p.n < 3 ? 0.0 : polygon_area(&p);
+}
+
+/* Gap between a and b along unit axis n (from a towards b): < 0 when they overlap on it. */
+static double separation_along(const dpoly* a, const dpoly* b, dvec n)
+{
+    double max_a = -1e300, min_b = 1e300;
+    for (int i = 0; i < a->n; ++i) {
+        max_a = fmax(max_a, ddot(n, a->v[i]));
+    }
+    for (int i = 0; i < b->n; ++i) {
+        min_b = fmin(min_b, ddot(n, b->v[i]));
+    }
+    return min_b - max_a;
+}
+
+static dvec edge_normal(const dpoly* p, int i)
+{
+    dvec e = dsub(p->v[(i + 1) % p->n], p->v[i]);
+    return dscale(1.0 / dlen(e), dv(e.y, -e.x));
+}
+
+/* The separating axis reference: the largest gap over every edge normal of both polygons.
+ * Negative: the polygons overlap and minus it is the minimum translation distance. */
+static double sat_separation(const dpoly* a, const dpoly* b)
+{
+    double best = -1e300;
+    for (int i = 0; i < a->n; ++i) {
+        best = fmax(best, separation_along(a, b, edge_normal(a, i)));
+    }
+    for (int i = 0; i < b->n; ++i) {
+        best = fmax(best, separation_along(a, b, dscale(-1.0, edge_normal(b, i))));
+    }
+    return best;
+}
+
+static dvec closest_on_segment(dvec p, dvec a, dvec b)
+{
+    dvec e = dsub(b, a);
+    double t = ddot(dsub(p, a), e) / ddot(e, e);
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    return dadd(a, dscale(t, e));
+}
+
+static double boundary_distance(const dpoly* p, dvec q)
+{
+    double best = 1e300;
+    for (int i = 0; i < p->n; ++i) {
+        best = fmin(best, dlen(dsub(q, closest_on_segment(q, p->v[i], p->v[(i + 1) % p->n]))));
+    }
+    return best;
+}
+
+/* Signed distance from q to a convex polygon: negative inside. */
+static double signed_distance(const dpoly* p, dvec q)
+{
+    double inside = -1e300;
+    for (int i = 0; i < p->n; ++i) {
+        inside = fmax(inside, ddot(edge_normal(p, i), dsub(q, p->v[i])));
+    }
+    return inside <= 0.0 ? inside : boundary_distance(p, q);
+}
+
+/* Euclidean distance between two disjoint convex polygons: the closest pair always has a
+ * vertex of one of them. */
+static double polygon_distance(const dpoly* a, const dpoly* b)
+{
+    double best = 1e300;
+    for (int i = 0; i < a->n; ++i) {
+        best = fmin(best, boundary_distance(b, a->v[i]));
+    }
+    for (int i = 0; i < b->n; ++i) {
+        best = fmin(best, boundary_distance(a, b->v[i]));
+    }
+    return best;
+}
+
+/* ---- random shapes and poses ---- */
+
+static kg_rot rot_of(double angle)
+{
+    kg_rot q = {(float)cos(angle), (float)sin(angle)};
+    return q;
+}
+
+static kg_xf make_xf(double x, double y, double angle)
+{
+    kg_xf xf;
+    xf.p = kg_v2((float)x, (float)y);
+    xf.q = rot_of(angle);
+    return xf;
+}
+
+static kg_shape build(kg_shape_def def)
+{
+    kg_shape shape;
+    kg_result r = kg_shape_build(&def, &shape);
+    KG_CHECK(r == KG_OK);
+    return shape;
+}
+
+/* A convex polygon of 3 to 8 vertices (a box one time in four), 0.1 to 5 m across, placed
+ * off its body's origin by up to half its size. */
+static kg_shape random_polygon(double* size)
+{
+    for (;;) {
+        double s = rng_size(0.1, 5.0);
+        kg_vec2 center = kg_v2((float)rng_uniform(-0.5 * s, 0.5 * s), (float)rng_uniform(-0.5 * s, 0.5 * s));
+        kg_shape_def def;
+        if (rng_int(0, 3) == 0) {
+            def = kg_offset_box_shape((float)s, (float)(s * rng_uniform(0.05, 1.0)), center, (float)rng_uniform(-PI, PI));
+        } else {
+            kg_vec2 v[KG_MAX_POLYGON_VERTICES];
+            int n = rng_int(3, KG_MAX_POLYGON_VERTICES);
+            double stretch = rng_uniform(0.2, 1.0);
+            for (int i = 0; i < n; ++i) {
+                double angle = rng_uniform(0.0, 2.0 * PI), r = 0.5 * s * rng_uniform(0.6, 1.0);
+                v[i] = kg_v2(center.x + (float)(r * cos(angle)), center.y + (float)(stretch * r * sin(angle)));
+            }
+            def = kg_polygon_shape(v, n);
+        }
+        kg_shape shape;
+        if (kg_shape_build(&def, &shape) == KG_OK) {
+            *size = s;
+            return shape;
+        }
+    }
+}
+
+/* A circle 0.05 to 2.5 m in radius, or one time in five a point; off its body's origin (the
+ * builder puts a point at the origin; it is moved here so the general case is exercised). */
+static kg_shape random_circle(double* size)
+{
+    double r = rng_int(0, 4) == 0 ? 0.0 : rng_size(0.05, 2.5);
+    kg_shape_def def = kg_circle_shape((float)r);
+    def.type = r > 0.0 ? KG_SHAPE_CIRCLE : KG_SHAPE_NONE;
+    def.center = kg_v2((float)rng_uniform(-0.5, 0.5), (float)rng_uniform(-0.5, 0.5));
+    kg_shape shape;
+    KG_CHECK(kg_shape_build(&def, &shape) == KG_OK);
+    shape.vertices[0] = def.center;
+    *size = 2.0 * r;
+    return shape;
+}
+
+/* Poses a and b so that their shapes' centres are up to 1.1 times the sum of their sizes
+ * apart: about half the pairs overlap. */
+static void random_poses(double size_a, double size_b, const kg_shape* a, const kg_shape* b, kg_xf* xfa, kg_xf* xfb)
+{
+    *xfa = make_xf(rng_uniform(-20.0, 20.0), rng_uniform(-20.0, 20.0), rng_uniform(-PI, PI));
+    dvec center_a = dxf_point(*xfa, a->centroid);
+    double reach = 0.55 * (size_a + size_b) * rng_uniform(0.0, 1.1);
+    double dir = rng_uniform(-PI, PI);
+    kg_rot qb = rot_of(rng_uniform(-PI, PI));
+    kg_vec2 offset_b = kg_rotate(qb, b->centroid);
+    xfb->q = qb;
+    xfb->p = kg_v2((float)(center_a.x + reach * cos(dir) - offset_b.x), (float)(center_a.y + reach * sin(dir) - offset_b.y));
+}
+
+/* ---- checks shared by the property tests ---- */
+
+static dvec surface_a(const kg_manifold_point* mp, kg_vec2 n) { return dsub(dfrom(mp->point), dscale(0.5 * mp->separation, dfrom(n))); }
+static dvec surface_b(const kg_manifold_point* mp, kg_vec2 n) { return dadd(dfrom(mp->point), dscale(0.5 * mp->separation, dfrom(n))); }
+
+static double min_separation(const kg_manifold* m)
+{
+    double s = 1e300;
+    for (int i = 0; i < m->point_count; ++i) {
+        s = fmin(s, m->points[i].separation);
+    }
+    return s;
+}
+
+/* Distance from a surface point to the feature its byte of the id names: the edge when the
+ * byte carries KG_FEATURE_FACE, else the nearer of the two edges meeting at the vertex. */
+static double feature_distance(const dpoly* p, kg_u32 feature, dvec q)
+{
+    int i = (int)(feature & 0x7Fu), prev = (i + p->n - 1) % p->n, next = (i + 1) % p->n;
+    double on_edge = dlen(dsub(q, closest_on_segment(q, p->v[i], p->v[next])));
+    if (feature & KG_FEATURE_FACE) {
+        return on_edge;
+    }
+    return fmin(on_edge, dlen(dsub(q, closest_on_segment(q, p->v[prev], p->v[i]))));
+}
+
+/* How far a polygon pair's point strays from the features its id names, on either shape. */
+static double feature_error(const kg_manifold_point* mp, kg_vec2 n, const dpoly* pa, const dpoly* pb)
+{
+    return fmax(feature_distance(pa, mp->id >> 8, surface_a(mp, n)), feature_distance(pb, mp->id & 0xFFu, surface_b(mp, n)));
+}
+
+/* The same on the incident shape alone (the one whose byte names a vertex). */
+static double incident_feature_error(const kg_manifold_point* mp, kg_vec2 n, const dpoly* pa, const dpoly* pb)
+{
+    if ((mp->id >> 8) & KG_FEATURE_FACE) {
+        return feature_distance(pb, mp->id & 0xFFu, surface_b(mp, n));
+    }
+    return feature_distance(pa, mp->id >> 8, surface_a(mp, n));
+}
+
+/* How far the incident surface point lies in front of the reference face's line (<= 0 when
+ * the shapes overlap there). */
+static double incident_ahead_of_face(const kg_manifold_point* mp, kg_vec2 n, const dpoly* pa, const dpoly* pb)
+{
+    int a_is_reference = (mp->id >> 8) & KG_FEATURE_FACE;
+    const dpoly* ref = a_is_reference ? pa : pb;
+    int face = (int)((a_is_reference ? mp->id >> 8 : mp->id) & 0x7Fu);
+    dvec incident = a_is_reference ? surface_b(mp, n) : surface_a(mp, n);
+    return ddot(edge_normal(ref, face), dsub(incident, ref->v[face]));
+}
+
+/* Conventions every manifold keeps: unit normal, anchors from the body origins, zeroed
+ * solver fields, separations within the margin, distinct ids. */
+static void check_manifold_form(const kg_manifold* m, kg_xf xfa, kg_xf xfb, float speculative)
+{
+    KG_CHECK(m->point_count >= 0 && m->point_count <= 2);
+    if (m->point_count == 0) {
+        return;
+    }
+    KG_CHECK_NEAR(kg_length(m->normal), 1.0, 1e-5);
+    for (int i = 0; i < m->point_count; ++i) {
+        const kg_manifold_point* mp = m->points + i;
+        KG_CHECK_NEAR(mp->anchor_a.x, mp->point.x - xfa.p.x, 1e-5 * (1.0 + fabs(xfa.p.x)));
+        KG_CHECK_NEAR(mp->anchor_a.y, mp->point.y - xfa.p.y, 1e-5 * (1.0 + fabs(xfa.p.y)));
+        KG_CHECK_NEAR(mp->anchor_b.x, mp->point.x - xfb.p.x, 1e-5 * (1.0 + fabs(xfb.p.x)));
+        KG_CHECK_NEAR(mp->anchor_b.y, mp->point.y - xfb.p.y, 1e-5 * (1.0 + fabs(xfb.p.y)));
+        KG_CHECK(mp->separation <= speculative);
+        KG_CHECK(mp->normal_impulse == 0.0f && mp->tangent_impulse == 0.0f && mp->normal_velocity == 0.0f);
+    }
+    if (m->point_count == 2) {
+        KG_CHECK(m->points[0].id != m->points[1].id);
+    }
+}
+
+/* ---- polygon against polygon, random ---- */
+
+#define POLYGON_CASES 50000
+#define SURFACE_TOL 1e-4
+
+typedef struct overlap_stats {
+    int overlapping, separated, skipped, reference_disagreements, hysteresis;
+    double worst_depth, worst_normal, worst_surface, worst_ahead, worst_pushed_area;
+} overlap_stats;
+
+/* Properties (1) to (4) of a polygon pair without a margin, against the references. */
+static void check_polygon_pair(const kg_shape* a, double size_a, kg_xf xfa, const kg_shape* b, double size_b, kg_xf xfb,
+                               overlap_stats* st)
+{
+    dpoly pa = world_polygon(a, xfa), pb = world_polygon(b, xfb);
+    double sat = sat_separation(&pa, &pb);
+    double area = intersection_area(&pa, &pb);
+    kg_manifold m = kg_collide_shapes(a, xfa, b, xfb, 0.0f);
+    check_manifold_form(&m, xfa, xfb, 0.0f);
+
+    /* touching within float noise: either answer is right */
+    if (fabs(sat) < 1e-6 * (1.0 + size_a + size_b)) {
+        st->skipped++;
+        return;
+    }
+    /* (1) overlap reported exactly when the intersection has area; the two references
+     * (clipping and separating axes) must agree with each other too */
+    st->reference_disagreements += (sat < 0.0) != (area > 0.0);
+    KG_CHECK((m.point_count > 0) == (area > 0.0));
+    if (area <= 0.0) {
+        st->separated++;
+        return;
+    }
+    st->overlapping++;
+    if (m.point_count == 0) {
+        return;
+    }
+    /* (2) the depth is the minimum translation distance; a's face is kept as the reference
+     * while b's is better by at most KG_REFERENCE_TOLERANCE, which may add that much */
+    double depth = -min_separation(&m);
+    double tol = 1e-4 * (1.0 + size_a + size_b);
+    int a_is_reference = (m.points[0].id >> 8) & KG_FEATURE_FACE;
+    double allowance = a_is_reference ? KG_REFERENCE_TOLERANCE : 0.0;
+    st->worst_depth = fmax(st->worst_depth, fabs(depth + sat));
+    st->hysteresis += depth + sat > tol;
+    KG_CHECK(depth + sat >= -tol && depth + sat <= tol + allowance);
+
+    /* the normal is an axis of least penetration */
+    dvec n = dfrom(m.normal);
+    n = dscale(1.0 / dlen(n), n);
+    st->worst_normal = fmax(st->worst_normal, sat - separation_along(&pa, &pb, n));
+    KG_CHECK(separation_along(&pa, &pb, n) >= sat - tol - allowance);
+
+    /* (4) pushing b out along the normal by the depth separates the pair */
+    dpoly pushed = translated(pb, dscale(depth + tol, n));
+    double pushed_area = intersection_area(&pa, &pushed);
+    st->worst_pushed_area = fmax(st->worst_pushed_area, pushed_area);
+    KG_CHECK(pushed_area == 0.0);
+
+    /* (3) surface points on the features the ids name, the incident one behind the face */
+    for (int i = 0; i < m.point_count; ++i) {
+        double off = feature_error(m.points + i, m.normal, &pa, &pb);
+        double ahead = incident_ahead_of_face(m.points + i, m.normal, &pa, &pb);
+        st->worst_surface = fmax(st->worst_surface, off);
+        st->worst_ahead = fmax(st->worst_ahead, ahead);
+        KG_CHECK(off <= SURFACE_TOL);
+        KG_CHECK(ahead <= SURFACE_TOL);
+    }
+}
+
+static void report_overlaps(const char* name, const overlap_stats* st, int cases)
+{
+    printf("  %s: %d overlapping, %d separated, %d skipped as touching, %d deeper by hysteresis; worst |depth error| "
+           "%.2g, normal shortfall %.2g, distance from features %.2g, incident point ahead of face %.2g, area left after "
+           "push %.2g\n",
+           name, st->overlapping, st->separated, st->skipped, st->hysteresis, st->worst_depth, st->worst_normal,
+           st->worst_surface, st->worst_ahead, st->worst_pushed_area);
+    KG_CHECK(st->reference_disagreements == 0);
+    KG_CHECK(st->skipped <= cases / 1000);
+}
+
+static void test_random_polygons_overlap_depth_points(void)
+{
+    g_rng = 0x5EED0001u;
+    overlap_stats st;
+    memset(&st, 0, sizeof st);
+    for (int k = 0; k < POLYGON_CASES; ++k) {
+        double size_a, size_b;
+        kg_shape a = random_polygon(&size_a), b = random_polygon(&size_b);
+        kg_xf xfa, xfb;
+        random_poses(size_a, size_b, &a, &b, &xfa, &xfb);
+        check_polygon_pair(&a, size_a, xfa, &b, size_b, xfb, &st);
+    }
+    report_overlaps("polygons", &st, POLYGON_CASES);
+    KG_CHECK(st.overlapping > POLYGON_CASES / 4 && st.separated > POLYGON_CASES / 4);
+}
+
+/* Resting contact, where a solver spends its time: a face of b laid on a random face of a,
+ * turned by up to 0.01 rad, slid along it, and sunk into it or lifted off by up to 0.02 m. */
+static void test_resting_polygons_overlap_depth_points(void)
+{
+    g_rng = 0x5EED0006u;
+    overlap_stats st;
+    memset(&st, 0, sizeof st);
+    for (int k = 0; k < POLYGON_CASES; ++k) {
+        double size_a, size_b;
+        kg_shape a = random_polygon(&size_a), b = random_polygon(&size_b);
+        kg_xf xfa = make_xf(rng_uniform(-20.0, 20.0), rng_uniform(-20.0, 20.0), rng_uniform(-PI, PI));
+        int i = rng_int(0, a.count - 1), j = rng_int(0, b.count - 1);
+        dvec n = dfrom(kg_rotate(xfa.q, a.normals[i]));
+        dvec on_a = dadd(dxf_point(xfa, a.vertices[i]), dscale(rng_uniform(0.0, 1.0), dsub(dxf_point(xfa, a.vertices[(i + 1) % a.count]), dxf_point(xfa, a.vertices[i]))));
+        double angle = atan2(-n.y, -n.x) - atan2(b.normals[j].y, b.normals[j].x) + rng_uniform(-0.01, 0.01);
+        kg_xf xfb = make_xf(0.0, 0.0, angle);
+        kg_vec2 on_b = kg_lerp(b.vertices[j], b.vertices[(j + 1) % b.count], (float)rng_uniform(0.0, 1.0));
+        dvec target = dadd(on_a, dscale(rng_uniform(-0.02, 0.02), n));
+        dvec offset = dxf_point(xfb, on_b);
+        xfb.p = kg_v2((float)(target.x - offset.x), (float)(target.y - offset.y));
+        check_polygon_pair(&a, size_a, xfa, &b, size_b, xfb, &st);
+    }
+    report_overlaps("resting polygons", &st, POLYGON_CASES);
+    KG_CHECK(st.overlapping > POLYGON_CASES / 4 && st.separated > POLYGON_CASES / 10);
+}
+
+/* With a margin, gaps are measured against the true (Euclidean) distance between the
+ * polygons. Apart by more than KG_REFERENCE_TOLERANCE along every axis: no point closer than
+ * that distance, the nearest within KG_REFERENCE_TOLERANCE of it (the slack the corner rule
+ * allows before giving up two face points). Closer than that, face normals stand in for
+ * corner directions (too short to normalise reliably): no point closer than the separating
+ * axis gap less the tolerance. No pair is missed inside the margin by more than the slack.
+ * Surface points lie on the features the ids name. */
+static void test_random_polygons_speculative(void)
+{
+    g_rng = 0x5EED0002u;
+    int reported = 0, empty = 0, corners = 0, close = 0;
+    double worst_early = 0.0, worst_missed = 0.0, worst_surface = 0.0, worst_gap = 0.0;
+    for (int k = 0; k < POLYGON_CASES; ++k) {
+        double size_a, size_b;
+        kg_shape a = random_polygon(&size_a), b = random_polygon(&size_b);
+        kg_xf xfa, xfb;
+        random_poses(size_a, size_b, &a, &b, &xfa, &xfb);
+        float speculative = (float)rng_uniform(0.0, 0.1);
+        dpoly pa = world_polygon(&a, xfa), pb = world_polygon(&b, xfb);
+        if (sat_separation(&pa, &pb) <= 0.0) {
+            continue;
+        }
+        /* pull b towards a until the gap is within three margins, so most pairs sit near the
+         * margin's edge */
+        dvec to_b = dsub(dxf_point(xfb, b.centroid), dxf_point(xfa, a.centroid));
+        double pull = (polygon_distance(&pa, &pb) - rng_uniform(0.0, 3.0 * speculative)) * 0.99 / dlen(to_b);
+        xfb.p = kg_v2((float)(xfb.p.x - pull * to_b.x), (float)(xfb.p.y - pull * to_b.y));
+        pb = world_polygon(&b, xfb);
+        double sat = sat_separation(&pa, &pb);
+        if (sat <= 0.0) {
+            continue;
+        }
+        double gap = polygon_distance(&pa, &pb);
+        double tol = 1e-5 * (1.0 + fabs(xfa.p.x) + fabs(xfa.p.y));
+
+        kg_manifold m = kg_collide_shapes(&a, xfa, &b, xfb, speculative);
+        check_manifold_form(&m, xfa, xfb, speculative);
+        if (m.point_count == 0) {
+            empty++;
+            worst_missed = fmax(worst_missed, speculative - gap);
+            KG_CHECK(gap > speculative - KG_REFERENCE_TOLERANCE - tol);
+            continue;
+        }
+        reported++;
+        corners += m.point_count == 1 && !(m.points[0].id & (KG_FEATURE_FACE | (KG_FEATURE_FACE << 8)));
+        int apart = sat > KG_REFERENCE_TOLERANCE + tol;
+        close += !apart;
+        if (apart) {
+            worst_gap = fmax(worst_gap, min_separation(&m) - gap);
+            KG_CHECK(min_separation(&m) <= gap + KG_REFERENCE_TOLERANCE + tol);
+        }
+        for (int i = 0; i < m.point_count; ++i) {
+            double least = apart ? gap : sat - KG_REFERENCE_TOLERANCE;
+            worst_early = fmax(worst_early, least - m.points[i].separation);
+            KG_CHECK(m.points[i].separation >= least - tol);
+            /* corners closer than the tolerance are measured along the face normal, so the
+             * reference surface point may overhang the face's end */
+            double off = apart ? feature_error(m.points + i, m.normal, &pa, &pb)
+                               : incident_feature_error(m.points + i, m.normal, &pa, &pb);
+            worst_surface = fmax(worst_surface, off);
+            KG_CHECK(off <= SURFACE_TOL);
+        }
+    }
+    printf("  speculative: %d reported (%d corner to corner, %d closer than the tolerance), %d empty; worst: point "
+           "closer than allowed by %.2g, nearest point farther than the gap by %.2g, missed within margin by %.2g, "
+           "distance from features %.2g\n",
+           reported, corners, close, empty, worst_early, worst_gap, worst_missed, worst_surface);
+    KG_CHECK(reported > POLYGON_CASES / 10 && empty > POLYGON_CASES / 10 && corners > 100);
+}
+
+/* ---- circles and points, random ---- */
+
+#define CIRCLE_CASES 20000
+
+/* Polygon a against circle (or point) b: the gap is the centre's signed distance to the
+ * polygon less the radius; moving the centre back along the normal by the separation puts it
+ * exactly one radius from the polygon; a's surface point lies on a's boundary and b's on the
+ * circle. The circle as shape a gives the same manifold flipped, bit for bit. */
+static void test_random_polygon_circle(void)
+{
+    g_rng = 0x5EED0003u;
+    int reported = 0, empty = 0, skipped = 0, points = 0;
+    double worst_sep = 0.0, worst_normal = 0.0, worst_surface = 0.0;
+    for (int k = 0; k < CIRCLE_CASES; ++k) {
+        double size_a, size_b;
+        kg_shape a = random_polygon(&size_a), b = random_circle(&size_b);
+        kg_xf xfa, xfb;
+        random_poses(size_a, size_b, &a, &b, &xfa, &xfb);
+        float speculative = (float)rng_uniform(0.0, 0.05);
+        dpoly pa = world_polygon(&a, xfa);
+        dvec center = dxf_point(xfb, b.vertices[0]);
+        double radius = b.radius;
+        double expected = signed_distance(&pa, center) - radius;
+        double tol = 1e-5 * (1.0 + size_a + size_b + fabs(xfa.p.x) + fabs(xfa.p.y));
+
+        kg_manifold m = kg_collide_shapes(&a, xfa, &b, xfb, speculative);
+        kg_manifold flipped = kg_collide_shapes(&b, xfb, &a, xfa, speculative);
+        check_manifold_form(&m, xfa, xfb, speculative);
+        check_manifold_form(&flipped, xfb, xfa, speculative);
+        KG_CHECK(flipped.point_count == m.point_count);
+        if (m.point_count == 1 && flipped.point_count == 1) {
+            KG_CHECK(flipped.normal.x == -m.normal.x && flipped.normal.y == -m.normal.y);
+            KG_CHECK(memcmp(&flipped.points[0].point, &m.points[0].point, sizeof(kg_vec2)) == 0);
+            KG_CHECK(memcmp(&flipped.points[0].anchor_a, &m.points[0].anchor_b, sizeof(kg_vec2)) == 0);
+            KG_CHECK(memcmp(&flipped.points[0].anchor_b, &m.points[0].anchor_a, sizeof(kg_vec2)) == 0);
+            KG_CHECK(flipped.points[0].separation == m.points[0].separation);
+            KG_CHECK(m.points[0].id == 0u && flipped.points[0].id == 0u);
+        }
+        if (fabs(expected - speculative) < tol) {
+            skipped++;
+            continue;
+        }
+        KG_CHECK(m.point_count == (expected <= speculative ? 1 : 0));
+        if (m.point_count == 0) {
+            empty++;
+            continue;
+        }
+        reported++;
+        points += radius == 0.0;
+        const kg_manifold_point* mp = m.points;
+        worst_sep = fmax(worst_sep, fabs(mp->separation - expected));
+        KG_CHECK_NEAR(mp->separation, expected, tol);
+        dvec back = dsub(center, dscale(mp->separation, dfrom(m.normal)));
+        worst_normal = fmax(worst_normal, fabs(signed_distance(&pa, back) - radius));
+        KG_CHECK_NEAR(signed_distance(&pa, back), radius, 10.0 * tol);
+        double on_a = boundary_distance(&pa, surface_a(mp, m.normal));
+        double on_b = fabs(dlen(dsub(surface_b(mp, m.normal), center)) - radius);
+        worst_surface = fmax(worst_surface, fmax(on_a, on_b));
+        KG_CHECK(on_a <= tol && on_b <= tol);
+    }
+    printf("  polygon-circle: %d reported (%d points), %d empty, %d skipped at the margin; worst |separation error| "
+           "%.2g, normal error %.2g, surface distance %.2g\n",
+           reported, points, empty, skipped, worst_sep, worst_normal, worst_surface);
+    KG_CHECK(skipped <= CIRCLE_CASES / 1000);
+    KG_CHECK(reported > CIRCLE_CASES / 4 && empty > CIRCLE_CASES / 4 && points > CIRCLE_CASES / 50);
+}
+
+static void test_random_circles(void)
+{
+    g_rng = 0x5EED0004u;
+    int reported = 0, empty = 0, skipped = 0;
+    double worst_sep = 0.0, worst_normal = 0.0, worst_surface = 0.0;
+    for (int k = 0; k < CIRCLE_CASES; ++k) {
+        double size_a, size_b;
+        kg_shape a = random_circle(&size_a), b = random_circle(&size_b);
+        kg_xf xfa, xfb;
+        random_poses(size_a + 0.1, size_b + 0.1, &a, &b, &xfa, &xfb);
+        float speculative = (float)rng_uniform(0.0, 0.05);
+        dvec ca = dxf_point(xfa, a.vertices[0]), cb = dxf_point(xfb, b.vertices[0]);
+        double distance = dlen(dsub(cb, ca));
+        double expected = distance - a.radius - b.radius;
+        double tol = 1e-5 * (1.0 + size_a + size_b + fabs(xfa.p.x) + fabs(xfa.p.y));
+
+        kg_manifold m = kg_collide_shapes(&a, xfa, &b, xfb, speculative);
+        check_manifold_form(&m, xfa, xfb, speculative);
+        if (fabs(expected - speculative) < tol || distance < 1e-3) {
+            skipped++;
+            continue;
+        }
+        KG_CHECK(m.point_count == (expected <= speculative ? 1 : 0));
+        if (m.point_count == 0) {
+            empty++;
+            continue;
+        }
+        reported++;
+        const kg_manifold_point* mp = m.points;
+        worst_sep = fmax(worst_sep, fabs(mp->separation - expected));
+        KG_CHECK_NEAR(mp->separation, expected, tol);
+        dvec n = dscale(1.0 / distance, dsub(cb, ca));
+        worst_normal = fmax(worst_normal, dlen(dsub(dfrom(m.normal), n)));
+        KG_CHECK(dlen(dsub(dfrom(m.normal), n)) <= 100.0 * tol / distance);
+        double on_a = fabs(dlen(dsub(surface_a(mp, m.normal), ca)) - a.radius);
+        double on_b = fabs(dlen(dsub(surface_b(mp, m.normal), cb)) - b.radius);
+        worst_surface = fmax(worst_surface, fmax(on_a, on_b));
+        KG_CHECK(on_a <= tol && on_b <= tol);
+        KG_CHECK(mp->id == 0u);
+    }
+    printf("  circles: %d reported, %d empty, %d skipped (at the margin or concentric); worst |separation error| "
+           "%.2g, normal error %.2g, surface distance %.2g\n",
+           reported, empty, skipped, worst_sep, worst_normal, worst_surface);
+    KG_CHECK(skipped <= CIRCLE_CASES / 100);
+    KG_CHECK(reported > CIRCLE_CASES / 4 && empty > CIRCLE_CASES / 4);
+}
+
+/* ---- hand cases ---- */
+
+#define HAND_TOL 1e-5
+
+static kg_shape box(float width, float height) { return build(kg_box_shape(width, height)); }
+static kg_shape circle(float radius) { return build(kg_circle_shape(radius)); }
+
+static kg_shape particle(void)
+{
+    kg_shape_def def = kg_circle_shape(0.0f);
+    def.type = KG_SHAPE_NONE;
+    return build(def);
+}
+
+/* Index of the polygon edge with the given outward normal, of the vertex at the given place. */
+static kg_u32 edge_facing(const kg_shape* s, float nx, float ny)
+{
+    for (int i = 0; i < s->count; ++i) {
+        if (fabsf(s->normals[i].x - nx) < 1e-6f && fabsf(s->normals[i].y - ny) < 1e-6f) {
+            return (kg_u32)i;
+        }
+    }
+    KG_CHECK(0);
+    return 0xFFu;
+}
+
+static kg_u32 vertex_at(const kg_shape* s, float x, float y)
+{
+    for (int i = 0; i < s->count; ++i) {
+        if (fabsf(s->vertices[i].x - x) < 1e-6f && fabsf(s->vertices[i].y - y) < 1e-6f) {
+            return (kg_u32)i;
+        }
+    }
+    KG_CHECK(0);
+    return 0xFFu;
+}
+
+static kg_manifold collide(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative)
+{
+    kg_manifold m = kg_collide_shapes(a, xfa, b, xfb, speculative);
+    check_manifold_form(&m, xfa, xfb, speculative);
+    return m;
+}
+
+/* The manifold point nearest (x, y), so checks do not depend on the order of the two. */
+static const kg_manifold_point* point_near(const kg_manifold* m, double x, double y)
+{
+    const kg_manifold_point* best = m->points;
+    for (int i = 1; i < m->point_count; ++i) {
+        if (dlen(dsub(dfrom(m->points[i].point), dv(x, y))) < dlen(dsub(dfrom(best->point), dv(x, y)))) {
+            best = m->points + i;
+        }
+    }
+    return best;
+}
+
+/* Passed as the id to check_point when the case does not pin the ids down. */
+#define ANY_ID 0xFFFFFFFFu
+
+static void check_point(const kg_manifold* m, double x, double y, double separation, kg_u32 id)
+{
+    const kg_manifold_point* mp = point_near(m, x, y);
+    KG_CHECK_NEAR(mp->point.x, x, HAND_TOL);
+    KG_CHECK_NEAR(mp->point.y, y, HAND_TOL);
+    KG_CHECK_NEAR(mp->separation, separation, HAND_TOL);
+    KG_CHECK(id == ANY_ID || mp->id == id);
+}
+
+static void check_normal(const kg_manifold* m, double x, double y)
+{
+    KG_CHECK_NEAR(m->normal.x, x, HAND_TOL);
+    KG_CHECK_NEAR(m->normal.y, y, HAND_TOL);
+}
+
+static void test_box_resting_on_box(void)
+{
+    kg_shape ground = box(4.0f, 1.0f), b = box(1.0f, 1.0f);
+    kg_manifold m = collide(&ground, make_xf(0, 0, 0), &b, make_xf(0.5, 0.99, 0), 0.0f);
+    KG_CHECK(m.point_count == 2);
+    check_normal(&m, 0.0, 1.0);
+    kg_u32 top = KG_FEATURE_FACE | edge_facing(&ground, 0.0f, 1.0f);
+    /* at the corners of the overlap, midway between ground top (0.5) and box bottom (0.49) */
+    check_point(&m, 0.0, 0.495, -0.01, KG_FEATURE_ID(top, vertex_at(&b, -0.5f, -0.5f)));
+    check_point(&m, 1.0, 0.495, -0.01, KG_FEATURE_ID(top, vertex_at(&b, 0.5f, -0.5f)));
+    KG_CHECK_NEAR(point_near(&m, 0.0, 0.495)->anchor_b.x, -0.5, HAND_TOL);
+    KG_CHECK_NEAR(point_near(&m, 0.0, 0.495)->anchor_b.y, 0.495 - 0.99, HAND_TOL);
+
+    /* the same pair the other way round: b's bottom face is the reference now */
+    kg_manifold r = collide(&b, make_xf(0.5, 0.99, 0), &ground, make_xf(0, 0, 0), 0.0f);
+    KG_CHECK(r.point_count == 2);
+    check_normal(&r, 0.0, -1.0);
+    kg_u32 bottom = KG_FEATURE_FACE | edge_facing(&b, 0.0f, -1.0f);
+    check_point(&r, 0.0, 0.495, -0.01, KG_FEATURE_ID(bottom, vertex_at(&ground, -2.0f, 0.5f)));
+    check_point(&r, 1.0, 0.495, -0.01, KG_FEATURE_ID(bottom, vertex_at(&ground, 2.0f, 0.5f)));
+}
+
+static void test_box_on_its_corner(void)
+{
+    kg_shape ground = box(4.0f, 1.0f), b = box(1.0f, 1.0f);
+    double half_diagonal = sqrt(0.5);
+    kg_manifold m = collide(&ground, make_xf(0, 0, 0), &b, make_xf(0.3, 0.5 + half_diagonal - 0.01, PI / 4), 0.02f);
+    /* the other end of the incident edge is 0.7 m up, far beyond the margin */
+    KG_CHECK(m.point_count == 1);
+    check_normal(&m, 0.0, 1.0);
+    kg_u32 top = KG_FEATURE_FACE | edge_facing(&ground, 0.0f, 1.0f);
+    check_point(&m, 0.3, 0.495, -0.01, KG_FEATURE_ID(top, vertex_at(&b, -0.5f, -0.5f)));
+}
+
+static void test_edge_against_offset_edge(void)
+{
+    kg_shape a = box(1.0f, 1.0f), b = box(1.0f, 1.0f);
+    kg_manifold m = collide(&a, make_xf(0, 0, 0), &b, make_xf(0.6, 0.99, 0), 0.0f);
+    KG_CHECK(m.point_count == 2);
+    check_normal(&m, 0.0, 1.0);
+    kg_u32 top = KG_FEATURE_FACE | edge_facing(&a, 0.0f, 1.0f);
+    /* b's left corner at x = 0.1, and b's bottom clipped at a's right side x = 0.5 */
+    check_point(&m, 0.1, 0.495, -0.01, KG_FEATURE_ID(top, vertex_at(&b, -0.5f, -0.5f)));
+    check_point(&m, 0.5, 0.495, -0.01, KG_FEATURE_ID(top, vertex_at(&b, 0.5f, -0.5f)));
+}
+
+static void test_circle_on_box_edge_and_corner(void)
+{
+    kg_shape ground = box(2.0f, 1.0f), ball = circle(0.5f);
+    kg_manifold m = collide(&ground, make_xf(0, 0, 0), &ball, make_xf(0.3, 0.98, 0), 0.0f);
+    KG_CHECK(m.point_count == 1);
+    check_normal(&m, 0.0, 1.0);
+    check_point(&m, 0.3, 0.49, -0.02, 0u);
+
+    /* the ball as shape a: normal reversed, anchors swapped */
+    kg_manifold f = collide(&ball, make_xf(0.3, 0.98, 0), &ground, make_xf(0, 0, 0), 0.0f);
+    KG_CHECK(f.point_count == 1);
+    check_normal(&f, 0.0, -1.0);
+    check_point(&f, 0.3, 0.49, -0.02, 0u);
+    KG_CHECK_NEAR(f.points[0].anchor_a.y, 0.49 - 0.98, HAND_TOL);
+
+    /* centre 0.45 m from the corner (1, 0.5) along (0.6, 0.8): 0.05 m deep */
+    kg_manifold c = collide(&ground, make_xf(0, 0, 0), &ball, make_xf(1.0 + 0.27, 0.5 + 0.36, 0), 0.0f);
+    KG_CHECK(c.point_count == 1);
+    check_normal(&c, 0.6, 0.8);
+    check_point(&c, 1.0 - 0.025 * 0.6, 0.5 - 0.025 * 0.8, -0.05, 0u);
+}
+
+static void test_deep_penetration(void)
+{
+    kg_shape big = box(4.0f, 2.0f), small = box(0.2f, 0.2f);
+    /* wholly inside, nearest the top face (0.4 m away) rather than the right one (1.6 m) */
+    kg_manifold m = collide(&big, make_xf(0, 0, 0), &small, make_xf(0.5, 0.7, 0), 0.0f);
+    KG_CHECK(m.point_count == 2);
+    check_normal(&m, 0.0, 1.0);
+    check_point(&m, 0.4, 0.8, -0.4, ANY_ID);
+    check_point(&m, 0.6, 0.8, -0.4, ANY_ID);
+
+    /* two unit boxes overlapping by 0.9 across and 0.7 up: pushed out upwards */
+    kg_shape unit = box(1.0f, 1.0f);
+    kg_manifold u = collide(&unit, make_xf(0, 0, 0), &unit, make_xf(0.1, 0.3, 0), 0.0f);
+    KG_CHECK(u.point_count == 2);
+    check_normal(&u, 0.0, 1.0);
+    KG_CHECK_NEAR(min_separation(&u), -0.7, HAND_TOL);
+
+    /* a small ball deep inside, 0.3 m under the top face: 0.4 m deep */
+    kg_shape ball = circle(0.1f);
+    kg_manifold c = collide(&big, make_xf(0, 0, 0), &ball, make_xf(0.5, 0.7, 0), 0.0f);
+    KG_CHECK(c.point_count == 1);
+    check_normal(&c, 0.0, 1.0);
+    check_point(&c, 0.5, 0.8, -0.4, 0u);
+}
+
+static void test_exactly_touching(void)
+{
+    kg_shape a = box(1.0f, 1.0f), b = box(1.0f, 1.0f);
+    kg_manifold m = collide(&a, make_xf(0, 0, 0), &b, make_xf(0.25, 1.0, 0), 0.0f);
+    KG_CHECK(m.point_count == 2);
+    KG_CHECK(m.points[0].separation == 0.0f && m.points[1].separation == 0.0f);
+    check_point(&m, -0.25, 0.5, 0.0, ANY_ID);
+    check_point(&m, 0.5, 0.5, 0.0, ANY_ID);
+
+    kg_shape ball = circle(0.5f);
+    kg_manifold c = collide(&a, make_xf(0, 0, 0), &ball, make_xf(0.1, 1.0, 0), 0.0f);
+    KG_CHECK(c.point_count == 1);
+    check_point(&c, 0.1, 0.5, 0.0, 0u);
+
+    /* a hair apart is not touching without a margin */
+    kg_manifold apart = collide(&a, make_xf(0, 0, 0), &b, make_xf(0.25, 1.0001, 0), 0.0f);
+    KG_CHECK(apart.point_count == 0);
+}
+
+/* Nearly parallel faces must keep their reference face and feature ids from step to step,
+ * or warm starting loses its impulses: 1000 tiny random rotations of both boxes. */
+static void check_no_flicker(double offset_x, double width_b)
+{
+    kg_shape a = box(1.0f, 1.0f), b = box((float)width_b, 1.0f);
+    kg_u32 first[2] = {0u, 0u};
+    int steady = 1;
+    for (int k = 0; k < 1000; ++k) {
+        kg_xf xfa = make_xf(0, 0, rng_uniform(-1e-4, 1e-4));
+        kg_xf xfb = make_xf(offset_x, 0.995, rng_uniform(-1e-4, 1e-4));
+        kg_manifold m = collide(&a, xfa, &b, xfb, 0.02f);
+        KG_CHECK(m.point_count == 2);
+        kg_u32 ids[2] = {m.points[0].id, m.points[1].id};
+        if (ids[0] > ids[1]) {
+            ids[0] = m.points[1].id;
+            ids[1] = m.points[0].id;
+        }
+        if (k == 0) {
+            first[0] = ids[0];
+            first[1] = ids[1];
+        }
+        steady &= ids[0] == first[0] && ids[1] == first[1];
+        steady &= ((ids[0] >> 8) & KG_FEATURE_FACE) != 0; /* a's top face is the reference */
+    }
+    KG_CHECK(steady);
+}
+
+static void test_nearly_parallel_faces_do_not_flicker(void)
+{
+    g_rng = 0x5EED0005u;
+    check_no_flicker(0.0, 1.0); /* equal boxes, edges flush: the most fragile */
+    check_no_flicker(0.3, 1.0);
+    check_no_flicker(0.0, 0.6);
+}
+
+static void test_particles(void)
+{
+    kg_shape a = box(1.0f, 1.0f), p = particle(), ball = circle(0.5f);
+    kg_manifold m = collide(&a, make_xf(0, 0, 0), &p, make_xf(0.2, 0.49, 0), 0.0f);
+    KG_CHECK(m.point_count == 1);
+    check_normal(&m, 0.0, 1.0);
+    check_point(&m, 0.2, 0.495, -0.01, 0u);
+
+    kg_manifold f = collide(&p, make_xf(0.2, 0.49, 0), &a, make_xf(0, 0, 0), 0.0f);
+    KG_CHECK(f.point_count == 1);
+    check_normal(&f, 0.0, -1.0);
+    check_point(&f, 0.2, 0.495, -0.01, 0u);
+
+    kg_manifold c = collide(&ball, make_xf(0, 0, 0), &p, make_xf(0.3, 0.4, 0), 0.0f);
+    KG_CHECK(c.point_count == 1);
+    check_normal(&c, 0.6, 0.8);
+    check_point(&c, 0.6 * 0.5, 0.8 * 0.5, 0.0, 0u);
+    kg_manifold c2 = collide(&ball, make_xf(0, 0, 0), &p, make_xf(0.3, 0.3, 0), 0.0f);
+    KG_CHECK(c2.point_count == 1);
+    KG_CHECK_NEAR(c2.points[0].separation, sqrt(0.18) - 0.5, HAND_TOL);
+
+    /* two particles on the same spot: touching, with some unit normal */
+    kg_manifold same = collide(&p, make_xf(1, 2, 0), &p, make_xf(1, 2, 0), 0.0f);
+    KG_CHECK(same.point_count == 1);
+    KG_CHECK(same.points[0].separation == 0.0f);
+
+    kg_manifold far = collide(&a, make_xf(0, 0, 0), &p, make_xf(0.2, 0.53, 0), 0.02f);
+    KG_CHECK(far.point_count == 0);
+}
+
+static void test_speculative_margin(void)
+{
+    kg_shape a = box(1.0f, 1.0f), b = box(1.0f, 1.0f), ball = circle(0.5f);
+    kg_manifold near = collide(&a, make_xf(0, 0, 0), &b, make_xf(0.2, 1.015, 0), 0.02f);
+    KG_CHECK(near.point_count == 2);
+    check_point(&near, -0.3, 0.5075, 0.015, ANY_ID);
+    check_point(&near, 0.5, 0.5075, 0.015, ANY_ID);
+    KG_CHECK(collide(&a, make_xf(0, 0, 0), &b, make_xf(0.2, 1.025, 0), 0.02f).point_count == 0);
+
+    /* tilted by 0.02 rad: the lower corner 0.0101 m up, within the margin, the other 0.0301 m,
+     * beyond it */
+    kg_manifold tilted = collide(&a, make_xf(0, 0, 0), &b, make_xf(0.0, 1.02, 0.02), 0.02f);
+    KG_CHECK(tilted.point_count == 1);
+    KG_CHECK_NEAR(tilted.points[0].separation, 0.02 - 0.5 * sin(0.02) + 0.5 * (1.0 - cos(0.02)), HAND_TOL);
+
+    /* corner to corner: the gap is the diagonal distance between the corners, not the gap
+     * along a face normal */
+    double gap = 0.01;
+    kg_manifold corner = collide(&a, make_xf(0, 0, 0), &b, make_xf(1.0 + gap, 1.0 + gap, 0), 0.02f);
+    KG_CHECK(corner.point_count == 1);
+    check_normal(&corner, sqrt(0.5), sqrt(0.5));
+    check_point(&corner, 0.5 + 0.5 * gap, 0.5 + 0.5 * gap, gap * sqrt(2.0),
+                KG_FEATURE_ID(vertex_at(&a, 0.5f, 0.5f), vertex_at(&b, -0.5f, -0.5f)));
+    /* 0.0145 m apart on each axis but 0.0205 m apart: beyond the margin */
+    KG_CHECK(collide(&a, make_xf(0, 0, 0), &b, make_xf(1.0145, 1.0145, 0), 0.02f).point_count == 0);
+
+    kg_manifold c = collide(&a, make_xf(0, 0, 0), &ball, make_xf(0.1, 1.015, 0), 0.02f);
+    KG_CHECK(c.point_count == 1);
+    check_point(&c, 0.1, 0.5075, 0.015, 0u);
+    KG_CHECK(collide(&a, make_xf(0, 0, 0), &ball, make_xf(0.1, 1.025, 0), 0.02f).point_count == 0);
+    KG_CHECK(collide(&ball, make_xf(0, 0, 0), &ball, make_xf(1.015, 0, 0), 0.02f).point_count == 1);
+    KG_CHECK(collide(&ball, make_xf(0, 0, 0), &ball, make_xf(1.025, 0, 0), 0.02f).point_count == 0);
+}
+
+/* Far from the world origin the anchors still come out to float precision. */
+static void test_far_from_origin(void)
+{
+    kg_shape ground = box(4.0f, 1.0f), b = box(1.0f, 1.0f);
+    kg_manifold m = collide(&ground, make_xf(5000, -3000, 0), &b, make_xf(5000.5, -3000 + 0.99, 0), 0.0f);
+    KG_CHECK(m.point_count == 2);
+    const kg_manifold_point* mp = point_near(&m, 5000.0, -3000 + 0.495);
+    KG_CHECK_NEAR(mp->anchor_a.x, 0.0, 1e-5);
+    KG_CHECK_NEAR(mp->anchor_a.y, 0.495, 1e-5);
+    KG_CHECK_NEAR(mp->anchor_b.x, -0.5, 1e-5);
+    KG_CHECK_NEAR(mp->anchor_b.y, 0.495 - 0.99, 1e-4);
+    KG_CHECK_NEAR(mp->separation, -0.01, 1e-3);
+}
+
+int main(void)
+{
+    static const kg_test_case tests[] = {
+        KG_TEST(test_random_polygons_overlap_depth_points),
+        KG_TEST(test_resting_polygons_overlap_depth_points),
+        KG_TEST(test_random_polygons_speculative),
+        KG_TEST(test_random_polygon_circle),
+        KG_TEST(test_random_circles),
+        KG_TEST(test_box_resting_on_box),
+        KG_TEST(test_box_on_its_corner),
+        KG_TEST(test_edge_against_offset_edge),
+        KG_TEST(test_circle_on_box_edge_and_corner),
+        KG_TEST(test_deep_penetration),
+        KG_TEST(test_exactly_touching),
+        KG_TEST(test_nearly_parallel_faces_do_not_flicker),
+        KG_TEST(test_particles),
+        KG_TEST(test_speculative_margin),
+        KG_TEST(test_far_from_origin),
+    };
+    clock_t start = clock();
+    int result = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
+    printf("narrowphase tests took %.2f s\n", (double)(clock() - start) / CLOCKS_PER_SEC);
+    return result;
+}

@@ -1,0 +1,248 @@
+/* The OpenCL backend against the CPU backend, scene by scene: the same scene built twice,
+ * stepped 300 times on each, compared step by step (contact counts) and at the end (every
+ * body's position, angle and velocities). The two are expected bitwise equal: the kernels
+ * call the same per-element functions on the same layout, both sides are compiled without
+ * contraction or fast-math, and the device divides and takes square roots correctly
+ * rounded. A device that cannot round them correctly is held to the 1e-4 m tolerance.
+ * Skips (exit 77) when no OpenCL device exists. */
+#include "kg_test.h"
+#include "kgyro/kgyro.h"
+#include "kgyro/opencl.h"
+
+#include <stdint.h>
+#include <string.h>
+
+#define KG_SKIP 77
+#define KG_STEPS 300
+#define KG_DT (1.0f / 60.0f)
+
+typedef void kg_scene_fn(kg_world* world);
+
+static int g_bitwise_expected;
+
+static kg_body kg_add(kg_world* world, kg_body_type type, kg_vec2 position, float angle, kg_shape_def shape)
+{
+    kg_body_def def = kg_default_body_def();
+    def.type = type;
+    def.position = position;
+    def.angle = angle;
+    def.shape = shape;
+    kg_body body = KG_NULL_BODY_INIT;
+    KG_CHECK_OK(kg_create_body(world, &def, &body));
+    return body;
+}
+
+static void kg_ground(kg_world* world, float width)
+{
+    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -0.5f}, 0.0f, kg_box_shape(width, 1.0f));
+}
+
+static void kg_projectile_scene(kg_world* world)
+{
+    kg_body_def def = kg_default_body_def();
+    def.shape = kg_box_shape(0.5f, 0.25f);
+    def.velocity = (kg_vec2){7.0f, 12.0f};
+    def.angular_velocity = 3.0f;
+    def.linear_damping = 0.1f;
+    def.angular_damping = 0.05f;
+    kg_body body;
+    KG_CHECK_OK(kg_create_body(world, &def, &body));
+}
+
+static void kg_stack_scene(kg_world* world)
+{
+    kg_ground(world, 40.0f);
+    for (int i = 0; i < 10; ++i) {
+        kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.5f + 1.0f * (float)i}, 0.0f, kg_box_shape(1.0f, 1.0f));
+    }
+}
+
+static void kg_pyramid_scene(kg_world* world)
+{
+    const int base = 20;
+    kg_ground(world, 80.0f);
+    for (int row = 0; row < base; ++row) {
+        for (int k = 0; k < base - row; ++k) {
+            float x = ((float)k - 0.5f * (float)(base - row - 1)) * 1.05f;
+            kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){x, 0.5f + (float)row}, 0.0f, kg_box_shape(1.0f, 1.0f));
+        }
+    }
+}
+
+static uint32_t kg_next(uint32_t* seed)
+{
+    *seed = *seed * 1664525u + 1013904223u;
+    return *seed >> 8;
+}
+
+static float kg_uniform(uint32_t* seed, float lo, float hi)
+{
+    return lo + (hi - lo) * (float)(kg_next(seed) & 0xFFFFu) / 65535.0f;
+}
+
+/* 2,000 boxes, circles and triangles dropped in a 40 m wide column onto the ground. */
+static void kg_rain_scene(kg_world* world)
+{
+    uint32_t seed = 12345u;
+    kg_ground(world, 60.0f);
+    for (int i = 0; i < 2000; ++i) {
+        kg_vec2 p = {kg_uniform(&seed, -20.0f, 20.0f), 1.0f + 0.6f * (float)(i / 40) + kg_uniform(&seed, 0.0f, 0.3f)};
+        float size = kg_uniform(&seed, 0.2f, 0.45f);
+        kg_shape_def shape;
+        switch (i % 3) {
+        case 0: shape = kg_box_shape(size, 0.7f * size); break;
+        case 1: shape = kg_circle_shape(0.5f * size); break;
+        default: {
+            kg_vec2 tri[3] = {{-0.5f * size, 0.0f}, {0.5f * size, 0.0f}, {0.0f, 0.6f * size}};
+            shape = kg_polygon_shape(tri, 3);
+        } break;
+        }
+        kg_add(world, KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
+    }
+}
+
+/* Pushes every body towards the origin in proportion to its height: a C callback that
+ * reads state through the getters and writes forces through the body API. */
+static void kg_pull_down(kg_world* world, const kg_body* bodies, int count, void* user_data)
+{
+    float k = *(const float*)user_data;
+    for (int i = 0; i < count; ++i) {
+        kg_vec2 p;
+        if (kg_body_get_position(world, bodies[i], &p) == KG_OK) {
+            kg_body_apply_force_to_center(world, bodies[i], (kg_vec2){0.0f, -k * p.y});
+        }
+    }
+}
+
+KG_DEVICE_FORCE(kg_swirl, {
+    body->force.x += params[0] * body->position.y - params[1] * body->velocity.x;
+    body->force.y -= params[0] * body->position.x + params[1] * body->velocity.y;
+    body->torque += params[2] * body->mass;
+})
+
+/* Gravity on a list (one body listed twice), wind on all, a C callback, a device force,
+ * over a ground with boxes and circles falling on it. */
+static void kg_applicator_scene(kg_world* world)
+{
+    static float pull = 0.5f;
+    kg_ground(world, 30.0f);
+    kg_body bodies[12];
+    for (int i = 0; i < 12; ++i) {
+        kg_shape_def shape = i % 2 ? kg_circle_shape(0.3f) : kg_box_shape(0.6f, 0.4f);
+        bodies[i] = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-3.0f + 0.6f * (float)i, 2.0f + 0.7f * (float)i}, 0.1f * (float)i,
+                           shape);
+    }
+    kg_body listed[4] = {bodies[1], bodies[5], bodies[1], bodies[9]};
+    kg_applicator a;
+    KG_CHECK_OK(kg_add_gravity_applicator(world, (kg_vec2){1.5f, -3.0f}, listed, 4, &a));
+    KG_CHECK_OK(kg_add_wind_applicator(world, (kg_vec2){1.0f, 0.2f}, 2.0f, 0.3f, NULL, 0, &a));
+    KG_CHECK_OK(kg_add_force_applicator(world, kg_pull_down, bodies + 2, 6, &pull, &a));
+    kg_device_force_def def = kg_default_device_force_def();
+    def.source = kg_swirl_source;
+    def.function_name = "kg_swirl";
+    def.cpu_fn = kg_swirl;
+    def.params[0] = 0.8f;
+    def.params[1] = 0.2f;
+    def.params[2] = 0.05f;
+    def.param_count = 3;
+    KG_CHECK_OK(kg_add_device_force_applicator(world, &def, &a));
+}
+
+static kg_world* kg_make_world(kg_backend backend, kg_scene_fn* scene)
+{
+    kg_world_def def = kg_default_world_def();
+    def.backend = backend;
+    def.max_bodies = 2100;
+    kg_world* world = NULL;
+    KG_CHECK_OK(kg_create_world(&def, &world));
+    if (world) {
+        KG_CHECK(kg_world_backend(world) == backend);
+        scene(world);
+    }
+    return world;
+}
+
+static int kg_same_bits(float a, float b) { return memcmp(&a, &b, sizeof a) == 0; }
+
+static double kg_abs(double v) { return v < 0.0 ? -v : v; }
+
+/* Compares every body; returns how many floats differ in their bits, and the largest
+ * position difference in *max_position. */
+static int kg_compare_states(kg_world* cpu, kg_world* cl, double* max_position)
+{
+    static kg_body bodies[2100];
+    int count = 0, count_cl = 0, differing = 0;
+    kg_world_get_bodies(cpu, bodies, 2100, &count);
+    kg_world_get_bodies(cl, bodies, 2100, &count_cl);
+    KG_CHECK(count == count_cl);
+    *max_position = 0.0;
+    for (int i = 0; i < count; ++i) {
+        kg_body_state a, b;
+        KG_CHECK_OK(kg_body_get_state(cpu, bodies[i], &a));
+        KG_CHECK_OK(kg_body_get_state(cl, bodies[i], &b));
+        float fa[6] = {a.position.x, a.position.y, a.angle, a.velocity.x, a.velocity.y, a.angular_velocity};
+        float fb[6] = {b.position.x, b.position.y, b.angle, b.velocity.x, b.velocity.y, b.angular_velocity};
+        for (int k = 0; k < 6; ++k) {
+            differing += !kg_same_bits(fa[k], fb[k]);
+        }
+        double dx = kg_abs((double)a.position.x - b.position.x), dy = kg_abs((double)a.position.y - b.position.y);
+        *max_position = dx > *max_position ? dx : *max_position;
+        *max_position = dy > *max_position ? dy : *max_position;
+    }
+    return differing;
+}
+
+static void kg_compare_scene(const char* name, kg_scene_fn* scene)
+{
+    kg_world* cpu = kg_make_world(KG_BACKEND_CPU, scene);
+    kg_world* cl = kg_make_world(KG_BACKEND_OPENCL, scene);
+    if (!cpu || !cl) {
+        kg_destroy_world(cpu);
+        kg_destroy_world(cl);
+        return;
+    }
+    int count_mismatch = 0, max_contacts = 0;
+    for (int s = 0; s < KG_STEPS; ++s) {
+        KG_CHECK_OK(kg_world_step(cpu, KG_DT));
+        KG_CHECK_OK(kg_world_step(cl, KG_DT));
+        int nc = kg_world_contact_count(cpu);
+        count_mismatch += nc != kg_world_contact_count(cl);
+        max_contacts = nc > max_contacts ? nc : max_contacts;
+    }
+    KG_CHECK(count_mismatch == 0);
+    KG_CHECK(kg_world_backend(cl) == KG_BACKEND_OPENCL);
+    double max_position = 0.0;
+    int differing = kg_compare_states(cpu, cl, &max_position);
+    printf("     %-12s %4d bodies, up to %4d contacts: %d steps with other contact counts, %d floats not bitwise "
+           "equal, positions within %.3g m\n",
+           name, kg_world_body_count(cpu), max_contacts, count_mismatch, differing, max_position);
+    KG_CHECK_NEAR(max_position, 0.0, 1e-4);
+    if (g_bitwise_expected) {
+        KG_CHECK(differing == 0);
+    }
+    kg_destroy_world(cpu);
+    kg_destroy_world(cl);
+}
+
+static void test_projectile(void) { kg_compare_scene("projectile", kg_projectile_scene); }
+static void test_applicators(void) { kg_compare_scene("applicators", kg_applicator_scene); }
+static void test_stack(void) { kg_compare_scene("stack", kg_stack_scene); }
+static void test_pyramid_20(void) { kg_compare_scene("pyramid 20", kg_pyramid_scene); }
+static void test_rain_2000(void) { kg_compare_scene("rain 2000", kg_rain_scene); }
+
+int main(void)
+{
+    int devices = 0;
+    if (kg_opencl_device_count(&devices) != KG_OK || devices == 0) {
+        printf("skipped: no OpenCL device (%s)\n", devices == 0 && kg_last_error()[0] ? kg_last_error() : "none found");
+        return KG_SKIP;
+    }
+    kg_opencl_device_info info;
+    kg_opencl_get_device_info(0, &info);
+    g_bitwise_expected = info.correctly_rounded_divide_sqrt;
+    printf("device 0: %s (%s), bitwise agreement %s\n", info.name, info.platform_name,
+           g_bitwise_expected ? "required" : "not required (no correctly rounded divide/sqrt)");
+    static const kg_test_case tests[] = {KG_TEST(test_projectile), KG_TEST(test_applicators), KG_TEST(test_stack),
+                                         KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000)};
+    return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
+}

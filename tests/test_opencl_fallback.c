@@ -1,0 +1,178 @@
+/* Every failure of the OpenCL backend, injected with KGYRO_CL_FAIL (cl_fault.h), hands the
+ * world to the CPU backend without losing state:
+ *  - at start (load, platform, build, alloc): the world runs on the CPU from creation;
+ *  - inside a step (enqueue, finish, read of the contacts): the step is redone on the CPU
+ *    from the checkpoint, and the world ends bitwise where a CPU-only world ends;
+ *  - a failed read for a getter: tried again, same result;
+ *  - a lost device: the world goes on from the last state the host read whole, so it
+ *    ends where a CPU world ends after fewer steps, at most the steps since that read.
+ * Skips (exit 77) when no OpenCL device exists. */
+#include "kg_test.h"
+#include "kgyro/kgyro.h"
+#include "kgyro/opencl.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define KG_SKIP 77
+#define KG_STEPS 120
+#define KG_SYNC_EVERY 20
+#define KG_DT (1.0f / 60.0f)
+
+static void kg_add_box(kg_world* world, kg_body_type type, float x, float y, float w, float h)
+{
+    kg_body_def def = kg_default_body_def();
+    def.type = type;
+    def.position = (kg_vec2){x, y};
+    def.shape = kg_box_shape(w, h);
+    kg_body body;
+    KG_CHECK_OK(kg_create_body(world, &def, &body));
+}
+
+/* Bodies that fall, touch and stack, with a wind applicator: every stage has work. */
+static kg_world* kg_make_world(kg_backend backend, const char* faults)
+{
+    if (faults) {
+        setenv("KGYRO_CL_FAIL", faults, 1);
+    } else {
+        unsetenv("KGYRO_CL_FAIL");
+    }
+    kg_world_def def = kg_default_world_def();
+    def.backend = backend;
+    def.max_bodies = 64;
+    kg_world* world = NULL;
+    KG_CHECK_OK(kg_create_world(&def, &world));
+    unsetenv("KGYRO_CL_FAIL");
+    if (!world) {
+        return NULL;
+    }
+    kg_add_box(world, KG_BODY_STATIC, 0.0f, -0.5f, 20.0f, 1.0f);
+    for (int i = 0; i < 12; ++i) {
+        kg_add_box(world, KG_BODY_DYNAMIC, 0.3f * (float)(i % 3), 0.6f + 1.1f * (float)i, 1.0f, 0.8f);
+    }
+    kg_applicator a;
+    KG_CHECK_OK(kg_add_wind_applicator(world, (kg_vec2){1.0f, 0.0f}, 0.5f, 0.1f, NULL, 0, &a));
+    return world;
+}
+
+/* A hash of the bits of every body's state, read through the public getters. */
+static uint64_t kg_state_hash(kg_world* world)
+{
+    kg_body bodies[64];
+    int count = 0;
+    kg_world_get_bodies(world, bodies, 64, &count);
+    uint64_t h = 1469598103934665603ull;
+    for (int i = 0; i < count; ++i) {
+        kg_body_state s;
+        kg_body_get_state(world, bodies[i], &s);
+        const unsigned char* bytes = (const unsigned char*)&s;
+        for (size_t k = 0; k < sizeof s; ++k) {
+            h = (h ^ bytes[k]) * 1099511628211ull;
+        }
+    }
+    return h;
+}
+
+/* hashes[s] is the CPU world's state after s steps. */
+static void kg_reference(uint64_t* hashes)
+{
+    kg_world* cpu = kg_make_world(KG_BACKEND_CPU, NULL);
+    hashes[0] = kg_state_hash(cpu);
+    for (int s = 1; s <= KG_STEPS; ++s) {
+        KG_CHECK_OK(kg_world_step(cpu, KG_DT));
+        hashes[s] = kg_state_hash(cpu);
+    }
+    kg_destroy_world(cpu);
+}
+
+static uint64_t g_reference[KG_STEPS + 1];
+
+/* Runs a world with the faults injected, reading its state back every KG_SYNC_EVERY
+ * steps; returns the step after which it was on the CPU (0: from the start, -1: never). */
+static int kg_run_with_faults(const char* faults, uint64_t* final_hash)
+{
+    kg_world* world = kg_make_world(KG_BACKEND_OPENCL, faults);
+    if (!world) {
+        return -2;
+    }
+    int fell_back_at = kg_world_backend(world) == KG_BACKEND_CPU ? 0 : -1;
+    for (int s = 1; s <= KG_STEPS; ++s) {
+        KG_CHECK_OK(kg_world_step(world, KG_DT));
+        if (s % KG_SYNC_EVERY == 0) {
+            kg_state_hash(world);
+        }
+        if (fell_back_at < 0 && kg_world_backend(world) == KG_BACKEND_CPU) {
+            fell_back_at = s;
+        }
+    }
+    *final_hash = kg_state_hash(world);
+    kg_destroy_world(world);
+    return fell_back_at;
+}
+
+/* The failure makes the world fall back, and it ends exactly where the CPU world ends. */
+static void kg_expect_intact(const char* faults, int expect_at_start)
+{
+    uint64_t final_hash = 0;
+    int at = kg_run_with_faults(faults, &final_hash);
+    printf("     KGYRO_CL_FAIL=%-10s fell back %s %d, final state %s\n", faults, at == 0 ? "at creation" : "in step",
+           at, final_hash == g_reference[KG_STEPS] ? "bitwise equal to the CPU's" : "DIFFERENT");
+    KG_CHECK(expect_at_start ? at == 0 : at > 0);
+    KG_CHECK(final_hash == g_reference[KG_STEPS]);
+}
+
+static void test_no_fault_no_fallback(void)
+{
+    uint64_t final_hash = 0;
+    KG_CHECK(kg_run_with_faults(NULL, &final_hash) == -1);
+    KG_CHECK(final_hash == g_reference[KG_STEPS]);
+}
+
+static void test_load_failure(void) { kg_expect_intact("load", 1); }
+static void test_no_platform(void) { kg_expect_intact("platform", 1); }
+static void test_build_failure(void) { kg_expect_intact("build", 1); }
+static void test_alloc_failure(void) { kg_expect_intact("alloc:7", 1); }
+static void test_enqueue_failure_first_step(void) { kg_expect_intact("enqueue", 0); }
+static void test_enqueue_failure_mid_run(void) { kg_expect_intact("enqueue:2000", 0); }
+static void test_kernel_failure(void) { kg_expect_intact("finish:37", 0); }
+static void test_read_failure_in_step(void) { kg_expect_intact("read:50", 0); }
+
+/* A getter's read fails, between steps. A step reads 4 times (transforms, bounds and flags
+ * for the host's collide stage, then the contacts; the first step only the contacts), so
+ * reads 78 to 84 are the getters' after step 20: read 80 fails there and is tried again. */
+static void test_read_failure_in_getter(void) { kg_expect_intact("read:80", 0); }
+
+/* Every command fails from the Nth on, reads too: the world continues from the last
+ * state the host read whole, at most KG_SYNC_EVERY steps back, and exactly that state. */
+static void test_device_lost(void)
+{
+    uint64_t final_hash = 0;
+    int at = kg_run_with_faults("lost:1500", &final_hash);
+    int matched = -1;
+    for (int s = KG_STEPS; s >= 0 && matched < 0; --s) {
+        matched = final_hash == g_reference[s] ? s : -1;
+    }
+    printf("     KGYRO_CL_FAIL=lost:1500 fell back in step %d, final state = the CPU's after %d steps (%d lost)\n", at,
+           matched, KG_STEPS - matched);
+    KG_CHECK(at > 0);
+    KG_CHECK(matched >= 0 && KG_STEPS - matched <= KG_SYNC_EVERY);
+}
+
+static void test_bad_spec_is_ignored(void) { kg_expect_intact("nonsense,build", 1); }
+
+int main(void)
+{
+    int devices = 0;
+    if (kg_opencl_device_count(&devices) != KG_OK || devices == 0) {
+        printf("skipped: no OpenCL device (%s)\n", kg_last_error());
+        return KG_SKIP;
+    }
+    kg_reference(g_reference);
+    static const kg_test_case tests[] = {
+        KG_TEST(test_no_fault_no_fallback), KG_TEST(test_load_failure), KG_TEST(test_no_platform),
+        KG_TEST(test_build_failure), KG_TEST(test_alloc_failure), KG_TEST(test_enqueue_failure_first_step),
+        KG_TEST(test_enqueue_failure_mid_run), KG_TEST(test_kernel_failure), KG_TEST(test_read_failure_in_step),
+        KG_TEST(test_read_failure_in_getter), KG_TEST(test_device_lost), KG_TEST(test_bad_spec_is_ignored)};
+    return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
+}
