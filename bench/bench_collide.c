@@ -20,6 +20,7 @@
 #define MARGIN 0.1f
 #define SPECULATIVE_DISTANCE 0.02f
 #define WARMUP_STEPS 3
+#define MAX_STEPS 100
 
 typedef struct bench_scene {
     kg_body_pool pool;
@@ -28,11 +29,12 @@ typedef struct bench_scene {
     kg_u32 rng;
 } bench_scene;
 
+/* Per step: the median time, which a busy machine disturbs less than the mean. */
 typedef struct bench_result {
     double broadphase_ms;
     double narrowphase_ms;
-    double pairs;
-    double touching; /* pairs whose manifold has points */
+    double pairs;    /* mean */
+    double touching; /* mean of the pairs whose manifold has points */
 } bench_result;
 
 static double now_ms(void)
@@ -40,6 +42,18 @@ static double now_ms(void)
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return 1000.0 * (double)t.tv_sec + 1.0e-6 * (double)t.tv_nsec;
+}
+
+static int compare_doubles(const void* a, const void* b)
+{
+    double x = *(const double*)a, y = *(const double*)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double* values, int count)
+{
+    qsort(values, (size_t)count, sizeof *values, compare_doubles);
+    return count % 2 ? values[count / 2] : 0.5 * (values[count / 2 - 1] + values[count / 2]);
 }
 
 static float random_range(bench_scene* s, float lo, float hi)
@@ -146,25 +160,26 @@ static int run_case(int count, int steps, bench_result* result)
     if (!pairs || !create_scene(&scene, count) || kg_broadphase_create(count, &bp) != KG_OK) {
         return 0;
     }
-    bench_result sum = {0.0, 0.0, 0.0, 0.0};
-    for (int step = 0; step < WARMUP_STEPS + steps; ++step) {
+    double broadphase_ms[MAX_STEPS], narrowphase_ms[MAX_STEPS];
+    double pair_sum = 0.0, touching_sum = 0.0;
+    for (int step = -WARMUP_STEPS; step < steps; ++step) {
         move_scene(&scene);
         double t0 = now_ms();
         int pair_count = find_pairs(bp, &scene.pool, &pairs, &pair_capacity);
         double t1 = now_ms();
         int touching = collide_pairs(&scene.pool, pairs, pair_count);
         double t2 = now_ms();
-        if (step >= WARMUP_STEPS) {
-            sum.broadphase_ms += t1 - t0;
-            sum.narrowphase_ms += t2 - t1;
-            sum.pairs += pair_count;
-            sum.touching += touching;
+        if (step >= 0) {
+            broadphase_ms[step] = t1 - t0;
+            narrowphase_ms[step] = t2 - t1;
+            pair_sum += pair_count;
+            touching_sum += touching;
         }
     }
-    result->broadphase_ms = sum.broadphase_ms / steps;
-    result->narrowphase_ms = sum.narrowphase_ms / steps;
-    result->pairs = sum.pairs / steps;
-    result->touching = sum.touching / steps;
+    result->broadphase_ms = median(broadphase_ms, steps);
+    result->narrowphase_ms = median(narrowphase_ms, steps);
+    result->pairs = pair_sum / steps;
+    result->touching = touching_sum / steps;
     kg_broadphase_destroy(bp);
     destroy_scene(&scene);
     free(pairs);
@@ -183,7 +198,7 @@ int main(int argc, char** argv)
             fprintf(stderr, "bad body count '%s'\n", argv[c + 1]);
             return 1;
         }
-        int steps = count >= 100000 ? 20 : 100;
+        int steps = count >= 100000 ? 20 : MAX_STEPS;
         bench_result r;
         if (!run_case(count, steps, &r)) {
             fprintf(stderr, "cannot set up %d bodies\n", count);

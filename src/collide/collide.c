@@ -5,6 +5,7 @@
 #include "backend/cpu/parallel.h"
 #include "collide/broadphase.h"
 #include "collide/manifold.h"
+#include "collide/tilemap.h"
 #include "core/alloc.h"
 #include "core/error.h"
 
@@ -19,6 +20,8 @@ struct kg_collision {
     kg_contact* previous;
     int count;
     int previous_count;
+    int body_count;          /* contacts [0, body_count) are body pairs, the rest tiles */
+    int previous_body_count;
     int capacity;           /* of pairs, manifolds and both contact arrays */
 };
 
@@ -118,7 +121,8 @@ static void kg_narrowphase_range(void* context, int begin, int end)
     }
 }
 
-static void kg_carry_impulses(kg_manifold* m, const kg_manifold* old)
+/* Carries impulses over point by point, matched by feature id. */
+void kg_contact_carry_impulses(kg_manifold* m, const kg_manifold* old)
 {
     for (int i = 0; i < m->point_count; ++i) {
         for (int j = 0; j < old->point_count; ++j) {
@@ -150,16 +154,18 @@ static void kg_build_contacts(kg_world* world, int pair_count)
             old++;
         }
         if (old < c->previous_count && c->previous[old].a == a && c->previous[old].b == b) {
-            kg_carry_impulses(m, &c->previous[old].manifold);
+            kg_contact_carry_impulses(m, &c->previous[old].manifold);
         }
         kg_contact* ct = &c->contacts[count++];
         ct->manifold = *m;
         ct->a = a;
         ct->b = b;
+        ct->tile = KG_NULL_INDEX;
         ct->friction = sqrtf(p->friction[a] * p->friction[b]);
         ct->restitution = fmaxf(p->restitution[a], p->restitution[b]);
     }
     c->count = count;
+    c->body_count = count;
 }
 
 kg_result kg_stage_collide(kg_world* world)
@@ -168,6 +174,7 @@ kg_result kg_stage_collide(kg_world* world)
     kg_contact* swap = c->previous;
     c->previous = c->contacts;
     c->previous_count = c->count;
+    c->previous_body_count = c->body_count;
     c->contacts = swap;
     c->count = 0;
     int pair_count = 0;
@@ -178,6 +185,15 @@ kg_result kg_stage_collide(kg_world* world)
     kg_narrowphase_job job = {&world->bodies, c->pairs, c->manifolds, world->def.speculative_distance};
     kg_parallel_for(world->threads, pair_count, 64, kg_narrowphase_range, &job);
     kg_build_contacts(world, pair_count);
+    int room = c->capacity - c->count;
+    int tiles = kg_tilemap_collide(world, c->contacts + c->count, room, c->previous + c->previous_body_count,
+                                   c->previous_count - c->previous_body_count);
+    if (tiles > room) {
+        kg_warn_once("tile-contacts-full", "more tile contacts (%d) than room left in max_contacts (%d): "
+                     "the extra ones were dropped this step; raise kg_world_def.max_contacts", tiles, room);
+        tiles = room;
+    }
+    c->count += tiles;
     return KG_OK;
 }
 

@@ -6,19 +6,15 @@
 #include "core/world.h"
 #include "kgyro/collision.h"
 
-/* A persistent contact between two bodies (slots a < b). */
-typedef struct kg_contact {
-    kg_manifold manifold;
-    kg_u32 a, b;
-    float friction;     /* mixed: sqrt(fa * fb) */
-    float restitution;  /* mixed: max(ra, rb) */
-} kg_contact;
 
 kg_result kg_collision_create(kg_world* world);
 void kg_collision_destroy(kg_world* world);
 kg_result kg_stage_collide(kg_world* world);
 
-/* The contacts of the current step, sorted by (a, b). */
+/* Copies accumulated impulses from old to m where the feature ids match. */
+void kg_contact_carry_impulses(kg_manifold* m, const kg_manifold* old);
+
+/* The contacts of the current step: body pairs sorted by (a, b), then tile contacts. */
 kg_contact* kg_collision_contacts(kg_world* world, int* count);
 
 #endif

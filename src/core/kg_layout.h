@@ -45,9 +45,21 @@ typedef struct kg_manifold {
     kg_i32 pad;
 } kg_manifold;
 
+/* A persistent contact: between two bodies (slots a < b, tile == KG_NULL_INDEX), or
+ * between body a and a tile of a tile map (b == KG_NULL_INDEX, tile = its key). */
+typedef struct kg_contact {
+    kg_manifold manifold;
+    kg_u32 a, b;
+    kg_u32 tile;        /* tile key (map, layer, cell) for tile contacts */
+    float friction;     /* mixed: sqrt(fa * fb) */
+    float restitution;  /* mixed: max(ra, rb) */
+    kg_u32 pad[3];      /* a multiple of 16 bytes, as device buffers prefer */
+} kg_contact;
+
 KG_STATIC_ASSERT(sizeof(kg_vec2) == 8, vec2_size);
 KG_STATIC_ASSERT(sizeof(kg_shape) == 144, shape_size);
 KG_STATIC_ASSERT(sizeof(kg_manifold_point) == 48, manifold_point_size);
 KG_STATIC_ASSERT(sizeof(kg_manifold) == 112, manifold_size);
+KG_STATIC_ASSERT(sizeof(kg_contact) == 144, contact_size);
 
 #endif

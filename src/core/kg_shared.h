@@ -5,7 +5,7 @@
 #ifndef KG_SHARED_H
 #define KG_SHARED_H
 
-#ifdef __OPENCL_VERSION__
+#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
 #pragma OPENCL FP_CONTRACT OFF
 typedef uint kg_u32;
 typedef int kg_i32;

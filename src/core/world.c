@@ -3,6 +3,7 @@
 #include "core/alloc.h"
 #include "core/error.h"
 #include "collide/collide.h"
+#include "collide/tilemap.h"
 #include "solve/solver.h"
 
 #include <math.h>
@@ -112,6 +113,7 @@ void kg_destroy_world(kg_world* world)
         world->backend->destroy(world);
     }
     kg_solver_destroy(world);
+    kg_tilemaps_destroy(world);
     kg_collision_destroy(world);
     for (int i = 0; world->applicators && i < world->def.max_applicators; ++i) {
         kg_free(world->applicators[i].bodies);

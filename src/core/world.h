@@ -27,6 +27,7 @@ typedef struct kg_applicator_slot {
 
 struct kg_backend_ops;
 struct kg_thread_pool;
+struct kg_tilemaps;
 struct kg_collision;
 struct kg_solver;
 
@@ -37,6 +38,7 @@ struct kg_world {
     kg_body* handle_scratch; /* capacity max_bodies: the body list handed to applicators */
     struct kg_collision* collision;
     struct kg_solver* solver;
+    struct kg_tilemaps* tilemaps;   /* NULL until a tile map is added */
     struct kg_thread_pool* threads; /* CPU worker threads (NULL with one thread) */
     const struct kg_backend_ops* backend;
     void* backend_state;

@@ -17,6 +17,7 @@ typedef struct kg_cl_backend {
     int* color_scratch;
     int color_capacity;
     kg_graph_coloring coloring;
+    kg_solver_params solver_params;  /* the step's, read by a non-blocking write */
     cl_kernel* force_kernels;        /* per applicator slot, for device forces */
     cl_mem* force_params;
     int steps_since_snapshot;        /* steps since the host last had the whole state */

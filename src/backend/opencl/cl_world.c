@@ -2,6 +2,7 @@
 #include "backend/opencl/cl_world.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "solve/contact_solver.h"
 
 #include <string.h>
 
@@ -374,6 +375,9 @@ static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
         r = kg_cl_buffer(w, (size_t)pool->capacity * sizeof(kg_rot), &w->rot0);
     }
     if (r == KG_OK) {
+        r = kg_cl_buffer(w, sizeof(kg_solver_params), &w->solver_params);
+    }
+    if (r == KG_OK) {
         r = kg_cl_reserve_targets(w, pool->capacity);
     }
     if (r == KG_OK) {
@@ -392,9 +396,9 @@ kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
     kg_cl_release(w, &w->order);
     w->contact_capacity = 0;
     size_t n = (size_t)(capacity > 0 ? capacity : 1);
-    kg_result r = kg_cl_buffer(w, n * 128u, &w->contacts);
+    kg_result r = kg_cl_buffer(w, n * sizeof(kg_contact), &w->contacts);
     if (r == KG_OK) {
-        r = kg_cl_buffer(w, n * 160u, &w->constraints);
+        r = kg_cl_buffer(w, n * sizeof(kg_contact_constraint), &w->constraints);
     }
     if (r == KG_OK) {
         r = kg_cl_buffer(w, n * sizeof(int), &w->order);
@@ -470,6 +474,7 @@ void kg_cl_world_destroy(kg_cl_world* w)
     }
     kg_cl_release(w, &w->center0);
     kg_cl_release(w, &w->rot0);
+    kg_cl_release(w, &w->solver_params);
     kg_cl_release(w, &w->contacts);
     kg_cl_release(w, &w->constraints);
     kg_cl_release(w, &w->order);

@@ -67,6 +67,7 @@ typedef struct kg_cl_world {
     cl_mem arrays[KG_CL_ARRAY_COUNT];
     cl_mem checkpoint[KG_CL_ARRAY_COUNT]; /* state arrays at the start of the step */
     cl_mem center0, rot0;                 /* poses at the start of the solve */
+    cl_mem solver_params;                 /* kg_solver_params of the step */
     cl_mem contacts, constraints, order;  /* contact_capacity each */
     int contact_capacity;
     cl_mem targets;                       /* applicator targets, (slot, multiplicity) */

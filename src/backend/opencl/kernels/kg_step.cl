@@ -12,16 +12,6 @@
 #include "solve/integrate.h"
 #include "solve/contact_solver.h"
 
-/* kg_contact of collide/collide.h (the host asserts the same size). */
-typedef struct kg_contact {
-    kg_manifold manifold;
-    kg_u32 a, b;
-    float friction;
-    float restitution;
-} kg_contact;
-
-KG_STATIC_ASSERT(sizeof(kg_contact) == 128, contact_size);
-
 #define KG_APPLICATOR_GRAVITY_KIND 0
 #define KG_APPLICATOR_WIND_KIND 1
 
@@ -165,7 +155,7 @@ KG_FN int kg_moves(__global const kg_u32* flags, kg_u32 slot)
 }
 
 /* kg_prepare_range of solve/solver.c: constraint k from contact k. */
-__kernel void kg_prepare_contacts(int count, kg_solver_params prm, __global const kg_contact* contacts,
+__kernel void kg_prepare_contacts(int count, __global const kg_solver_params* params, __global const kg_contact* contacts,
                                   __global kg_contact_constraint* constraints, __global const kg_u32* flags,
                                   __global const float* inv_mass, __global const float* inv_inertia,
                                   __global const kg_xf* xf, __global kg_vec2* velocity, __global float* omega,
@@ -177,6 +167,7 @@ __kernel void kg_prepare_contacts(int count, kg_solver_params prm, __global cons
         return;
     }
     kg_body_arrays p = {velocity, omega, center, rot, center0, rot0, flags};
+    kg_solver_params prm = *params;
     kg_contact ct = contacts[k];
     kg_contact_constraint c;
     c.a = ct.a;
@@ -219,7 +210,7 @@ KG_FN void kg_solve_one(kg_contact_constraint* c, kg_body_arrays p, kg_solver_pa
 /* One pass over the constraints order[first, first + count): one colour in parallel
  * (its constraints share no moving body), or, serial != 0, the overflow in order by a
  * single work-item. */
-__kernel void kg_solve_color(int first, int count, int serial, int pass, kg_solver_params prm,
+__kernel void kg_solve_color(int first, int count, int serial, int pass, __global const kg_solver_params* params,
                              __global const int* order, __global kg_contact_constraint* constraints,
                              __global const kg_u32* flags, __global kg_vec2* velocity, __global float* omega,
                              __global const kg_vec2* center, __global const kg_rot* rot,
@@ -227,6 +218,7 @@ __kernel void kg_solve_color(int first, int count, int serial, int pass, kg_solv
 {
     int k = (int)get_global_id(0);
     kg_body_arrays p = {velocity, omega, center, rot, center0, rot0, flags};
+    kg_solver_params prm = *params;
     int begin = serial ? 0 : k;
     int end = serial ? (k == 0 ? count : 0) : (k < count ? k + 1 : 0);
     for (int j = begin; j < end; ++j) {
