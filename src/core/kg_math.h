@@ -75,6 +75,15 @@ KG_FN kg_rot kg_rot_integrate(kg_rot q, float delta_angle)
     return kg_rot_normalize(r);
 }
 
+/* q applied after r. */
+KG_FN kg_rot kg_rot_mul(kg_rot q, kg_rot r)
+{
+    kg_rot m;
+    m.c = q.c * r.c - q.s * r.s;
+    m.s = q.s * r.c + q.c * r.s;
+    return m;
+}
+
 /* Relative rotation b * inverse(a). */
 KG_FN kg_rot kg_rot_inv_mul(kg_rot a, kg_rot b)
 {
