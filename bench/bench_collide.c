@@ -64,13 +64,22 @@ static float random_range(bench_scene* s, float lo, float hi)
     return lo + (hi - lo) * (float)(s->rng >> 8) * (1.0f / 16777216.0f);
 }
 
+/* Two draws in a fixed order (the order of a call's arguments is unspecified in C). */
+static kg_vec2 random_vec(bench_scene* s, float lo, float hi)
+{
+    float x = random_range(s, lo, hi);
+    float y = random_range(s, lo, hi);
+    return kg_v2(x, y);
+}
+
 /* Half boxes (0.2 to 1 m sides, any angle), half circles (0.1 to 0.5 m radius). */
 static kg_shape_def random_shape(bench_scene* s, int k)
 {
     if (k % 2 == 0) {
         return kg_circle_shape(random_range(s, 0.1f, 0.5f));
     }
-    return kg_box_shape(random_range(s, 0.2f, 1.0f), random_range(s, 0.2f, 1.0f));
+    kg_vec2 size = random_vec(s, 0.2f, 1.0f);
+    return kg_box_shape(size.x, size.y);
 }
 
 static int create_scene(bench_scene* s, int count)
@@ -91,11 +100,11 @@ static int create_scene(bench_scene* s, int count)
         p->flags[i] = KG_FLAG_ALIVE | ((kg_u32)KG_BODY_DYNAMIC << KG_TYPE_SHIFT);
         p->category[i] = 1u;
         p->mask[i] = 0xFFFFFFFFu;
-        p->center[i] = kg_v2(random_range(s, 0.0f, s->side), random_range(s, 0.0f, s->side));
+        p->center[i] = random_vec(s, 0.0f, s->side);
         float angle = random_range(s, -3.14159f, 3.14159f);
         p->rot[i].c = cosf(angle);
         p->rot[i].s = sinf(angle);
-        s->drift[i] = kg_v2(random_range(s, -0.02f, 0.02f), random_range(s, -0.02f, 0.02f));
+        s->drift[i] = random_vec(s, -0.02f, 0.02f);
         kg_body_update_transform(p, i);
     }
     return 1;

@@ -53,5 +53,6 @@ install(FILES ${PROJECT_BINARY_DIR}/kgyroConfig.cmake ${PROJECT_BINARY_DIR}/kgyr
 
 # kgyro.pc finds the prefix from its own place (${pcfiledir}), as pkg-config allows.
 file(RELATIVE_PATH KG_PC_TO_PREFIX /prefix/${CMAKE_INSTALL_LIBDIR}/pkgconfig /prefix)
+string(REGEX REPLACE "/$" "" KG_PC_TO_PREFIX "${KG_PC_TO_PREFIX}")
 configure_file(${CMAKE_CURRENT_LIST_DIR}/kgyro.pc.in ${PROJECT_BINARY_DIR}/kgyro.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/kgyro.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

@@ -17,14 +17,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-/* Runs one input in a child; exit() there, not _exit(), so LeakSanitizer checks it. */
+/* Runs one input in a child; exit() there, not _exit(), so LeakSanitizer checks it.
+ * Returns the child's wait status, or -1 when it could not be run. */
 static int run_isolated(const uint8_t* data, size_t size)
 {
     fflush(NULL);
     pid_t child = fork();
     if (child < 0) {
         perror("replay: fork");
-        return 0;
+        return -1;
     }
     if (child == 0) {
         LLVMFuzzerTestOneInput(data, size);
@@ -33,9 +34,22 @@ static int run_isolated(const uint8_t* data, size_t size)
     int status = 0;
     if (waitpid(child, &status, 0) != child) {
         perror("replay: waitpid");
-        return 0;
+        return -1;
     }
-    return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    return status;
+}
+
+static int report_status(const char* path, int status)
+{
+    if (status == 0) {
+        return 1;
+    }
+    if (status > 0 && WIFSIGNALED(status)) {
+        fprintf(stderr, "replay: FAILED on %s (signal %d, %s)\n", path, WTERMSIG(status), strsignal(WTERMSIG(status)));
+    } else {
+        fprintf(stderr, "replay: FAILED on %s (exit status %d)\n", path, status > 0 ? WEXITSTATUS(status) : -1);
+    }
+    return 0;
 }
 
 static int replay_file(const char* path)
@@ -66,12 +80,9 @@ static int replay_file(const char* path)
         size += got;
     }
     fclose(f);
-    int passed = run_isolated(data, size);
+    int status = run_isolated(data, size);
     free(data);
-    if (!passed) {
-        fprintf(stderr, "replay: FAILED on %s\n", path);
-    }
-    return passed;
+    return report_status(path, status);
 }
 
 static int is_regular_file(const char* path)

@@ -1,3 +1,45 @@
 #!/usr/bin/env bash
-# Placeholder until 'make bench' is built.
-echo "make bench: not built yet"
+# make bench: the Box2D benchmark scenes and the scaling series (rain_N, particles_N) in
+# kgyro (every backend that works here) and the peer engines, Box2D 2.4 and Chipmunk 7.
+# Writes out/bench/results.csv, results_stages.csv, report.txt and the charts
+# (scaling.png: step time vs bodies, log-log; scenes.png; stages.png).
+#
+#   bash scripts/bench.sh [BUILD_DIR] [more `kgyro bench` options, e.g. --threads 2]
+#   BENCH_QUICK=1 bash scripts/bench.sh build    # about a minute: short runs, N <= 20,000
+#
+# The full run stays under about 15 minutes on a 2-core machine: the benchmark scenes
+# take their own step counts twice, and each scaling series grows N from 1,000 towards
+# 1,000,000 until a run of an engine steps longer than the budget; that engine then
+# sits out the larger sizes of that series.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+build=${1:-build}
+shift || true
+kgyro="$build/kgyro"
+out=out/bench
+if [ ! -x "$kgyro" ]; then
+  echo "bench: $kgyro not found; build first (make build)" >&2
+  exit 1
+fi
+
+if [ "${BENCH_QUICK:-0}" = 1 ]; then
+  scene_steps=":60"; runs=1; series_steps=30; budget=2; timeout=60
+  sizes="1000 2000 5000 10000 20000"
+else
+  scene_steps=""; runs=2; series_steps=60; budget=6; timeout=90
+  sizes="1000 2000 5000 10000 20000 50000 100000 200000 500000 1000000"
+fi
+
+scenes=()
+for scene in large_pyramid many_pyramids smash tumbler; do
+  scenes+=("$scene$scene_steps")
+done
+for n in $sizes; do
+  scenes+=("rain_$n:$series_steps" "particles_$n:$series_steps")
+done
+
+mkdir -p "$out"
+"$kgyro" bench "${scenes[@]}" --engines kgyro,box2d,chipmunk --backend cpu,opencl --runs "$runs" \
+  --budget "$budget" --timeout "$timeout" --profile --csv "$out/results.csv" --plot "$out" "$@" \
+  | tee "$out/report.txt"

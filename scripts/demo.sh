@@ -1,6 +1,77 @@
 #!/usr/bin/env bash
-# The showcase: runs the sample scenes headless and says where the output went.
+# The showcase, run headless by `make demo` after the build: renders each demo scene to
+# out/NAME.gif (animated) and out/NAME.png (last frame), times the steps on the CPU and,
+# when `kgyro info` reports an OpenCL device, on OpenCL too, and prints a table.
+# Usage: scripts/demo.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
+cd "$(dirname "$0")/.."
 build="${1:-build}"
-mkdir -p out
-"$build/kgyro" run samples/pyramid.json --csv out/pyramid.csv --every 10
+kgyro="$build/kgyro"
+out=out
+
+if [ ! -x "$kgyro" ]; then
+  echo "demo: $kgyro not found; build first (make demo does)" >&2
+  exit 1
+fi
+
+# NAME|SCENE|render options. Each view is fixed so that the whole motion stays in frame.
+scenes=(
+  "demo_pyramid|samples/demo_pyramid.json|--view -15,-1.5,25,28.5 --every 3"
+  "demo_rain|samples/demo_rain.json|--view -20,-1.5,20,28.5 --every 4"
+)
+# Hook for the tile-map platform level (issue 7): once tile maps exist and kgyro render
+# draws their layers, samples/demo_platformer.json (a Tiled level with slopes, one-way
+# platforms, bodies, particles and a wind applicator) joins the showcase here.
+if [ -f samples/demo_platformer.json ]; then
+  scenes+=("demo_platformer|samples/demo_platformer.json|--every 3")
+fi
+
+# The mean step time that kgyro render printed, or "-" when it did not run there.
+mean_ms() { sed -n 's/.*step time: mean \([0-9.]*\) ms.*/\1/p' <<<"$1"; }
+
+has_opencl_device() {
+  local info
+  info=$("$kgyro" info 2>/dev/null) || return 1
+  grep -qi "device" <<<"$info" && ! grep -qiE "no (opencl )?devices?|(^|[^0-9])0 devices|devices?: *0([^0-9]|$)" <<<"$info"
+}
+
+opencl=no
+if has_opencl_device; then
+  opencl=yes
+fi
+
+mkdir -p "$out"
+rows=()
+start=$SECONDS
+for entry in "${scenes[@]}"; do
+  IFS='|' read -r name scene options <<<"$entry"
+  echo "demo: rendering $name ($scene)"
+  # shellcheck disable=SC2086
+  report=$("$kgyro" render "$scene" --backend cpu --gif "$out/$name.gif" --png "$out/$name.png" $options)
+  bodies=$(sed -n 's/.*, \([0-9]*\) bodies, .*/\1/p' <<<"$report")
+  steps=$(sed -n 's/.* bodies, \([0-9]*\) steps .*/\1/p' <<<"$report")
+  cpu=$(mean_ms "$report")
+  cl="-"
+  if [ "$opencl" = yes ]; then
+    # shellcheck disable=SC2086
+    report=$("$kgyro" render "$scene" --backend opencl --png "$out/$name-opencl.png" $options)
+    if grep -q "steps on OpenCL" <<<"$report"; then
+      cl=$(mean_ms "$report")
+    else
+      cl="fell back"
+    fi
+  fi
+  rows+=("$(printf '%-16s %7s %6s %14s %14s' "$name" "$bodies" "$steps" "$cpu" "$cl")")
+done
+
+echo
+echo "Step times (mean wall-clock ms per step; OpenCL only where kgyro info reports a device):"
+printf '%-16s %7s %6s %14s %14s\n' scene bodies steps "CPU ms/step" "OpenCL ms/step"
+printf '%s\n' "${rows[@]}"
+echo
+echo "demo: done in $((SECONDS - start)) s. Pictures:"
+for entry in "${scenes[@]}"; do
+  name=${entry%%|*}
+  echo "  $out/$name.gif  (animation)    $out/$name.png  (last frame)"
+done
+echo "Play with a scene: $kgyro view samples/demo_pyramid.json"

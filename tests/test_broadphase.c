@@ -23,6 +23,14 @@ static kg_u32 rng_next(void)
 }
 
 static float rng_range(float lo, float hi) { return lo + (hi - lo) * (float)(rng_next() >> 8) * (1.0f / 16777216.0f); }
+/* Two draws in a fixed order (the order of a call's arguments is unspecified in C). */
+static kg_vec2 rng_vec(float lo, float hi)
+{
+    float x = rng_range(lo, hi);
+    float y = rng_range(lo, hi);
+    return kg_v2(x, y);
+}
+
 static int rng_percent(int percent) { return (int)(rng_next() % 100u) < percent; }
 
 /* ---- scene building ---- */
@@ -67,21 +75,25 @@ static kg_body_type random_type(void)
  * or specks. Positions span side x side metres. */
 static kg_aabb random_box(kg_body_type type, float side)
 {
-    float x = rng_range(0.0f, side), y = rng_range(0.0f, side);
+    kg_vec2 at = rng_vec(0.0f, side);
     if (type == KG_BODY_PARTICLE) {
         float s = rng_percent(50) ? 0.0f : rng_range(0.0f, 0.05f);
-        return box_at(x, y, s, s);
+        return box_at(at.x, at.y, s, s);
     }
     kg_u32 r = rng_next() % 1000u;
     float lo = 0.05f, hi = 1.0f;
     if (r < 3) {
-        lo = 50.0f, hi = 300.0f;
+        lo = 50.0f;
+        hi = 300.0f;
     } else if (r < 30) {
-        lo = 4.0f, hi = 30.0f;
+        lo = 4.0f;
+        hi = 30.0f;
     } else if (r < 150) {
-        lo = 1.0f, hi = 4.0f;
+        lo = 1.0f;
+        hi = 4.0f;
     }
-    return box_at(x, y, rng_range(lo, hi), rng_range(lo, hi));
+    kg_vec2 size = rng_vec(lo, hi);
+    return box_at(at.x, at.y, size.x, size.y);
 }
 
 /* Random category/mask on some bodies, so filtering removes some overlapping pairs. */
@@ -119,9 +131,9 @@ static void move_random_scene(kg_body_pool* pool, float side)
         if (!kg_pool_alive(pool, i) || kg_pool_type(pool, i) == KG_BODY_STATIC) {
             continue;
         }
-        kg_vec2 d = kg_v2(rng_range(-0.3f, 0.3f), rng_range(-0.3f, 0.3f));
+        kg_vec2 d = rng_vec(-0.3f, 0.3f);
         if (rng_percent(1)) {
-            d = kg_v2(rng_range(-0.5f * side, 0.5f * side), rng_range(-0.5f * side, 0.5f * side));
+            d = rng_vec(-0.5f * side, 0.5f * side);
         }
         pool->aabb[i].lower = kg_add(pool->aabb[i].lower, d);
         pool->aabb[i].upper = kg_add(pool->aabb[i].upper, d);
@@ -484,7 +496,8 @@ static void test_container_with_huge_walls(void)
     rng_state = 5u;
     for (int k = 0; k < count; ++k) {
         float s = rng_range(0.1f, 0.4f);
-        kg_aabb box = box_at(rng_range(0.0f, 40.0f), rng_range(0.0f, 40.0f), s, s);
+        kg_vec2 at = rng_vec(0.0f, 40.0f);
+        kg_aabb box = box_at(at.x, at.y, s, s);
         add_body(&pool, k % 3 ? KG_BODY_DYNAMIC : KG_BODY_PARTICLE, box);
     }
     add_body(&pool, KG_BODY_STATIC, box_at(-1000.0f, -1000.0f, 1000.1f, 2040.0f));
@@ -541,7 +554,8 @@ static void test_degenerate_scenes(void)
         add_body(&pool, KG_BODY_PARTICLE, box_at(2.0f, 2.0f, 0.0f, 0.0f));
     }
     for (int k = 0; k < 500; ++k) {
-        add_body(&pool, KG_BODY_PARTICLE, box_at(rng_range(0.0f, 4.0f), rng_range(0.0f, 4.0f), 0.0f, 0.0f));
+        kg_vec2 at = rng_vec(0.0f, 4.0f);
+        add_body(&pool, KG_BODY_PARTICLE, box_at(at.x, at.y, 0.0f, 0.0f));
     }
     int pile = check_against_brute_force(bp, &pool, 0.0f, &buf, "pile of points");
     KG_CHECK(pile >= 500 * 499 / 2);

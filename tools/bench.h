@@ -89,6 +89,8 @@ typedef struct bench_row {
 /* bench_run.c */
 void bench_run(const bench_engine* engine, kg_scene* scene, const bench_scene_info* info,
                const bench_config* config, bench_result* out);
+/* Whether kgyro can make a world on backend; if not, why says why. */
+int bench_kgyro_backend_works(kg_backend backend, int threads, char* why, size_t size);
 /* Whether kgyro's contact solver is in: a box dropped on a static ground box must come
  * to rest on it. Writes what happened to message. */
 int bench_kgyro_solver_check(char* message, size_t size);

@@ -242,7 +242,7 @@ static void bench_plot_scaling(FILE* f, const char* dir, const bench_row* rows, 
 {
     bench_names engines = {0}, families = {0};
     for (int i = 0; i < count; ++i) {
-        if (bench_is_series(&rows[i])) {
+        if (bench_is_series(&rows[i]) && rows[i].result.status == BENCH_OK) {
             bench_names_index(&engines, rows[i].engine.label, 1);
             bench_names_index(&families, rows[i].scene.family, 1);
         }
@@ -252,7 +252,7 @@ static void bench_plot_scaling(FILE* f, const char* dir, const bench_row* rows, 
     fprintf(f, "set format x '%%.0s%%c'\n");
     bench_scaling_blocks(f, rows, count, &engines, &families);
     bench_linear_reference(f, rows, count);
-    fprintf(f, "plot $linear with lines lc 'gray' dt 3 title 'linear (slope 1)'");
+    fprintf(f, "plot $linear with lines lc 'dark-gray' lw 1.5 dt 2 title 'linear (slope 1)'");
     for (int e = 0; e < engines.count; ++e) {
         for (int s = 0; s < families.count; ++s) {
             fprintf(f, ", \\\n  $e%ds%d with linespoints lc %d dt %d pt %d title '%s %s_N'", e, s, e + 1, s + 1,
@@ -277,7 +277,7 @@ static void bench_plot_scenes(FILE* f, const char* dir, const bench_row* rows, i
 {
     bench_names engines = {0}, scenes = {0};
     for (int i = 0; i < count; ++i) {
-        if (!bench_is_series(&rows[i])) {
+        if (!bench_is_series(&rows[i]) && rows[i].result.status == BENCH_OK) {
             bench_names_index(&engines, rows[i].engine.label, 1);
             bench_names_index(&scenes, rows[i].scene.name, 1);
         }
@@ -303,13 +303,15 @@ static void bench_plot_scenes(FILE* f, const char* dir, const bench_row* rows, i
     fprintf(f, "\nEOD\nplot for [i=2:%d] $scenes using i:xtic(1) title columnheader(i)\n", engines.count + 1);
 }
 
-/* Each stage's share of kgyro's step, one stacked bar per scene and backend. */
+/* Each stage's share of kgyro's step, one stacked bar per scene (and backend, when
+ * there are several). */
 static void bench_plot_stages(FILE* f, const char* dir, const bench_row* rows, int count)
 {
-    bench_names stages = {0};
+    bench_names stages = {0}, engines = {0};
     for (int i = 0; i < count; ++i) {
         for (int k = 0; rows[i].result.status == BENCH_OK && k < rows[i].result.stage_count; ++k) {
             bench_names_index(&stages, rows[i].result.stages[k].name, 1);
+            bench_names_index(&engines, rows[i].engine.label, 1);
         }
     }
     bench_plot_preamble(f, dir, "stages", "kgyro: share of the step per stage", 1100);
@@ -325,7 +327,8 @@ static void bench_plot_stages(FILE* f, const char* dir, const bench_row* rows, i
         if (r->status != BENCH_OK || !(total > 0.0)) {
             continue;
         }
-        fprintf(f, "\n\"%s %s\"", rows[i].scene.name, rows[i].engine.label);
+        fprintf(f, "\n\"%s%s%s\"", rows[i].scene.name, engines.count > 1 ? " " : "",
+                engines.count > 1 ? rows[i].engine.label : "");
         for (int k = 0; k < stages.count; ++k) {
             double ms = 0.0;
             for (int j = 0; j < r->stage_count; ++j) {

@@ -46,6 +46,10 @@ static int bench_kgyro_create(bench_sim* sim, const bench_config* config, char* 
         snprintf(why, size, "%s: %s", kg_result_string(r), kg_last_error());
         return 0;
     }
+    if (kg_world_backend(sim->world) != def.backend) {
+        snprintf(why, size, "the world fell back to another backend");
+        return 0;
+    }
     return 1;
 }
 
@@ -330,6 +334,13 @@ static int bench_write_all(int fd, const void* data, size_t size)
     return 1;
 }
 
+static void bench_silence(FILE* stream)
+{
+    if (!freopen("/dev/null", "w", stream)) {
+        fclose(stream);
+    }
+}
+
 /* Memory written once, so that its pages are resident before the baseline is taken. */
 static void* bench_alloc_touched(size_t size)
 {
@@ -346,10 +357,12 @@ static void bench_child(const bench_engine* engine, kg_scene* scene, const bench
     if (config->timeout_s > 0.0) {
         alarm((unsigned)ceil(config->timeout_s));
     }
-    /* The child reports through the pipe only; Debian's Chipmunk, a debug build, would
-     * print its banner on stdout in every run. */
-    if (!freopen("/dev/null", "w", stdout)) {
-        fclose(stdout);
+    /* The child reports through the pipe only. Debian's Chipmunk is a debug build: it
+     * prints a banner on stdout in every run, and warnings ("High EPA iterations") on
+     * stderr by the hundred in smash. kgyro keeps its stderr: its warnings matter here. */
+    bench_silence(stdout);
+    if (engine->kind != BENCH_KGYRO) {
+        bench_silence(stderr);
     }
     bench_child_report report;
     memset(&report, 0, sizeof report);
@@ -432,7 +445,7 @@ static void bench_run_once(const bench_engine* engine, kg_scene* scene, const be
     int wait_status = 0;
     if (pid < 0 || waitpid(pid, &wait_status, 0) < 0) {
         report->status = BENCH_FAILED;
-        snprintf(report->message, sizeof report->message, "fork: %s", strerror(errno));
+        snprintf(report->message, sizeof report->message, "cannot run a child: %s", strerror(errno));
         return;
     }
     bench_judge_exit(wait_status, complete, config, report);
@@ -523,6 +536,54 @@ const char* bench_status_name(bench_status status)
 {
     static const char* const names[] = {"ok", "missing", "skipped", "failed", "crashed", "timed out"};
     return names[status];
+}
+
+/* ---- can kgyro run on this backend? ---- */
+
+static void bench_try_backend(kg_backend backend, int threads, int fd)
+{
+    char message[BENCH_MESSAGE_MAX] = "";
+    kg_world_def def = kg_default_world_def();
+    def.backend = backend;
+    def.threads = threads;
+    kg_world* world = NULL;
+    kg_result r = kg_create_world(&def, &world);
+    if (r != KG_OK) {
+        snprintf(message, sizeof message, "%s: %s", kg_result_string(r), kg_last_error());
+    } else if (kg_world_backend(world) != backend) {
+        snprintf(message, sizeof message, "the world fell back to another backend");
+    }
+    kg_destroy_world(world);
+    bench_write_all(fd, message, strlen(message));
+    _exit(message[0] ? 1 : 0);
+}
+
+/* Tried in a child: an OpenCL runtime started in this process would not survive the
+ * forks of the runs. */
+int bench_kgyro_backend_works(kg_backend backend, int threads, char* why, size_t size)
+{
+    int fds[2];
+    if (pipe(fds) != 0) {
+        snprintf(why, size, "pipe: %s", strerror(errno));
+        return 0;
+    }
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid == 0) {
+        close(fds[0]);
+        bench_try_backend(backend, threads, fds[1]);
+    }
+    close(fds[1]);
+    size_t got = pid > 0 ? bench_read_all(fds[0], why, size - 1) : 0;
+    why[got] = '\0';
+    close(fds[0]);
+    int status = 0;
+    int ok = pid > 0 && waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    if (!ok && got == 0) {
+        snprintf(why, size, "the backend could not be started (the trial world %s)",
+                 WIFSIGNALED(status) ? "crashed" : "failed");
+    }
+    return ok;
 }
 
 /* ---- is kgyro's contact solver in? ---- */

@@ -102,24 +102,20 @@ static int bench_parse_seconds(const char* text, double* out)
     return 1;
 }
 
-/* Parses one option at argv[*i]; 0 when it is not a valid one. */
-static int bench_parse_option(int argc, char** argv, int* i, bench_options* o)
+/* Sets option name (without any "=value") to value; 0 when either is not valid. */
+static int bench_set_option(bench_options* o, const char* name, const char* value)
 {
-    const char* name = argv[*i];
-    if (strcmp(name, "--profile") == 0) {
-        o->profile = 1;
-        return 1;
-    }
-    const char* value = *i + 1 < argc ? argv[++*i] : NULL;
     bench_config* c = &o->config;
     int seed = 0;
-    if (strcmp(name, "--engines") == 0 && value) {
+    if (!value) {
+        return 0;
+    } else if (strcmp(name, "--engines") == 0) {
         o->engines = value;
-    } else if (strcmp(name, "--backend") == 0 && value) {
+    } else if (strcmp(name, "--backend") == 0) {
         o->backends = value;
-    } else if (strcmp(name, "--csv") == 0 && value) {
+    } else if (strcmp(name, "--csv") == 0) {
         o->csv_path = value;
-    } else if (strcmp(name, "--plot") == 0 && value) {
+    } else if (strcmp(name, "--plot") == 0) {
         o->plot_dir = value;
     } else if (strcmp(name, "--threads") == 0) {
         return bench_parse_int(value, 1, &c->threads);
@@ -141,22 +137,39 @@ static int bench_parse_option(int argc, char** argv, int* i, bench_options* o)
     return 1;
 }
 
-/* 0 to go on, else the exit code (0 after --help). Scenes are the non-option words. */
+/* Parses the option at argv[*i], "--name value" or "--name=value"; 0 when not valid. */
+static int bench_parse_option(int argc, char** argv, int* i, bench_options* o)
+{
+    const char* arg = argv[*i];
+    if (strcmp(arg, "--profile") == 0) {
+        o->profile = 1;
+        return 1;
+    }
+    char name[32];
+    const char* equals = strchr(arg, '=');
+    if (equals) {
+        snprintf(name, sizeof name, "%.*s", (int)(equals - arg), arg);
+        return bench_set_option(o, name, equals + 1);
+    }
+    return bench_set_option(o, arg, *i + 1 < argc ? argv[++*i] : NULL);
+}
+
+/* 0 to go on, else the exit code (-1 after --help). Scenes are the non-option words. */
 static int bench_parse_options(int argc, char** argv, bench_options* o, const char** scenes)
 {
     o->config = (bench_config){.threads = 1, .runs = 3, .seed = 1};
     o->engines = "kgyro,box2d,chipmunk";
     o->backends = "cpu";
     for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+        const char* arg = argv[i];
+        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
             bench_usage(stdout);
             return -1;
         }
-        if (strncmp(argv[i], "--", 2) != 0) {
-            scenes[o->scene_count++] = argv[i];
+        if (strncmp(arg, "--", 2) != 0) {
+            scenes[o->scene_count++] = arg;
         } else if (!bench_parse_option(argc, argv, &i, o)) {
-            fprintf(stderr, "kgyro bench: bad or incomplete option '%s'\n\n", argv[i]);
-            bench_usage(stderr);
+            fprintf(stderr, "kgyro bench: bad or incomplete option '%s' (see kgyro bench --help)\n", arg);
             return 2;
         }
     }
@@ -207,8 +220,13 @@ static void bench_add_kgyro(bench_session* s, kg_backend backend, const char* na
     bench_engine* e = &s->engines[s->engine_count++];
     e->kind = BENCH_KGYRO;
     e->backend = backend;
-    e->available = 1;
     snprintf(e->label, sizeof e->label, "kgyro/%s", name);
+    char why[BENCH_MESSAGE_MAX];
+    e->available = bench_kgyro_backend_works(backend, s->options.config.threads, why, sizeof why);
+    if (!e->available) {
+        snprintf(e->about, sizeof e->about, "%s backend unavailable: %s", name, why);
+        return;
+    }
     snprintf(e->about, sizeof e->about, "KineticGyro %d.%d.%d, %s backend, %d thread%s, the scene's sub-steps",
              KGYRO_VERSION_MAJOR, KGYRO_VERSION_MINOR, KGYRO_VERSION_PATCH, name, s->options.config.threads,
              s->options.config.threads == 1 ? "" : "s");
@@ -283,7 +301,7 @@ static void bench_print_intro(bench_session* s)
     bench_print_machine();
     for (int i = 0; i < s->engine_count; ++i) {
         const bench_engine* e = &s->engines[i];
-        printf("%-9s %s%s\n", e->label, e->available ? "" : "MISSING: ", e->about);
+        printf("%-12s %s%s\n", e->label, e->available ? "" : "MISSING: ", e->about);
     }
     if (s->engines[0].kind == BENCH_KGYRO) {
         char message[BENCH_MESSAGE_MAX];

@@ -53,33 +53,17 @@ static void kg_render_usage(FILE* out)
             "  --backend B       auto, cpu or opencl (default auto)\n");
 }
 
-/* The value after option argv[*i], moving *i past it; NULL (with a message) if none. */
-static const char* kg_option_value(int argc, char** argv, int* i)
-{
-    if (*i + 1 >= argc) {
-        fprintf(stderr, "kgyro render: %s needs a value\n", argv[*i]);
-        return NULL;
-    }
-    return argv[++*i];
-}
-
-/* Options that take a value; returns 0 when parsed, -1 when the value is bad, 1 when
- * argv[*i] is not one of them. */
+/* Options that take a value; returns 0 when parsed, -1 when the value is bad or
+ * missing, 1 when argv[*i] is not one of them. */
 static int kg_parse_valued(int argc, char** argv, int* i, kg_render_options* o)
 {
+    static const char* const kValued[] = {"--gif",  "--png",  "--steps", "--every", "--size",
+                                          "--view", "--seed", "--backend", NULL};
     const char* name = argv[*i];
-    static const char* const kValued[] = {"--gif", "--png", "--steps", "--every", "--size",
-                                          "--view", "--seed", "--backend"};
-    int known = 0;
-    for (size_t k = 0; k < sizeof kValued / sizeof kValued[0]; ++k) {
-        known |= strcmp(name, kValued[k]) == 0;
-    }
-    if (!known) {
-        return 1;
-    }
-    const char* value = kg_option_value(argc, argv, i);
-    if (!value) {
-        return -1;
+    const char* value = NULL;
+    int taken = kg_option_value("kgyro render", argc, argv, i, kValued, &value);
+    if (taken <= 0) {
+        return taken < 0 ? -1 : 1;
     }
     int bad = 0;
     if (strcmp(name, "--gif") == 0) {
@@ -109,7 +93,7 @@ static int kg_parse_valued(int argc, char** argv, int* i, kg_render_options* o)
 /* 0: run; 1: help was asked for; 2: bad usage (already reported). */
 static int kg_parse_render_options(int argc, char** argv, kg_render_options* o)
 {
-    *o = (kg_render_options){NULL, NULL, NULL, -1, 640, 480, 0, 0, 0, 1, 1, KG_BACKEND_AUTO, 0, {{0, 0}, {0, 0}}};
+    *o = (kg_render_options){.steps = -1, .width = 640, .height = 480, .grid = 1, .seed = 1, .backend = KG_BACKEND_AUTO};
     for (int i = 1; i < argc; ++i) {
         int valued = kg_parse_valued(argc, argv, &i, o);
         if (valued < 0) {

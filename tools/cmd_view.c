@@ -27,24 +27,17 @@ static void kg_view_usage(FILE* out)
             "  --backend B         auto, cpu or opencl (default auto)\n");
 }
 
-/* Options that take a value; 0 parsed, -1 bad value, 1 not one of them. */
+/* Options that take a value; 0 parsed, -1 bad or missing value, 1 not one of them. */
 static int kg_parse_view_valued(int argc, char** argv, int* i, kg_view_config* c)
 {
-    static const char* const kValued[] = {"--size", "--view", "--frames", "--screenshot",
-                                          "--script", "--seed", "--backend"};
+    static const char* const kValued[] = {"--size",   "--view", "--frames",  "--screenshot",
+                                          "--script", "--seed", "--backend", NULL};
     const char* name = argv[*i];
-    int known = 0;
-    for (size_t k = 0; k < sizeof kValued / sizeof kValued[0]; ++k) {
-        known |= strcmp(name, kValued[k]) == 0;
+    const char* value = NULL;
+    int taken = kg_option_value("kgyro view", argc, argv, i, kValued, &value);
+    if (taken <= 0) {
+        return taken < 0 ? -1 : 1;
     }
-    if (!known) {
-        return 1;
-    }
-    if (*i + 1 >= argc) {
-        fprintf(stderr, "kgyro view: %s needs a value\n", name);
-        return -1;
-    }
-    const char* value = argv[++*i];
     int bad = 0, seed = 1;
     if (strcmp(name, "--size") == 0) {
         bad = kg_parse_size(value, &c->width, &c->height);
@@ -71,7 +64,7 @@ static int kg_parse_view_valued(int argc, char** argv, int* i, kg_view_config* c
 
 int kg_cmd_view(int argc, char** argv)
 {
-    kg_view_config config = {NULL, 1, KG_BACKEND_AUTO, 960, 640, 0, NULL, NULL, 0, {{0, 0}, {0, 0}}};
+    kg_view_config config = {.seed = 1, .backend = KG_BACKEND_AUTO, .width = 960, .height = 640};
     for (int i = 1; i < argc; ++i) {
         int valued = kg_parse_view_valued(argc, argv, &i, &config);
         if (valued < 0) {

@@ -4,6 +4,25 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+
+int kg_option_value(const char* command, int argc, char** argv, int* i, const char* const* names,
+                    const char** value)
+{
+    int known = 0;
+    for (const char* const* name = names; *name && !known; ++name) {
+        known = strcmp(argv[*i], *name) == 0;
+    }
+    if (!known) {
+        return 0;
+    }
+    if (*i + 1 >= argc) {
+        fprintf(stderr, "%s: %s needs a value\n", command, argv[*i]);
+        return -1;
+    }
+    *value = argv[++*i];
+    return 1;
+}
 
 int kg_parse_int(const char* text, int low, int high, int* out)
 {

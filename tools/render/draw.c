@@ -167,6 +167,9 @@ static void kg_draw_circle(kg_canvas* canvas, const kg_camera* camera, const kg_
     kg_vec2 center = kg_transform(state, shape->center);
     kg_point middle = kg_camera_to_screen(camera, center);
     float radius = shape->radius * camera->scale;
+    if (type == KG_BODY_PARTICLE) {
+        radius = fmaxf(radius, 1.0f); /* a particle stays visible however far out we zoom */
+    }
     kg_canvas_fill_circle(canvas, middle, radius, fill);
     if (type == KG_BODY_PARTICLE || 2.0f * radius < KG_OUTLINE_MIN_SIZE) {
         return;
@@ -201,18 +204,21 @@ void kg_draw_body(kg_canvas* canvas, const kg_camera* camera, const kg_world* wo
     }
 }
 
-/* Lines every 10^k metres, k picked so that they are at least 24 pixels apart. */
+/* Lines every 10^k metres, k picked so that they are at least 24 pixels apart. Lines
+ * are counted with integers: far from the origin a float sum would stop advancing. */
 static void kg_draw_grid(kg_canvas* canvas, const kg_camera* camera)
 {
     float spacing = powf(10.0f, ceilf(log10f(24.0f / camera->scale)));
     kg_vec2 low = kg_camera_to_world(camera, (kg_point){0.0f, (float)canvas->height});
     kg_vec2 high = kg_camera_to_world(camera, (kg_point){(float)canvas->width, 0.0f});
-    for (float x = ceilf(low.x / spacing) * spacing; x <= high.x; x += spacing) {
-        float sx = kg_camera_to_screen(camera, (kg_vec2){x, 0.0f}).x;
+    double first_x = ceil((double)low.x / spacing), first_y = ceil((double)low.y / spacing);
+    int columns = canvas->width / 24 + 2, rows = canvas->height / 24 + 2;
+    for (int i = 0; i < columns && (first_x + i) * spacing <= high.x; ++i) {
+        float sx = kg_camera_to_screen(camera, (kg_vec2){(float)((first_x + i) * spacing), 0.0f}).x;
         kg_canvas_line(canvas, (kg_point){sx, 0.0f}, (kg_point){sx, (float)canvas->height - 1.0f}, KG_COLOR_GRID);
     }
-    for (float y = ceilf(low.y / spacing) * spacing; y <= high.y; y += spacing) {
-        float sy = kg_camera_to_screen(camera, (kg_vec2){0.0f, y}).y;
+    for (int i = 0; i < rows && (first_y + i) * spacing <= high.y; ++i) {
+        float sy = kg_camera_to_screen(camera, (kg_vec2){0.0f, (float)((first_y + i) * spacing)}).y;
         kg_canvas_line(canvas, (kg_point){0.0f, sy}, (kg_point){(float)canvas->width - 1.0f, sy}, KG_COLOR_GRID);
     }
 }

@@ -8,6 +8,7 @@
 #define KG_LZW_TABLE_SIZE 8192 /* a power of two, twice the codes, so probes stay short */
 #define KG_LZW_CLEAR 256
 #define KG_LZW_END 257
+#define KG_GIF_UNCHANGED 255 /* transparent: the pixel of the frame before shows through */
 
 typedef struct kg_lzw_writer {
     FILE* file;
@@ -133,7 +134,8 @@ static int kg_lzw_extend(kg_gif* gif, kg_lzw_writer* w, int current, int byte)
 
 /* LZW with 8-bit roots. The code size grows when the next free code no longer fits, and
  * the table restarts with a clear code when it is full, as every decoder expects. */
-static void kg_lzw_encode(kg_gif* gif, const uint8_t* pixels, int stride, int width, int height)
+static void kg_lzw_encode(kg_gif* gif, const uint8_t* pixels, const uint8_t* previous, int stride, int width,
+                          int height)
 {
     kg_lzw_writer w = {gif->file, 0, 0, {0}, 0, 9, KG_LZW_END + 1};
     kg_lzw_restart(gif, &w);
@@ -141,7 +143,8 @@ static void kg_lzw_encode(kg_gif* gif, const uint8_t* pixels, int stride, int wi
     int current = -1;
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
-            int byte = pixels[(size_t)y * (size_t)stride + (size_t)x];
+            size_t at = (size_t)y * (size_t)stride + (size_t)x;
+            int byte = previous && previous[at] == pixels[at] ? KG_GIF_UNCHANGED : pixels[at];
             current = current < 0 ? byte : kg_lzw_extend(gif, &w, current, byte);
         }
     }
@@ -185,8 +188,11 @@ int kg_gif_add_frame(kg_gif* gif, const uint8_t* pixels, int delay_cs)
         rect[0] = rect[1] = 0; /* a frame still needs an image: one unchanged pixel */
         rect[2] = rect[3] = 1;
     }
-    /* graphic control: keep the frame under the next one (disposal 1), no transparency */
-    uint8_t control[8] = {0x21, 0xf9, 4, 0x04, (uint8_t)(delay_cs & 0xff), (uint8_t)((delay_cs >> 8) & 0xff), 0, 0};
+    /* graphic control: keep each frame under the next one (disposal 1), so that the next
+     * needs to store only what changed; unchanged pixels become long transparent runs,
+     * which LZW packs far better than the picture they cover */
+    uint8_t control[8] = {0x21, 0xf9, 4,    0x05, (uint8_t)(delay_cs & 0xff), (uint8_t)((delay_cs >> 8) & 0xff),
+                          KG_GIF_UNCHANGED, 0};
     fwrite(control, 1, sizeof control, gif->file);
     fputc(0x2c, gif->file);
     for (int i = 0; i < 4; ++i) {
@@ -194,7 +200,9 @@ int kg_gif_add_frame(kg_gif* gif, const uint8_t* pixels, int delay_cs)
     }
     fputc(0, gif->file); /* no local colour table, not interlaced */
     fputc(8, gif->file); /* LZW minimum code size */
-    kg_lzw_encode(gif, pixels + (size_t)rect[1] * (size_t)gif->width + (size_t)rect[0], gif->width, rect[2], rect[3]);
+    size_t corner = (size_t)rect[1] * (size_t)gif->width + (size_t)rect[0];
+    kg_lzw_encode(gif, pixels + corner, gif->frame_count > 0 ? gif->previous + corner : NULL, gif->width, rect[2],
+                  rect[3]);
     memcpy(gif->previous, pixels, (size_t)gif->width * (size_t)gif->height);
     gif->frame_count++;
     if (ferror(gif->file)) {

@@ -11,6 +11,7 @@
 #include "viewer.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -360,11 +361,14 @@ static int kg_script_read(const char** text, kg_script_command* c)
 static int kg_script_check(const char* text)
 {
     kg_script_command c;
+    const char* command = text;
     int r;
     while ((r = kg_script_read(&text, &c)) > 0) {
+        command = text;
     }
     if (r < 0) {
-        fprintf(stderr, "kgyro view: bad --script command before '%s'\n", text);
+        command += strspn(command, "; ");
+        fprintf(stderr, "kgyro view: bad --script command '%.*s'\n", (int)(text - command), command);
     }
     return r;
 }
@@ -467,24 +471,29 @@ static void kg_step(kg_viewer* v)
     v->step_ms = v->step_ms > 0.0 ? 0.9 * v->step_ms + 0.1 * ms : ms;
 }
 
-/* "BODIES 58  CONTACTS 12  STEP 0.41 MS (BROADPHASE 0.10 ...)  CPU  PAUSED" */
+/* Appends to the text in buffer, cutting it at size. */
+static void kg_append(char* text, size_t size, const char* format, ...)
+{
+    size_t used = strlen(text);
+    va_list args;
+    va_start(args, format);
+    vsnprintf(text + used, size - used, format, args);
+    va_end(args);
+}
+
+/* "CPU  PAUSED  BODIES 58  CONTACTS 12  STEP 0.41 MS (COLLIDE 0.10 SOLVE 0.25 ...)" */
 static void kg_format_stats(const kg_viewer* v, char* text, size_t size)
 {
-    int used = snprintf(text, size, "bodies %d  contacts %d  step %.2f ms", kg_world_body_count(v->sim.world),
-                        kg_world_contact_count(v->sim.world), v->step_ms);
+    text[0] = '\0';
+    kg_append(text, size, "%s%s  bodies %d  contacts %d  step %.2f ms", kg_backend_label(kg_world_backend(v->sim.world)),
+              v->paused ? "  paused" : "", kg_world_body_count(v->sim.world), kg_world_contact_count(v->sim.world),
+              v->step_ms);
     kg_stage_times stages;
-    if (kg_world_get_stage_times(v->sim.world, &stages) == KG_OK) {
-        for (int i = 0; i < stages.count && i < 16 && used > 0 && (size_t)used < size; ++i) {
-            used += snprintf(text + used, size - (size_t)used, "%s%s %.2f", i == 0 ? " (" : " ", stages.names[i],
-                             stages.ms[i]);
+    if (kg_world_get_stage_times(v->sim.world, &stages) == KG_OK && stages.count > 0) {
+        for (int i = 0; i < stages.count && i < 16; ++i) {
+            kg_append(text, size, "%s%s %.2f", i == 0 ? " (" : " ", stages.names[i], stages.ms[i]);
         }
-        if (stages.count > 0 && used > 0 && (size_t)used < size) {
-            used += snprintf(text + used, size - (size_t)used, ")");
-        }
-    }
-    if (used > 0 && (size_t)used < size) {
-        snprintf(text + used, size - (size_t)used, "  %s%s", kg_backend_label(kg_world_backend(v->sim.world)),
-                 v->paused ? "  paused" : "");
+        kg_append(text, size, ")");
     }
 }
 
@@ -640,9 +649,10 @@ int kg_view_run(const kg_view_config* config)
         status = kg_screenshot(&v, config->screenshot) != 0;
     }
     if (status == 0) {
-        printf("kgyro view: %d frames, %d bodies (%d added), %s, %s\n", v.frame_index, kg_world_body_count(v.sim.world),
-               v.sim.body_count - v.scene_bodies, kg_backend_label(kg_world_backend(v.sim.world)),
-               v.paused ? "paused" : "running");
+        printf("kgyro view: %d frames, %d bodies (%d added), %s, %s, video driver %s\n", v.frame_index,
+               kg_world_body_count(v.sim.world), v.sim.body_count - v.scene_bodies,
+               kg_backend_label(kg_world_backend(v.sim.world)), v.paused ? "paused" : "running",
+               SDL_GetCurrentVideoDriver());
     }
     kg_viewer_stop(&v);
     return status;

@@ -7,11 +7,13 @@
  *    checkpoint kept on the device, and the whole step is run again on the CPU; the result
  *    is the state the OpenCL step would have produced (bitwise, see docs/design.md). User
  *    force callbacks of that step may run twice.
- *  - a failure between steps (a read for a getter): the read is tried again.
+ *  - a failure between steps (a read for a getter): the read is tried again. (A getter
+ *    called by a force callback reads inside a step: that is a failure inside a step.)
  *  - if the device cannot be read at all (lost): the world continues from the last state
- *    the host had whole: the state at creation, or as of the last getter, setter or force
- *    callback, or the last fallback. Transforms and bounds are recomputed from it; the
- *    steps simulated since then are lost, and the warning says how many.
+ *    the host read back whole: the state at creation, or as of the last getter or setter
+ *    (a force callback's included), with transforms and bounds recomputed from it, and,
+ *    inside a step, the forces the step began with. The steps simulated on the device
+ *    since are lost, and the warning says how many.
  * Contacts always live on the host (the collide stage runs there), so warm starting goes
  * on undisturbed. */
 #ifdef KG_HAVE_OPENCL
@@ -45,47 +47,71 @@ static void kg_warn_new_frozen(kg_world* world, kg_cl_backend* b)
     b->frozen_count = frozen;
 }
 
-/* Reads every state array into a scratch copy first, and into the pool only when all
- * reads succeeded, so a failing device cannot leave the pool half old and half new. */
-static kg_result kg_read_whole_state(kg_world* world, kg_cl_backend* b, int from_checkpoint)
+/* Copies the state arrays (what a step changes) of slots [0, high_water) from one pool
+ * to another. */
+static void kg_copy_state(kg_body_pool* to, const kg_body_pool* from)
 {
-    kg_body_pool copy = world->bodies;
-    kg_body_pool scratch;
-    kg_result r = kg_body_pool_init(&scratch, world->bodies.capacity);
-    if (r != KG_OK) {
-        return r;
-    }
-    scratch.high_water = copy.high_water;
+    size_t n = (size_t)from->high_water;
+    memcpy(to->center, from->center, n * sizeof *to->center);
+    memcpy(to->rot, from->rot, n * sizeof *to->rot);
+    memcpy(to->velocity, from->velocity, n * sizeof *to->velocity);
+    memcpy(to->omega, from->omega, n * sizeof *to->omega);
+    memcpy(to->force, from->force, n * sizeof *to->force);
+    memcpy(to->torque, from->torque, n * sizeof *to->torque);
+    memcpy(to->xf, from->xf, n * sizeof *to->xf);
+    memcpy(to->aabb, from->aabb, n * sizeof *to->aabb);
+    memcpy(to->flags, from->flags, n * sizeof *to->flags);
+}
+
+/* Reads every state array into snapshot: from the checkpoint (the state at the start of
+ * the step) or from the current buffers. */
+static kg_result kg_read_state(kg_cl_backend* b, int from_checkpoint, kg_body_pool* snapshot)
+{
     kg_cl_world* w = b->w;
     unsigned state = kg_cl_state_arrays();
     w->forces_cleared = 0;
     w->host_stale = state;
-    r = from_checkpoint ? kg_cl_read_checkpoint(w, &scratch) : kg_cl_download(w, &scratch, state);
-    if (r == KG_OK) {
-        size_t n = (size_t)copy.high_water;
-        memcpy(copy.center, scratch.center, n * sizeof *copy.center);
-        memcpy(copy.rot, scratch.rot, n * sizeof *copy.rot);
-        memcpy(copy.velocity, scratch.velocity, n * sizeof *copy.velocity);
-        memcpy(copy.omega, scratch.omega, n * sizeof *copy.omega);
-        memcpy(copy.force, scratch.force, n * sizeof *copy.force);
-        memcpy(copy.torque, scratch.torque, n * sizeof *copy.torque);
-        memcpy(copy.xf, scratch.xf, n * sizeof *copy.xf);
-        memcpy(copy.aabb, scratch.aabb, n * sizeof *copy.aabb);
-        memcpy(copy.flags, scratch.flags, n * sizeof *copy.flags);
-    }
-    kg_body_pool_free(&scratch);
-    return r;
+    return from_checkpoint ? kg_cl_read_checkpoint(w, snapshot) : kg_cl_download(w, snapshot, state);
 }
 
-/* The host's last whole state, made consistent: transforms and bounds from the centres. */
-static void kg_rebuild_derived(kg_world* world)
+/* The host's own copy when the device cannot be read: transforms and bounds recomputed
+ * from the centres, and inside a step the forces as they were when it began. */
+static void kg_host_state(kg_world* world, kg_cl_backend* b, int in_step, kg_body_pool* snapshot)
 {
     kg_body_pool* p = &world->bodies;
     for (int i = 0; i < p->high_water; ++i) {
         if (kg_pool_alive(p, i)) {
-            kg_body_update_transform(p, i);
+            kg_body_update_transform(p, i); /* needs the shapes, which only the world's pool has */
         }
     }
+    kg_copy_state(snapshot, p);
+    for (int i = 0; i < snapshot->high_water; ++i) {
+        if (kg_pool_alive(snapshot, i) && in_step) {
+            snapshot->force[i] = b->start_forces_saved ? b->start_force[i] : kg_v2(0.0f, 0.0f);
+            snapshot->torque[i] = b->start_forces_saved ? b->start_torque[i] : 0.0f;
+        }
+    }
+}
+
+/* The state the CPU backend goes on from (see the top of this file), into snapshot, a
+ * pool sharing the world's properties. Returns 0 when the device could not be read. */
+static int kg_recover_state(kg_world* world, kg_cl_backend* b, int in_step, kg_body_pool* snapshot)
+{
+    kg_result r = KG_OK;
+    if (in_step && b->checkpoint_valid) {
+        r = kg_read_state(b, 1, snapshot);
+    } else if (b->w->host_stale != 0) {
+        r = kg_read_state(b, 0, snapshot);
+        if (r != KG_OK) {
+            r = kg_read_state(b, 0, snapshot); /* a failed read may succeed when tried again */
+        }
+    } else {
+        kg_copy_state(snapshot, &world->bodies);
+    }
+    if (r != KG_OK) {
+        kg_host_state(world, b, in_step, snapshot);
+    }
+    return r == KG_OK;
 }
 
 void kg_cl_backend_stop(kg_world* world)
@@ -101,6 +127,8 @@ void kg_cl_backend_stop(kg_world* world)
     kg_cl_world_destroy(b->w);
     kg_free(b->force_kernels);
     kg_free(b->force_params);
+    kg_free(b->start_force);
+    kg_free(b->start_torque);
     kg_free(b->target_pairs);
     kg_free(b->color_input);
     kg_free(b->color_scratch);
@@ -110,31 +138,39 @@ void kg_cl_backend_stop(kg_world* world)
 }
 
 /* Hands the world to the CPU backend after the OpenCL failure described by the current
- * error. in_step: the failure happened inside a step, whose start state is wanted. */
+ * error. in_step: the failure happened inside a step, whose start state is wanted; the
+ * step's caller re-applies it (s->restore) once the step has unwound, since a force
+ * callback may still be running and writing forces. */
 static void kg_fall_back(kg_world* world, int in_step)
 {
     char reason[512];
     snprintf(reason, sizeof reason, "%s", kg_last_error());
     kg_backend_state* s = kg_state(world);
     kg_cl_backend* b = s->cl;
-    kg_result r = KG_OK;
-    if (in_step && b->checkpoint_valid) {
-        r = kg_read_whole_state(world, b, 1);
-    } else if (b->w->host_stale != 0) {
-        r = kg_read_whole_state(world, b, 0);
-        if (r != KG_OK) {
-            r = kg_read_whole_state(world, b, 0); /* a failed read may succeed when tried again */
-        }
+    kg_body_pool* snapshot = kg_alloc_zeroed(sizeof *snapshot);
+    if (!snapshot || kg_body_pool_init(snapshot, world->bodies.capacity) != KG_OK) {
+        kg_free(snapshot);
+        kg_cl_backend_stop(world);
+        kg_backend_use_cpu(world);
+        kg_warn_once("opencl-oom", "OpenCL backend failed (%s) and no memory is left to read its state back; "
+                     "continuing on the CPU backend from the host's copy", reason);
+        return;
     }
-    int lost_steps = r == KG_OK ? 0 : b->steps_since_snapshot;
-    if (r != KG_OK) {
-        kg_rebuild_derived(world);
-    }
+    snapshot->high_water = world->bodies.high_water;
+    int recovered = kg_recover_state(world, b, in_step, snapshot);
+    int lost_steps = recovered ? 0 : b->steps_since_snapshot;
+    kg_copy_state(&world->bodies, snapshot);
     kg_cl_backend_stop(world);
     kg_backend_use_cpu(world);
-    if (lost_steps > 0) {
+    if (in_step) {
+        s->restore = snapshot;
+    } else {
+        kg_body_pool_free(snapshot);
+        kg_free(snapshot);
+    }
+    if (!recovered) {
         kg_warn_once("opencl-lost", "OpenCL device lost (%s); continuing on the CPU backend from the last state "
-                     "read back, %d steps earlier", reason, lost_steps);
+                     "read back (%d steps simulated since then are lost)", reason, lost_steps);
     } else {
         kg_warn_once(in_step ? "opencl-step" : "opencl-read", "OpenCL backend failed (%s); continuing on the CPU "
                      "backend with the state intact", reason);
@@ -145,13 +181,20 @@ static void kg_fall_back(kg_world* world, int in_step)
 
 static kg_result kg_opencl_step(kg_world* world, float dt)
 {
-    kg_cl_backend* b = kg_state(world)->cl;
+    kg_backend_state* s = kg_state(world);
+    kg_cl_backend* b = s->cl;
     kg_result r = kg_cl_step(world, b, dt);
     if (r == KG_OK) {
         return KG_OK;
     }
-    if (kg_state(world)->cl == b) {
+    if (s->cl == b) {
         kg_fall_back(world, 1);
+    }
+    if (s->restore) {
+        kg_copy_state(&world->bodies, s->restore);
+        kg_body_pool_free(s->restore);
+        kg_free(s->restore);
+        s->restore = NULL;
     }
     return world->backend->step(world, dt);
 }
@@ -165,7 +208,8 @@ static kg_result kg_opencl_sync_to_host(kg_world* world)
     int flags_stale = (b->w->host_stale & KG_CL_BIT(FLAGS)) != 0;
     kg_result r = kg_cl_download(b->w, &world->bodies, b->w->host_stale);
     if (r != KG_OK) {
-        kg_fall_back(world, 0);
+        /* inside a step (a force callback reading), the step is redone from its start */
+        kg_fall_back(world, b->in_step);
         return KG_OK;
     }
     b->steps_since_snapshot = 0;
@@ -244,12 +288,15 @@ kg_result kg_cl_backend_start(kg_world* world, int device_index)
     if (r == KG_OK) {
         b = kg_alloc_zeroed(sizeof *b);
         int slots = world->def.max_applicators + 1;
+        size_t bodies = (size_t)world->def.max_bodies;
         if (b) {
             b->force_kernels = kg_alloc_zeroed((size_t)slots * sizeof *b->force_kernels);
             b->force_params = kg_alloc_zeroed((size_t)slots * sizeof *b->force_params);
+            b->start_force = kg_alloc_zeroed(bodies * sizeof *b->start_force);
+            b->start_torque = kg_alloc_zeroed(bodies * sizeof *b->start_torque);
         }
-        r = (b && b->force_kernels && b->force_params) ? KG_OK
-                                                        : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the OpenCL backend");
+        int ok = b && b->force_kernels && b->force_params && b->start_force && b->start_torque;
+        r = ok ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the OpenCL backend");
     }
     if (b) {
         kg_state(world)->cl = b;

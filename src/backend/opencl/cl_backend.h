@@ -23,6 +23,10 @@ typedef struct kg_cl_backend {
     int steps_since_snapshot;        /* steps since the host last had the whole state */
     int frozen_count;                /* frozen bodies the host knows of, to warn of new ones */
     int checkpoint_valid;            /* this step's start state is saved on the device */
+    int in_step;                     /* a step is running (force callbacks run inside it) */
+    kg_vec2* start_force;            /* the forces the step began with, when the host set them */
+    float* start_torque;
+    int start_forces_saved;          /* else the step began with every force zero */
 } kg_cl_backend;
 
 extern const kg_backend_ops kg_opencl_backend;

@@ -4,9 +4,9 @@
  *   forces     built-in and device force applicators as kernels; C callbacks on the host
  *   collide    on the host for now: transforms, bounds and flags read back, contacts built
  *              by collide/collide.c, then uploaded
- *   solve      on the device: poses saved, constraints prepared, colours solved one
- *              launch each (the colouring itself is computed on the host from the
- *              contacts), sub-steps, restitution, impulses stored and read back
+ *   solve      on the device: solver bodies loaded, constraints prepared, colours
+ *              solved one launch each (the colouring itself is computed on the host
+ *              from the contacts), sub-steps, restitution, impulses and motion stored
  *   finalize   on the device; the queue drained, so errors surface inside the step
  *
  * Each kernel calls the shared per-element function the CPU loop calls, so the state
@@ -57,14 +57,14 @@ static kg_result kg_bind(kg_cl_world* w, kg_cl_kernel_id id, int first, const cl
 kg_result kg_cl_bind_buffers(kg_cl_world* w)
 {
     KG_BIND(APPLY_BUILTIN_FORCE, 8, KG_A(FLAGS), KG_A(MASS), KG_A(VELOCITY), KG_A(FORCE));
-    KG_BIND(INTEGRATE_VELOCITIES, 5, KG_A(FLAGS), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE), KG_A(TORQUE),
-            KG_A(INV_MASS), KG_A(INV_INERTIA), KG_A(LINEAR_DAMPING), KG_A(ANGULAR_DAMPING));
-    KG_BIND(INTEGRATE_POSITIONS, 2, KG_A(FLAGS), KG_A(CENTER), KG_A(ROT), KG_A(VELOCITY), KG_A(OMEGA));
-    KG_BIND(SAVE_POSES, 1, KG_A(CENTER), KG_A(ROT), w->center0, w->rot0);
-    KG_BIND(PREPARE_CONTACTS, 1, w->solver_params, w->contacts, w->constraints, KG_A(FLAGS), KG_A(INV_MASS), KG_A(INV_INERTIA),
-            KG_A(XF), KG_A(VELOCITY), KG_A(OMEGA), KG_A(CENTER), KG_A(ROT), w->center0, w->rot0);
-    KG_BIND(SOLVE_COLOR, 4, w->solver_params, w->order, w->constraints, KG_A(FLAGS), KG_A(VELOCITY), KG_A(OMEGA), KG_A(CENTER),
-            KG_A(ROT), w->center0, w->rot0);
+    KG_BIND(INTEGRATE_VELOCITIES, 5, w->solver_bodies, KG_A(FORCE), KG_A(TORQUE), KG_A(INV_MASS), KG_A(INV_INERTIA),
+            KG_A(LINEAR_DAMPING), KG_A(ANGULAR_DAMPING));
+    KG_BIND(INTEGRATE_POSITIONS, 2, KG_A(FLAGS), w->solver_bodies);
+    KG_BIND(LOAD_BODIES, 1, KG_A(FLAGS), KG_A(VELOCITY), KG_A(OMEGA), w->solver_bodies);
+    KG_BIND(STORE_BODIES, 1, KG_A(FLAGS), w->solver_bodies, KG_A(VELOCITY), KG_A(OMEGA), KG_A(CENTER), KG_A(ROT));
+    KG_BIND(PREPARE_CONTACTS, 1, w->solver_params, w->contacts, w->constraints, w->solver_bodies, KG_A(INV_MASS),
+            KG_A(INV_INERTIA), KG_A(XF), KG_A(CENTER));
+    KG_BIND(SOLVE_COLOR, 4, w->solver_params, w->order, w->constraints, w->solver_bodies);
     KG_BIND(STORE_IMPULSES, 1, w->constraints, w->contacts);
     KG_BIND(FINALIZE, 1, KG_A(FLAGS), KG_A(CENTER), KG_A(ROT), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE),
             KG_A(TORQUE), KG_A(XF), KG_A(AABB), KG_A(SHAPE), KG_A(LOCAL_CENTER));
@@ -382,7 +382,8 @@ static kg_result kg_set_solver_scalars(kg_cl_world* w, int bodies, int contacts,
     KG_TRY(kg_arg_float(w, v, 4, ip.max_linear_speed));
     KG_TRY(kg_arg_int(w, p, 0, bodies));
     KG_TRY(kg_arg_float(w, p, 1, ip.h));
-    KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_SAVE_POSES], 0, bodies));
+    KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_LOAD_BODIES], 0, bodies));
+    KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_STORE_BODIES], 0, bodies));
     KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_PREPARE_CONTACTS], 0, contacts));
     KG_TRY(kg_cl_write(w, w->solver_params, 0, sizeof *prm, prm, 0));
     return kg_arg_int(w, w->kernels[KG_CL_K_STORE_IMPULSES], 0, contacts);
@@ -408,7 +409,7 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     KG_TRY(kg_upload_contacts(world, b, contacts, count));
     b->solver_params = kg_solver_params_of(&world->def, h);
     KG_TRY(kg_set_solver_scalars(w, bodies, count, &b->solver_params, ip));
-    KG_TRY(kg_cl_run(w, KG_CL_K_SAVE_POSES, bodies));
+    KG_TRY(kg_cl_run(w, KG_CL_K_LOAD_BODIES, bodies));
     KG_TRY(kg_cl_run(w, KG_CL_K_PREPARE_CONTACTS, count));
     for (int step = 0; step < n; ++step) {
         KG_TRY(kg_cl_run(w, KG_CL_K_INTEGRATE_VELOCITIES, bodies));
@@ -419,9 +420,7 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     }
     KG_TRY(kg_run_pass(b, KG_CL_PASS_RESTITUTION));
     KG_TRY(kg_cl_run(w, KG_CL_K_STORE_IMPULSES, count));
-    /* the host collide of the next step carries these impulses over, and the contact
-     * getters read them */
-    return kg_cl_read(w, w->contacts, 0, (size_t)count * sizeof *contacts, contacts);
+    return kg_cl_run(w, KG_CL_K_STORE_BODIES, bodies);
 }
 
 /* ---- finalize --------------------------------------------------------------------- */
@@ -432,6 +431,12 @@ static kg_result kg_stage_finalize_on_device(kg_world* world, kg_cl_backend* b)
     KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_FINALIZE], 0, world->bodies.high_water));
     KG_TRY(kg_cl_run(w, KG_CL_K_FINALIZE, world->bodies.high_water));
     KG_TRY(kg_cl_finish(w));
+    /* The solved impulses, for the host collide of the next step to carry over and for
+     * the contact getters. Read last: until then the host contacts hold the impulses
+     * carried into this step, so a step that fails is redone on the CPU exactly. */
+    int count = 0;
+    kg_contact* contacts = kg_collision_contacts(world, &count);
+    KG_TRY(kg_cl_read(w, w->contacts, 0, (size_t)count * sizeof *contacts, contacts));
     w->host_stale |= kg_cl_state_arrays();
     w->forces_cleared = 1;
     return KG_OK;
@@ -439,13 +444,38 @@ static kg_result kg_stage_finalize_on_device(kg_world* world, kg_cl_backend* b)
 
 /* ---- the step --------------------------------------------------------------------- */
 
+static kg_result kg_cl_step_stages(kg_world* world, kg_cl_backend* b, float dt);
+
+/* The forces the step begins with, for a fallback that cannot read the device: zero after
+ * a step, unless the host set some since (then they are about to be uploaded). */
+static void kg_save_start_forces(kg_world* world, kg_cl_backend* b)
+{
+    const kg_body_pool* p = &world->bodies;
+    b->start_forces_saved = (b->w->device_stale & (KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE))) != 0;
+    if (b->start_forces_saved) {
+        memcpy(b->start_force, p->force, (size_t)p->high_water * sizeof *p->force);
+        memcpy(b->start_torque, p->torque, (size_t)p->high_water * sizeof *p->torque);
+    }
+}
+
 kg_result kg_cl_step(kg_world* world, kg_cl_backend* b, float dt)
+{
+    b->in_step = 1;
+    kg_result r = kg_cl_step_stages(world, b, dt);
+    if (r == KG_OK || ((kg_backend_state*)world->backend_state)->cl == b) {
+        b->in_step = 0; /* else b is gone: a force callback's read failed and the world fell back */
+    }
+    return r;
+}
+
+static kg_result kg_cl_step_stages(kg_world* world, kg_cl_backend* b, float dt)
 {
     kg_cl_world* w = b->w;
     world->times.count = 0;
     w->profiling = ((kg_backend_state*)world->backend_state)->profiling;
     b->checkpoint_valid = 0;
     double t = kg_now_ms();
+    kg_save_start_forces(world, b);
     KG_TRY(kg_cl_to_device(w, &world->bodies, KG_CL_ALL_ARRAYS));
     KG_TRY(kg_cl_save_checkpoint(w, &world->bodies));
     b->checkpoint_valid = 1;

@@ -369,10 +369,7 @@ static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
         }
     }
     if (r == KG_OK) {
-        r = kg_cl_buffer(w, (size_t)pool->capacity * sizeof(kg_vec2), &w->center0);
-    }
-    if (r == KG_OK) {
-        r = kg_cl_buffer(w, (size_t)pool->capacity * sizeof(kg_rot), &w->rot0);
+        r = kg_cl_buffer(w, (size_t)pool->capacity * KG_CL_SOLVER_BODY_SIZE, &w->solver_bodies);
     }
     if (r == KG_OK) {
         r = kg_cl_buffer(w, sizeof(kg_solver_params), &w->solver_params);
@@ -465,6 +462,11 @@ void kg_cl_world_destroy(kg_cl_world* w)
     if (!w) {
         return;
     }
+    if (w->queue) {
+        /* commands still queued after a failure read host memory about to be freed: let
+         * them end (on a lost device this returns at once, with an error to ignore) */
+        w->cl->Finish(w->queue);
+    }
     for (int k = 0; k < w->event_count; ++k) {
         w->cl->ReleaseEvent(w->events[k]);
     }
@@ -472,8 +474,7 @@ void kg_cl_world_destroy(kg_cl_world* w)
         kg_cl_release(w, &w->arrays[id]);
         kg_cl_release(w, &w->checkpoint[id]);
     }
-    kg_cl_release(w, &w->center0);
-    kg_cl_release(w, &w->rot0);
+    kg_cl_release(w, &w->solver_bodies);
     kg_cl_release(w, &w->solver_params);
     kg_cl_release(w, &w->contacts);
     kg_cl_release(w, &w->constraints);

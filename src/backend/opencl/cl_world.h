@@ -37,7 +37,8 @@ typedef enum kg_cl_array {
 
 #define KG_CL_KERNELS(X)                                                                   \
     X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force) X(INTEGRATE_VELOCITIES, kg_integrate_velocities) \
-    X(INTEGRATE_POSITIONS, kg_integrate_positions) X(SAVE_POSES, kg_save_poses)            \
+    X(INTEGRATE_POSITIONS, kg_integrate_positions) X(LOAD_BODIES, kg_load_bodies)          \
+    X(STORE_BODIES, kg_store_bodies)                                                       \
     X(PREPARE_CONTACTS, kg_prepare_contacts) X(SOLVE_COLOR, kg_solve_color)                 \
     X(STORE_IMPULSES, kg_store_impulses) X(FINALIZE, kg_finalize)
 
@@ -49,6 +50,9 @@ typedef enum kg_cl_kernel_id {
 } kg_cl_kernel_id;
 
 #define KG_CL_MAX_TIMED 16
+
+/* sizeof(kg_solver_body) of solve/solver.c and kernels/kg_step.cl (asserted there) */
+#define KG_CL_SOLVER_BODY_SIZE 32u
 
 /* Device time per kernel name over one step, from profiling events. */
 typedef struct kg_cl_timing {
@@ -66,7 +70,7 @@ typedef struct kg_cl_world {
     size_t group_size[KG_CL_KERNEL_COUNT];
     cl_mem arrays[KG_CL_ARRAY_COUNT];
     cl_mem checkpoint[KG_CL_ARRAY_COUNT]; /* state arrays at the start of the step */
-    cl_mem center0, rot0;                 /* poses at the start of the solve */
+    cl_mem solver_bodies;                 /* kg_solver_body per slot: the solver's state */
     cl_mem solver_params;                 /* kg_solver_params of the step */
     cl_mem contacts, constraints, order;  /* contact_capacity each */
     int contact_capacity;

@@ -59,114 +59,121 @@ __kernel void kg_apply_builtin_force(int count, int all, __global const uint2* t
     force[i] = sum;
 }
 
-/* ---- integration ----------------------------------------------------------------- */
+/* ---- solver ---------------------------------------------------------------------- */
 
-__kernel void kg_integrate_velocities(int count, float h, float gx, float gy, float max_linear_speed,
-                                      __global const kg_u32* flags, __global kg_vec2* velocity, __global float* omega,
-                                      __global const kg_vec2* force, __global const float* torque,
-                                      __global const float* inv_mass, __global const float* inv_inertia,
-                                      __global const float* linear_damping, __global const float* angular_damping)
+/* kg_solver_body of solve/solver.c: what the solver reads and writes of a body. The pool's
+ * poses stay put during the solve; dp and dq accumulate and are applied at the end. */
+typedef struct kg_solver_body {
+    kg_body_motion motion;
+    kg_u32 moves; /* takes impulses: dynamic body or particle */
+} kg_solver_body;
+
+KG_STATIC_ASSERT(sizeof(kg_solver_body) == 32, solver_body_size);
+
+/* kg_load_bodies of solve/solver.c. */
+__kernel void kg_load_bodies(int count, __global const kg_u32* flags, __global const kg_vec2* velocity,
+                             __global const float* omega, __global kg_solver_body* bodies)
 {
     int i = (int)get_global_id(0);
-    if (i >= count || !kg_is_simulated(flags[i])) {
+    if (i >= count) {
+        return;
+    }
+    kg_solver_body sb;
+    sb.motion.v = velocity[i];
+    sb.motion.w = omega[i];
+    sb.motion.dp = kg_v2(0.0f, 0.0f);
+    sb.motion.dq = kg_rot_identity();
+    sb.moves = (kg_u32)kg_is_simulated(flags[i]);
+    bodies[i] = sb;
+}
+
+__kernel void kg_integrate_velocities(int count, float h, float gx, float gy, float max_linear_speed,
+                                      __global kg_solver_body* bodies, __global const kg_vec2* force,
+                                      __global const float* torque, __global const float* inv_mass,
+                                      __global const float* inv_inertia, __global const float* linear_damping,
+                                      __global const float* angular_damping)
+{
+    int i = (int)get_global_id(0);
+    if (i >= count || !bodies[i].moves) {
         return;
     }
     kg_integrate_params prm;
     prm.gravity = kg_v2(gx, gy);
     prm.h = h;
     prm.max_linear_speed = max_linear_speed;
-    kg_vec2 v = velocity[i];
-    float w = omega[i];
-    kg_integrate_velocity(&v, &w, force[i], torque[i], inv_mass[i], inv_inertia[i], linear_damping[i],
+    kg_body_motion m = bodies[i].motion;
+    kg_integrate_velocity(&m.v, &m.w, force[i], torque[i], inv_mass[i], inv_inertia[i], linear_damping[i],
                           angular_damping[i], prm);
-    velocity[i] = v;
-    omega[i] = w;
+    bodies[i].motion = m;
 }
 
-__kernel void kg_integrate_positions(int count, float h, __global const kg_u32* flags, __global kg_vec2* center,
-                                     __global kg_rot* rot, __global const kg_vec2* velocity,
-                                     __global const float* omega)
+/* Moving bodies: alive, not static, not frozen (kinematic bodies move too). */
+KG_FN int kg_is_moving(kg_u32 f)
+{
+    return kg_is_alive(f) && kg_type_of(f) != KG_BODY_STATIC && (f & KG_FLAG_FROZEN) == 0u;
+}
+
+__kernel void kg_integrate_positions(int count, float h, __global const kg_u32* flags,
+                                     __global kg_solver_body* bodies)
 {
     int i = (int)get_global_id(0);
-    if (i >= count) {
+    if (i >= count || !kg_is_moving(flags[i])) {
         return;
     }
-    kg_u32 f = flags[i];
-    if (!kg_is_alive(f) || kg_type_of(f) == KG_BODY_STATIC || (f & KG_FLAG_FROZEN) != 0u) {
-        return;
-    }
-    kg_vec2 c = center[i];
-    kg_rot q = rot[i];
-    kg_integrate_position(&c, &q, velocity[i], omega[i], h);
-    center[i] = c;
-    rot[i] = q;
+    kg_body_motion m = bodies[i].motion;
+    kg_integrate_position(&m.dp, &m.dq, m.v, m.w, h);
+    bodies[i].motion = m;
 }
 
-/* ---- contact solver -------------------------------------------------------------- */
-
-__kernel void kg_save_poses(int count, __global const kg_vec2* center, __global const kg_rot* rot,
-                            __global kg_vec2* center0, __global kg_rot* rot0)
+/* kg_store_bodies of solve/solver.c: velocities back to the pool, the motion applied. */
+__kernel void kg_store_bodies(int count, __global const kg_u32* flags, __global const kg_solver_body* bodies,
+                              __global kg_vec2* velocity, __global float* omega, __global kg_vec2* center,
+                              __global kg_rot* rot)
 {
     int i = (int)get_global_id(0);
-    if (i < count) {
-        center0[i] = center[i];
-        rot0[i] = rot[i];
+    if (i >= count || !kg_is_moving(flags[i])) {
+        return;
+    }
+    kg_body_motion m = bodies[i].motion;
+    velocity[i] = m.v;
+    omega[i] = m.w;
+    center[i] = kg_add(center[i], m.dp);
+    rot[i] = kg_rot_normalize(kg_rot_mul(m.dq, rot[i]));
+}
+
+KG_FN kg_body_motion kg_load_motion(__global const kg_solver_body* bodies, kg_u32 slot)
+{
+    kg_body_motion still;
+    still.v = kg_v2(0.0f, 0.0f);
+    still.w = 0.0f;
+    still.dp = kg_v2(0.0f, 0.0f);
+    still.dq = kg_rot_identity();
+    return slot == KG_NULL_INDEX ? still : bodies[slot].motion;
+}
+
+KG_FN void kg_store_motion(__global kg_solver_body* bodies, kg_u32 slot, kg_body_motion m)
+{
+    if (slot != KG_NULL_INDEX && bodies[slot].moves) {
+        bodies[slot].motion.v = m.v;
+        bodies[slot].motion.w = m.w;
     }
 }
 
-typedef struct kg_body_arrays {
-    __global kg_vec2* velocity;
-    __global float* omega;
-    __global const kg_vec2* center;
-    __global const kg_rot* rot;
-    __global const kg_vec2* center0;
-    __global const kg_rot* rot0;
-    __global const kg_u32* flags;
-} kg_body_arrays;
-
-/* kg_load_motion of solve/solver.c: a body's velocity and its motion since the step began. */
-KG_FN kg_body_motion kg_load_motion(kg_body_arrays p, kg_u32 slot)
+KG_FN int kg_takes_impulses(__global const kg_solver_body* bodies, kg_u32 slot)
 {
-    kg_body_motion m;
-    m.v = kg_v2(0.0f, 0.0f);
-    m.w = 0.0f;
-    m.dp = kg_v2(0.0f, 0.0f);
-    m.dq = kg_rot_identity();
-    if (slot != KG_NULL_INDEX) {
-        m.v = p.velocity[slot];
-        m.w = p.omega[slot];
-        m.dp = kg_sub(p.center[slot], p.center0[slot]);
-        m.dq = kg_rot_inv_mul(p.rot0[slot], p.rot[slot]);
-    }
-    return m;
-}
-
-KG_FN void kg_store_motion(kg_body_arrays p, kg_u32 slot, kg_body_motion m)
-{
-    if (slot != KG_NULL_INDEX && kg_is_simulated(p.flags[slot])) {
-        p.velocity[slot] = m.v;
-        p.omega[slot] = m.w;
-    }
-}
-
-KG_FN int kg_moves(__global const kg_u32* flags, kg_u32 slot)
-{
-    return slot != KG_NULL_INDEX && kg_is_simulated(flags[slot]);
+    return slot != KG_NULL_INDEX && bodies[slot].moves;
 }
 
 /* kg_prepare_range of solve/solver.c: constraint k from contact k. */
 __kernel void kg_prepare_contacts(int count, __global const kg_solver_params* params, __global const kg_contact* contacts,
-                                  __global kg_contact_constraint* constraints, __global const kg_u32* flags,
+                                  __global kg_contact_constraint* constraints, __global const kg_solver_body* bodies,
                                   __global const float* inv_mass, __global const float* inv_inertia,
-                                  __global const kg_xf* xf, __global kg_vec2* velocity, __global float* omega,
-                                  __global const kg_vec2* center, __global const kg_rot* rot,
-                                  __global const kg_vec2* center0, __global const kg_rot* rot0)
+                                  __global const kg_xf* xf, __global const kg_vec2* center)
 {
     int k = (int)get_global_id(0);
     if (k >= count) {
         return;
     }
-    kg_body_arrays p = {velocity, omega, center, rot, center0, rot0, flags};
     kg_solver_params prm = *params;
     kg_contact ct = contacts[k];
     kg_contact_constraint c;
@@ -176,13 +183,13 @@ __kernel void kg_prepare_contacts(int count, __global const kg_solver_params* pa
     c.friction = ct.friction;
     c.restitution = ct.restitution;
     c.pad = 0;
-    int a_moves = kg_moves(flags, ct.a);
-    int b_moves = kg_moves(flags, ct.b);
+    int a_moves = kg_takes_impulses(bodies, ct.a);
+    int b_moves = kg_takes_impulses(bodies, ct.b);
     c.inv_mass_a = a_moves ? inv_mass[ct.a] : 0.0f;
     c.inv_i_a = a_moves ? inv_inertia[ct.a] : 0.0f;
     c.inv_mass_b = b_moves ? inv_mass[ct.b] : 0.0f;
     c.inv_i_b = b_moves ? inv_inertia[ct.b] : 0.0f;
-    kg_body_motion ma = kg_load_motion(p, ct.a), mb = kg_load_motion(p, ct.b);
+    kg_body_motion ma = kg_load_motion(bodies, ct.a), mb = kg_load_motion(bodies, ct.b);
     kg_vec2 origin_a = ct.a != KG_NULL_INDEX ? xf[ct.a].p : kg_v2(0.0f, 0.0f);
     kg_vec2 origin_b = ct.b != KG_NULL_INDEX ? xf[ct.b].p : kg_v2(0.0f, 0.0f);
     kg_vec2 center_a = ct.a != KG_NULL_INDEX ? center[ct.a] : origin_a;
@@ -191,9 +198,9 @@ __kernel void kg_prepare_contacts(int count, __global const kg_solver_params* pa
     constraints[k] = c;
 }
 
-KG_FN void kg_solve_one(kg_contact_constraint* c, kg_body_arrays p, kg_solver_params prm, int pass)
+KG_FN void kg_solve_one(kg_contact_constraint* c, __global kg_solver_body* bodies, kg_solver_params prm, int pass)
 {
-    kg_body_motion a = kg_load_motion(p, c->a), b = kg_load_motion(p, c->b);
+    kg_body_motion a = kg_load_motion(bodies, c->a), b = kg_load_motion(bodies, c->b);
     if (pass == KG_PASS_WARM_START) {
         kg_contact_warm_start(c, &a, &b);
     } else if (pass == KG_PASS_SOLVE) {
@@ -203,8 +210,8 @@ KG_FN void kg_solve_one(kg_contact_constraint* c, kg_body_arrays p, kg_solver_pa
     } else {
         kg_contact_restitution(c, &a, &b, prm);
     }
-    kg_store_motion(p, c->a, a);
-    kg_store_motion(p, c->b, b);
+    kg_store_motion(bodies, c->a, a);
+    kg_store_motion(bodies, c->b, b);
 }
 
 /* One pass over the constraints order[first, first + count): one colour in parallel
@@ -212,19 +219,16 @@ KG_FN void kg_solve_one(kg_contact_constraint* c, kg_body_arrays p, kg_solver_pa
  * single work-item. */
 __kernel void kg_solve_color(int first, int count, int serial, int pass, __global const kg_solver_params* params,
                              __global const int* order, __global kg_contact_constraint* constraints,
-                             __global const kg_u32* flags, __global kg_vec2* velocity, __global float* omega,
-                             __global const kg_vec2* center, __global const kg_rot* rot,
-                             __global const kg_vec2* center0, __global const kg_rot* rot0)
+                             __global kg_solver_body* bodies)
 {
     int k = (int)get_global_id(0);
-    kg_body_arrays p = {velocity, omega, center, rot, center0, rot0, flags};
     kg_solver_params prm = *params;
     int begin = serial ? 0 : k;
     int end = serial ? (k == 0 ? count : 0) : (k < count ? k + 1 : 0);
     for (int j = begin; j < end; ++j) {
         int index = order[first + j];
         kg_contact_constraint c = constraints[index];
-        kg_solve_one(&c, p, prm, pass);
+        kg_solve_one(&c, bodies, prm, pass);
         constraints[index] = c;
     }
 }

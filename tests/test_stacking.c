@@ -1,0 +1,341 @@
+/* Acceptance tests of the contact solver (issue 4): stacks that stand and piles that come
+ * to rest. CPU backend, world defaults (8 sub-steps, contact_hertz 120), dt = 1/60.
+ *
+ *   test_stacking                 the quick set (also run by the sanitizer build)
+ *   test_stacking NAME...         the named tests; tests/cases/solver_slow.cmake registers
+ *                                 the long ones one per ctest entry, labelled slow
+ *
+ * Every test prints its measured numbers ("measured: ...") whether it passes or not. */
+#include "kg_test.h"
+#include "kgyro/kgyro.h"
+
+#include <math.h>
+#include <string.h>
+#include <time.h>
+
+#define DT (1.0f / 60.0f)
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static kg_world* make_world(int max_bodies)
+{
+    kg_world_def def = kg_default_world_def();
+    def.backend = KG_BACKEND_CPU;
+    if (max_bodies > def.max_bodies) {
+        def.max_bodies = max_bodies;
+    }
+    kg_world* w = NULL;
+    KG_CHECK_OK(kg_create_world(&def, &w));
+    return w;
+}
+
+static kg_body add(kg_world* w, kg_body_type type, kg_shape_def shape, kg_vec2 pos, float angle)
+{
+    kg_body_def bd = kg_default_body_def(); /* density 1, friction 0.6, restitution 0 */
+    bd.type = type;
+    bd.shape = shape;
+    bd.position = pos;
+    bd.angle = angle;
+    kg_body b = KG_NULL_BODY_INIT;
+    KG_CHECK_OK(kg_create_body(w, &bd, &b));
+    return b;
+}
+
+static double dist(kg_vec2 a, kg_vec2 b) { return hypot((double)a.x - b.x, (double)a.y - b.y); }
+
+/* ---- stacks and pyramids --------------------------------------------------------------- */
+
+typedef struct stand_run {
+    double top_from_settled_max;  /* largest distance of the top box from where it was at 1 s */
+    double top_from_settled_end;
+    double top_from_start_max;    /* from where it was placed */
+    double top_from_start_end;
+    double any_from_settled_end;  /* largest over all boxes, at the end, from their places at 1 s */
+    double any_from_start_end;
+    double top_angle_end;
+    double wall_s;
+} stand_run;
+
+/* Steps the world for seconds, following bodies[top] every step and every body at 1 s
+ * (the settling) and at the end. */
+static stand_run run_standing(kg_world* w, const kg_body* bodies, int count, int top, double seconds)
+{
+    stand_run r;
+    memset(&r, 0, sizeof r);
+    kg_vec2* start = malloc((size_t)count * sizeof *start);
+    kg_vec2* settled = malloc((size_t)count * sizeof *settled);
+    kg_body_state* states = malloc((size_t)count * sizeof *states);
+    KG_CHECK(start && settled && states);
+    if (!start || !settled || !states) {
+        free(start);
+        free(settled);
+        free(states);
+        return r;
+    }
+    KG_CHECK_OK(kg_world_get_body_states(w, bodies, count, states));
+    for (int i = 0; i < count; ++i) {
+        start[i] = states[i].position;
+    }
+    int settle_steps = 60, steps = (int)lround(seconds / DT);
+    double t0 = now_s();
+    for (int step = 1; step <= steps; ++step) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+        kg_body_state top_state;
+        KG_CHECK_OK(kg_body_get_state(w, bodies[top], &top_state));
+        double from_start = dist(top_state.position, start[top]);
+        r.top_from_start_max = from_start > r.top_from_start_max ? from_start : r.top_from_start_max;
+        if (step == settle_steps) {
+            KG_CHECK_OK(kg_world_get_body_states(w, bodies, count, states));
+            for (int i = 0; i < count; ++i) {
+                settled[i] = states[i].position;
+            }
+        }
+        if (step >= settle_steps) {
+            double from_settled = dist(top_state.position, settled[top]);
+            r.top_from_settled_max = from_settled > r.top_from_settled_max ? from_settled : r.top_from_settled_max;
+        }
+    }
+    r.wall_s = now_s() - t0;
+    KG_CHECK_OK(kg_world_get_body_states(w, bodies, count, states));
+    r.top_from_settled_end = dist(states[top].position, settled[top]);
+    r.top_from_start_end = dist(states[top].position, start[top]);
+    r.top_angle_end = states[top].angle;
+    for (int i = 0; i < count; ++i) {
+        double a = dist(states[i].position, settled[i]), b = dist(states[i].position, start[i]);
+        r.any_from_settled_end = a > r.any_from_settled_end ? a : r.any_from_settled_end;
+        r.any_from_start_end = b > r.any_from_start_end ? b : r.any_from_start_end;
+    }
+    free(start);
+    free(settled);
+    free(states);
+    return r;
+}
+
+static void print_stand(const char* label, double seconds, const stand_run* r)
+{
+    printf("measured: %s for %.0f s: top box from its place at 1 s: max %.3f mm, end %.3f mm; from its initial "
+           "placement: max %.3f mm, end %.3f mm; top angle at the end %.3g rad; any box at the end: %.3f mm from 1 s, "
+           "%.3f mm from placement; %.1f s wall\n",
+           label, seconds, r->top_from_settled_max * 1e3, r->top_from_settled_end * 1e3, r->top_from_start_max * 1e3,
+           r->top_from_start_end * 1e3, r->top_angle_end, r->any_from_settled_end * 1e3, r->any_from_start_end * 1e3,
+           r->wall_s);
+}
+
+/* Static ground: a box 240 m wide, 1 m thick, its top face at y = 0. */
+static void add_ground(kg_world* w)
+{
+    add(w, KG_BODY_STATIC, kg_box_shape(240.0f, 1.0f), (kg_vec2){0.0f, -0.5f}, 0.0f);
+}
+
+/* 20 boxes of 1 m, density 1, each placed touching the one below (no gap). */
+static void stack_of_20(double seconds)
+{
+    kg_world* w = make_world(0);
+    add_ground(w);
+    kg_body boxes[20];
+    for (int i = 0; i < 20; ++i) {
+        boxes[i] = add(w, KG_BODY_DYNAMIC, kg_box_shape(1.0f, 1.0f), (kg_vec2){0.0f, 0.5f + (float)i}, 0.0f);
+    }
+    stand_run r = run_standing(w, boxes, 20, 19, seconds);
+    print_stand("stack of 20", seconds, &r);
+    KG_CHECK(r.top_from_settled_max < 0.01);
+    kg_destroy_world(w);
+}
+
+/* Box2D's pyramid layout: row i (from the bottom) has base - i boxes of 1 m, touching side
+ * by side, each row centred on the one below. Returns the body count; the top box is last. */
+static int pyramid(kg_world* w, int base, kg_body* out)
+{
+    int n = 0;
+    const float h = 0.5f;
+    for (int i = 0; i < base; ++i) {
+        float y = (2.0f * (float)i + 1.0f) * h;
+        for (int j = i; j < base; ++j) {
+            float x = ((float)i + 1.0f) * h + 2.0f * (float)(j - i) * h - h * (float)base;
+            out[n++] = add(w, KG_BODY_DYNAMIC, kg_box_shape(1.0f, 1.0f), (kg_vec2){x, y}, 0.0f);
+        }
+    }
+    return n;
+}
+
+static void pyramid_run(int base, double seconds, double top_limit)
+{
+    int count = base * (base + 1) / 2;
+    kg_world* w = make_world(count + 16);
+    add_ground(w);
+    kg_body* boxes = malloc((size_t)count * sizeof *boxes);
+    KG_CHECK(boxes != NULL);
+    if (!boxes) {
+        kg_destroy_world(w);
+        return;
+    }
+    KG_CHECK(pyramid(w, base, boxes) == count);
+    stand_run r = run_standing(w, boxes, count, count - 1, seconds);
+    char label[64];
+    snprintf(label, sizeof label, "pyramid base %d (%d boxes)", base, count);
+    print_stand(label, seconds, &r);
+    KG_CHECK(r.top_from_settled_max < top_limit);
+    free(boxes);
+    kg_destroy_world(w);
+}
+
+static void test_stack_of_20_stands_10_s(void) { stack_of_20(10.0); }
+static void test_stack_of_20_stands_60_s(void) { stack_of_20(60.0); }
+/* Base 20: the stack's limit, 1 cm. Base 100: the issue's 5 cm. */
+static void test_pyramid_20_stands_10_s(void) { pyramid_run(20, 10.0, 0.01); }
+static void test_pyramid_20_stands_60_s(void) { pyramid_run(20, 60.0, 0.01); }
+static void test_pyramid_100_stands_10_s(void) { pyramid_run(100, 10.0, 0.05); }
+
+/* ---- a pile comes to rest -------------------------------------------------------------- */
+
+static uint32_t rng_state;
+static float rnd(void) /* [0, 1), xorshift32 */
+{
+    rng_state ^= rng_state << 13;
+    rng_state ^= rng_state >> 17;
+    rng_state ^= rng_state << 5;
+    return (float)(rng_state >> 8) * (1.0f / 16777216.0f);
+}
+
+static double kinetic_energy(kg_world* w, const kg_body* bodies, int count, kg_body_state* states,
+                             const kg_mass_data* md)
+{
+    KG_CHECK_OK(kg_world_get_body_states(w, bodies, count, states));
+    double e = 0.0;
+    for (int i = 0; i < count; ++i) {
+        double vx = states[i].velocity.x, vy = states[i].velocity.y, om = states[i].angular_velocity;
+        e += 0.5 * md[i].mass * (vx * vx + vy * vy) + 0.5 * md[i].inertia * om * om;
+    }
+    return e;
+}
+
+/* 1000 bodies, every other one a box (sides 0.4 to 1.0 m) or a circle (radius 0.2 to
+ * 0.5 m) at a random angle, one per 1.2 m cell of a 40 x 25 grid whose bottom row is 1 m
+ * above the floor, dropped into a container 48 m wide (static floor and walls). Seed 1234.
+ * Kinetic energy (translation and rotation) is measured after every step for 30 s. */
+static void test_pile_of_1000_comes_to_rest(void)
+{
+    enum { COUNT = 1000, COLS = 40, STEPS = 1800 };
+    const float cell = 1.2f, width = COLS * cell;
+    kg_world* w = make_world(COUNT + 16);
+    add(w, KG_BODY_STATIC, kg_box_shape(width + 2.0f, 1.0f), (kg_vec2){0.0f, -0.5f}, 0.0f);
+    add(w, KG_BODY_STATIC, kg_box_shape(1.0f, 80.0f), (kg_vec2){-0.5f * width - 0.5f, 39.0f}, 0.0f);
+    add(w, KG_BODY_STATIC, kg_box_shape(1.0f, 80.0f), (kg_vec2){0.5f * width + 0.5f, 39.0f}, 0.0f);
+    static kg_body bodies[COUNT];
+    static kg_mass_data md[COUNT];
+    static kg_body_state states[COUNT];
+    static double energy[STEPS + 1];
+    rng_state = 1234u;
+    for (int i = 0; i < COUNT; ++i) {
+        int row = i / COLS, col = i % COLS;
+        kg_vec2 p = {-0.5f * width + ((float)col + 0.5f) * cell + 0.1f * (rnd() - 0.5f),
+                     1.0f + 0.5f * cell + (float)row * cell};
+        float angle = 6.2831853f * rnd();
+        kg_shape_def shape = (i % 2 == 0) ? kg_box_shape(0.4f + 0.6f * rnd(), 0.4f + 0.6f * rnd())
+                                          : kg_circle_shape(0.2f + 0.3f * rnd());
+        bodies[i] = add(w, KG_BODY_DYNAMIC, shape, p, angle);
+        KG_CHECK_OK(kg_body_get_mass_data(w, bodies[i], &md[i]));
+    }
+    double t0 = now_s();
+    energy[0] = kinetic_energy(w, bodies, COUNT, states, md);
+    double peak = energy[0];
+    int peak_step = 0;
+    for (int step = 1; step <= STEPS; ++step) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+        energy[step] = kinetic_energy(w, bodies, COUNT, states, md);
+        if (energy[step] > peak) {
+            peak = energy[step];
+            peak_step = step;
+        }
+    }
+    double wall = now_s() - t0;
+    /* at rest: the first step after the peak whose energy is below 1e-3 of the peak */
+    int rest_step = -1;
+    for (int step = peak_step; step <= STEPS; ++step) {
+        if (energy[step] < 1e-3 * peak) {
+            rest_step = step;
+            break;
+        }
+    }
+    double worst_growth = 0.0, worst_after_rest = 0.0;
+    int worst_growth_step = -1, growth_steps = 0, last_growth_step = -1;
+    for (int step = rest_step > 0 ? rest_step + 1 : STEPS + 1; step <= STEPS; ++step) {
+        double growth = energy[step] - energy[step - 1];
+        if (growth > worst_growth) {
+            worst_growth = growth;
+            worst_growth_step = step;
+        }
+        if (growth > 1e-6 * peak) {
+            growth_steps++;
+            last_growth_step = step;
+        }
+        worst_after_rest = energy[step] > worst_after_rest ? energy[step] : worst_after_rest;
+    }
+    int below_1e4 = -1, below_1e5 = -1;
+    for (int step = peak_step; step <= STEPS; ++step) {
+        if (below_1e4 < 0 && energy[step] < 1e-4 * peak) {
+            below_1e4 = step;
+        }
+        if (below_1e5 < 0 && energy[step] < 1e-5 * peak) {
+            below_1e5 = step;
+        }
+    }
+    printf("measured: pile of 1000 (seed 1234): peak kinetic energy %.6g J at %.3f s; below 1e-3 of it from %.3f s "
+           "(%s); below 1e-4 from %.3f s, below 1e-5 from %.3f s; after rest: largest energy %.3g of the peak, "
+           "largest growth between steps %.3g of the peak (at %.3f s), %d steps growing by more than 1e-6 of the peak "
+           "(the last at %.3f s); "
+           "energy at 30 s %.3g of the peak; %.1f s wall\n",
+           peak, peak_step * (double)DT, rest_step * (double)DT, rest_step > 0 ? "reached" : "NOT reached",
+           below_1e4 * (double)DT, below_1e5 * (double)DT, worst_after_rest / peak, worst_growth / peak,
+           worst_growth_step * (double)DT, growth_steps, last_growth_step * (double)DT, energy[STEPS] / peak, wall);
+    for (int step = 60; step <= STEPS; step += step < 600 ? 30 : 300) {
+        printf("  kinetic energy at %5.2f s: %.3g of the peak\n", step * (double)DT, energy[step] / peak);
+    }
+    KG_CHECK(peak > 0.0);
+    KG_CHECK(rest_step > 0);
+    KG_CHECK(rest_step > 0 && rest_step < STEPS - 300); /* at rest with at least 5 s left to watch */
+    KG_CHECK(worst_growth <= 1e-6 * peak);
+    kg_destroy_world(w);
+}
+
+/* ---- main ----------------------------------------------------------------------------- */
+
+static const kg_test_case all_tests[] = {
+    KG_TEST(test_stack_of_20_stands_10_s),  KG_TEST(test_pyramid_20_stands_10_s),
+    KG_TEST(test_stack_of_20_stands_60_s),  KG_TEST(test_pyramid_20_stands_60_s),
+    KG_TEST(test_pyramid_100_stands_10_s),  KG_TEST(test_pile_of_1000_comes_to_rest),
+};
+enum { QUICK_TESTS = 2, ALL_TESTS = (int)(sizeof all_tests / sizeof all_tests[0]) };
+
+int main(int argc, char** argv)
+{
+    if (argc < 2) {
+        return kg_run_tests(all_tests, QUICK_TESTS);
+    }
+    kg_test_case chosen[ALL_TESTS];
+    int n = 0;
+    for (int a = 1; a < argc; ++a) {
+        int all = strcmp(argv[a], "all") == 0, found = 0;
+        for (int i = 0; i < ALL_TESTS; ++i) {
+            if (all || strcmp(argv[a], all_tests[i].name) == 0) {
+                found = 1;
+                if (n < ALL_TESTS) {
+                    chosen[n++] = all_tests[i];
+                }
+            }
+        }
+        if (!found) {
+            fprintf(stderr, "unknown test %s; the tests are:\n", argv[a]);
+            for (int i = 0; i < ALL_TESTS; ++i) {
+                fprintf(stderr, "  %s\n", all_tests[i].name);
+            }
+            return 2;
+        }
+    }
+    return kg_run_tests(chosen, n);
+}
