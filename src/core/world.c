@@ -1,4 +1,5 @@
 #include "core/world.h"
+#include "backend/cpu/parallel.h"
 #include "backend/backend.h"
 #include "core/alloc.h"
 #include "core/error.h"
@@ -87,6 +88,10 @@ kg_result kg_create_world(const kg_world_def* def, kg_world** out_world)
         w->handle_scratch = kg_alloc_zeroed((size_t)w->def.max_bodies * sizeof *w->handle_scratch);
         r = (w->applicators && w->handle_scratch) ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate a world");
     }
+    if (r == KG_OK && w->def.threads > 1) {
+        w->threads = kg_thread_pool_create(w->def.threads);
+        r = w->threads ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot start %d threads", w->def.threads);
+    }
     if (r == KG_OK) {
         r = kg_collision_create(w);
     }
@@ -115,6 +120,7 @@ void kg_destroy_world(kg_world* world)
     kg_solver_destroy(world);
     kg_tilemaps_destroy(world);
     kg_collision_destroy(world);
+    kg_thread_pool_destroy(world->threads);
     for (int i = 0; world->applicators && i < world->def.max_applicators; ++i) {
         kg_free(world->applicators[i].bodies);
     }
