@@ -7,10 +7,11 @@
 #   bash scripts/bench.sh [BUILD_DIR] [more `kgyro bench` options, e.g. --threads 2]
 #   BENCH_QUICK=1 bash scripts/bench.sh build    # about a minute: short runs, N <= 20,000
 #
-# The full run stays under about 15 minutes on a 2-core machine: the benchmark scenes
-# take their own step counts twice, and each scaling series grows N from 1,000 towards
-# 1,000,000 until a run of an engine steps longer than the budget; that engine then
-# sits out the larger sizes of that series.
+# The full run stays under about 15 minutes on a 2-core machine: one run per scene and
+# engine (the median and 95th percentile are then over the run's steps), the benchmark
+# scenes with their own step counts, and each scaling series growing N from 1,000
+# towards 1,000,000 until a run of an engine steps longer than the budget; that engine
+# then sits out the larger sizes of that series. BENCH_RUNS=3 takes more runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -27,7 +28,7 @@ if [ "${BENCH_QUICK:-0}" = 1 ]; then
   scene_steps=":60"; runs=1; series_steps=30; budget=2; timeout=60
   sizes="1000 2000 5000 10000 20000"
 else
-  scene_steps=""; runs=2; series_steps=60; budget=6; timeout=90
+  scene_steps=""; runs=${BENCH_RUNS:-1}; series_steps=60; budget=6; timeout=90
   sizes="1000 2000 5000 10000 20000 50000 100000 200000 500000 1000000"
 fi
 
@@ -40,6 +41,19 @@ for n in $sizes; do
 done
 
 mkdir -p "$out"
+rm -f "$out/results.csv"
+status=0
 "$kgyro" bench "${scenes[@]}" --engines kgyro,box2d,chipmunk --backend cpu,opencl --runs "$runs" \
   --budget "$budget" --timeout "$timeout" --profile --csv "$out/results.csv" --plot "$out" "$@" \
-  | tee "$out/report.txt"
+  | tee "$out/report.txt" || status=$?
+
+# A run that failed or crashed is a result too (its row says so); only a bench that
+# produced no table fails `make bench`.
+if [ ! -s "$out/results.csv" ]; then
+  echo "bench: no results (kgyro bench exited with $status)" >&2
+  exit 1
+fi
+if [ "$status" -ne 0 ]; then
+  echo "bench: some runs failed or crashed; see the status column of $out/results.csv" >&2
+fi
+echo "bench: $out/results.csv, $out/report.txt and the charts in $out"

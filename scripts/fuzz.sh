@@ -46,14 +46,29 @@ seed_dirs() {
   return 0
 }
 
-# Copies the inputs libFuzzer saved for a failure into tests/regress/NAME/.
+# The regression input of target NAME with the same bytes as a file, if any.
+known_regression() {
+  local name="$1" file="$2" known
+  for known in "tests/regress/$name"/*; do
+    [ -f "$known" ] && cmp -s "$known" "$file" && { echo "$known"; return 0; }
+  done
+  return 0
+}
+
+# Copies the inputs libFuzzer saved for a failure into tests/regress/NAME/, unless one
+# is already there (a known bug, still open, fails again on its own input).
 keep_failures() {
-  local name="$1" artifact
+  local name="$1" artifact known
   mkdir -p "tests/regress/$name"
   for artifact in "$build/artifacts/$name"/*; do
     [ -f "$artifact" ] || continue
-    cp "$artifact" "tests/regress/$name/"
-    echo "fuzz: $name: kept $(basename "$artifact") as tests/regress/$name/$(basename "$artifact")"
+    known=$(known_regression "$name" "$artifact")
+    if [ -n "$known" ]; then
+      echo "fuzz: $name: fails on $known, a known regression input (its bug is still open)"
+    else
+      cp "$artifact" "tests/regress/$name/"
+      echo "fuzz: $name: kept $(basename "$artifact") as tests/regress/$name/$(basename "$artifact")"
+    fi
   done
 }
 

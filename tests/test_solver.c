@@ -12,6 +12,21 @@
 
 #include <math.h>
 #include <string.h>
+#include <stdarg.h>
+
+/* Prints a line of measured numbers and flushes it, so that it comes out before the
+ * harness's failure messages (on stderr) about the same numbers. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 1, 2)))
+#endif
+static void measured(const char* format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    vprintf(format, args);
+    va_end(args);
+    fflush(stdout);
+}
 
 #define DT (1.0f / 60.0f)
 #define PI_D 3.14159265358979323846
@@ -127,13 +142,13 @@ static void head_on(const char* label, kg_shape_def shape, float restitution)
         }
     }
     kg_body_state sa = state_of(w, bodies[0]), sb = state_of(w, bodies[1]);
-    printf("measured: head-on %s e=%.0f (m = %.4f kg, in %.0f m/s, %.0f m/s): at 1.5 s v1 = (%.6f, %.3g) w1 = %.3g, "
-           "v2 = (%.6f, %.3g) w2 = %.3g; at 2.5 s v1 = %.6f, v2 = %.6f, gap = %.5f m; steps with a contact %d; "
-           "worst |dP|/|P| over 150 steps = %.3g\n",
-           label, (double)restitution, (double)md.mass, (double)va, (double)vb, (double)sa_mid.velocity.x,
-           (double)sa_mid.velocity.y, (double)sa_mid.angular_velocity, (double)sb_mid.velocity.x,
-           (double)sb_mid.velocity.y, (double)sb_mid.angular_velocity, (double)sa.velocity.x, (double)sb.velocity.x,
-           (double)(sb.position.x - sa.position.x), contact_steps, worst_dp);
+    measured("measured: head-on %s e=%.0f (m = %.4f kg, in %.0f m/s, %.0f m/s): at 1.5 s v1 = (%.6f, %.3g) w1 = %.3g, "
+             "v2 = (%.6f, %.3g) w2 = %.3g; at 2.5 s v1 = %.6f, v2 = %.6f, gap = %.5f m; steps with a contact %d; "
+             "worst |dP|/|P| over 150 steps = %.3g\n",
+             label, (double)restitution, (double)md.mass, (double)va, (double)vb, (double)sa_mid.velocity.x,
+             (double)sa_mid.velocity.y, (double)sa_mid.angular_velocity, (double)sb_mid.velocity.x,
+             (double)sb_mid.velocity.y, (double)sb_mid.angular_velocity, (double)sa.velocity.x, (double)sb.velocity.x,
+             (double)(sb.position.x - sa.position.x), contact_steps, worst_dp);
     KG_CHECK(contact_steps > 0);
     if (restitution == 1.0f) {
         /* the velocities are exchanged, within 1% */
@@ -201,12 +216,12 @@ static void off_centre(const char* label, kg_shape_def shape_a, kg_vec2 pos_a, k
     }
     momentum m1 = momentum_of(w, bodies, 2, ox, oy);
     kg_body_state sa = state_of(w, bodies[0]), sb = state_of(w, bodies[1]);
-    printf("measured: off-centre %s e=%.1f: after 1.5 s w1 = %.5f rad/s, w2 = %.5f rad/s, v1 = (%.5f, %.5f), "
-           "v2 = (%.5f, %.5f); P = (%.7g, %.7g) -> (%.7g, %.7g), L about (1,-2) = %.7g -> %.7g; "
-           "worst over 90 steps |dP|/|P| = %.3g, |dL|/|L| = %.3g; steps with a contact %d\n",
-           label, (double)restitution, (double)sa.angular_velocity, (double)sb.angular_velocity, (double)sa.velocity.x,
-           (double)sa.velocity.y, (double)sb.velocity.x, (double)sb.velocity.y, m0.px, m0.py, m1.px, m1.py, m0.l,
-           m1.l, worst_dp, worst_dl, contact_steps);
+    measured("measured: off-centre %s e=%.1f: after 1.5 s w1 = %.5f rad/s, w2 = %.5f rad/s, v1 = (%.5f, %.5f), "
+             "v2 = (%.5f, %.5f); P = (%.7g, %.7g) -> (%.7g, %.7g), L about (1,-2) = %.7g -> %.7g; "
+             "worst over 90 steps |dP|/|P| = %.3g, |dL|/|L| = %.3g; steps with a contact %d\n",
+             label, (double)restitution, (double)sa.angular_velocity, (double)sb.angular_velocity,
+             (double)sa.velocity.x, (double)sa.velocity.y, (double)sb.velocity.x, (double)sb.velocity.y, m0.px, m0.py,
+             m1.px, m1.py, m0.l, m1.l, worst_dp, worst_dl, contact_steps);
     KG_CHECK(contact_steps > 0);
     /* both spin: well above rounding (a clean hit gives tenths of rad/s here) */
     KG_CHECK(fabs(sa.angular_velocity) > 0.05);
@@ -243,8 +258,8 @@ static void test_off_centre_circle_hit_bouncy_spins_and_conserves_momentum(void)
 typedef struct slope_run {
     double along0, along_settled, along_end; /* distance along the slope (up-slope positive) */
     double v_along_t1, v_along_t2, t1, t2;
-    double accel_fit;                        /* least-squares fit of positions over the window */
-    double normal_drift;                     /* change of the distance from the slope surface */
+    double accel_fit;    /* least-squares fit of positions over the window */
+    double normal_drift; /* change of the distance from the slope surface */
     double angle_drift;
 } slope_run;
 
@@ -321,11 +336,11 @@ static void test_box_on_30_degree_slope_holds_with_friction_07(void)
     /* settled for 0.25 s, then 5 s: how far the box's origin moves along the slope */
     slope_run r = run_slope(0.7f, 0.25, 5.0);
     double drift = fabs(r.along_end - r.along_settled);
-    printf("measured: slope friction 0.7: along-slope drift over 5 s after 0.25 s of settling = %.4g mm "
-           "(from placement: %.4g mm over 5.25 s); velocity along the slope at 0.25 s %.3g m/s, at 5.25 s %.3g m/s; "
-           "largest change of the distance to the slope surface %.3g mm, of the angle %.3g rad\n",
-           drift * 1e3, fabs(r.along_end - r.along0) * 1e3, r.v_along_t1, r.v_along_t2, r.normal_drift * 1e3,
-           r.angle_drift);
+    measured("measured: slope friction 0.7: along-slope drift over 5 s after 0.25 s of settling = %.4g mm "
+             "(from placement: %.4g mm over 5.25 s); velocity along the slope at 0.25 s %.3g m/s, at 5.25 s %.3g m/s; "
+             "largest change of the distance to the slope surface %.3g mm, of the angle %.3g rad\n",
+             drift * 1e3, fabs(r.along_end - r.along0) * 1e3, r.v_along_t1, r.v_along_t2, r.normal_drift * 1e3,
+             r.angle_drift);
     KG_CHECK(drift < 1e-3);
     KG_CHECK(fabs(r.along_end - r.along0) < 1e-2); /* and it did not slip while settling either */
 }
@@ -338,11 +353,12 @@ static void test_box_on_30_degree_slope_slides_with_friction_02(void)
     double expected = g * (sin(theta) - 0.2 * cos(theta));
     double a_vel = -(r.v_along_t2 - r.v_along_t1) / (r.t2 - r.t1);
     double a_fit = -r.accel_fit;
-    printf("measured: slope friction 0.2: acceleration down the slope over [%.2f s, %.2f s] from velocities %.5f m/s^2, "
-           "from a quadratic fit of positions %.5f m/s^2, expected g (sin 30 - 0.2 cos 30) = %.5f m/s^2 "
-           "(errors %.3f%%, %.3f%%); distance slid %.3f m; largest change of the distance to the slope surface %.3g mm\n",
-           r.t1, r.t2, a_vel, a_fit, expected, 100.0 * (a_vel - expected) / expected,
-           100.0 * (a_fit - expected) / expected, r.along0 - r.along_end, r.normal_drift * 1e3);
+    measured(
+        "measured: slope friction 0.2: acceleration down the slope over [%.2f s, %.2f s] from velocities %.5f m/s^2, "
+        "from a quadratic fit of positions %.5f m/s^2, expected g (sin 30 - 0.2 cos 30) = %.5f m/s^2 "
+        "(errors %.3f%%, %.3f%%); distance slid %.3f m; largest change of the distance to the slope surface %.3g mm\n",
+        r.t1, r.t2, a_vel, a_fit, expected, 100.0 * (a_vel - expected) / expected,
+        100.0 * (a_fit - expected) / expected, r.along0 - r.along_end, r.normal_drift * 1e3);
     KG_CHECK_NEAR(a_vel, expected, 0.02 * expected);
     KG_CHECK_NEAR(a_fit, expected, 0.02 * expected);
     KG_CHECK(r.normal_drift < 2e-3); /* it slides on the surface: neither sinks nor hops */
@@ -363,8 +379,8 @@ static kg_world* ground_world(void)
 static double resting_height(float radius)
 {
     kg_world* w = ground_world();
-    kg_body rest = add(w, KG_BODY_DYNAMIC, kg_circle_shape(radius), (kg_vec2){0.0f, radius}, 0.0f, (kg_vec2){0, 0},
-                       0.6f, 0.5f);
+    kg_body rest =
+        add(w, KG_BODY_DYNAMIC, kg_circle_shape(radius), (kg_vec2){0.0f, radius}, 0.0f, (kg_vec2){0, 0}, 0.6f, 0.5f);
     for (int step = 0; step < 120; ++step) {
         KG_CHECK_OK(kg_world_step(w, DT));
     }
@@ -406,11 +422,12 @@ static void bounce(double drop)
         prev_vy = s.velocity.y;
     }
     double height = start_y - rest_y, up = apex - rest_y;
-    printf("measured: ball e=0.5 dropped %.1f m: resting centre height %.5f m (radius %.2f), drop %.5f m, impact speed "
-           "%.4f m/s, rebound speed %.4f m/s (ratio %.4f), lowest centre %.4f m, first apex %.5f m above rest = %.4f "
-           "of the drop (expected 0.25, error %.2f%%)\n",
-           drop, rest_y, (double)radius, height, impact_speed, rebound_speed, rebound_speed / impact_speed, lowest, up,
-           up / height, 100.0 * (up / height - 0.25) / 0.25);
+    measured(
+        "measured: ball e=0.5 dropped %.1f m: resting centre height %.5f m (radius %.2f), drop %.5f m, impact speed "
+        "%.4f m/s, rebound speed %.4f m/s (ratio %.4f), lowest centre %.4f m, first apex %.5f m above rest = %.4f "
+        "of the drop (expected 0.25, error %.2f%%)\n",
+        drop, rest_y, (double)radius, height, impact_speed, rebound_speed, rebound_speed / impact_speed, lowest, up,
+        up / height, 100.0 * (up / height - 0.25) / 0.25);
     KG_CHECK(phase == 2);
     KG_CHECK(impact_speed > 2.0); /* well above the 1 m/s restitution threshold */
     KG_CHECK_NEAR(up, 0.25 * height, 0.03 * 0.25 * height);
@@ -429,7 +446,8 @@ static void test_ball_with_restitution_05_bounces_to_a_quarter(void)
     }
 }
 
-KG_TEST_MAIN(KG_TEST(test_head_on_boxes_elastic_exchange_velocities), KG_TEST(test_head_on_boxes_inelastic_move_together),
+KG_TEST_MAIN(KG_TEST(test_head_on_boxes_elastic_exchange_velocities),
+             KG_TEST(test_head_on_boxes_inelastic_move_together),
              KG_TEST(test_head_on_circles_elastic_exchange_velocities),
              KG_TEST(test_head_on_circles_inelastic_move_together),
              KG_TEST(test_off_centre_box_hit_inelastic_spins_and_conserves_momentum),

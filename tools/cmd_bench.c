@@ -31,12 +31,13 @@ typedef struct bench_options {
     const char* const* scenes;
 } bench_options;
 
-/* An engine that went over the time budget on a series, and so skips its larger sizes. */
-typedef struct bench_over_budget {
+/* An engine that went over the time budget on a series, or failed at one of its sizes,
+ * and so sits out the larger sizes. */
+typedef struct bench_stop {
     int engine;
     char family[BENCH_SCENE_NAME_MAX];
-    char at[BENCH_SCENE_NAME_MAX];
-} bench_over_budget;
+    char why[BENCH_MESSAGE_MAX];
+} bench_stop;
 
 typedef struct bench_session {
     bench_options options;
@@ -45,8 +46,8 @@ typedef struct bench_session {
     int solver_in_place;
     bench_row* rows;
     int row_count;
-    bench_over_budget* over;
-    int over_count;
+    bench_stop* stops;
+    int stop_count;
     int exit_code;
 } bench_session;
 
@@ -71,8 +72,8 @@ static void bench_usage(FILE* out)
             "  --steps N        steps per run for every scene (default: each scene's own)\n"
             "  --runs R         runs per scene and engine (default 3)\n"
             "  --seed S         seed of the random scenes (default 1)\n"
-            "  --budget SEC     an engine whose run steps longer than SEC skips the larger sizes of\n"
-            "                   the same series (rain_N, particles_N) later on the command line\n"
+            "  --budget SEC     an engine whose run steps longer than SEC (or fails) skips the larger\n"
+            "                   sizes of the same series (rain_N, particles_N) later on the command line\n"
             "  --timeout SEC    kill a run that takes longer than SEC\n"
             "  --csv FILE       write the table as CSV, and kgyro's stage times to FILE_stages.csv\n"
             "  --plot DIR       write gnuplot scripts to DIR and draw them as PNG: scaling.png (step\n"
@@ -346,48 +347,53 @@ static void bench_describe_scene(const kg_scene* scene, const char* name, int st
     info->is_pyramid = strstr(name, "pyramid") != NULL;
 }
 
-static const bench_over_budget* bench_find_over(const bench_session* s, int engine, const char* family)
+static const bench_stop* bench_find_stop(const bench_session* s, int engine, const char* family)
 {
-    for (int i = 0; i < s->over_count; ++i) {
-        if (s->over[i].engine == engine && strcmp(s->over[i].family, family) == 0) {
-            return &s->over[i];
+    for (int i = 0; i < s->stop_count; ++i) {
+        if (s->stops[i].engine == engine && strcmp(s->stops[i].family, family) == 0) {
+            return &s->stops[i];
         }
     }
     return NULL;
 }
 
-static void bench_note_budget(bench_session* s, int engine, const bench_scene_info* info, const bench_result* r)
+/* After a size of a series: over the budget, or failed, the engine stops there. */
+static void bench_note_stop(bench_session* s, int engine, const bench_scene_info* info, const bench_result* r)
 {
     double budget = s->options.config.budget_s;
-    int over = r->status == BENCH_TIMED_OUT || (budget > 0.0 && r->slowest_run_s > budget);
-    if (!over || info->size == 0 || bench_find_over(s, engine, info->family)) {
+    int over = budget > 0.0 && r->slowest_run_s > budget;
+    if ((!over && r->status == BENCH_OK) || info->size == 0 || bench_find_stop(s, engine, info->family)) {
         return;
     }
-    bench_over_budget* grown = realloc(s->over, (size_t)(s->over_count + 1) * sizeof *grown);
+    bench_stop* grown = realloc(s->stops, (size_t)(s->stop_count + 1) * sizeof *grown);
     if (!grown) {
         return;
     }
-    s->over = grown;
-    bench_over_budget* o = &s->over[s->over_count++];
-    o->engine = engine;
-    snprintf(o->family, sizeof o->family, "%s", info->family);
-    snprintf(o->at, sizeof o->at, "%s", info->name);
+    s->stops = grown;
+    bench_stop* stop = &s->stops[s->stop_count++];
+    stop->engine = engine;
+    snprintf(stop->family, sizeof stop->family, "%s", info->family);
+    if (r->status == BENCH_OK) {
+        snprintf(stop->why, sizeof stop->why, "went over the %.0f s time budget at %s", budget, info->name);
+    } else {
+        snprintf(stop->why, sizeof stop->why, "stopped after it %s at %s", bench_status_name(r->status), info->name);
+    }
 }
 
 static void bench_measure(bench_session* s, int engine, kg_scene* scene, const bench_scene_info* info,
                           bench_result* r)
 {
     const bench_engine* e = &s->engines[engine];
-    const bench_over_budget* over = info->size > 0 ? bench_find_over(s, engine, info->family) : NULL;
+    const bench_stop* stop = info->size > 0 ? bench_find_stop(s, engine, info->family) : NULL;
     if (!e->available) {
         r->status = BENCH_MISSING;
         snprintf(r->message, sizeof r->message, "%s", e->about);
-    } else if (over) {
+    } else if (stop) {
         r->status = BENCH_SKIPPED;
-        snprintf(r->message, sizeof r->message, "went over the time budget at %s", over->at);
+        snprintf(r->message, sizeof r->message, "%s", stop->why);
     } else {
         bench_run(e, scene, info, &s->options.config, r);
-        bench_note_budget(s, engine, info, r);
+        bench_note_stop(s, engine, info, r);
     }
     if (r->status == BENCH_FAILED || r->status == BENCH_CRASHED) {
         s->exit_code = 1;
@@ -510,7 +516,7 @@ int kg_cmd_bench(int argc, char** argv)
         code = s.exit_code;
     }
     free(s.rows);
-    free(s.over);
+    free(s.stops);
     free(scenes);
     return code < 0 ? 0 : code;
 }

@@ -40,7 +40,7 @@ static int kg_list_devices(void)
     int count = 0;
     kg_result r = kg_opencl_device_count(&count);
     if (r != KG_OK) {
-        printf("  opencl   unavailable: %s\n", kg_last_error());
+        printf("  opencl   not usable: %s\n", kg_last_error());
         return 0;
     }
     printf("  opencl   %d device%s\n", count, count == 1 ? "" : "s");

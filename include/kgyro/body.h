@@ -97,6 +97,7 @@ KG_API kg_result kg_body_get_mass_data(const kg_world* world, kg_body body, kg_m
 /* Inverse mass and inverse rotational inertia; 0 means infinite. */
 KG_API kg_result kg_body_get_inverse_mass(const kg_world* world, kg_body body, float* inv_mass,
                                           float* inv_inertia);
+/* World bounds of the shape, swept by the body's motion over one more step of the last dt. */
 KG_API kg_result kg_body_get_aabb(const kg_world* world, kg_body body, kg_aabb* out);
 KG_API void* kg_body_get_user_data(const kg_world* world, kg_body body);
 

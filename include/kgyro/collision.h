@@ -16,7 +16,7 @@ typedef struct kg_contact_info {
     int point_count;
     kg_vec2 points[2];          /* world frame */
     float depths[2];
-    float normal_impulses[2];   /* accumulated in the last step (N s) */
+    float normal_impulses[2];   /* of the last sub-step (N s); about 1/substeps of the step's */
     float tangent_impulses[2];
     uint32_t feature_ids[2];
 } kg_contact_info;

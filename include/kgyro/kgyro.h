@@ -18,6 +18,7 @@
 #include "body.h"
 #include "force.h"
 #include "collision.h"
+#include "tilemap.h"
 
 #define KGYRO_VERSION_MAJOR 0
 #define KGYRO_VERSION_MINOR 1

@@ -1,6 +1,6 @@
 /* KineticGyro: scenes, a world's contents described as data, built from JSON files,
- * from generators (pyramids, rain, the benchmark set) or from code. One scene can be
- * instantiated in a kgyro world, or (in bench/) in a peer engine, from the same data.
+ * from Tiled maps, from generators (pyramids, rain, the benchmark set) or from code. One
+ * scene can be instantiated in a kgyro world, or (in bench/) in a peer engine, from the same data.
  * Part of the kgyro_io library (needs cJSON). */
 #ifndef KGYRO_SCENE_H
 #define KGYRO_SCENE_H
@@ -8,6 +8,7 @@
 #include "types.h"
 #include "world.h"
 #include "body.h"
+#include "tilemap.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -30,9 +31,14 @@ typedef struct kg_scene_force {
 } kg_scene_force;
 
 /* Loading. On failure the result is KG_ERROR_IO or KG_ERROR_PARSE and kg_last_error()
- * reads "FILE: JSON.PATH: what is wrong", e.g. "a.json: bodies[3].shape.radius: must be > 0". */
+ * reads "FILE: JSON.PATH: what is wrong", e.g. "a.json: bodies[3].shape.radius: must be > 0".
+ * A Tiled map (.tmj or .json saved by Tiled) loads as a scene too (kg_scene_load_tiled). */
 KG_API kg_result kg_scene_load_file(const char* path, kg_scene** out);
 KG_API kg_result kg_scene_parse(const char* json, size_t length, const char* source_name, kg_scene** out);
+/* A Tiled map (orthogonal, JSON format, docs/tilemaps.md): its tile layers become one tile
+ * map (one layer each), the collision shapes drawn in its tilesets the tile shapes, its
+ * object layers bodies. Errors read "FILE: what is wrong". */
+KG_API kg_result kg_scene_load_tiled(const char* path, kg_scene** out);
 
 /* Building from code. A name is 1 to 63 characters among letters, digits and _-.:/#
  * (so that it goes into a CSV field as is), unique in the scene; NULL means "body<i>"
@@ -51,6 +57,9 @@ KG_API kg_result kg_scene_set_steps(kg_scene* scene, int steps); /* >= 0 */
  * every step so that it stays on its circle. A kinematic body's velocity is otherwise
  * constant, so without a pivot it would fly off along the tangent. */
 KG_API kg_result kg_scene_set_body_pivot(kg_scene* scene, int index, kg_vec2 pivot);
+/* Adds a tile map, made when the scene is instantiated. def, its shapes and its tiles are
+ * copied; they are checked when instantiated, not here. */
+KG_API kg_result kg_scene_add_tilemap(kg_scene* scene, const kg_tilemap_def* def);
 
 /* Reading. */
 KG_API int kg_scene_body_count(const kg_scene* scene);
@@ -62,8 +71,12 @@ KG_API int kg_scene_find_body(const kg_scene* scene, const char* name);
 KG_API int kg_scene_body_pivot(const kg_scene* scene, int index, kg_vec2* out);
 KG_API int kg_scene_force_count(const kg_scene* scene);
 KG_API const kg_scene_force* kg_scene_get_force(const kg_scene* scene, int index);
+KG_API int kg_scene_tilemap_count(const kg_scene* scene);
+/* The scene's copy (shapes and tiles point into the scene). */
+KG_API const kg_tilemap_def* kg_scene_get_tilemap(const kg_scene* scene, int index);
 
-/* Creates a world holding the scene, its bodies and forces. The world is made from
+/* Creates a world holding the scene, its bodies, forces and tile maps (in scene order, so
+ * kg_world_get_tilemaps lists them in that order). The world is made from
  * override_def when given (the scene's gravity and substeps are then not used), else
  * from the scene's own def; either way max_bodies, max_contacts and max_applicators are
  * grown to fit the scene. out_bodies, if not NULL, receives kg_scene_body_count()

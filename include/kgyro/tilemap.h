@@ -88,6 +88,8 @@ KG_API kg_tile_shape kg_tile_platform(void);
 /* Any convex polygon (tile coordinates). */
 KG_API kg_tile_shape kg_tile_polygon(const kg_vec2* vertices, int count);
 KG_API kg_tile_shape kg_tile_circle(kg_vec2 center, float radius);
+/* Checks a tile shape as kg_create_tilemap does (for square tiles). */
+KG_API kg_result kg_tile_shape_check(const kg_tile_shape* shape);
 
 /* Everything a tile map is made from. Start from kg_default_tilemap_def(). */
 typedef struct kg_tilemap_def {

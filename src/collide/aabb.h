@@ -28,4 +28,22 @@ KG_FN kg_aabb kg_aabb_fatten(kg_aabb box, float margin)
     return box;
 }
 
+/* Bounds swept over the motion expected in the next step, so the broadphase pairs a
+ * fast body with what it is about to reach. */
+KG_FN kg_aabb kg_aabb_sweep(kg_aabb box, kg_vec2 displacement)
+{
+    kg_aabb swept;
+    swept.lower = kg_vmin(box.lower, kg_add(box.lower, displacement));
+    swept.upper = kg_vmax(box.upper, kg_add(box.upper, displacement));
+    return swept;
+}
+
+/* How close a pair must come to get a speculative contact: the base distance plus how
+ * far they can close in one step. With the base alone, a ball falling 0.1 m a step
+ * sank up to 8 cm before its contact existed, and bounced 5% low. */
+KG_FN float kg_pair_speculative(float base, kg_vec2 va, kg_vec2 vb, float dt)
+{
+    return base + dt * kg_length(kg_sub(vb, va));
+}
+
 #endif

@@ -3,6 +3,7 @@
  * with last step's impulses carried over point by point through the feature ids. */
 #include "collide/collide.h"
 #include "backend/cpu/parallel.h"
+#include "collide/aabb.h"
 #include "collide/broadphase.h"
 #include "collide/manifold.h"
 #include "collide/tilemap.h"
@@ -109,6 +110,7 @@ typedef struct kg_narrowphase_job {
     const kg_pair* pairs;
     kg_manifold* manifolds;
     float speculative;
+    float dt;
 } kg_narrowphase_job;
 
 static void kg_narrowphase_range(void* context, int begin, int end)
@@ -117,7 +119,8 @@ static void kg_narrowphase_range(void* context, int begin, int end)
     const kg_body_pool* p = job->bodies;
     for (int k = begin; k < end; ++k) {
         kg_u32 a = job->pairs[k].a, b = job->pairs[k].b;
-        job->manifolds[k] = kg_collide_shapes(&p->shape[a], p->xf[a], &p->shape[b], p->xf[b], job->speculative);
+        float speculative = kg_pair_speculative(job->speculative, p->velocity[a], p->velocity[b], job->dt);
+        job->manifolds[k] = kg_collide_shapes(&p->shape[a], p->xf[a], &p->shape[b], p->xf[b], speculative);
     }
 }
 
@@ -182,7 +185,7 @@ kg_result kg_stage_collide(kg_world* world)
     if (r != KG_OK) {
         return r;
     }
-    kg_narrowphase_job job = {&world->bodies, c->pairs, c->manifolds, world->def.speculative_distance};
+    kg_narrowphase_job job = {&world->bodies, c->pairs, c->manifolds, world->def.speculative_distance, world->last_dt};
     kg_parallel_for(world->threads, pair_count, 64, kg_narrowphase_range, &job);
     kg_build_contacts(world, pair_count);
     int room = c->capacity - c->count;

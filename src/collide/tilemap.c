@@ -1,14 +1,751 @@
-/* Placeholder until tile maps land: a world without tile maps has no tile contacts. */
+/* Tile maps: storage, the public API, the exposed-edge flags, and the collision of moving
+ * bodies with the cells their bounds cover. The data layout is in collide/tilemap.h, the
+ * per-cell collision in collide/tile_collide.h. */
 #include "collide/tilemap.h"
+#include "collide/aabb.h"
+#include "collide/tile_shape.h"
+#include "core/alloc.h"
+#include "core/error.h"
 
-int kg_tilemap_collide(kg_world* world, kg_contact* out, int room, const kg_contact* previous, int previous_count)
+#include <math.h>
+#include <string.h>
+
+#define KG_MAX_TILEMAP_CELLS (1 << 28)
+#define KG_MAX_TILEMAP_SIDE 65536
+/* Keys are 32 bits and KG_NULL_INDEX (all ones) means "no tile". */
+#define KG_KEY_SPACE 0xFFFFFFFFull
+
+typedef struct kg_map {
+    kg_u32 generation;  /* odd while alive */
+    kg_tilemap_def def; /* shapes and tiles NULL */
+    kg_tile_template* templates; /* def.shape_count */
+    kg_u32* cells;      /* layer_count * height * width words */
+    kg_u32 key_base;
+    kg_u32 key_count;
+} kg_map;
+
+struct kg_tilemaps {
+    kg_map* maps;
+    int map_count; /* slots used, live or not */
+    int map_capacity;
+    int* order;    /* live slots by key_base */
+    int live_count;
+    /* body origins at the last collision, for one-way platforms; generation 0 = unknown */
+    kg_vec2* last_origin;
+    kg_u32* last_generation;
+};
+
+static int kg_map_alive(const kg_map* m) { return (m->generation & 1u) != 0u; }
+
+/* ---- handles ---- */
+
+static kg_map* kg_resolve_map(const kg_world* world, kg_tilemap handle)
 {
-    (void)world;
-    (void)out;
-    (void)room;
-    (void)previous;
-    (void)previous_count;
+    struct kg_tilemaps* t = world ? world->tilemaps : NULL;
+    if (!t || handle.index >= (uint32_t)t->map_count || !kg_map_alive(&t->maps[handle.index]) ||
+        t->maps[handle.index].generation != handle.generation) {
+        kg_fail(KG_ERROR_INVALID_HANDLE, "tile map handle {%u, %u} is stale or invalid", handle.index,
+                handle.generation);
+        return NULL;
+    }
+    return &t->maps[handle.index];
+}
+
+static int kg_map_cell_count(const kg_map* m) { return m->def.width * m->def.height; }
+
+static kg_u32 kg_cell_index(const kg_map* m, int layer, int x, int y)
+{
+    return (kg_u32)((layer * m->def.height + y) * m->def.width + x);
+}
+
+static const kg_tile_template* kg_template_at(const kg_map* m, int layer, int x, int y)
+{
+    if (x < 0 || y < 0 || x >= m->def.width || y >= m->def.height) {
+        return NULL;
+    }
+    return &m->templates[kg_cell_id(m->cells[kg_cell_index(m, layer, x, y)])];
+}
+
+/* ---- exposed-edge flags ---- */
+
+/* The span [lo, hi] of a template's edge on the given cell side, along that side. */
+static int kg_side_span(const kg_tile_template* t, int side, float* lo, float* hi)
+{
+    int n = t->proto.shape.count;
+    for (int i = 0; i < n; ++i) {
+        kg_vec2 a = t->unit[i], b = t->unit[(i + 1) % n];
+        if (kg_tile_edge_side(a, b) == side) {
+            float ua = side % 2 == 0 ? a.x : a.y, ub = side % 2 == 0 ? b.x : b.y;
+            *lo = fminf(ua, ub);
+            *hi = fmaxf(ua, ub);
+            return 1;
+        }
+    }
     return 0;
 }
 
-void kg_tilemaps_destroy(kg_world* world) { (void)world; }
+/* Whether [lo, hi] covers the part of a side just after u, going up (towards +1) or down. */
+static int kg_covered_near(float u, int up, float lo, float hi)
+{
+    const float tolerance = KG_TILE_WELD;
+    return up ? lo <= u + tolerance && hi > u + tolerance : lo < u - tolerance && hi >= u - tolerance;
+}
+
+static const int kSideDx[4] = {0, 1, 0, -1};
+static const int kSideDy[4] = {-1, 0, 1, 0};
+
+/* The exposure bits of edge i of the tile at (layer, x, y), given its neighbours. */
+static kg_u32 kg_edge_exposure(const kg_map* m, int layer, int x, int y, const kg_tile_template* t, int i)
+{
+    kg_u32 both = (1u << (KG_CELL_START_SHIFT + (kg_u32)i)) | (1u << (KG_CELL_END_SHIFT + (kg_u32)i));
+    int n = t->proto.shape.count;
+    if ((t->proto.flags & KG_TILE_FLAG_ONE_WAY) && !(t->proto.shape.normals[i].y > KG_TILE_ANGLE_TOLERANCE)) {
+        return 0u;
+    }
+    kg_vec2 a = t->unit[i], b = t->unit[(i + 1) % n];
+    int side = kg_tile_edge_side(a, b);
+    if (side < 0) {
+        return both;
+    }
+    const kg_tile_template* neighbour = kg_template_at(m, layer, x + kSideDx[side], y + kSideDy[side]);
+    float lo, hi;
+    if (!neighbour || !kg_tile_template_is_solid(neighbour) || !kg_side_span(neighbour, (side + 2) % 4, &lo, &hi)) {
+        return both;
+    }
+    float ua = side % 2 == 0 ? a.x : a.y, ub = side % 2 == 0 ? b.x : b.y;
+    kg_u32 bits = 0u;
+    if (!kg_covered_near(ua, ub > ua, lo, hi)) {
+        bits |= 1u << (KG_CELL_START_SHIFT + (kg_u32)i);
+    }
+    if (!kg_covered_near(ub, ua > ub, lo, hi)) {
+        bits |= 1u << (KG_CELL_END_SHIFT + (kg_u32)i);
+    }
+    return bits;
+}
+
+/* Recomputes the exposure bits of one cell from its id and its four side neighbours. */
+static void kg_refresh_cell(kg_map* m, int layer, int x, int y)
+{
+    if (x < 0 || y < 0 || x >= m->def.width || y >= m->def.height) {
+        return;
+    }
+    kg_u32* word = &m->cells[kg_cell_index(m, layer, x, y)];
+    kg_u32 id = kg_cell_id(*word);
+    const kg_tile_template* t = &m->templates[id];
+    kg_u32 bits = 0u;
+    for (int i = 0; t->proto.shape.count >= 3 && i < t->proto.shape.count; ++i) {
+        bits |= kg_edge_exposure(m, layer, x, y, t, i);
+    }
+    *word = id | bits;
+}
+
+static void kg_refresh_all(kg_map* m)
+{
+    for (int layer = 0; layer < m->def.layer_count; ++layer) {
+        for (int y = 0; y < m->def.height; ++y) {
+            for (int x = 0; x < m->def.width; ++x) {
+                kg_refresh_cell(m, layer, x, y);
+            }
+        }
+    }
+}
+
+/* ---- creating and destroying ---- */
+
+kg_tilemap_def kg_default_tilemap_def(void)
+{
+    kg_tilemap_def def;
+    memset(&def, 0, sizeof def);
+    def.layer_count = 1;
+    def.tile_size = kg_v2(1.0f, 1.0f);
+    def.friction = 0.6f;
+    def.category = 1u;
+    def.mask = 0xFFFFFFFFu;
+    return def;
+}
+
+static kg_result kg_validate_tilemap_def(const kg_tilemap_def* d)
+{
+    if (d->width < 1 || d->height < 1 || d->layer_count < 1 || d->width > KG_MAX_TILEMAP_SIDE ||
+        d->height > KG_MAX_TILEMAP_SIDE ||
+        (long long)d->width * d->height * d->layer_count > (long long)KG_MAX_TILEMAP_CELLS) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT,
+                       "tile map size %d x %d x %d layers: each side must be in [1, %d], and the cells of all "
+                       "layers at most %d", d->width, d->height, d->layer_count, KG_MAX_TILEMAP_SIDE,
+                       KG_MAX_TILEMAP_CELLS);
+    }
+    if (!isfinite(d->tile_size.x) || !isfinite(d->tile_size.y) || !(d->tile_size.x > 0.0f) ||
+        !(d->tile_size.y > 0.0f) || !isfinite(d->origin.x) || !isfinite(d->origin.y)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "tile map tile size must be finite and > 0, origin finite");
+    }
+    if (!d->shapes || d->shape_count < 1 || d->shape_count > KG_MAX_TILE_ID + 1) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "a tile map needs 1 to %d shapes (got %d)", KG_MAX_TILE_ID + 1,
+                       d->shape_count);
+    }
+    if (d->shapes[0].type != KG_TILE_SHAPE_EMPTY) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "tile id 0 must be empty");
+    }
+    if (!isfinite(d->friction) || d->friction < 0.0f || !isfinite(d->restitution) || d->restitution < 0.0f ||
+        d->restitution > 1.0f) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "tile map friction must be >= 0 and restitution in [0, 1]");
+    }
+    return KG_OK;
+}
+
+static kg_result kg_build_templates(kg_map* m, const kg_tile_shape* shapes)
+{
+    m->templates = kg_alloc_zeroed((size_t)m->def.shape_count * sizeof *m->templates);
+    if (!m->templates) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d tile shapes", m->def.shape_count);
+    }
+    for (int id = 0; id < m->def.shape_count; ++id) {
+        if (kg_tile_template_build(&shapes[id], m->def.tile_size, &m->templates[id]) != KG_OK) {
+            char reason[256];
+            memcpy(reason, kg_last_error(), sizeof reason - 1);
+            reason[sizeof reason - 1] = '\0';
+            return kg_fail(kg_last_result(), "tile id %d: %s", id, reason);
+        }
+    }
+    return KG_OK;
+}
+
+static kg_result kg_fill_cells(kg_map* m, const uint16_t* tiles)
+{
+    size_t count = (size_t)kg_map_cell_count(m) * (size_t)m->def.layer_count;
+    m->cells = kg_alloc_zeroed(count * sizeof *m->cells);
+    if (!m->cells) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %zu tile map cells", count);
+    }
+    for (size_t i = 0; tiles && i < count; ++i) {
+        if (tiles[i] >= m->def.shape_count) {
+            return kg_fail(KG_ERROR_INVALID_ARGUMENT, "tile %zu has id %u, but the map has %d shapes", i,
+                           (unsigned)tiles[i], m->def.shape_count);
+        }
+        m->cells[i] = tiles[i];
+    }
+    kg_refresh_all(m);
+    return KG_OK;
+}
+
+static void kg_map_free(kg_map* m)
+{
+    kg_free(m->templates);
+    kg_free(m->cells);
+    m->templates = NULL;
+    m->cells = NULL;
+}
+
+static kg_result kg_tilemaps_create(kg_world* world)
+{
+    struct kg_tilemaps* t = kg_alloc_zeroed(sizeof *t);
+    if (!t) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the tile maps");
+    }
+    t->last_origin = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *t->last_origin);
+    t->last_generation = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *t->last_generation);
+    world->tilemaps = t;
+    if (!t->last_origin || !t->last_generation) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the tile maps");
+    }
+    return KG_OK;
+}
+
+void kg_tilemaps_destroy(kg_world* world)
+{
+    struct kg_tilemaps* t = world->tilemaps;
+    if (!t) {
+        return;
+    }
+    for (int i = 0; i < t->map_count; ++i) {
+        kg_map_free(&t->maps[i]);
+    }
+    kg_free(t->maps);
+    kg_free(t->order);
+    kg_free(t->last_origin);
+    kg_free(t->last_generation);
+    kg_free(t);
+    world->tilemaps = NULL;
+}
+
+/* A free slot (reused lowest first) with room in maps and order. */
+static int kg_take_slot(struct kg_tilemaps* t)
+{
+    for (int i = 0; i < t->map_count; ++i) {
+        if (!kg_map_alive(&t->maps[i])) {
+            return i;
+        }
+    }
+    if (t->map_count == t->map_capacity) {
+        int capacity = t->map_capacity > 0 ? 2 * t->map_capacity : 4;
+        kg_map* maps = kg_alloc_zeroed((size_t)capacity * sizeof *maps);
+        int* order = kg_alloc_zeroed((size_t)capacity * sizeof *order);
+        if (!maps || !order) {
+            kg_free(maps);
+            kg_free(order);
+            return -1;
+        }
+        if (t->map_count > 0) {
+            memcpy(maps, t->maps, (size_t)t->map_count * sizeof *maps);
+            memcpy(order, t->order, (size_t)t->live_count * sizeof *order);
+        }
+        kg_free(t->maps);
+        kg_free(t->order);
+        t->maps = maps;
+        t->order = order;
+        t->map_capacity = capacity;
+    }
+    return t->map_count++;
+}
+
+/* Finds the lowest free range of key_count keys among the live maps (kept sorted by key
+ * base) and inserts slot into the order there. */
+static kg_result kg_assign_keys(struct kg_tilemaps* t, int slot)
+{
+    kg_map* m = &t->maps[slot];
+    unsigned long long base = 0;
+    int at = 0;
+    for (; at < t->live_count; ++at) {
+        const kg_map* other = &t->maps[t->order[at]];
+        if (base + m->key_count <= other->key_base) {
+            break;
+        }
+        base = (unsigned long long)other->key_base + other->key_count;
+    }
+    if (base + m->key_count > KG_KEY_SPACE) {
+        return kg_fail(KG_ERROR_POOL_FULL, "the world's tile maps hold more than 2^32 - 1 cells in all");
+    }
+    memmove(t->order + at + 1, t->order + at, (size_t)(t->live_count - at) * sizeof *t->order);
+    t->order[at] = slot;
+    t->live_count += 1;
+    m->key_base = (kg_u32)base;
+    return KG_OK;
+}
+
+static kg_result kg_init_map(kg_map* m, const kg_tilemap_def* def)
+{
+    m->def = *def;
+    m->def.shapes = NULL;
+    m->def.tiles = NULL;
+    m->key_count = (kg_u32)(def->width * def->height * def->layer_count);
+    kg_result r = kg_build_templates(m, def->shapes);
+    return r == KG_OK ? kg_fill_cells(m, def->tiles) : r;
+}
+
+kg_result kg_create_tilemap(kg_world* world, const kg_tilemap_def* def, kg_tilemap* out_map)
+{
+    if (!world || !def || !out_map) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_create_tilemap: NULL argument");
+    }
+    kg_result r = kg_validate_tilemap_def(def);
+    if (r == KG_OK && !world->tilemaps) {
+        r = kg_tilemaps_create(world);
+    }
+    if (r != KG_OK) {
+        return r;
+    }
+    struct kg_tilemaps* t = world->tilemaps;
+    int slot = kg_take_slot(t);
+    if (slot < 0) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate a tile map slot");
+    }
+    kg_map* m = &t->maps[slot];
+    kg_u32 generation = m->generation;
+    memset(m, 0, sizeof *m);
+    m->generation = generation;
+    r = kg_init_map(m, def);
+    if (r == KG_OK) {
+        r = kg_assign_keys(t, slot);
+    }
+    if (r != KG_OK) {
+        kg_map_free(m);
+        return r;
+    }
+    m->generation += 1u;
+    out_map->index = (uint32_t)slot;
+    out_map->generation = m->generation;
+    return KG_OK;
+}
+
+kg_result kg_destroy_tilemap(kg_world* world, kg_tilemap map)
+{
+    kg_map* m = kg_resolve_map(world, map);
+    if (!m) {
+        return KG_ERROR_INVALID_HANDLE;
+    }
+    struct kg_tilemaps* t = world->tilemaps;
+    int at = 0;
+    while (t->order[at] != (int)map.index) {
+        at++;
+    }
+    memmove(t->order + at, t->order + at + 1, (size_t)(t->live_count - at - 1) * sizeof *t->order);
+    t->live_count -= 1;
+    kg_map_free(m);
+    m->generation += 1u;
+    return KG_OK;
+}
+
+int kg_tilemap_is_valid(const kg_world* world, kg_tilemap map)
+{
+    struct kg_tilemaps* t = world ? world->tilemaps : NULL;
+    return t && map.index < (uint32_t)t->map_count && kg_map_alive(&t->maps[map.index]) &&
+           t->maps[map.index].generation == map.generation;
+}
+
+/* ---- tiles ---- */
+
+static kg_result kg_check_cell(const kg_map* m, int layer, int x, int y)
+{
+    if (layer < 0 || layer >= m->def.layer_count || x < 0 || y < 0 || x >= m->def.width || y >= m->def.height) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "cell (%d, %d) of layer %d is outside the %d x %d map of %d layers",
+                       x, y, layer, m->def.width, m->def.height, m->def.layer_count);
+    }
+    return KG_OK;
+}
+
+kg_result kg_tilemap_set_tile(kg_world* world, kg_tilemap map, int layer, int x, int y, int id)
+{
+    kg_map* m = kg_resolve_map(world, map);
+    if (!m) {
+        return KG_ERROR_INVALID_HANDLE;
+    }
+    kg_result r = kg_check_cell(m, layer, x, y);
+    if (r != KG_OK) {
+        return r;
+    }
+    if (id < 0 || id >= m->def.shape_count) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "tile id %d is not in [0, %d)", id, m->def.shape_count);
+    }
+    m->cells[kg_cell_index(m, layer, x, y)] = (kg_u32)id;
+    kg_refresh_cell(m, layer, x, y);
+    for (int side = 0; side < 4; ++side) {
+        kg_refresh_cell(m, layer, x + kSideDx[side], y + kSideDy[side]);
+    }
+    return KG_OK;
+}
+
+kg_result kg_tilemap_get_tile(const kg_world* world, kg_tilemap map, int layer, int x, int y, int* out_id)
+{
+    const kg_map* m = kg_resolve_map(world, map);
+    if (!m || !out_id) {
+        return m ? kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_tilemap_get_tile: NULL out_id") : KG_ERROR_INVALID_HANDLE;
+    }
+    kg_result r = kg_check_cell(m, layer, x, y);
+    if (r == KG_OK) {
+        *out_id = (int)kg_cell_id(m->cells[kg_cell_index(m, layer, x, y)]);
+    }
+    return r;
+}
+
+kg_result kg_tilemap_cell_at(const kg_world* world, kg_tilemap map, kg_vec2 point, int* out_x, int* out_y)
+{
+    const kg_map* m = kg_resolve_map(world, map);
+    if (!m || !out_x || !out_y) {
+        return m ? kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_tilemap_cell_at: NULL argument") : KG_ERROR_INVALID_HANDLE;
+    }
+    float fx = floorf((point.x - m->def.origin.x) / m->def.tile_size.x);
+    float fy = floorf((point.y - m->def.origin.y) / m->def.tile_size.y);
+    if (!(fx >= 0.0f && fy >= 0.0f && fx < (float)m->def.width && fy < (float)m->def.height)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "point (%g, %g) is outside the tile map", (double)point.x,
+                       (double)point.y);
+    }
+    *out_x = (int)fx;
+    *out_y = (int)fy;
+    return KG_OK;
+}
+
+kg_result kg_tilemap_get_def(const kg_world* world, kg_tilemap map, kg_tilemap_def* out)
+{
+    const kg_map* m = kg_resolve_map(world, map);
+    if (!m || !out) {
+        return m ? kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_tilemap_get_def: NULL out") : KG_ERROR_INVALID_HANDLE;
+    }
+    *out = m->def;
+    return KG_OK;
+}
+
+void* kg_tilemap_get_user_data(const kg_world* world, kg_tilemap map)
+{
+    const kg_map* m = kg_resolve_map(world, map);
+    return m ? m->def.user_data : NULL;
+}
+
+int kg_world_tilemap_count(const kg_world* world)
+{
+    return world && world->tilemaps ? world->tilemaps->live_count : 0;
+}
+
+kg_result kg_world_get_tilemaps(const kg_world* world, kg_tilemap* out, int capacity, int* count)
+{
+    if (!world || !count || capacity < 0 || (capacity > 0 && !out)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_world_get_tilemaps: bad arguments");
+    }
+    const struct kg_tilemaps* t = world->tilemaps;
+    int n = 0;
+    for (int i = 0; t && i < t->map_count && n < capacity; ++i) {
+        if (kg_map_alive(&t->maps[i])) {
+            out[n].index = (uint32_t)i;
+            out[n].generation = t->maps[i].generation;
+            n++;
+        }
+    }
+    *count = n;
+    return KG_OK;
+}
+
+kg_result kg_world_get_contact_tile(const kg_world* world, int index, kg_tilemap* out_map, int* out_layer,
+                                    int* out_x, int* out_y)
+{
+    int count = 0;
+    const kg_contact* contacts = world ? kg_collision_contacts((kg_world*)world, &count) : NULL;
+    if (!contacts || index < 0 || index >= count || contacts[index].b != KG_NULL_INDEX || !world->tilemaps) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "contact %d is not a tile contact", index);
+    }
+    kg_u32 key = contacts[index].tile;
+    const struct kg_tilemaps* t = world->tilemaps;
+    for (int i = 0; i < t->live_count; ++i) {
+        const kg_map* m = &t->maps[t->order[i]];
+        if (key >= m->key_base && key - m->key_base < m->key_count) {
+            int offset = (int)(key - m->key_base), cells = kg_map_cell_count(m);
+            if (out_map) {
+                out_map->index = (uint32_t)t->order[i];
+                out_map->generation = m->generation;
+            }
+            if (out_layer) {
+                *out_layer = offset / cells;
+            }
+            if (out_x) {
+                *out_x = offset % cells % m->def.width;
+            }
+            if (out_y) {
+                *out_y = offset % cells / m->def.width;
+            }
+            return KG_OK;
+        }
+    }
+    return kg_fail(KG_ERROR_INVALID_ARGUMENT, "contact %d touches a tile map destroyed since", index);
+}
+
+/* ---- collision ---- */
+
+typedef struct kg_tile_pass {
+    kg_world* world;
+    struct kg_tilemaps* tilemaps;
+    kg_contact* out;
+    int room;
+    int count;
+    const kg_contact* previous;
+    int previous_count;
+    int cursor; /* into previous: the first contact not below (body, key) */
+} kg_tile_pass;
+
+/* A body's shape moved into a cell's frame: xf is the body's pose relative to the cell. */
+static kg_shape kg_shape_in_cell(const kg_shape* shape, kg_xf xf)
+{
+    kg_shape out = *shape;
+    for (int i = 0; i < shape->count; ++i) {
+        out.vertices[i] = kg_xf_point(xf, shape->vertices[i]);
+        out.normals[i] = kg_rotate(xf.q, shape->normals[i]);
+    }
+    out.centroid = kg_xf_point(xf, shape->centroid);
+    return out;
+}
+
+static kg_tile_neighbourhood kg_neighbourhood(const kg_map* m, int layer, int x, int y)
+{
+    kg_tile_neighbourhood nb;
+    nb.tile_size = m->def.tile_size;
+    for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+            kg_tile_cell* cell = &nb.cells[(dy + 1) * 3 + dx + 1];
+            const kg_tile_template* t = kg_template_at(m, layer, x + dx, y + dy);
+            cell->proto = t ? &t->proto : NULL;
+            cell->word = t ? m->cells[kg_cell_index(m, layer, x + dx, y + dy)] : 0u;
+        }
+    }
+    return nb;
+}
+
+/* Last step's contact of (body, key), found by walking the previous list (sorted the same
+ * way) along with this step's; NULL if there was none. */
+static const kg_contact* kg_previous_contact(kg_tile_pass* pass, kg_u32 body, kg_u32 key)
+{
+    while (pass->cursor < pass->previous_count) {
+        const kg_contact* old = &pass->previous[pass->cursor];
+        if (old->a > body || (old->a == body && old->tile >= key)) {
+            return old->a == body && old->tile == key ? old : NULL;
+        }
+        pass->cursor++;
+    }
+    return NULL;
+}
+
+/* Where the body's origin was at the last collision (its current one when unknown). */
+static kg_vec2 kg_last_origin(const kg_tile_pass* pass, int body)
+{
+    const kg_body_pool* p = &pass->world->bodies;
+    const struct kg_tilemaps* t = pass->tilemaps;
+    return t->last_generation[body] == p->generation[body] ? t->last_origin[body] : p->xf[body].p;
+}
+
+/* One-way platforms hold a body that comes from above: the contact existed last step, or
+ * the body's deepest point was above the surface (within the linear slop) at the last
+ * collision. A body can only cross the surface downwards by moving down, so this also
+ * means "moving down or resting". The normal (tile to body) must point up. */
+static int kg_one_way_accepts(const kg_tile_pass* pass, int body, const kg_manifold* local, int persisted)
+{
+    if (!(local->normal.y > 0.0f)) {
+        return 0;
+    }
+    if (persisted) {
+        return 1;
+    }
+    kg_vec2 moved = kg_sub(pass->world->bodies.xf[body].p, kg_last_origin(pass, body));
+    float previous_separation = kg_min_separation(local) - kg_dot(moved, local->normal);
+    return previous_separation >= -pass->world->def.linear_slop;
+}
+
+/* A contact from a manifold in the cell frame (normal from the tile to the body): normal
+ * from the body to the tile, anchor_a from the body's origin. The world never moves, so
+ * the solver's result does not depend on anchor_b (it enters only as anchor_b - r_a, the
+ * lever arm r_a = anchor_a + origin - centre of mass, in terms that cancel); anchor_b is
+ * set to r_a itself, so they cancel exactly. The world point (anchor_b relative to the
+ * world origin) would leave float round-off of the size of the coordinates, 1e-5 m at
+ * 100 m, which the contact spring turns into millimetres per second of jitter. */
+static kg_manifold kg_contact_manifold(const kg_manifold* local, kg_vec2 cell_origin, kg_xf body_in_cell,
+                                       kg_vec2 body_origin, kg_vec2 body_center)
+{
+    kg_manifold m = *local;
+    m.normal = kg_neg(local->normal);
+    for (int k = 0; k < m.point_count; ++k) {
+        kg_manifold_point* mp = &m.points[k];
+        mp->anchor_a = kg_sub(local->points[k].point, body_in_cell.p);
+        mp->point = kg_add(cell_origin, local->points[k].point);
+        mp->anchor_b = kg_sub(kg_add(mp->anchor_a, body_origin), body_center);
+        mp->normal_impulse = 0.0f;
+        mp->tangent_impulse = 0.0f;
+        mp->normal_velocity = 0.0f;
+    }
+    return m;
+}
+
+static void kg_emit_contact(kg_tile_pass* pass, int body, const kg_map* m, kg_u32 key, const kg_manifold* manifold,
+                            const kg_contact* old)
+{
+    if (pass->count < pass->room) {
+        const kg_body_pool* p = &pass->world->bodies;
+        kg_contact* ct = &pass->out[pass->count];
+        memset(ct, 0, sizeof *ct);
+        ct->manifold = *manifold;
+        if (old) {
+            kg_contact_carry_impulses(&ct->manifold, &old->manifold);
+        }
+        ct->a = (kg_u32)body;
+        ct->b = KG_NULL_INDEX;
+        ct->tile = key;
+        ct->friction = sqrtf(p->friction[body] * m->def.friction);
+        ct->restitution = fmaxf(p->restitution[body], m->def.restitution);
+    }
+    pass->count += 1;
+}
+
+/* The body against the tile at (layer, x, y), if that tile can touch anything. */
+static void kg_collide_cell(kg_tile_pass* pass, int body, const kg_map* m, int layer, int x, int y)
+{
+    kg_u32 index = kg_cell_index(m, layer, x, y);
+    kg_u32 word = m->cells[index];
+    const kg_tile_template* t = &m->templates[kg_cell_id(word)];
+    int circle = t->proto.shape.count == 1;
+    if (!circle && (word >> KG_CELL_START_SHIFT) == 0u) {
+        return;
+    }
+    const kg_body_pool* p = &pass->world->bodies;
+    kg_vec2 cell_origin = kg_v2(m->def.origin.x + (float)x * m->def.tile_size.x,
+                                m->def.origin.y + (float)y * m->def.tile_size.y);
+    kg_xf xf = p->xf[body];
+    xf.p = kg_sub(xf.p, cell_origin);
+    kg_shape shape = kg_shape_in_cell(&p->shape[body], xf);
+    kg_tile_neighbourhood nb = kg_neighbourhood(m, layer, x, y);
+    kg_tile_hit hit = kg_tile_collide(&nb, &shape, pass->world->def.speculative_distance);
+    if (hit.manifold.point_count == 0) {
+        return;
+    }
+    kg_u32 key = m->key_base + index;
+    const kg_contact* old = kg_previous_contact(pass, (kg_u32)body, key);
+    if ((t->proto.flags & KG_TILE_FLAG_ONE_WAY) && !kg_one_way_accepts(pass, body, &hit.manifold, old != NULL)) {
+        return;
+    }
+    kg_manifold manifold = kg_contact_manifold(&hit.manifold, cell_origin, xf, p->xf[body].p, p->center[body]);
+    kg_emit_contact(pass, body, m, key, &manifold, old);
+}
+
+/* The cells [lo, hi] along one axis that the interval [a, b] (map frame, in tiles)
+ * covers; 0 when none. Clamped in floats first, so far-away bodies cannot overflow. */
+static int kg_cell_span(float a, float b, int count, int* lo, int* hi)
+{
+    if (!(b >= 0.0f) || !(a < (float)count)) {
+        return 0;
+    }
+    *lo = (int)floorf(fmaxf(a, 0.0f));
+    *hi = (int)floorf(fminf(b, (float)count - 1.0f));
+    if (*hi >= count) {
+        *hi = count - 1;
+    }
+    return *lo <= *hi;
+}
+
+static void kg_collide_body_map(kg_tile_pass* pass, int body, const kg_map* m, kg_aabb box)
+{
+    const kg_body_pool* p = &pass->world->bodies;
+    if ((p->category[body] & m->def.mask) == 0u || (m->def.category & p->mask[body]) == 0u) {
+        return;
+    }
+    kg_vec2 size = m->def.tile_size, origin = m->def.origin;
+    int x0, x1, y0, y1;
+    if (!kg_cell_span((box.lower.x - origin.x) / size.x, (box.upper.x - origin.x) / size.x, m->def.width, &x0, &x1) ||
+        !kg_cell_span((box.lower.y - origin.y) / size.y, (box.upper.y - origin.y) / size.y, m->def.height, &y0,
+                      &y1)) {
+        return;
+    }
+    for (int layer = 0; layer < m->def.layer_count; ++layer) {
+        for (int y = y0; y <= y1; ++y) {
+            for (int x = x0; x <= x1; ++x) {
+                kg_collide_cell(pass, body, m, layer, x, y);
+            }
+        }
+    }
+}
+
+static void kg_collide_body(kg_tile_pass* pass, int body)
+{
+    const kg_body_pool* p = &pass->world->bodies;
+    const struct kg_tilemaps* t = pass->tilemaps;
+    kg_aabb box = kg_aabb_fatten(p->aabb[body], pass->world->def.speculative_distance);
+    for (int i = 0; i < t->live_count; ++i) {
+        kg_collide_body_map(pass, body, &t->maps[t->order[i]], box);
+    }
+}
+
+static void kg_remember_origins(struct kg_tilemaps* t, const kg_body_pool* p)
+{
+    for (int i = 0; i < p->high_water; ++i) {
+        t->last_origin[i] = p->xf[i].p;
+        t->last_generation[i] = p->generation[i];
+    }
+}
+
+int kg_tilemap_collide(kg_world* world, kg_contact* out, int room, const kg_contact* previous, int previous_count)
+{
+    struct kg_tilemaps* t = world->tilemaps;
+    if (!t || t->live_count == 0) {
+        return 0;
+    }
+    kg_tile_pass pass = {world, t, out, room, 0, previous, previous_count, 0};
+    const kg_body_pool* p = &world->bodies;
+    for (int i = 0; i < p->high_water; ++i) {
+        if (kg_pool_is_simulated(p, i)) {
+            kg_collide_body(&pass, i);
+        }
+    }
+    kg_remember_origins(t, p);
+    return pass.count;
+}

@@ -1,5 +1,28 @@
-/* Tile-map terrain in the collision stage. Placeholder interface until tile maps land:
- * the collision stage calls kg_tilemap_collide after the body pairs. */
+/* Tile-map terrain in the collision stage (public API: include/kgyro/tilemap.h). After the
+ * body pairs, the collision stage calls kg_tilemap_collide, which looks up, for every
+ * moving body, the cells of every map that its bounds (fattened by the speculative
+ * distance) cover, and collides the body with each tile there (collide/tile_collide.h).
+ *
+ * Data layout, the same on the host and in a device buffer:
+ *
+ *  - cells: one kg_u32 per cell and layer, layer after layer, each row by row from the
+ *    bottom: index (layer * height + y) * width + x. Bits 0-15 hold the tile id, bit
+ *    16 + i that polygon edge i is exposed near its start vertex, bit 24 + i that it is
+ *    exposed near its end vertex (KG_CELL_* in tile_collide.h). An edge is exposed unless
+ *    the neighbour across the cell side it lies on has a solid edge on that side covering
+ *    it there; a one-way tile's edges that do not face up are never exposed. The flags of
+ *    a cell and its four side neighbours are recomputed when a tile changes.
+ *  - protos: one kg_tile_proto (160 bytes) per tile id of a map: the id's shape in the
+ *    cell frame (origin at the cell's lower-left corner, metres), flags (one-way).
+ *  - per map: origin, tile size, width, height, layer count, the offset of its cells and
+ *    protos in those buffers, its first tile key, friction, restitution, category, mask.
+ *
+ * A kernel colliding body i copies the centre cell's and its eight neighbours' words and
+ * protos to private memory (a kg_tile_neighbourhood) and calls kg_tile_collide.
+ *
+ * Tile keys: each map owns a range [key_base, key_base + layer_count * width * height) of
+ * 32-bit keys; a cell's key is key_base + (layer * height + y) * width + x, so sorting
+ * contacts by (body, key) orders them by map, layer, row and column. */
 #ifndef KG_TILEMAP_H
 #define KG_TILEMAP_H
 

@@ -138,6 +138,7 @@ kg_result kg_world_step(kg_world* world, float dt)
     if (!kg_positive_finite(dt)) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "time step must be finite and > 0 (got %g)", (double)dt);
     }
+    world->last_dt = dt;
     kg_result r = world->backend->step(world, dt);
     world->step_index += 1;
     return r;

@@ -43,6 +43,7 @@ struct kg_world {
     const struct kg_backend_ops* backend;
     void* backend_state;
     kg_stage_times times;
+    float last_dt; /* of the step being taken (0 before the first): sizes speculative margins */
     uint64_t step_index;
 };
 

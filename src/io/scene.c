@@ -18,6 +18,13 @@ typedef struct kg_scene_pivot {
     kg_vec2 point;
 } kg_scene_pivot;
 
+/* A tile map: def's shapes and tiles point at the scene's own copies. */
+typedef struct kg_scene_tilemap {
+    kg_tilemap_def def;
+    kg_tile_shape* shapes;
+    uint16_t* tiles;
+} kg_scene_tilemap;
+
 struct kg_scene {
     kg_world_def world_def;
     float dt;
@@ -38,6 +45,9 @@ struct kg_scene {
 
     int pivot_count, pivot_capacity;
     kg_scene_pivot* pivots;
+
+    int tilemap_count, tilemap_capacity;
+    kg_scene_tilemap* tilemaps;
 };
 
 /* Grows *items to hold at least needed elements, doubling. */
@@ -85,6 +95,11 @@ void kg_scene_destroy(kg_scene* scene)
     }
     free(scene->forces);
     free(scene->pivots);
+    for (int i = 0; i < scene->tilemap_count; ++i) {
+        free(scene->tilemaps[i].shapes);
+        free(scene->tilemaps[i].tiles);
+    }
+    free(scene->tilemaps);
     free(scene->name_table);
     free(scene->names);
     free(scene->name_offsets);
@@ -97,6 +112,7 @@ float kg_scene_dt(const kg_scene* scene) { return scene ? scene->dt : 0.0f; }
 int kg_scene_steps(const kg_scene* scene) { return scene ? scene->steps : 0; }
 int kg_scene_body_count(const kg_scene* scene) { return scene ? scene->body_count : 0; }
 int kg_scene_force_count(const kg_scene* scene) { return scene ? scene->force_count : 0; }
+int kg_scene_tilemap_count(const kg_scene* scene) { return scene ? scene->tilemap_count : 0; }
 
 kg_result kg_scene_set_dt(kg_scene* scene, float dt)
 {
@@ -129,6 +145,11 @@ const char* kg_scene_body_name(const kg_scene* scene, int index)
 const kg_scene_force* kg_scene_get_force(const kg_scene* scene, int index)
 {
     return scene && index >= 0 && index < scene->force_count ? &scene->forces[index] : NULL;
+}
+
+const kg_tilemap_def* kg_scene_get_tilemap(const kg_scene* scene, int index)
+{
+    return scene && index >= 0 && index < scene->tilemap_count ? &scene->tilemaps[index].def : NULL;
 }
 
 /* ---- names ---- */
@@ -376,6 +397,45 @@ int kg_scene_body_pivot(const kg_scene* scene, int index, kg_vec2* out)
     return pivot != NULL;
 }
 
+/* ---- tile maps ---- */
+
+/* A copy of count items of size bytes (NULL for none); 0 when out of memory. */
+static int kg_copy_items(const void* items, size_t count, size_t size, void** out)
+{
+    *out = NULL;
+    if (!items || count == 0) {
+        return 1;
+    }
+    *out = malloc(count * size);
+    if (*out) {
+        memcpy(*out, items, count * size);
+    }
+    return *out != NULL;
+}
+
+kg_result kg_scene_add_tilemap(kg_scene* scene, const kg_tilemap_def* def)
+{
+    if (!scene || !def || !def->shapes || def->shape_count < 1 || def->width < 1 || def->height < 1 ||
+        def->layer_count < 1) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_add_tilemap: NULL or empty definition");
+    }
+    size_t cells = (size_t)def->width * (size_t)def->height * (size_t)def->layer_count;
+    kg_scene_tilemap map = {*def, NULL, NULL};
+    int copied = kg_copy_items(def->shapes, (size_t)def->shape_count, sizeof *def->shapes, (void**)&map.shapes) &&
+                 kg_copy_items(def->tiles, cells, sizeof *def->tiles, (void**)&map.tiles) &&
+                 kg_grow((void**)&scene->tilemaps, &scene->tilemap_capacity, scene->tilemap_count + 1,
+                         sizeof *scene->tilemaps);
+    if (!copied) {
+        free(map.shapes);
+        free(map.tiles);
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_add_tilemap: out of memory");
+    }
+    map.def.shapes = map.shapes;
+    map.def.tiles = map.tiles;
+    scene->tilemaps[scene->tilemap_count++] = map;
+    return KG_OK;
+}
+
 /* The velocity that carries the centre of mass along the chord of its circle about the
  * pivot in one step. The tangent velocity would move it outwards a little every step. */
 static kg_result kg_drive_pivot(kg_world* world, kg_body body, kg_vec2 pivot, float dt)
@@ -459,13 +519,27 @@ static kg_result kg_add_scene_force(const kg_scene_force* force, kg_world* world
     return r;
 }
 
+static kg_result kg_create_scene_tilemaps(const kg_scene* scene, kg_world* world)
+{
+    for (int i = 0; i < scene->tilemap_count; ++i) {
+        kg_tilemap map;
+        kg_result r = kg_create_tilemap(world, &scene->tilemaps[i].def, &map);
+        if (r != KG_OK) {
+            char reason[256];
+            snprintf(reason, sizeof reason, "%s", kg_last_error());
+            return kg_fail(r, "tile map %d: %s", i, reason);
+        }
+    }
+    return KG_OK;
+}
+
 static kg_result kg_fill_world(const kg_scene* scene, kg_world* world, kg_body* handles)
 {
     KG_TRY(kg_create_scene_bodies(scene, world, handles));
     for (int i = 0; i < scene->force_count; ++i) {
         KG_TRY(kg_add_scene_force(&scene->forces[i], world, handles));
     }
-    return KG_OK;
+    return kg_create_scene_tilemaps(scene, world);
 }
 
 kg_result kg_scene_instantiate(const kg_scene* scene, const kg_world_def* override_def, kg_world** out_world,

@@ -6,6 +6,7 @@
 
 #include "io/json_util.h"
 #include "io/scene_generate.h"
+#include "io/tiled.h"
 
 #include <errno.h>
 #include <math.h>
@@ -19,7 +20,7 @@ typedef struct kg_loader {
 } kg_loader;
 
 static const char* const kSceneFields[] = {"description", "gravity", "dt", "steps", "substeps",
-                                           "bodies", "forces", "generators", NULL};
+                                           "bodies", "forces", "generators", "tilemap", NULL};
 static const char* const kBodyFields[] = {"name", "type", "position", "angle", "velocity", "angular_velocity",
                                           "shape", "density", "mass", "friction", "restitution",
                                           "linear_damping", "angular_damping", "category", "mask",
@@ -573,6 +574,337 @@ static kg_result kg_read_force(kg_loader* loader, const cJSON* json, const kg_js
     return r;
 }
 
+/* ---- tile maps ---- */
+
+static const char* const kTiledMapFields[] = {"tiled", NULL};
+static const char* const kInlineMapFields[] = {"origin", "tile_size", "friction", "restitution", "tiles", "layers",
+                                               NULL};
+static const char* const kTileFields[] = {"shape", "polygon", "circle", "one_way", NULL};
+static const char* const kTileCircleFields[] = {"center", "radius", NULL};
+
+/* The standard tile shapes by name (docs/scene-format.md). */
+typedef struct kg_named_tile {
+    const char* name;
+    kg_tile_shape (*make)(int variant);
+    int variant;
+} kg_named_tile;
+
+static kg_tile_shape kg_make_box(int variant) { (void)variant; return kg_tile_box(); }
+static kg_tile_shape kg_make_platform(int variant) { (void)variant; return kg_tile_platform(); }
+static kg_tile_shape kg_make_half(int side) { return kg_tile_half((kg_tile_side)side); }
+static kg_tile_shape kg_make_slope(int corner) { return kg_tile_slope((kg_tile_corner)corner); }
+static kg_tile_shape kg_make_slope_low(int corner) { return kg_tile_slope_low((kg_tile_corner)corner); }
+static kg_tile_shape kg_make_slope_high(int corner) { return kg_tile_slope_high((kg_tile_corner)corner); }
+
+static const kg_named_tile kNamedTiles[] = {
+    {"box", kg_make_box, 0},
+    {"platform", kg_make_platform, 0},
+    {"half_bottom", kg_make_half, KG_TILE_SIDE_BOTTOM},
+    {"half_right", kg_make_half, KG_TILE_SIDE_RIGHT},
+    {"half_top", kg_make_half, KG_TILE_SIDE_TOP},
+    {"half_left", kg_make_half, KG_TILE_SIDE_LEFT},
+    {"slope_bottom_left", kg_make_slope, KG_TILE_BOTTOM_LEFT},
+    {"slope_bottom_right", kg_make_slope, KG_TILE_BOTTOM_RIGHT},
+    {"slope_top_right", kg_make_slope, KG_TILE_TOP_RIGHT},
+    {"slope_top_left", kg_make_slope, KG_TILE_TOP_LEFT},
+    {"slope_low_bottom_left", kg_make_slope_low, KG_TILE_BOTTOM_LEFT},
+    {"slope_low_bottom_right", kg_make_slope_low, KG_TILE_BOTTOM_RIGHT},
+    {"slope_low_top_right", kg_make_slope_low, KG_TILE_TOP_RIGHT},
+    {"slope_low_top_left", kg_make_slope_low, KG_TILE_TOP_LEFT},
+    {"slope_high_bottom_left", kg_make_slope_high, KG_TILE_BOTTOM_LEFT},
+    {"slope_high_bottom_right", kg_make_slope_high, KG_TILE_BOTTOM_RIGHT},
+    {"slope_high_top_right", kg_make_slope_high, KG_TILE_TOP_RIGHT},
+    {"slope_high_top_left", kg_make_slope_high, KG_TILE_TOP_LEFT},
+};
+
+#define KG_NAMED_TILE_COUNT ((int)(sizeof kNamedTiles / sizeof kNamedTiles[0]))
+
+static kg_result kg_read_named_tile(const kg_json_reader* reader, const cJSON* value, const kg_json_path* path,
+                                    kg_tile_shape* out)
+{
+    for (int i = 0; i < KG_NAMED_TILE_COUNT; ++i) {
+        if (strcmp(value->valuestring, kNamedTiles[i].name) == 0) {
+            *out = kNamedTiles[i].make(kNamedTiles[i].variant);
+            return KG_OK;
+        }
+    }
+    return kg_json_fail(reader, path, "unknown tile shape \"%s\" (box, platform, half_SIDE, slope_CORNER, "
+                                      "slope_low_CORNER, slope_high_CORNER; docs/scene-format.md)", value->valuestring);
+}
+
+static kg_result kg_read_tile_polygon(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                      kg_tile_shape* out)
+{
+    const cJSON* vertices = cJSON_GetObjectItemCaseSensitive(json, "polygon");
+    kg_json_path vertices_path = kg_json_path_key(path, "polygon");
+    KG_TRY(kg_json_check_array(reader, vertices, &vertices_path));
+    int count = cJSON_GetArraySize(vertices);
+    if (count < 3 || count > KG_MAX_POLYGON_VERTICES) {
+        return kg_json_fail(reader, &vertices_path, "must have 3 to %d vertices (got %d)", KG_MAX_POLYGON_VERTICES,
+                            count);
+    }
+    kg_vec2 points[KG_MAX_POLYGON_VERTICES];
+    int i = 0;
+    for (const cJSON* vertex = vertices->child; vertex; vertex = vertex->next, ++i) {
+        kg_json_path vertex_path = kg_json_path_index(&vertices_path, i);
+        KG_TRY(kg_json_vec2_value(reader, vertex, &vertex_path, &points[i]));
+    }
+    *out = kg_tile_polygon(points, count);
+    return KG_OK;
+}
+
+static kg_result kg_read_tile_circle(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                     kg_tile_shape* out)
+{
+    const cJSON* circle = cJSON_GetObjectItemCaseSensitive(json, "circle");
+    kg_json_path circle_path = kg_json_path_key(path, "circle");
+    kg_vec2 center = {0.5f, 0.5f};
+    float radius = 0.0f;
+    KG_TRY(kg_json_check_object(reader, circle, &circle_path, kTileCircleFields));
+    KG_TRY(kg_json_require(reader, circle, &circle_path, "radius"));
+    KG_TRY(kg_json_vec2(reader, circle, &circle_path, "center", &center));
+    KG_TRY(kg_json_float(reader, circle, &circle_path, "radius", KG_JSON_POSITIVE, &radius));
+    *out = kg_tile_circle(center, radius);
+    return KG_OK;
+}
+
+/* {"shape": NAME} or {"polygon": [...]} or {"circle": {...}}, and "one_way". */
+static kg_result kg_read_tile_object(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                     kg_tile_shape* out)
+{
+    KG_TRY(kg_json_check_object(reader, json, path, kTileFields));
+    int kinds = kg_has(json, "shape") + kg_has(json, "polygon") + kg_has(json, "circle");
+    if (kinds != 1) {
+        return kg_json_fail(reader, path, "give exactly one of \"shape\", \"polygon\" or \"circle\"");
+    }
+    const cJSON* shape = cJSON_GetObjectItemCaseSensitive(json, "shape");
+    kg_json_path shape_path = kg_json_path_key(path, "shape");
+    if (shape && !cJSON_IsString(shape)) {
+        return kg_json_fail(reader, &shape_path, "must be a string");
+    }
+    if (shape) {
+        KG_TRY(kg_read_named_tile(reader, shape, &shape_path, out));
+    } else if (kg_has(json, "polygon")) {
+        KG_TRY(kg_read_tile_polygon(reader, json, path, out));
+    } else {
+        KG_TRY(kg_read_tile_circle(reader, json, path, out));
+    }
+    return kg_json_bool(reader, json, path, "one_way", &out->one_way);
+}
+
+/* A tile of the legend: a standard shape's name, or an object. */
+static kg_result kg_read_legend_tile(const kg_json_reader* reader, const cJSON* value, const kg_json_path* path,
+                                     kg_tile_shape* out)
+{
+    if (cJSON_IsString(value)) {
+        KG_TRY(kg_read_named_tile(reader, value, path, out));
+    } else if (cJSON_IsObject(value)) {
+        KG_TRY(kg_read_tile_object(reader, value, path, out));
+    } else {
+        return kg_json_fail(reader, path, "must be a shape name or an object");
+    }
+    if (kg_tile_shape_check(out) != KG_OK) {
+        char reason[256];
+        snprintf(reason, sizeof reason, "%s", kg_last_error());
+        return kg_json_fail(reader, path, "%s", reason);
+    }
+    return KG_OK;
+}
+
+/* The id of a grid character: 0 for ' ' and '.', its place in the legend plus 1, or -1. */
+static int kg_legend_id(const char* keys, int count, char c)
+{
+    if (c == ' ' || c == '.') {
+        return 0;
+    }
+    for (int i = 0; i < count; ++i) {
+        if (keys[i] == c) {
+            return i + 1;
+        }
+    }
+    return -1;
+}
+
+/* "tiles": one character each, in order ids 1, 2, ...; shapes[0] stays empty. */
+static kg_result kg_read_legend(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                kg_tile_shape* shapes, char* keys, int* count)
+{
+    const cJSON* tiles = cJSON_GetObjectItemCaseSensitive(json, "tiles");
+    kg_json_path tiles_path = kg_json_path_key(path, "tiles");
+    if (!cJSON_IsObject(tiles)) {
+        return kg_json_fail(reader, &tiles_path, "must be an object");
+    }
+    shapes[0] = kg_tile_empty();
+    int n = 0;
+    for (const cJSON* tile = tiles->child; tile; tile = tile->next) {
+        kg_json_path tile_path = kg_json_path_key(&tiles_path, tile->string);
+        const char* key = tile->string;
+        if (strlen(key) != 1 || key[0] == ' ' || key[0] == '.' || (unsigned char)key[0] > 126) {
+            return kg_json_fail(reader, &tile_path, "tile keys are single characters other than ' ' and '.' "
+                                                    "(which mean empty)");
+        }
+        if (kg_legend_id(keys, n, key[0]) > 0) {
+            return kg_json_fail(reader, &tile_path, "field given twice");
+        }
+        KG_TRY(kg_read_legend_tile(reader, tile, &tile_path, &shapes[n + 1]));
+        keys[n++] = key[0];
+    }
+    *count = n;
+    return KG_OK;
+}
+
+/* The size of the grid: every layer an array of equally long strings, all alike. */
+static kg_result kg_read_grid_size(const kg_json_reader* reader, const cJSON* layers, const kg_json_path* path,
+                                   int* width, int* height)
+{
+    KG_TRY(kg_json_check_array(reader, layers, path));
+    if (cJSON_GetArraySize(layers) < 1) {
+        return kg_json_fail(reader, path, "must hold at least one layer");
+    }
+    *height = cJSON_GetArraySize(layers->child);
+    *width = cJSON_IsArray(layers->child) && layers->child->child && cJSON_IsString(layers->child->child)
+                 ? (int)strlen(layers->child->child->valuestring)
+                 : 0;
+    int l = 0;
+    for (const cJSON* layer = layers->child; layer; layer = layer->next, ++l) {
+        kg_json_path layer_path = kg_json_path_index(path, l);
+        if (!cJSON_IsArray(layer) || cJSON_GetArraySize(layer) != *height || *height < 1) {
+            return kg_json_fail(reader, &layer_path, "must be an array of %d rows (strings), like the first layer",
+                                *height > 0 ? *height : 1);
+        }
+        int r = 0;
+        for (const cJSON* row = layer->child; row; row = row->next, ++r) {
+            kg_json_path row_path = kg_json_path_index(&layer_path, r);
+            if (!cJSON_IsString(row) || (int)strlen(row->valuestring) != *width || *width < 1) {
+                return kg_json_fail(reader, &row_path, "must be a string of %d tiles, like the first row",
+                                    *width > 0 ? *width : 1);
+            }
+        }
+    }
+    return KG_OK;
+}
+
+/* The tiles of every layer, bottom row first. */
+static kg_result kg_read_grid(const kg_json_reader* reader, const cJSON* layers, const kg_json_path* path,
+                              const char* keys, int key_count, int width, int height, uint16_t* tiles)
+{
+    int l = 0;
+    for (const cJSON* layer = layers->child; layer; layer = layer->next, ++l) {
+        kg_json_path layer_path = kg_json_path_index(path, l);
+        int r = 0;
+        for (const cJSON* row = layer->child; row; row = row->next, ++r) {
+            for (int x = 0; x < width; ++x) {
+                int id = kg_legend_id(keys, key_count, row->valuestring[x]);
+                if (id < 0) {
+                    kg_json_path row_path = kg_json_path_index(&layer_path, r);
+                    return kg_json_fail(reader, &row_path, "'%c' (column %d) is not one of the \"tiles\"",
+                                        row->valuestring[x], x);
+                }
+                tiles[((size_t)l * (size_t)height + (size_t)(height - 1 - r)) * (size_t)width + (size_t)x] =
+                    (uint16_t)id;
+            }
+        }
+    }
+    return KG_OK;
+}
+
+/* "tile_size": a number (square tiles) or [width, height]. */
+static kg_result kg_read_tile_size(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                   kg_vec2* out)
+{
+    const cJSON* size = cJSON_GetObjectItemCaseSensitive(json, "tile_size");
+    kg_json_path size_path = kg_json_path_key(path, "tile_size");
+    if (cJSON_IsNumber(size)) {
+        float s = 0.0f;
+        KG_TRY(kg_json_float(reader, json, path, "tile_size", KG_JSON_POSITIVE, &s));
+        *out = (kg_vec2){s, s};
+    } else if (size) {
+        KG_TRY(kg_json_vec2(reader, json, path, "tile_size", out));
+    }
+    if (!(out->x > 0.0f && out->y > 0.0f)) {
+        return kg_json_fail(reader, &size_path, "must be a number or [width, height], > 0");
+    }
+    return KG_OK;
+}
+
+static kg_result kg_read_inline_tilemap(kg_loader* loader, const cJSON* json, const kg_json_path* path)
+{
+    const kg_json_reader* reader = &loader->reader;
+    kg_tilemap_def def = kg_default_tilemap_def();
+    KG_TRY(kg_json_check_object(reader, json, path, kInlineMapFields));
+    KG_TRY(kg_json_require(reader, json, path, "tiles"));
+    KG_TRY(kg_json_require(reader, json, path, "layers"));
+    KG_TRY(kg_json_vec2(reader, json, path, "origin", &def.origin));
+    KG_TRY(kg_read_tile_size(reader, json, path, &def.tile_size));
+    KG_TRY(kg_json_float(reader, json, path, "friction", KG_JSON_NON_NEGATIVE, &def.friction));
+    KG_TRY(kg_json_float(reader, json, path, "restitution", KG_JSON_UNIT, &def.restitution));
+    kg_tile_shape shapes[95];
+    char keys[94];
+    KG_TRY(kg_read_legend(reader, json, path, shapes, keys, &def.shape_count));
+    const cJSON* layers = cJSON_GetObjectItemCaseSensitive(json, "layers");
+    kg_json_path layers_path = kg_json_path_key(path, "layers");
+    KG_TRY(kg_read_grid_size(reader, layers, &layers_path, &def.width, &def.height));
+    def.layer_count = cJSON_GetArraySize(layers);
+    size_t cells = (size_t)def.width * (size_t)def.height * (size_t)def.layer_count;
+    uint16_t* tiles = malloc(cells * sizeof *tiles);
+    if (!tiles) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+    }
+    kg_result r = kg_read_grid(reader, layers, &layers_path, keys, def.shape_count, def.width, def.height, tiles);
+    def.shape_count += 1;
+    def.shapes = shapes;
+    def.tiles = tiles;
+    if (r == KG_OK) {
+        r = kg_scene_add_tilemap(loader->scene, &def);
+    }
+    free(tiles);
+    return r;
+}
+
+/* {"tiled": PATH}: a Tiled map, PATH relative to this file. */
+static kg_result kg_read_tiled_tilemap(kg_loader* loader, const cJSON* json, const kg_json_path* path)
+{
+    const char* source = NULL;
+    KG_TRY(kg_json_check_object(&loader->reader, json, path, kTiledMapFields));
+    KG_TRY(kg_json_string(&loader->reader, json, path, "tiled", &source));
+    char file[1024];
+    kg_tiled_sibling_path(loader->reader.source, source, file, sizeof file);
+    kg_result r = kg_tiled_load_into(loader->scene, file);
+    if (r != KG_OK) {
+        char reason[512];
+        snprintf(reason, sizeof reason, "%s", kg_last_error());
+        kg_json_path tiled_path = kg_json_path_key(path, "tiled");
+        return kg_json_fail(&loader->reader, &tiled_path, "%s", reason);
+    }
+    return KG_OK;
+}
+
+static kg_result kg_read_tilemap_entry(kg_loader* loader, const cJSON* json, const kg_json_path* path)
+{
+    if (!cJSON_IsObject(json)) {
+        return kg_json_fail(&loader->reader, path, "must be an object");
+    }
+    return kg_has(json, "tiled") ? kg_read_tiled_tilemap(loader, json, path)
+                                 : kg_read_inline_tilemap(loader, json, path);
+}
+
+/* "tilemap": one map (an object) or several (an array of them). */
+static kg_result kg_read_tilemaps(kg_loader* loader, const cJSON* root)
+{
+    const cJSON* tilemap = cJSON_GetObjectItemCaseSensitive(root, "tilemap");
+    kg_json_path root_path = {""};
+    kg_json_path path = kg_json_path_key(&root_path, "tilemap");
+    if (!tilemap || !cJSON_IsArray(tilemap)) {
+        return tilemap ? kg_read_tilemap_entry(loader, tilemap, &path) : KG_OK;
+    }
+    int i = 0;
+    for (const cJSON* entry = tilemap->child; entry; entry = entry->next, ++i) {
+        kg_json_path entry_path = kg_json_path_index(&path, i);
+        KG_TRY(kg_read_tilemap_entry(loader, entry, &entry_path));
+    }
+    return KG_OK;
+}
+
 /* ---- the document ---- */
 
 typedef kg_result kg_item_reader(kg_loader* loader, const cJSON* json, const kg_json_path* path, int index);
@@ -624,14 +956,19 @@ static kg_result kg_read_settings(kg_loader* loader, const cJSON* root)
 }
 
 /* Bodies first, then generators, so an explicit body's scene index is its place in
- * "bodies"; forces last, so they can name any body. */
+ * "bodies"; then the tile maps (a Tiled map's objects are bodies too); forces last, so
+ * they can name any body. A Tiled map document is read as a map. */
 static kg_result kg_read_scene(kg_loader* loader, const cJSON* root)
 {
+    if (kg_tiled_is_map(root)) {
+        return kg_tiled_read(loader->scene, root, loader->reader.source);
+    }
     kg_json_path root_path = {""};
     KG_TRY(kg_json_check_object(&loader->reader, root, &root_path, kSceneFields));
     KG_TRY(kg_read_settings(loader, root));
     KG_TRY(kg_read_list(loader, root, "bodies", kg_read_body_item));
     KG_TRY(kg_read_list(loader, root, "generators", kg_read_generator));
+    KG_TRY(kg_read_tilemaps(loader, root));
     return kg_read_list(loader, root, "forces", kg_read_force_item);
 }
 

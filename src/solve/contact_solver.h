@@ -138,14 +138,43 @@ KG_FN void kg_apply_impulse_pair(const kg_contact_constraint* c, kg_body_motion*
     b->w += c->inv_i_b * kg_cross(rb, p);
 }
 
+/* Where a point's anchors are now: each body's anchor has moved with its body since
+ * the step began, so they no longer meet. Both are moved to the point halfway between,
+ * so the equal and opposite impulses act at one point and add no torque to the pair
+ * (with the step-start anchors, angular momentum drifted by 1e-3 in an off-centre hit). */
+KG_FN void kg_current_anchors(const kg_constraint_point* cp, const kg_body_motion* a, const kg_body_motion* b,
+                              kg_vec2* ra, kg_vec2* rb)
+{
+    kg_vec2 ra_now = kg_rotate(a->dq, cp->anchor_a), rb_now = kg_rotate(b->dq, cp->anchor_b);
+    kg_vec2 gap = kg_sub(kg_add(kg_sub(b->dp, a->dp), kg_sub(rb_now, ra_now)), kg_sub(cp->anchor_b, cp->anchor_a));
+    *ra = kg_mul_add(ra_now, 0.5f, gap);
+    *rb = kg_mul_sub(rb_now, 0.5f, gap);
+}
+
+KG_FN float kg_normal_velocity_at(const kg_contact_constraint* c, const kg_body_motion* a, const kg_body_motion* b,
+                                  kg_vec2 ra, kg_vec2 rb)
+{
+    kg_vec2 dv = kg_sub(kg_point_velocity(b->v, b->w, rb), kg_point_velocity(a->v, a->w, ra));
+    return kg_dot(dv, c->normal);
+}
+
+KG_FN float kg_normal_mass_at(const kg_contact_constraint* c, kg_vec2 ra, kg_vec2 rb)
+{
+    float rna = kg_cross(ra, c->normal), rnb = kg_cross(rb, c->normal);
+    float k = c->inv_mass_a + c->inv_mass_b + c->inv_i_a * rna * rna + c->inv_i_b * rnb * rnb;
+    return k > 0.0f ? 1.0f / k : 0.0f;
+}
+
 /* Applies last step's impulses at the start of a sub-step. */
 KG_FN void kg_contact_warm_start(const kg_contact_constraint* c, kg_body_motion* a, kg_body_motion* b)
 {
     kg_vec2 n = c->normal, t = kg_right_perp(c->normal);
     for (int j = 0; j < c->point_count; ++j) {
         const kg_constraint_point* cp = &c->points[j];
+        kg_vec2 ra, rb;
+        kg_current_anchors(cp, a, b, &ra, &rb);
         kg_vec2 p = kg_add(kg_scale(cp->normal_impulse, n), kg_scale(cp->tangent_impulse, t));
-        kg_apply_impulse_pair(c, a, b, cp->anchor_a, cp->anchor_b, p);
+        kg_apply_impulse_pair(c, a, b, ra, rb, p);
     }
 }
 
@@ -182,19 +211,19 @@ KG_FN kg_point_bias kg_point_bias_of(const kg_contact_constraint* c, float s, kg
     return pb;
 }
 
-KG_FN float kg_normal_velocity(const kg_contact_constraint* c, int j, const kg_body_motion* a, const kg_body_motion* b)
-{
-    const kg_constraint_point* cp = &c->points[j];
-    kg_vec2 dv = kg_sub(kg_point_velocity(b->v, b->w, cp->anchor_b), kg_point_velocity(a->v, a->w, cp->anchor_a));
-    return kg_dot(dv, c->normal);
-}
-
-KG_FN void kg_apply_normal_impulse(kg_contact_constraint* c, int j, kg_body_motion* a, kg_body_motion* b, float impulse)
+/* vn is the normal velocity the impulse answers. The first push of the step records it
+ * as the approach speed for restitution: sampled at the start of the step it would miss
+ * the speed gained (up to g dt) before the bodies actually met. */
+KG_FN void kg_apply_normal_impulse(kg_contact_constraint* c, int j, kg_body_motion* a, kg_body_motion* b, kg_vec2 ra,
+                                   kg_vec2 rb, float impulse, float vn)
 {
     kg_constraint_point* cp = &c->points[j];
+    if (cp->max_normal_impulse == 0.0f && impulse > 0.0f) {
+        cp->relative_velocity = vn;
+    }
     cp->normal_impulse += impulse;
     cp->max_normal_impulse = fmaxf(cp->max_normal_impulse, impulse);
-    kg_apply_impulse_pair(c, a, b, cp->anchor_a, cp->anchor_b, kg_scale(impulse, c->normal));
+    kg_apply_impulse_pair(c, a, b, ra, rb, kg_scale(impulse, c->normal));
 }
 
 /* Above this condition number the two rows are nearly redundant and the 2x2 solve is
@@ -205,8 +234,8 @@ KG_FN void kg_apply_normal_impulse(kg_contact_constraint* c, int j, kg_body_moti
  * them one after the other leaves a small torque each time, which a tall stack
  * amplifies until it topples. Applies the impulses and returns 1 when both points stay
  * pushing in the same regime; returns 0 (nothing applied) to fall back to one at a time. */
-KG_FN int kg_contact_solve_block(kg_contact_constraint* c, kg_body_motion* a, kg_body_motion* b, kg_solver_params prm,
-                                 int use_bias)
+KG_FN int kg_contact_solve_block(kg_contact_constraint* c, kg_body_motion* a, kg_body_motion* b, const kg_vec2* ra,
+                                 const kg_vec2* rb, kg_solver_params prm, int use_bias)
 {
     kg_point_bias p0 = kg_point_bias_of(c, kg_current_separation(c, 0, a, b), prm, use_bias);
     kg_point_bias p1 = kg_point_bias_of(c, kg_current_separation(c, 1, a, b), prm, use_bias);
@@ -214,8 +243,8 @@ KG_FN int kg_contact_solve_block(kg_contact_constraint* c, kg_body_motion* a, kg
         return 0;
     }
     kg_vec2 n = c->normal;
-    float ra0 = kg_cross(c->points[0].anchor_a, n), rb0 = kg_cross(c->points[0].anchor_b, n);
-    float ra1 = kg_cross(c->points[1].anchor_a, n), rb1 = kg_cross(c->points[1].anchor_b, n);
+    float ra0 = kg_cross(ra[0], n), rb0 = kg_cross(rb[0], n);
+    float ra1 = kg_cross(ra[1], n), rb1 = kg_cross(rb[1], n);
     float m = c->inv_mass_a + c->inv_mass_b;
     float k11 = m + c->inv_i_a * ra0 * ra0 + c->inv_i_b * rb0 * rb0;
     float k22 = m + c->inv_i_a * ra1 * ra1 + c->inv_i_b * rb1 * rb1;
@@ -224,8 +253,9 @@ KG_FN int kg_contact_solve_block(kg_contact_constraint* c, kg_body_motion* a, kg
     if (!(k11 * k11 < KG_MAX_BLOCK_CONDITION * det)) {
         return 0;
     }
-    float rhs0 = p0.mass_scale * (kg_normal_velocity(c, 0, a, b) + p0.bias);
-    float rhs1 = p1.mass_scale * (kg_normal_velocity(c, 1, a, b) + p1.bias);
+    float vn0 = kg_normal_velocity_at(c, a, b, ra[0], rb[0]), vn1 = kg_normal_velocity_at(c, a, b, ra[1], rb[1]);
+    float rhs0 = p0.mass_scale * (vn0 + p0.bias);
+    float rhs1 = p1.mass_scale * (vn1 + p1.bias);
     float inv_det = 1.0f / det;
     float acc0 = c->points[0].normal_impulse, acc1 = c->points[1].normal_impulse;
     float x0 = -inv_det * (k22 * rhs0 - k12 * rhs1) - p0.impulse_scale * acc0;
@@ -233,8 +263,8 @@ KG_FN int kg_contact_solve_block(kg_contact_constraint* c, kg_body_motion* a, kg
     if (acc0 + x0 < 0.0f || acc1 + x1 < 0.0f) {
         return 0;
     }
-    kg_apply_normal_impulse(c, 0, a, b, x0);
-    kg_apply_normal_impulse(c, 1, a, b, x1);
+    kg_apply_normal_impulse(c, 0, a, b, ra[0], rb[0], x0, vn0);
+    kg_apply_normal_impulse(c, 1, a, b, ra[1], rb[1], x1, vn1);
     return 1;
 }
 
@@ -243,28 +273,68 @@ KG_FN int kg_contact_solve_block(kg_contact_constraint* c, kg_body_motion* a, kg
 KG_FN void kg_contact_solve(kg_contact_constraint* c, kg_body_motion* a, kg_body_motion* b, kg_solver_params prm,
                             int use_bias)
 {
-    if (c->point_count != 2 || !kg_contact_solve_block(c, a, b, prm, use_bias)) {
+    kg_vec2 ra[2], rb[2];
+    for (int j = 0; j < c->point_count; ++j) {
+        kg_current_anchors(&c->points[j], a, b, &ra[j], &rb[j]);
+    }
+    if (c->point_count != 2 || !kg_contact_solve_block(c, a, b, ra, rb, prm, use_bias)) {
         for (int j = 0; j < c->point_count; ++j) {
             kg_point_bias pb = kg_point_bias_of(c, kg_current_separation(c, j, a, b), prm, use_bias);
             kg_constraint_point* cp = &c->points[j];
-            float vn = kg_normal_velocity(c, j, a, b);
+            float vn = kg_normal_velocity_at(c, a, b, ra[j], rb[j]);
             float impulse = -cp->normal_mass * pb.mass_scale * (vn + pb.bias) - pb.impulse_scale * cp->normal_impulse;
-            kg_apply_normal_impulse(c, j, a, b, fmaxf(cp->normal_impulse + impulse, 0.0f) - cp->normal_impulse);
+            float applied = fmaxf(cp->normal_impulse + impulse, 0.0f) - cp->normal_impulse;
+            kg_apply_normal_impulse(c, j, a, b, ra[j], rb[j], applied, vn);
         }
     }
     kg_vec2 t = kg_right_perp(c->normal);
     for (int j = 0; j < c->point_count; ++j) {
         kg_constraint_point* cp = &c->points[j];
-        kg_vec2 ra = cp->anchor_a, rb = cp->anchor_b;
-        kg_vec2 dv = kg_sub(kg_point_velocity(b->v, b->w, rb), kg_point_velocity(a->v, a->w, ra));
+        kg_vec2 dv = kg_sub(kg_point_velocity(b->v, b->w, rb[j]), kg_point_velocity(a->v, a->w, ra[j]));
         float vt = kg_dot(dv, t);
         float impulse = -cp->tangent_mass * vt;
         float max_friction = c->friction * cp->normal_impulse;
         float accumulated = kg_clampf(cp->tangent_impulse + impulse, -max_friction, max_friction);
         impulse = accumulated - cp->tangent_impulse;
         cp->tangent_impulse = accumulated;
-        kg_apply_impulse_pair(c, a, b, ra, rb, kg_scale(impulse, t));
+        kg_apply_impulse_pair(c, a, b, ra[j], rb[j], kg_scale(impulse, t));
     }
+}
+
+KG_FN int kg_bounces(const kg_constraint_point* cp, kg_solver_params prm)
+{
+    return cp->relative_velocity < -prm.restitution_threshold && cp->max_normal_impulse > 0.0f;
+}
+
+/* Both points of a bouncing two-point contact at once, so two equal boxes meeting face
+ * to face exchange their velocities instead of starting to spin. Returns 0 (nothing
+ * applied) when the block solution would pull. */
+KG_FN int kg_restitution_block(kg_contact_constraint* c, kg_body_motion* a, kg_body_motion* b, const kg_vec2* ra,
+                               const kg_vec2* rb)
+{
+    kg_vec2 n = c->normal;
+    float ra0 = kg_cross(ra[0], n), rb0 = kg_cross(rb[0], n), ra1 = kg_cross(ra[1], n), rb1 = kg_cross(rb[1], n);
+    float m = c->inv_mass_a + c->inv_mass_b;
+    float k11 = m + c->inv_i_a * ra0 * ra0 + c->inv_i_b * rb0 * rb0;
+    float k22 = m + c->inv_i_a * ra1 * ra1 + c->inv_i_b * rb1 * rb1;
+    float k12 = m + c->inv_i_a * ra0 * ra1 + c->inv_i_b * rb0 * rb1;
+    float det = k11 * k22 - k12 * k12;
+    if (!(k11 * k11 < KG_MAX_BLOCK_CONDITION * det)) {
+        return 0;
+    }
+    float rhs0 = kg_normal_velocity_at(c, a, b, ra[0], rb[0]) + c->restitution * c->points[0].relative_velocity;
+    float rhs1 = kg_normal_velocity_at(c, a, b, ra[1], rb[1]) + c->restitution * c->points[1].relative_velocity;
+    float x0 = -(k22 * rhs0 - k12 * rhs1) / det;
+    float x1 = -(k11 * rhs1 - k12 * rhs0) / det;
+    if (c->points[0].normal_impulse + x0 < 0.0f || c->points[1].normal_impulse + x1 < 0.0f) {
+        return 0;
+    }
+    float x[2] = {x0, x1};
+    for (int j = 0; j < 2; ++j) {
+        c->points[j].normal_impulse += x[j];
+        kg_apply_impulse_pair(c, a, b, ra[j], rb[j], kg_scale(x[j], n));
+    }
+    return 1;
 }
 
 /* The restitution pass: where a point was approaching faster than the threshold and
@@ -275,21 +345,25 @@ KG_FN void kg_contact_restitution(kg_contact_constraint* c, kg_body_motion* a, k
     if (c->restitution == 0.0f) {
         return;
     }
-    kg_vec2 n = c->normal;
+    kg_vec2 ra[2], rb[2];
+    for (int j = 0; j < c->point_count; ++j) {
+        kg_current_anchors(&c->points[j], a, b, &ra[j], &rb[j]);
+    }
+    int both = c->point_count == 2 && kg_bounces(&c->points[0], prm) && kg_bounces(&c->points[1], prm);
+    if (both && kg_restitution_block(c, a, b, ra, rb)) {
+        return;
+    }
     for (int j = 0; j < c->point_count; ++j) {
         kg_constraint_point* cp = &c->points[j];
-        if (cp->relative_velocity > -prm.restitution_threshold || cp->max_normal_impulse == 0.0f) {
+        if (!kg_bounces(cp, prm)) {
             continue;
         }
-        kg_vec2 ra = cp->anchor_a, rb = cp->anchor_b;
-        kg_vec2 dv = kg_sub(kg_point_velocity(b->v, b->w, rb), kg_point_velocity(a->v, a->w, ra));
-        float vn = kg_dot(dv, n);
-        float impulse = -cp->normal_mass * (vn + c->restitution * cp->relative_velocity);
+        float vn = kg_normal_velocity_at(c, a, b, ra[j], rb[j]);
+        float impulse = -kg_normal_mass_at(c, ra[j], rb[j]) * (vn + c->restitution * cp->relative_velocity);
         float accumulated = fmaxf(cp->normal_impulse + impulse, 0.0f);
         impulse = accumulated - cp->normal_impulse;
         cp->normal_impulse = accumulated;
-        cp->max_normal_impulse = fmaxf(cp->max_normal_impulse, impulse);
-        kg_apply_impulse_pair(c, a, b, ra, rb, kg_scale(impulse, n));
+        kg_apply_impulse_pair(c, a, b, ra[j], rb[j], kg_scale(impulse, c->normal));
     }
 }
 

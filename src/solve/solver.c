@@ -10,6 +10,7 @@
  * share no moving body, so they run in parallel with results independent of the order. */
 #include "solve/solver.h"
 #include "backend/cpu/parallel.h"
+#include "collide/aabb.h"
 #include "collide/collide.h"
 #include "core/alloc.h"
 #include "core/error.h"
@@ -330,6 +331,7 @@ void kg_stage_finalize(kg_world* world)
         }
         if (kg_pool_type(p, i) != KG_BODY_STATIC) {
             kg_body_update_transform(p, i);
+            p->aabb[i] = kg_aabb_sweep(p->aabb[i], kg_scale(world->last_dt, p->velocity[i]));
         }
     }
 }

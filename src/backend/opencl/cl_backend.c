@@ -5,7 +5,7 @@
  * no state lost, which means precisely:
  *  - a failure inside a step: the state at the start of that step is read back from the
  *    checkpoint kept on the device, and the whole step is run again on the CPU; the result
- *    is the state the OpenCL step would have produced (bitwise, see docs/design.md). User
+ *    is the state the OpenCL step would have produced (bitwise: test_opencl_fallback). User
  *    force callbacks of that step may run twice.
  *  - a failure between steps (a read for a getter): the read is tried again. (A getter
  *    called by a force callback reads inside a step: that is a failure inside a step.)
@@ -31,7 +31,7 @@ static kg_backend_state* kg_state(kg_world* world) { return world->backend_state
 
 /* The bodies frozen on the device since the host last looked: warned of as the CPU
  * backend does when it freezes one. */
-static void kg_warn_new_frozen(kg_world* world, kg_cl_backend* b)
+void kg_cl_warn_new_frozen(kg_world* world, kg_cl_backend* b)
 {
     const kg_body_pool* p = &world->bodies;
     int frozen = 0, first = -1;
@@ -121,11 +121,15 @@ void kg_cl_backend_stop(kg_world* world)
     if (!b) {
         return;
     }
-    for (int slot = 0; b->force_kernels && slot < world->def.max_applicators; ++slot) {
-        kg_cl_release_device_force(b, slot);
+    if (b->w) {
+        kg_cl_drain(b->w);
+        for (int slot = 0; b->force_kernels && slot <= world->def.max_applicators; ++slot) {
+            kg_cl_release_device_force(b, slot);
+        }
     }
     kg_cl_world_destroy(b->w);
     kg_free(b->force_kernels);
+    kg_free(b->force_group_sizes);
     kg_free(b->force_params);
     kg_free(b->start_force);
     kg_free(b->start_torque);
@@ -214,7 +218,7 @@ static kg_result kg_opencl_sync_to_host(kg_world* world)
     }
     b->steps_since_snapshot = 0;
     if (flags_stale) {
-        kg_warn_new_frozen(world, b);
+        kg_cl_warn_new_frozen(world, b);
     }
     return KG_OK;
 }
@@ -275,6 +279,23 @@ static kg_result kg_find_device(int device_index, kg_cl_faults* faults)
     return KG_OK;
 }
 
+static kg_result kg_cl_backend_alloc(const kg_world* world, kg_cl_backend** out)
+{
+    kg_cl_backend* b = kg_alloc_zeroed(sizeof *b);
+    *out = b;
+    if (!b) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the OpenCL backend");
+    }
+    size_t slots = (size_t)world->def.max_applicators + 1u, bodies = (size_t)world->def.max_bodies;
+    b->force_kernels = kg_alloc_zeroed(slots * sizeof *b->force_kernels);
+    b->force_group_sizes = kg_alloc_zeroed(slots * sizeof *b->force_group_sizes);
+    b->force_params = kg_alloc_zeroed(slots * sizeof *b->force_params);
+    b->start_force = kg_alloc_zeroed(bodies * sizeof *b->start_force);
+    b->start_torque = kg_alloc_zeroed(bodies * sizeof *b->start_torque);
+    int ok = b->force_kernels && b->force_group_sizes && b->force_params && b->start_force && b->start_torque;
+    return ok ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the OpenCL backend");
+}
+
 kg_result kg_cl_backend_start(kg_world* world, int device_index)
 {
     kg_cl_faults faults;
@@ -284,25 +305,11 @@ kg_result kg_cl_backend_start(kg_world* world, int device_index)
     if (r == KG_OK) {
         r = kg_cl_runtime_get(device_index, kg_cl_fault(&faults, KG_CL_FAULT_BUILD), &rt);
     }
-    kg_cl_backend* b = NULL;
     if (r == KG_OK) {
-        b = kg_alloc_zeroed(sizeof *b);
-        int slots = world->def.max_applicators + 1;
-        size_t bodies = (size_t)world->def.max_bodies;
-        if (b) {
-            b->force_kernels = kg_alloc_zeroed((size_t)slots * sizeof *b->force_kernels);
-            b->force_params = kg_alloc_zeroed((size_t)slots * sizeof *b->force_params);
-            b->start_force = kg_alloc_zeroed(bodies * sizeof *b->start_force);
-            b->start_torque = kg_alloc_zeroed(bodies * sizeof *b->start_torque);
-        }
-        int ok = b && b->force_kernels && b->force_params && b->start_force && b->start_torque;
-        r = ok ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the OpenCL backend");
-    }
-    if (b) {
-        kg_state(world)->cl = b;
+        r = kg_cl_backend_alloc(world, &kg_state(world)->cl);
     }
     if (r == KG_OK) {
-        r = kg_cl_world_create(world, rt, &faults, &b->w);
+        r = kg_cl_world_create(world, rt, &faults, &kg_state(world)->cl->w);
     }
     if (r != KG_OK) {
         kg_cl_backend_stop(world);
@@ -341,6 +348,7 @@ kg_result kg_cl_prepare_device_force(kg_world* world, kg_cl_backend* b, int slot
         b->force_kernels[slot] = NULL;
         return kg_fail(KG_ERROR_BACKEND, "OpenCL: no kernel in the device force program (%s)", kg_cl_error_name(err));
     }
+    b->force_group_sizes[slot] = kg_cl_pick_group_size(b->w, b->force_kernels[slot]);
     r = kg_cl_buffer(b->w, sizeof f->params, &b->force_params[slot]);
     if (r == KG_OK) {
         r = kg_cl_write(b->w, b->force_params[slot], 0, sizeof f->params, f->params, 1);

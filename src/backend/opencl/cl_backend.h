@@ -19,6 +19,7 @@ typedef struct kg_cl_backend {
     kg_graph_coloring coloring;
     kg_solver_params solver_params;  /* the step's, read by a non-blocking write */
     cl_kernel* force_kernels;        /* per applicator slot, for device forces */
+    size_t* force_group_sizes;
     cl_mem* force_params;
     int steps_since_snapshot;        /* steps since the host last had the whole state */
     int frozen_count;                /* frozen bodies the host knows of, to warn of new ones */
@@ -42,6 +43,10 @@ kg_result kg_cl_step(kg_world* world, kg_cl_backend* b, float dt);
 kg_result kg_cl_prepare_device_force(kg_world* world, kg_cl_backend* b, int slot);
 /* The device forces' kernels and buffers of slots no longer holding one are released. */
 void kg_cl_release_device_force(kg_cl_backend* b, int slot);
+
+/* Warns, as the CPU backend does, of bodies the device froze (non-finite state) since the
+ * host last read the flags back. */
+void kg_cl_warn_new_frozen(kg_world* world, kg_cl_backend* b);
 
 /* Devices auto may choose: GPUs and accelerators (a CPU device through OpenCL is no
  * faster than the CPU backend, and compiling its kernels costs seconds). */

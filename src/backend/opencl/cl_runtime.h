@@ -7,12 +7,16 @@
 
 #include "backend/opencl/cl_device.h"
 
+/* Numbers the step kernels and the host agree on (passed to the kernels as build options). */
+enum { KG_CL_PASS_WARM_START, KG_CL_PASS_SOLVE, KG_CL_PASS_RELAX, KG_CL_PASS_RESTITUTION };
+enum { KG_CL_APPLICATOR_GRAVITY, KG_CL_APPLICATOR_WIND };
+
 typedef struct kg_cl_runtime {
     const kg_cl_api* cl;
     const kg_cl_device* device;
     cl_context context;
     cl_program step_program; /* kernels/kg_step.cl */
-    char options[512];       /* the determinism options every program is built with */
+    char options[768];       /* the determinism options and constants every program is built with */
 } kg_cl_runtime;
 
 /* The runtime of device index, created and built on first use. fail_build injects a

@@ -2,12 +2,15 @@
  *
  *   upload what the host changed; checkpoint the state (on the device)
  *   forces     built-in and device force applicators as kernels; C callbacks on the host
- *   collide    on the host for now: transforms, bounds and flags read back, contacts built
- *              by collide/collide.c, then uploaded
- *   solve      on the device: solver bodies loaded, constraints prepared, colours
- *              solved one launch each (the colouring itself is computed on the host
- *              from the contacts), sub-steps, restitution, impulses and motion stored
- *   finalize   on the device; the queue drained, so errors surface inside the step
+ *   collide    on the host for now: transforms, bounds, flags and velocities read back,
+ *              contacts built by collide/collide.c, then uploaded
+ *   solve      on the device: solver bodies loaded, constraints prepared, sub-steps of
+ *              warm start, solve and relax colour by colour (one launch per colour, or
+ *              all colours in one single-group launch for small worlds; the colouring
+ *              itself is computed on the host from the contacts), restitution, impulses
+ *              and motion stored
+ *   finalize   on the device; the queue drained, so errors surface inside the step; the
+ *              solved impulses read back into the host's contacts
  *
  * Each kernel calls the shared per-element function the CPU loop calls, so the state
  * agrees bit for bit with the CPU backend's. */
@@ -25,9 +28,10 @@
 
 KG_STATIC_ASSERT(sizeof(kg_force_body) == 56, host_force_body_size);
 
-/* The kernels' pass numbers (kernels/kg_step.cl). */
-enum { KG_CL_PASS_WARM_START, KG_CL_PASS_SOLVE, KG_CL_PASS_RELAX, KG_CL_PASS_RESTITUTION };
-enum { KG_CL_GRAVITY, KG_CL_WIND };
+/* Up to this many contacts, each solver pass is one single-group launch: a world that
+ * small cannot fill a GPU, and one launch instead of one per colour saves the launch
+ * latency (5 to 50 us each, times colours x 3 passes x sub-steps). */
+#define KG_CL_SINGLE_GROUP_CONTACTS 1024
 
 #define KG_TRY(expr)                 \
     do {                             \
@@ -64,9 +68,11 @@ kg_result kg_cl_bind_buffers(kg_cl_world* w)
     KG_BIND(STORE_BODIES, 1, KG_A(FLAGS), w->solver_bodies, KG_A(VELOCITY), KG_A(OMEGA), KG_A(CENTER), KG_A(ROT));
     KG_BIND(PREPARE_CONTACTS, 1, w->solver_params, w->contacts, w->constraints, w->solver_bodies, KG_A(INV_MASS),
             KG_A(INV_INERTIA), KG_A(XF), KG_A(CENTER));
-    KG_BIND(SOLVE_COLOR, 4, w->solver_params, w->order, w->constraints, w->solver_bodies);
-    KG_BIND(STORE_IMPULSES, 1, w->constraints, w->contacts);
-    KG_BIND(FINALIZE, 1, KG_A(FLAGS), KG_A(CENTER), KG_A(ROT), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE),
+    KG_BIND(GATHER_COLORED, 1, w->order, w->constraints, w->colored);
+    KG_BIND(SOLVE_COLOR, 4, w->solver_params, w->colored, w->solver_bodies);
+    KG_BIND(SOLVE_COLORS_IN_GROUP, 1, w->color_start, w->solver_params, w->colored, w->solver_bodies);
+    KG_BIND(STORE_IMPULSES, 1, w->colored, w->contacts);
+    KG_BIND(FINALIZE, 2, KG_A(FLAGS), KG_A(CENTER), KG_A(ROT), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE),
             KG_A(TORQUE), KG_A(XF), KG_A(AABB), KG_A(SHAPE), KG_A(LOCAL_CENTER));
     return KG_OK;
 }
@@ -203,7 +209,7 @@ static kg_result kg_run_builtin_force(kg_world* world, kg_cl_backend* b, const k
     cl_kernel k = w->kernels[KG_CL_K_APPLY_BUILTIN_FORCE];
     int items = 0;
     KG_TRY(kg_bind_targets(world, b, a, k, used, &items));
-    KG_TRY(kg_arg_int(w, k, 3, a->kind == KG_APPLICATOR_GRAVITY ? KG_CL_GRAVITY : KG_CL_WIND));
+    KG_TRY(kg_arg_int(w, k, 3, a->kind == KG_APPLICATOR_GRAVITY ? KG_CL_APPLICATOR_GRAVITY : KG_CL_APPLICATOR_WIND));
     KG_TRY(kg_arg_float(w, k, 4, a->vector.x));
     KG_TRY(kg_arg_float(w, k, 5, a->vector.y));
     KG_TRY(kg_arg_float(w, k, 6, a->strength));
@@ -229,11 +235,11 @@ static kg_result kg_run_device_force(kg_world* world, kg_cl_backend* b, int slot
     for (int i = 0; i < (int)(sizeof buffers / sizeof buffers[0]); ++i) {
         KG_TRY(kg_cl_arg(w, k, 3 + i, sizeof(cl_mem), &buffers[i]));
     }
-    return kg_cl_launch(w, k, w->group_size[KG_CL_K_APPLY_BUILTIN_FORCE], items, f->function_name);
+    return kg_cl_launch(w, k, b->force_group_sizes[slot], items, f->function_name);
 }
 
 /* The bodies a C callback is given, as forces.c gives them: every live body, or the live
- * bodies of its list in list order. */
+ * bodies of its list in list order, at most max_bodies of them (the scratch list's size). */
 static int kg_callback_targets(kg_world* world, const kg_applicator_slot* a)
 {
     const kg_body_pool* p = &world->bodies;
@@ -248,7 +254,7 @@ static int kg_callback_targets(kg_world* world, const kg_applicator_slot* a)
         }
         return n;
     }
-    for (int k = 0; k < a->body_count; ++k) {
+    for (int k = 0; k < a->body_count && n < world->def.max_bodies; ++k) {
         if (kg_body_is_valid(world, a->bodies[k])) {
             out[n++] = a->bodies[k];
         }
@@ -297,7 +303,14 @@ static kg_result kg_stage_forces(kg_world* world, kg_cl_backend* b)
 
 static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b)
 {
-    KG_TRY(kg_cl_to_host(b->w, &world->bodies, KG_CL_BIT(XF) | KG_CL_BIT(AABB) | KG_CL_BIT(FLAGS)));
+    int flags_stale = (b->w->host_stale & KG_CL_BIT(FLAGS)) != 0;
+    /* what collide/collide.c reads of the state: poses, bounds, flags, and the velocities
+     * that size the speculative margins */
+    unsigned reads = KG_CL_BIT(XF) | KG_CL_BIT(AABB) | KG_CL_BIT(FLAGS) | KG_CL_BIT(VELOCITY);
+    KG_TRY(kg_cl_to_host(b->w, &world->bodies, reads));
+    if (flags_stale) {
+        kg_cl_warn_new_frozen(world, b);
+    }
     return kg_stage_collide(world);
 }
 
@@ -351,11 +364,19 @@ static void kg_color_contacts(kg_world* world, kg_cl_backend* b, const kg_contac
     kg_graph_color(&b->coloring, b->color_input, count, &world->bodies, b->color_scratch);
 }
 
+/* One pass over all constraints: the colours one launch each, then the overflow by one
+ * work-item; or, when there are few constraints, all of it in one single-group launch. */
 static kg_result kg_run_pass(kg_cl_backend* b, int pass)
 {
     kg_cl_world* w = b->w;
-    cl_kernel k = w->kernels[KG_CL_K_SOLVE_COLOR];
     const kg_graph_coloring* g = &b->coloring;
+    if (g->color_start[KG_COLOR_COUNT + 1] <= KG_CL_SINGLE_GROUP_CONTACTS) {
+        cl_kernel k = w->kernels[KG_CL_K_SOLVE_COLORS_IN_GROUP];
+        size_t size = w->group_size[KG_CL_K_SOLVE_COLORS_IN_GROUP];
+        KG_TRY(kg_arg_int(w, k, 0, pass));
+        return kg_cl_launch(w, k, size, (int)size, "kg_solve_colors_in_group");
+    }
+    cl_kernel k = w->kernels[KG_CL_K_SOLVE_COLOR];
     KG_TRY(kg_arg_int(w, k, 3, pass));
     for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
         int serial = c == KG_COLOR_COUNT;
@@ -385,6 +406,7 @@ static kg_result kg_set_solver_scalars(kg_cl_world* w, int bodies, int contacts,
     KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_LOAD_BODIES], 0, bodies));
     KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_STORE_BODIES], 0, bodies));
     KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_PREPARE_CONTACTS], 0, contacts));
+    KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_GATHER_COLORED], 0, contacts));
     KG_TRY(kg_cl_write(w, w->solver_params, 0, sizeof *prm, prm, 0));
     return kg_arg_int(w, w->kernels[KG_CL_K_STORE_IMPULSES], 0, contacts);
 }
@@ -394,6 +416,7 @@ static kg_result kg_upload_contacts(kg_world* world, kg_cl_backend* b, kg_contac
     KG_TRY(kg_reserve_coloring(world, b, count));
     kg_color_contacts(world, b, contacts, count);
     KG_TRY(kg_cl_write(b->w, b->w->contacts, 0, (size_t)count * sizeof *contacts, contacts, 0));
+    KG_TRY(kg_cl_write(b->w, b->w->color_start, 0, sizeof b->coloring.color_start, b->coloring.color_start, 0));
     return kg_cl_write(b->w, b->w->order, 0, (size_t)count * sizeof(int), b->coloring.order, 0);
 }
 
@@ -411,6 +434,7 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     KG_TRY(kg_set_solver_scalars(w, bodies, count, &b->solver_params, ip));
     KG_TRY(kg_cl_run(w, KG_CL_K_LOAD_BODIES, bodies));
     KG_TRY(kg_cl_run(w, KG_CL_K_PREPARE_CONTACTS, count));
+    KG_TRY(kg_cl_run(w, KG_CL_K_GATHER_COLORED, count));
     for (int step = 0; step < n; ++step) {
         KG_TRY(kg_cl_run(w, KG_CL_K_INTEGRATE_VELOCITIES, bodies));
         KG_TRY(kg_run_pass(b, KG_CL_PASS_WARM_START));
@@ -425,10 +449,11 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
 
 /* ---- finalize --------------------------------------------------------------------- */
 
-static kg_result kg_stage_finalize_on_device(kg_world* world, kg_cl_backend* b)
+static kg_result kg_stage_finalize_on_device(kg_world* world, kg_cl_backend* b, float dt)
 {
     kg_cl_world* w = b->w;
     KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_FINALIZE], 0, world->bodies.high_water));
+    KG_TRY(kg_arg_float(w, w->kernels[KG_CL_K_FINALIZE], 1, dt));
     KG_TRY(kg_cl_run(w, KG_CL_K_FINALIZE, world->bodies.high_water));
     KG_TRY(kg_cl_finish(w));
     /* The solved impulses, for the host collide of the next step to carry over and for
@@ -486,7 +511,7 @@ static kg_result kg_cl_step_stages(kg_world* world, kg_cl_backend* b, float dt)
     kg_time_stage(world, "collide (host)", 1, &t);
     KG_TRY(kg_stage_solve_on_device(world, b, dt));
     kg_time_stage(world, "solve", 0, &t);
-    KG_TRY(kg_stage_finalize_on_device(world, b));
+    KG_TRY(kg_stage_finalize_on_device(world, b, dt));
     kg_time_stage(world, "finalize", 0, &t);
     if (w->profiling) {
         kg_add_kernel_times(world, w);

@@ -3,12 +3,14 @@
 #include "core/alloc.h"
 #include "core/error.h"
 #include "solve/contact_solver.h"
+#include "solve/graph_color.h"
 
 #include <string.h>
 
 /* Work-group size aimed at: a multiple of every GPU's SIMD width (32 or 64), and large
  * enough that a CPU device's per-group overhead stays small. */
 #define KG_CL_GROUP_TARGET 64
+#define KG_CL_SINGLE_GROUP_MAX 256
 
 typedef struct kg_cl_host_array {
     void* data;
@@ -323,7 +325,7 @@ void kg_cl_collect_timing(kg_cl_world* w)
 
 /* ---- creation ----------------------------------------------------------------------- */
 
-static size_t kg_cl_pick_group_size(kg_cl_world* w, cl_kernel kernel)
+size_t kg_cl_pick_group_size(kg_cl_world* w, cl_kernel kernel)
 {
     size_t max = 1, multiple = 1;
     cl_device_id device = w->rt->device->id;
@@ -341,6 +343,18 @@ static size_t kg_cl_pick_group_size(kg_cl_world* w, cl_kernel kernel)
     return size > 0 ? size : 1;
 }
 
+/* The one work-group of kg_solve_colors_in_group: as large as the kernel allows, up to
+ * KG_CL_SINGLE_GROUP_MAX. */
+static size_t kg_cl_single_group_size(kg_cl_world* w, cl_kernel kernel)
+{
+    size_t max = 1;
+    if (w->cl->GetKernelWorkGroupInfo(kernel, w->rt->device->id, CL_KERNEL_WORK_GROUP_SIZE, sizeof max, &max, NULL) !=
+        CL_SUCCESS) {
+        max = 1;
+    }
+    return max < KG_CL_SINGLE_GROUP_MAX ? max : KG_CL_SINGLE_GROUP_MAX;
+}
+
 static kg_result kg_cl_create_kernels(kg_cl_world* w)
 {
     for (int k = 0; k < KG_CL_KERNEL_COUNT; ++k) {
@@ -353,6 +367,7 @@ static kg_result kg_cl_create_kernels(kg_cl_world* w)
         }
         w->group_size[k] = kg_cl_pick_group_size(w, w->kernels[k]);
     }
+    w->group_size[KG_CL_K_SOLVE_COLORS_IN_GROUP] = kg_cl_single_group_size(w, w->kernels[KG_CL_K_SOLVE_COLORS_IN_GROUP]);
     return KG_OK;
 }
 
@@ -375,7 +390,10 @@ static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
         r = kg_cl_buffer(w, sizeof(kg_solver_params), &w->solver_params);
     }
     if (r == KG_OK) {
-        r = kg_cl_reserve_targets(w, pool->capacity);
+        r = kg_cl_buffer(w, (KG_COLOR_COUNT + 2) * sizeof(int), &w->color_start);
+    }
+    if (r == KG_OK) {
+        r = kg_cl_buffer(w, (size_t)pool->capacity * 2u * sizeof(cl_uint), &w->targets);
     }
     if (r == KG_OK) {
         r = kg_cl_reserve_contacts(w, world->def.max_contacts); /* last: it binds every buffer */
@@ -390,12 +408,16 @@ kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
     }
     kg_cl_release(w, &w->contacts);
     kg_cl_release(w, &w->constraints);
+    kg_cl_release(w, &w->colored);
     kg_cl_release(w, &w->order);
     w->contact_capacity = 0;
     size_t n = (size_t)(capacity > 0 ? capacity : 1);
     kg_result r = kg_cl_buffer(w, n * sizeof(kg_contact), &w->contacts);
     if (r == KG_OK) {
         r = kg_cl_buffer(w, n * sizeof(kg_contact_constraint), &w->constraints);
+    }
+    if (r == KG_OK) {
+        r = kg_cl_buffer(w, n * sizeof(kg_contact_constraint), &w->colored);
     }
     if (r == KG_OK) {
         r = kg_cl_buffer(w, n * sizeof(int), &w->order);
@@ -407,20 +429,6 @@ kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
     return r;
 }
 
-kg_result kg_cl_reserve_targets(kg_cl_world* w, int capacity)
-{
-    if (capacity <= w->target_capacity && w->targets) {
-        return KG_OK;
-    }
-    kg_cl_release(w, &w->targets);
-    w->target_capacity = 0;
-    size_t n = (size_t)(capacity > 0 ? capacity : 1);
-    kg_result r = kg_cl_buffer(w, n * 2u * sizeof(cl_uint), &w->targets);
-    if (r == KG_OK) {
-        w->target_capacity = (int)n;
-    }
-    return r;
-}
 
 kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_faults* faults, kg_cl_world** out)
 {
@@ -457,16 +465,19 @@ kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_fau
     return KG_OK;
 }
 
+void kg_cl_drain(kg_cl_world* w)
+{
+    if (w->queue) {
+        w->cl->Finish(w->queue);
+    }
+}
+
 void kg_cl_world_destroy(kg_cl_world* w)
 {
     if (!w) {
         return;
     }
-    if (w->queue) {
-        /* commands still queued after a failure read host memory about to be freed: let
-         * them end (on a lost device this returns at once, with an error to ignore) */
-        w->cl->Finish(w->queue);
-    }
+    kg_cl_drain(w);
     for (int k = 0; k < w->event_count; ++k) {
         w->cl->ReleaseEvent(w->events[k]);
     }
@@ -476,8 +487,10 @@ void kg_cl_world_destroy(kg_cl_world* w)
     }
     kg_cl_release(w, &w->solver_bodies);
     kg_cl_release(w, &w->solver_params);
+    kg_cl_release(w, &w->color_start);
     kg_cl_release(w, &w->contacts);
     kg_cl_release(w, &w->constraints);
+    kg_cl_release(w, &w->colored);
     kg_cl_release(w, &w->order);
     kg_cl_release(w, &w->targets);
     for (int k = 0; k < KG_CL_KERNEL_COUNT; ++k) {

@@ -39,8 +39,10 @@ typedef enum kg_cl_array {
     X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force) X(INTEGRATE_VELOCITIES, kg_integrate_velocities) \
     X(INTEGRATE_POSITIONS, kg_integrate_positions) X(LOAD_BODIES, kg_load_bodies)          \
     X(STORE_BODIES, kg_store_bodies)                                                       \
-    X(PREPARE_CONTACTS, kg_prepare_contacts) X(SOLVE_COLOR, kg_solve_color)                 \
-    X(STORE_IMPULSES, kg_store_impulses) X(FINALIZE, kg_finalize)
+    X(PREPARE_CONTACTS, kg_prepare_contacts) X(GATHER_COLORED, kg_gather_colored)          \
+    X(SOLVE_COLOR, kg_solve_color)                                                         \
+    X(SOLVE_COLORS_IN_GROUP, kg_solve_colors_in_group) X(STORE_IMPULSES, kg_store_impulses) \
+    X(FINALIZE, kg_finalize)
 
 typedef enum kg_cl_kernel_id {
 #define KG_CL_KERNEL_ENUM(id, name) KG_CL_K_##id,
@@ -72,10 +74,10 @@ typedef struct kg_cl_world {
     cl_mem checkpoint[KG_CL_ARRAY_COUNT]; /* state arrays at the start of the step */
     cl_mem solver_bodies;                 /* kg_solver_body per slot: the solver's state */
     cl_mem solver_params;                 /* kg_solver_params of the step */
-    cl_mem contacts, constraints, order;  /* contact_capacity each */
+    cl_mem contacts, constraints, colored, order; /* contact_capacity each */
+    cl_mem color_start;                   /* kg_graph_coloring.color_start of the step */
     int contact_capacity;
-    cl_mem targets;                       /* applicator targets, (slot, multiplicity) */
-    int target_capacity;
+    cl_mem targets;                       /* applicator targets, (slot, multiplicity), max_bodies */
     unsigned host_stale;
     unsigned device_stale;
     int forces_cleared; /* the last step cleared force and torque of every live body */
@@ -91,14 +93,21 @@ typedef struct kg_cl_world {
 
 /* Creates the queue, kernels and buffers for world on rt. */
 kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_faults* faults, kg_cl_world** out);
+/* Lets the commands still queued end before anything they use is released: after a
+ * failure, non-blocking writes still read host memory about to be freed. On a lost device
+ * it returns at once, with an error there is nothing more to do about. */
+void kg_cl_drain(kg_cl_world* w);
 void kg_cl_world_destroy(kg_cl_world* w);
+
+/* The work-group size to launch kernel with: what the device allows for that kernel and
+ * prefers as a multiple, aiming at KG_CL_GROUP_TARGET. */
+size_t kg_cl_pick_group_size(kg_cl_world* w, cl_kernel kernel);
 
 /* A buffer of size bytes (KGYRO_CL_FAIL=alloc counts here). */
 kg_result kg_cl_buffer(kg_cl_world* w, size_t size, cl_mem* out);
 /* Grows the contact buffers to hold capacity contacts (only when a step finds more than
- * ever before: the broadphase grows its pool then too). */
+ * ever before: the collide stage grows its pool then too). */
 kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity);
-kg_result kg_cl_reserve_targets(kg_cl_world* w, int capacity);
 
 /* Writes data into buffer. A non-blocking write reads data later: it must stay unchanged
  * until the next kg_cl_finish. */

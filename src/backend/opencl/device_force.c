@@ -10,6 +10,7 @@
 
 #include <ctype.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 kg_device_force_def kg_default_device_force_def(void)
@@ -171,6 +172,8 @@ kg_result kg_backend_state_create(kg_world* world)
         kg_free(s);
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the backend state");
     }
+    const char* profile = getenv("KGYRO_PROFILE");
+    s->profiling = profile && *profile && strcmp(profile, "0") != 0;
     world->backend_state = s;
     return KG_OK;
 }

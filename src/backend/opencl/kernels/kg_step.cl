@@ -5,20 +5,13 @@
  * Work-items copy what they need from global memory into private variables, call the
  * shared function, and write back only the element they own (gather, never scatter).
  * Every kernel takes its element count and returns for the padding work-items.
- * The body flag constants (KG_FLAG_*, KG_TYPE_*, KG_BODY_*) come as build options from
- * the host's definitions, so the two sides cannot disagree. */
+ * The body flag constants (KG_FLAG_*, KG_TYPE_*, KG_BODY_*), KG_COLOR_COUNT, the pass and
+ * applicator numbers (KG_PASS_*, KG_APPLICATOR_*_KIND) come as build options from the
+ * host's definitions, so the two sides cannot disagree. */
 #include "core/kg_layout.h"
 #include "collide/aabb.h"
 #include "solve/integrate.h"
 #include "solve/contact_solver.h"
-
-#define KG_APPLICATOR_GRAVITY_KIND 0
-#define KG_APPLICATOR_WIND_KIND 1
-
-#define KG_PASS_WARM_START 0
-#define KG_PASS_SOLVE 1
-#define KG_PASS_RELAX 2
-#define KG_PASS_RESTITUTION 3
 
 KG_FN int kg_is_alive(kg_u32 flags) { return (flags & KG_FLAG_ALIVE) != 0u; }
 KG_FN kg_u32 kg_type_of(kg_u32 flags) { return (flags & KG_TYPE_MASK) >> KG_TYPE_SHIFT; }
@@ -214,39 +207,77 @@ KG_FN void kg_solve_one(kg_contact_constraint* c, __global kg_solver_body* bodie
     kg_store_motion(bodies, c->b, b);
 }
 
-/* One pass over the constraints order[first, first + count): one colour in parallel
+/* The constraints grouped by colour (order is graph_color.h's), so that each pass reads a
+ * colour's constraints from one contiguous range, as the CPU solver does. */
+__kernel void kg_gather_colored(int count, __global const int* order,
+                                __global const kg_contact_constraint* constraints,
+                                __global kg_contact_constraint* colored)
+{
+    int k = (int)get_global_id(0);
+    if (k < count) {
+        colored[k] = constraints[order[k]];
+    }
+}
+
+KG_FN void kg_solve_at(__global kg_contact_constraint* colored, int index, __global kg_solver_body* bodies,
+                       kg_solver_params prm, int pass)
+{
+    kg_contact_constraint c = colored[index];
+    kg_solve_one(&c, bodies, prm, pass);
+    colored[index] = c;
+}
+
+/* One pass over the colored constraints [first, first + count): one colour in parallel
  * (its constraints share no moving body), or, serial != 0, the overflow in order by a
  * single work-item. */
 __kernel void kg_solve_color(int first, int count, int serial, int pass, __global const kg_solver_params* params,
-                             __global const int* order, __global kg_contact_constraint* constraints,
-                             __global kg_solver_body* bodies)
+                             __global kg_contact_constraint* colored, __global kg_solver_body* bodies)
 {
     int k = (int)get_global_id(0);
     kg_solver_params prm = *params;
-    int begin = serial ? 0 : k;
-    int end = serial ? (k == 0 ? count : 0) : (k < count ? k + 1 : 0);
-    for (int j = begin; j < end; ++j) {
-        int index = order[first + j];
-        kg_contact_constraint c = constraints[index];
-        kg_solve_one(&c, bodies, prm, pass);
-        constraints[index] = c;
+    if (!serial && k < count) {
+        kg_solve_at(colored, first + k, bodies, prm, pass);
+    }
+    for (int j = 0; serial && k == 0 && j < count; ++j) {
+        kg_solve_at(colored, first + j, bodies, prm, pass);
+    }
+}
+
+/* One pass over every colour and the overflow, by a single work-group: the colours in
+ * sequence with a barrier between them, the overflow by work-item 0. One launch instead
+ * of one per colour, for worlds too small to fill the device, where launches cost more
+ * than the work. color_start is graph_color.h's. */
+__kernel void kg_solve_colors_in_group(int pass, __global const int* color_start,
+                                       __global const kg_solver_params* params,
+                                       __global kg_contact_constraint* colored, __global kg_solver_body* bodies)
+{
+    int lid = (int)get_local_id(0), size = (int)get_local_size(0);
+    kg_solver_params prm = *params;
+    for (int color = 0; color < KG_COLOR_COUNT; ++color) {
+        for (int j = color_start[color] + lid; j < color_start[color + 1]; j += size) {
+            kg_solve_at(colored, j, bodies, prm, pass);
+        }
+        barrier(CLK_GLOBAL_MEM_FENCE);
+    }
+    for (int j = color_start[KG_COLOR_COUNT]; lid == 0 && j < color_start[KG_COLOR_COUNT + 1]; ++j) {
+        kg_solve_at(colored, j, bodies, prm, pass);
     }
 }
 
 /* kg_store_impulses_range of solve/solver.c: impulses back into the contacts, for warm
  * starting next step and for kg_world_get_contact. */
-__kernel void kg_store_impulses(int count, __global const kg_contact_constraint* constraints,
+__kernel void kg_store_impulses(int count, __global const kg_contact_constraint* colored,
                                 __global kg_contact* contacts)
 {
     int k = (int)get_global_id(0);
     if (k >= count) {
         return;
     }
-    kg_contact_constraint c = constraints[k];
+    kg_contact_constraint c = colored[k];
     for (int j = 0; j < c.point_count; ++j) {
-        contacts[k].manifold.points[j].normal_impulse = c.points[j].normal_impulse;
-        contacts[k].manifold.points[j].tangent_impulse = c.points[j].tangent_impulse;
-        contacts[k].manifold.points[j].normal_velocity = c.points[j].relative_velocity;
+        contacts[c.contact].manifold.points[j].normal_impulse = c.points[j].normal_impulse;
+        contacts[c.contact].manifold.points[j].tangent_impulse = c.points[j].tangent_impulse;
+        contacts[c.contact].manifold.points[j].normal_velocity = c.points[j].relative_velocity;
     }
 }
 
@@ -259,8 +290,9 @@ KG_FN int kg_state_finite(kg_vec2 c, kg_rot q, kg_vec2 v, float w)
 
 /* kg_stage_finalize of solve/solver.c with kg_body_update_transform of core/body_pool.c:
  * forces cleared, non-finite bodies frozen at their last finite pose (the host warns when
- * it next reads the flags back), origin transforms and bounds updated. */
-__kernel void kg_finalize(int count, __global kg_u32* flags, __global kg_vec2* center, __global kg_rot* rot,
+ * it next reads the flags back), origin transforms updated, and bounds swept over the
+ * motion of the next step (dt of this one). */
+__kernel void kg_finalize(int count, float dt, __global kg_u32* flags, __global kg_vec2* center, __global kg_rot* rot,
                           __global kg_vec2* velocity, __global float* omega, __global kg_vec2* force,
                           __global float* torque, __global kg_xf* xf, __global kg_aabb* aabb,
                           __global const kg_shape* shape, __global const kg_vec2* local_center)
@@ -294,5 +326,5 @@ __kernel void kg_finalize(int count, __global kg_u32* flags, __global kg_vec2* c
     t.p = kg_sub(c, kg_rotate(q, local_center[i]));
     kg_shape s = shape[i];
     xf[i] = t;
-    aabb[i] = kg_shape_aabb(&s, t);
+    aabb[i] = kg_aabb_sweep(kg_shape_aabb(&s, t), kg_scale(dt, velocity[i]));
 }

@@ -1,0 +1,1147 @@
+/* The Tiled map loader: Tiled's JSON map format (.tmj, or .json saved by Tiled) into a
+ * scene. Orthogonal, finite maps; embedded and external (.tsj) tilesets; tile layers with
+ * CSV or uncompressed base64 data, flipped and rotated tiles included; the collision shapes
+ * drawn in Tiled's tile collision editor; object layers as bodies. Tiled's y axis points
+ * down, kgyro's up: the map's bottom-left corner is the world origin, pixels_per_meter
+ * (a map property, the tile width by default) the scale. Anything this does not support is
+ * an error naming the file, the JSON path and what is wrong (docs/tilemaps.md). */
+#include "io/tiled.h"
+#include "io/json_util.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The flag bits of a global tile id (gid). */
+#define KG_GID_FLIP_H 0x80000000u
+#define KG_GID_FLIP_V 0x40000000u
+#define KG_GID_FLIP_D 0x20000000u
+#define KG_GID_ROTATE_HEX 0x10000000u
+#define KG_GID_MASK 0x0FFFFFFFu
+#define KG_FILE_NAME_MAX 1024
+/* Shape points this far outside the tile (in tile sizes) are rounding, not design. */
+#define KG_TILE_SLACK 1.0e-3f
+
+typedef struct kg_tileset {
+    int firstgid;
+    int tilecount;
+    cJSON* document;        /* an external tileset's file, owned */
+    const cJSON* json;      /* the tileset object */
+    kg_json_reader reader;  /* names the file the tileset is in */
+    kg_json_path path;      /* the tileset in that file */
+    char file[KG_FILE_NAME_MAX];
+} kg_tileset;
+
+/* A flipped tile: its raw gid (flags included) and the id it got. */
+typedef struct kg_variant {
+    uint32_t raw;
+    int id;
+} kg_variant;
+
+typedef struct kg_tiled {
+    kg_scene* scene;
+    kg_json_reader reader;
+    int width, height, tile_width, tile_height;
+    float pixels_per_meter;
+    float friction, restitution;
+    kg_tileset* tilesets;
+    int tileset_count;
+    /* shapes in Tiled's tile frame, as fractions of the tile, y down; index = gid */
+    kg_tile_shape* raw_shapes;
+    int gid_count;          /* largest gid + 1 */
+    kg_variant* variants;
+    int variant_count, variant_capacity;
+    uint16_t* tiles;        /* layer after layer, bottom row first */
+    int layer_count, layer_capacity;
+    kg_vec2 object_offset;  /* of the object layer being read, pixels */
+} kg_tiled;
+
+static int kg_has(const cJSON* object, const char* key) { return cJSON_GetObjectItemCaseSensitive(object, key) != NULL; }
+
+int kg_tiled_is_map(const cJSON* root)
+{
+    const cJSON* type = cJSON_GetObjectItemCaseSensitive(root, "type");
+    return cJSON_IsObject(root) &&
+           (kg_has(root, "tiledversion") || (cJSON_IsString(type) && strcmp(type->valuestring, "map") == 0));
+}
+
+/* ---- files ---- */
+
+static kg_result kg_read_text_file(const char* path, char** out, size_t* length)
+{
+    FILE* file = fopen(path, "rb");
+    if (!file) {
+        return kg_fail(KG_ERROR_IO, "%s: cannot open (%s)", path, strerror(errno));
+    }
+    size_t capacity = 1 << 16, used = 0;
+    char* text = malloc(capacity);
+    while (text) {
+        used += fread(text + used, 1, capacity - used, file);
+        if (used < capacity) {
+            break;
+        }
+        char* grown = realloc(text, capacity * 2);
+        if (!grown) {
+            free(text);
+        }
+        text = grown;
+        capacity *= 2;
+    }
+    int failed = !text || ferror(file);
+    fclose(file);
+    if (failed) {
+        free(text);
+        return kg_fail(KG_ERROR_IO, "%s: cannot read it", path);
+    }
+    *out = text;
+    *length = used;
+    return KG_OK;
+}
+
+static kg_result kg_parse_file(const char* path, cJSON** out)
+{
+    char* text = NULL;
+    size_t length = 0;
+    KG_TRY(kg_read_text_file(path, &text, &length));
+    kg_json_reader reader = {path};
+    kg_result r = kg_json_parse(&reader, text, length, out);
+    free(text);
+    return r;
+}
+
+void kg_tiled_sibling_path(const char* from, const char* source, char* out, size_t size)
+{
+    const char* slash = strrchr(from, '/');
+    if (source[0] == '/' || !slash) {
+        snprintf(out, size, "%s", source);
+    } else {
+        snprintf(out, size, "%.*s/%s", (int)(slash - from), from, source);
+    }
+}
+
+static int kg_ends_with(const char* text, const char* suffix)
+{
+    size_t n = strlen(text), m = strlen(suffix);
+    return n >= m && strcmp(text + n - m, suffix) == 0;
+}
+
+/* ---- custom properties ---- */
+
+/* The property object {"name", "type", "value"} called name, or NULL. */
+static const cJSON* kg_property(const cJSON* owner, const char* name)
+{
+    const cJSON* list = cJSON_GetObjectItemCaseSensitive(owner, "properties");
+    for (const cJSON* p = cJSON_IsArray(list) ? list->child : NULL; p; p = p->next) {
+        const cJSON* key = cJSON_GetObjectItemCaseSensitive(p, "name");
+        if (cJSON_IsString(key) && strcmp(key->valuestring, name) == 0) {
+            return p;
+        }
+    }
+    return NULL;
+}
+
+/* The path of a property: OWNER.properties.NAME (then .value). */
+static kg_json_path kg_property_path(const kg_json_path* owner, const char* name)
+{
+    kg_json_path list = kg_json_path_key(owner, "properties");
+    return kg_json_path_key(&list, name);
+}
+
+static kg_result kg_check_properties(const kg_json_reader* reader, const cJSON* owner, const kg_json_path* path)
+{
+    const cJSON* list = cJSON_GetObjectItemCaseSensitive(owner, "properties");
+    if (list && !cJSON_IsArray(list)) {
+        kg_json_path list_path = kg_json_path_key(path, "properties");
+        return kg_json_fail(reader, &list_path, "must be an array (the format of Tiled 1.2 and later: save the "
+                                                "map again with a recent Tiled)");
+    }
+    return KG_OK;
+}
+
+static kg_result kg_float_property(const kg_json_reader* reader, const cJSON* owner, const kg_json_path* path,
+                                   const char* name, kg_json_rule rule, float* out)
+{
+    const cJSON* p = kg_property(owner, name);
+    kg_json_path p_path = kg_property_path(path, name);
+    return p ? kg_json_float(reader, p, &p_path, "value", rule, out) : KG_OK;
+}
+
+static kg_result kg_bool_property(const kg_json_reader* reader, const cJSON* owner, const kg_json_path* path,
+                                  const char* name, int* out)
+{
+    const cJSON* p = kg_property(owner, name);
+    kg_json_path p_path = kg_property_path(path, name);
+    return p ? kg_json_bool(reader, p, &p_path, "value", out) : KG_OK;
+}
+
+static kg_result kg_string_property(const kg_json_reader* reader, const cJSON* owner, const kg_json_path* path,
+                                    const char* name, const char** out)
+{
+    const cJSON* p = kg_property(owner, name);
+    kg_json_path p_path = kg_property_path(path, name);
+    return p ? kg_json_string(reader, p, &p_path, "value", out) : KG_OK;
+}
+
+/* ---- the map ---- */
+
+static kg_result kg_read_map_header(kg_tiled* t, const cJSON* root)
+{
+    const kg_json_reader* reader = &t->reader;
+    kg_json_path root_path = {""};
+    const char* orientation = "orthogonal";
+    int infinite = 0;
+    KG_TRY(kg_json_string(reader, root, &root_path, "orientation", &orientation));
+    if (strcmp(orientation, "orthogonal") != 0) {
+        kg_json_path p = kg_json_path_key(&root_path, "orientation");
+        return kg_json_fail(reader, &p, "only orthogonal maps are supported (got \"%s\")", orientation);
+    }
+    KG_TRY(kg_json_bool(reader, root, &root_path, "infinite", &infinite));
+    if (infinite) {
+        kg_json_path p = kg_json_path_key(&root_path, "infinite");
+        return kg_json_fail(reader, &p, "infinite maps are not supported: in Tiled, untick Map > Map Properties > "
+                                        "Infinite, which gives the map a fixed size");
+    }
+    static const char* const sizes[] = {"width", "height", "tilewidth", "tileheight"};
+    int* fields[] = {&t->width, &t->height, &t->tile_width, &t->tile_height};
+    for (int i = 0; i < 4; ++i) {
+        KG_TRY(kg_json_require(reader, root, &root_path, sizes[i]));
+        KG_TRY(kg_json_int(reader, root, &root_path, sizes[i], 1, 65536, fields[i]));
+    }
+    KG_TRY(kg_check_properties(reader, root, &root_path));
+    t->pixels_per_meter = (float)t->tile_width;
+    t->friction = 0.6f;
+    KG_TRY(kg_float_property(reader, root, &root_path, "pixels_per_meter", KG_JSON_POSITIVE, &t->pixels_per_meter));
+    KG_TRY(kg_float_property(reader, root, &root_path, "friction", KG_JSON_NON_NEGATIVE, &t->friction));
+    return kg_float_property(reader, root, &root_path, "restitution", KG_JSON_UNIT, &t->restitution);
+}
+
+/* ---- tilesets ---- */
+
+static kg_result kg_load_external_tileset(kg_tiled* t, kg_tileset* ts, const char* source, const kg_json_path* path)
+{
+    if (kg_ends_with(source, ".tsx")) {
+        kg_json_path p = kg_json_path_key(path, "source");
+        return kg_json_fail(&t->reader, &p, "'%s' is an XML tileset, which is not supported: in Tiled, open it and "
+                                            "export it as a JSON tileset (.tsj), then use that", source);
+    }
+    kg_tiled_sibling_path(t->reader.source, source, ts->file, sizeof ts->file);
+    kg_result r = kg_parse_file(ts->file, &ts->document);
+    if (r != KG_OK) {
+        char reason[512];
+        snprintf(reason, sizeof reason, "%s", kg_last_error());
+        kg_json_path p = kg_json_path_key(path, "source");
+        return kg_json_fail(&t->reader, &p, "cannot load the tileset: %s", reason);
+    }
+    if (!cJSON_IsObject(ts->document)) {
+        kg_json_reader reader = {ts->file};
+        kg_json_path root = {""};
+        return kg_json_fail(&reader, &root, "must be an object (a Tiled tileset)");
+    }
+    ts->json = ts->document;
+    ts->reader.source = ts->file;
+    ts->path.text[0] = '\0';
+    return KG_OK;
+}
+
+/* The tileset entry at path: its first gid, and its data here or in its source file. */
+static kg_result kg_read_tileset_entry(kg_tiled* t, const cJSON* entry, const kg_json_path* path, kg_tileset* ts)
+{
+    const kg_json_reader* reader = &t->reader;
+    if (!cJSON_IsObject(entry)) {
+        return kg_json_fail(reader, path, "must be an object");
+    }
+    KG_TRY(kg_json_require(reader, entry, path, "firstgid"));
+    KG_TRY(kg_json_int(reader, entry, path, "firstgid", 1, (int)KG_GID_MASK, &ts->firstgid));
+    const char* source = NULL;
+    KG_TRY(kg_json_string(reader, entry, path, "source", &source));
+    if (source) {
+        return kg_load_external_tileset(t, ts, source, path);
+    }
+    ts->json = entry;
+    ts->reader = *reader;
+    ts->path = *path;
+    return KG_OK;
+}
+
+/* A tileset's tile size must be the map's: bigger tiles would reach out of their cell. */
+static kg_result kg_read_tileset_size(const kg_tiled* t, kg_tileset* ts)
+{
+    int width = 0, height = 0;
+    static const char* const keys[] = {"tilewidth", "tileheight", "tilecount"};
+    int* fields[] = {&width, &height, &ts->tilecount};
+    for (int i = 0; i < 3; ++i) {
+        KG_TRY(kg_json_require(&ts->reader, ts->json, &ts->path, keys[i]));
+        KG_TRY(kg_json_int(&ts->reader, ts->json, &ts->path, keys[i], i < 2 ? 1 : 0, (int)KG_GID_MASK, fields[i]));
+    }
+    if (width != t->tile_width || height != t->tile_height) {
+        kg_json_path p = kg_json_path_key(&ts->path, "tilewidth");
+        return kg_json_fail(&ts->reader, &p, "its tiles are %d x %d pixels but the map's are %d x %d: tiles must "
+                                             "fit their cells", width, height, t->tile_width, t->tile_height);
+    }
+    if ((long long)ts->firstgid + ts->tilecount > (long long)KG_MAX_TILE_ID + 1) {
+        return kg_json_fail(&ts->reader, &ts->path, "its tiles reach gid %lld; at most %d tile ids are supported",
+                            (long long)ts->firstgid + ts->tilecount - 1, KG_MAX_TILE_ID);
+    }
+    return KG_OK;
+}
+
+/* ---- tile collision shapes ---- */
+
+/* A point of a collision object in the tile's pixels, as a fraction of the tile (y down). */
+static kg_vec2 kg_tile_fraction(const kg_tiled* t, double x, double y)
+{
+    return (kg_vec2){(float)(x / t->tile_width), (float)(y / t->tile_height)};
+}
+
+/* Rotation by degrees clockwise on screen, which in Tiled's y-down frame is the usual
+ * counter-clockwise formula. */
+static kg_vec2 kg_rotate_screen(double x, double y, double degrees)
+{
+    double a = degrees * 3.14159265358979323846 / 180.0, c = cos(a), s = sin(a);
+    return (kg_vec2){(float)(c * x - s * y), (float)(s * x + c * y)};
+}
+
+typedef struct kg_object_frame {
+    double x, y, rotation; /* pixels; degrees clockwise about (x, y) */
+} kg_object_frame;
+
+static kg_result kg_read_object_frame(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                                      kg_object_frame* out)
+{
+    float x = 0.0f, y = 0.0f, rotation = 0.0f;
+    KG_TRY(kg_json_float(reader, object, path, "x", KG_JSON_ANY, &x));
+    KG_TRY(kg_json_float(reader, object, path, "y", KG_JSON_ANY, &y));
+    KG_TRY(kg_json_float(reader, object, path, "rotation", KG_JSON_ANY, &rotation));
+    *out = (kg_object_frame){x, y, rotation};
+    return KG_OK;
+}
+
+/* An object point (relative to the object, pixels) in the layer's pixels. */
+static kg_vec2 kg_object_point(const kg_object_frame* f, double x, double y)
+{
+    kg_vec2 r = kg_rotate_screen(x, y, f->rotation);
+    return (kg_vec2){(float)(f->x + r.x), (float)(f->y + r.y)};
+}
+
+/* The kinds of Tiled objects. */
+typedef enum kg_object_kind { KG_OBJECT_RECTANGLE, KG_OBJECT_ELLIPSE, KG_OBJECT_POLYGON, KG_OBJECT_POINT,
+                              KG_OBJECT_POLYLINE, KG_OBJECT_TEXT, KG_OBJECT_TILE } kg_object_kind;
+
+static kg_result kg_object_kind_of(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                                   kg_object_kind* out)
+{
+    if (!cJSON_IsObject(object)) {
+        return kg_json_fail(reader, path, "must be an object");
+    }
+    int ellipse = 0, point = 0;
+    KG_TRY(kg_json_bool(reader, object, path, "ellipse", &ellipse));
+    KG_TRY(kg_json_bool(reader, object, path, "point", &point));
+    *out = ellipse ? KG_OBJECT_ELLIPSE
+           : point ? KG_OBJECT_POINT
+           : kg_has(object, "polygon") ? KG_OBJECT_POLYGON
+           : kg_has(object, "polyline") ? KG_OBJECT_POLYLINE
+           : kg_has(object, "text") ? KG_OBJECT_TEXT
+           : kg_has(object, "gid") ? KG_OBJECT_TILE
+                                   : KG_OBJECT_RECTANGLE;
+    return KG_OK;
+}
+
+/* Whether the points (in any order, at least 3) turn one way only, allowing straight runs. */
+static int kg_is_convex(const kg_vec2* p, int count)
+{
+    float scale = 0.0f;
+    for (int i = 0; i < count; ++i) {
+        scale = fmaxf(scale, fmaxf(fabsf(p[i].x), fabsf(p[i].y)));
+    }
+    float tolerance = 1.0e-6f * scale * scale;
+    int left = 0, right = 0;
+    for (int i = 0; i < count; ++i) {
+        kg_vec2 a = p[i], b = p[(i + 1) % count], c = p[(i + 2) % count];
+        float turn = (b.x - a.x) * (c.y - b.y) - (b.y - a.y) * (c.x - b.x);
+        left |= turn > tolerance;
+        right |= turn < -tolerance;
+    }
+    return !(left && right);
+}
+
+/* A polygon object's points in the layer's pixels (3 to 8, convex). */
+static kg_result kg_read_polygon_points(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                                        const kg_object_frame* frame, kg_vec2* out, int* count)
+{
+    const cJSON* points = cJSON_GetObjectItemCaseSensitive(object, "polygon");
+    kg_json_path points_path = kg_json_path_key(path, "polygon");
+    KG_TRY(kg_json_check_array(reader, points, &points_path));
+    int n = cJSON_GetArraySize(points);
+    if (n < 3 || n > KG_MAX_POLYGON_VERTICES) {
+        return kg_json_fail(reader, &points_path, "has %d points; a collision polygon needs 3 to %d: split it into "
+                                                  "several objects or tiles", n, KG_MAX_POLYGON_VERTICES);
+    }
+    int i = 0;
+    for (const cJSON* p = points->child; p; p = p->next, ++i) {
+        kg_json_path p_path = kg_json_path_index(&points_path, i);
+        float x = 0.0f, y = 0.0f;
+        KG_TRY(kg_json_require(reader, p, &p_path, "x"));
+        KG_TRY(kg_json_require(reader, p, &p_path, "y"));
+        KG_TRY(kg_json_float(reader, p, &p_path, "x", KG_JSON_ANY, &x));
+        KG_TRY(kg_json_float(reader, p, &p_path, "y", KG_JSON_ANY, &y));
+        out[i] = kg_object_point(frame, x, y);
+    }
+    if (!kg_is_convex(out, n)) {
+        return kg_json_fail(reader, &points_path, "the polygon is concave; only convex shapes collide: split it "
+                                                  "into convex pieces (in separate tiles or objects)");
+    }
+    *count = n;
+    return KG_OK;
+}
+
+/* An object's size; both > 0. */
+static kg_result kg_read_object_size(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
+                                     float* width, float* height)
+{
+    KG_TRY(kg_json_require(reader, object, path, "width"));
+    KG_TRY(kg_json_require(reader, object, path, "height"));
+    KG_TRY(kg_json_float(reader, object, path, "width", KG_JSON_POSITIVE, width));
+    return kg_json_float(reader, object, path, "height", KG_JSON_POSITIVE, height);
+}
+
+/* An ellipse becomes a circle only when it is round. */
+static kg_result kg_check_round(const kg_json_reader* reader, const kg_json_path* path, float width, float height)
+{
+    if (fabsf(width - height) > 1.0e-3f * fmaxf(width, height)) {
+        return kg_json_fail(reader, path, "the ellipse is %g x %g pixels; only round ellipses (circles) collide",
+                            (double)width, (double)height);
+    }
+    return KG_OK;
+}
+
+static kg_result kg_unsupported_object(const kg_json_reader* reader, const kg_json_path* path, kg_object_kind kind)
+{
+    const char* what = kind == KG_OBJECT_POLYLINE ? "a polyline has no area: draw a polygon instead"
+                       : kind == KG_OBJECT_TILE   ? "tile objects are not supported as bodies: draw a rectangle, "
+                                                    "ellipse or polygon"
+                                                  : "this kind of object has no collision shape";
+    return kg_json_fail(reader, path, "%s", what);
+}
+
+/* A tile collision object into a tile shape (fractions of the tile, y down). */
+static kg_result kg_read_collision_object(const kg_tiled* t, const kg_tileset* ts, const cJSON* object,
+                                          const kg_json_path* path, kg_tile_shape* out)
+{
+    const kg_json_reader* reader = &ts->reader;
+    kg_object_kind kind;
+    kg_object_frame frame;
+    KG_TRY(kg_object_kind_of(reader, object, path, &kind));
+    KG_TRY(kg_read_object_frame(reader, object, path, &frame));
+    if (kind == KG_OBJECT_POLYGON) {
+        kg_vec2 points[KG_MAX_POLYGON_VERTICES];
+        int count = 0;
+        KG_TRY(kg_read_polygon_points(reader, object, path, &frame, points, &count));
+        for (int i = 0; i < count; ++i) {
+            points[i] = kg_tile_fraction(t, points[i].x, points[i].y);
+        }
+        *out = kg_tile_polygon(points, count);
+        return KG_OK;
+    }
+    if (kind != KG_OBJECT_RECTANGLE && kind != KG_OBJECT_ELLIPSE) {
+        return kg_unsupported_object(reader, path, kind);
+    }
+    float width = 0.0f, height = 0.0f;
+    KG_TRY(kg_read_object_size(reader, object, path, &width, &height));
+    if (kind == KG_OBJECT_ELLIPSE) {
+        KG_TRY(kg_check_round(reader, path, width, height));
+        kg_vec2 c = kg_object_point(&frame, 0.5 * width, 0.5 * height);
+        *out = kg_tile_circle(kg_tile_fraction(t, c.x, c.y), 0.5f * width / (float)t->tile_width);
+        return KG_OK;
+    }
+    kg_vec2 corners[4] = {kg_object_point(&frame, 0.0, 0.0), kg_object_point(&frame, width, 0.0),
+                          kg_object_point(&frame, width, height), kg_object_point(&frame, 0.0, height)};
+    for (int i = 0; i < 4; ++i) {
+        corners[i] = kg_tile_fraction(t, corners[i].x, corners[i].y);
+    }
+    *out = kg_tile_polygon(corners, 4);
+    return KG_OK;
+}
+
+/* The shape must lie within its tile. */
+static kg_result kg_check_inside_tile(const kg_json_reader* reader, const kg_json_path* path,
+                                      const kg_tile_shape* shape)
+{
+    float lo = -KG_TILE_SLACK, hi = 1.0f + KG_TILE_SLACK;
+    int inside = 1;
+    if (shape->type == KG_TILE_SHAPE_CIRCLE) {
+        kg_vec2 c = shape->center;
+        float r = shape->radius;
+        inside = c.x - r >= lo && c.y - r >= lo && c.x + r <= hi && c.y + r <= hi;
+    }
+    for (int i = 0; shape->type == KG_TILE_SHAPE_POLYGON && i < shape->count; ++i) {
+        kg_vec2 v = shape->vertices[i];
+        inside &= v.x >= lo && v.y >= lo && v.x <= hi && v.y <= hi;
+    }
+    return inside ? KG_OK : kg_json_fail(reader, path, "the collision shape reaches outside its tile");
+}
+
+/* The collision shape of a tileset's tile entry: none, or its one collision object. */
+static kg_result kg_read_tile_shape(const kg_tiled* t, const kg_tileset* ts, const cJSON* tile,
+                                    const kg_json_path* path, kg_tile_shape* out)
+{
+    const kg_json_reader* reader = &ts->reader;
+    *out = kg_tile_empty();
+    const cJSON* group = cJSON_GetObjectItemCaseSensitive(tile, "objectgroup");
+    if (!group) {
+        return KG_OK;
+    }
+    kg_json_path group_path = kg_json_path_key(path, "objectgroup");
+    const cJSON* objects = cJSON_GetObjectItemCaseSensitive(group, "objects");
+    kg_json_path objects_path = kg_json_path_key(&group_path, "objects");
+    KG_TRY(kg_json_check_array(reader, objects, &objects_path));
+    int found = 0, i = 0;
+    for (const cJSON* object = objects->child; object; object = object->next, ++i) {
+        kg_json_path object_path = kg_json_path_index(&objects_path, i);
+        kg_object_kind kind;
+        KG_TRY(kg_object_kind_of(reader, object, &object_path, &kind));
+        if (kind == KG_OBJECT_POINT) {
+            continue; /* a marker: no area */
+        }
+        if (found++) {
+            return kg_json_fail(reader, &object_path, "a second collision object: one convex shape per tile is "
+                                                      "supported (split the tile, or draw the shapes' hull)");
+        }
+        KG_TRY(kg_read_collision_object(t, ts, object, &object_path, out));
+        KG_TRY(kg_check_inside_tile(reader, &object_path, out));
+    }
+    int one_way = 0;
+    KG_TRY(kg_check_properties(reader, tile, path));
+    KG_TRY(kg_bool_property(reader, tile, path, "one_way", &one_way));
+    if (one_way && out->type != KG_TILE_SHAPE_POLYGON) {
+        kg_json_path p = kg_property_path(path, "one_way");
+        return kg_json_fail(reader, &p, "only a tile with a rectangle or polygon collision shape can be one-way");
+    }
+    out->one_way = one_way;
+    return KG_OK;
+}
+
+static kg_result kg_read_tileset_tiles(kg_tiled* t, const kg_tileset* ts)
+{
+    const cJSON* tiles = cJSON_GetObjectItemCaseSensitive(ts->json, "tiles");
+    if (!tiles) {
+        return KG_OK;
+    }
+    kg_json_path tiles_path = kg_json_path_key(&ts->path, "tiles");
+    KG_TRY(kg_json_check_array(&ts->reader, tiles, &tiles_path));
+    int i = 0;
+    for (const cJSON* tile = tiles->child; tile; tile = tile->next, ++i) {
+        kg_json_path tile_path = kg_json_path_index(&tiles_path, i);
+        int id = -1;
+        if (!cJSON_IsObject(tile)) {
+            return kg_json_fail(&ts->reader, &tile_path, "must be an object");
+        }
+        KG_TRY(kg_json_require(&ts->reader, tile, &tile_path, "id"));
+        KG_TRY(kg_json_int(&ts->reader, tile, &tile_path, "id", 0, ts->tilecount - 1, &id));
+        KG_TRY(kg_read_tile_shape(t, ts, tile, &tile_path, &t->raw_shapes[ts->firstgid + id]));
+    }
+    return KG_OK;
+}
+
+static kg_result kg_read_tilesets(kg_tiled* t, const cJSON* root)
+{
+    kg_json_path root_path = {""};
+    const cJSON* list = cJSON_GetObjectItemCaseSensitive(root, "tilesets");
+    kg_json_path list_path = kg_json_path_key(&root_path, "tilesets");
+    if (!list) {
+        return KG_OK;
+    }
+    KG_TRY(kg_json_check_array(&t->reader, list, &list_path));
+    t->tileset_count = cJSON_GetArraySize(list);
+    t->tilesets = calloc((size_t)(t->tileset_count > 0 ? t->tileset_count : 1), sizeof *t->tilesets);
+    if (!t->tilesets) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+    }
+    int i = 0;
+    t->gid_count = 1;
+    for (const cJSON* entry = list->child; entry; entry = entry->next, ++i) {
+        kg_json_path entry_path = kg_json_path_index(&list_path, i);
+        KG_TRY(kg_read_tileset_entry(t, entry, &entry_path, &t->tilesets[i]));
+        KG_TRY(kg_read_tileset_size(t, &t->tilesets[i]));
+        int end = t->tilesets[i].firstgid + t->tilesets[i].tilecount;
+        t->gid_count = end > t->gid_count ? end : t->gid_count;
+    }
+    t->raw_shapes = calloc((size_t)t->gid_count, sizeof *t->raw_shapes);
+    if (!t->raw_shapes) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+    }
+    for (i = 0; i < t->tileset_count; ++i) {
+        KG_TRY(kg_read_tileset_tiles(t, &t->tilesets[i]));
+    }
+    return KG_OK;
+}
+
+/* ---- tile layers ---- */
+
+static int kg_base64_digit(char c)
+{
+    if (c >= 'A' && c <= 'Z') {
+        return c - 'A';
+    }
+    if (c >= 'a' && c <= 'z') {
+        return c - 'a' + 26;
+    }
+    if (c >= '0' && c <= '9') {
+        return c - '0' + 52;
+    }
+    return c == '+' ? 62 : (c == '/' ? 63 : -1);
+}
+
+/* Decodes standard base64 into exactly size bytes; 0 if malformed or of another size. */
+static int kg_base64_decode(const char* text, unsigned char* out, size_t size)
+{
+    size_t length = strlen(text), written = 0;
+    while (length > 0 && text[length - 1] == '=') {
+        length--;
+    }
+    uint32_t bits = 0;
+    int held = 0;
+    for (size_t i = 0; i < length; ++i) {
+        int digit = kg_base64_digit(text[i]);
+        if (digit < 0) {
+            return 0;
+        }
+        bits = (bits << 6) | (uint32_t)digit;
+        held += 6;
+        if (held >= 8) {
+            held -= 8;
+            if (written == size) {
+                return 0;
+            }
+            out[written++] = (unsigned char)(bits >> held);
+        }
+    }
+    return written == size;
+}
+
+/* The layer's raw gids, row by row from the top, as Tiled stores them. */
+static kg_result kg_read_layer_gids(const kg_tiled* t, const cJSON* layer, const kg_json_path* path, uint32_t* gids)
+{
+    const kg_json_reader* reader = &t->reader;
+    const char* encoding = "csv";
+    const char* compression = "";
+    KG_TRY(kg_json_string(reader, layer, path, "encoding", &encoding));
+    KG_TRY(kg_json_string(reader, layer, path, "compression", &compression));
+    if (compression[0] != '\0') {
+        kg_json_path p = kg_json_path_key(path, "compression");
+        return kg_json_fail(reader, &p, "%s-compressed layer data is not supported: in Tiled, set Map > Map "
+                                        "Properties > Tile Layer Format to CSV or Base64 (uncompressed)", compression);
+    }
+    KG_TRY(kg_json_require(reader, layer, path, "data"));
+    const cJSON* data = cJSON_GetObjectItemCaseSensitive(layer, "data");
+    kg_json_path data_path = kg_json_path_key(path, "data");
+    size_t count = (size_t)t->width * (size_t)t->height;
+    if (strcmp(encoding, "base64") == 0) {
+        unsigned char* bytes = (unsigned char*)gids;
+        if (!cJSON_IsString(data) || !kg_base64_decode(data->valuestring, bytes, 4 * count)) {
+            return kg_json_fail(reader, &data_path, "must be base64 of %zu bytes (4 per cell)", 4 * count);
+        }
+        for (size_t i = 0; i < count; ++i) { /* little-endian, whatever the machine */
+            const unsigned char* b = bytes + 4 * i;
+            gids[i] = (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+        }
+        return KG_OK;
+    }
+    if (strcmp(encoding, "csv") != 0) {
+        kg_json_path p = kg_json_path_key(path, "encoding");
+        return kg_json_fail(reader, &p, "must be \"csv\" or \"base64\" (got \"%s\")", encoding);
+    }
+    if (!cJSON_IsArray(data) || (size_t)cJSON_GetArraySize(data) != count) {
+        return kg_json_fail(reader, &data_path, "must be an array of %zu tile ids (width x height)", count);
+    }
+    size_t i = 0;
+    for (const cJSON* item = data->child; item; item = item->next, ++i) {
+        double v = cJSON_IsNumber(item) ? item->valuedouble : -1.0;
+        if (!(v >= 0.0 && v <= 4294967295.0) || v != floor(v)) {
+            kg_json_path p = kg_json_path_index(&data_path, (int)i);
+            return kg_json_fail(reader, &p, "must be a tile id (an integer in [0, 4294967295])");
+        }
+        gids[i] = (uint32_t)v;
+    }
+    return KG_OK;
+}
+
+/* Applies Tiled's flips to a point of the tile (fractions, y down): the diagonal flip
+ * first (swapping x and y), then the horizontal and the vertical one. */
+static kg_vec2 kg_flip_point(kg_vec2 p, uint32_t flags)
+{
+    if (flags & KG_GID_FLIP_D) {
+        p = (kg_vec2){p.y, p.x};
+    }
+    if (flags & KG_GID_FLIP_H) {
+        p.x = 1.0f - p.x;
+    }
+    if (flags & KG_GID_FLIP_V) {
+        p.y = 1.0f - p.y;
+    }
+    return p;
+}
+
+/* A raw shape, flipped by flags, in kgyro's tile frame (y up). */
+static kg_tile_shape kg_final_shape(kg_tile_shape shape, uint32_t flags)
+{
+    for (int i = 0; i < shape.count && i < KG_MAX_POLYGON_VERTICES; ++i) {
+        kg_vec2 p = kg_flip_point(shape.vertices[i], flags);
+        shape.vertices[i] = (kg_vec2){p.x, 1.0f - p.y};
+    }
+    kg_vec2 c = kg_flip_point(shape.center, flags);
+    shape.center = (kg_vec2){c.x, 1.0f - c.y};
+    return shape;
+}
+
+/* The tile id of a flipped tile: its shape flipped, under an id past the unflipped ones. */
+static kg_result kg_variant_id(kg_tiled* t, uint32_t raw, const kg_json_path* path, int* id)
+{
+    for (int i = 0; i < t->variant_count; ++i) {
+        if (t->variants[i].raw == raw) {
+            *id = t->variants[i].id;
+            return KG_OK;
+        }
+    }
+    if ((raw & KG_GID_FLIP_D) && t->tile_width != t->tile_height) {
+        return kg_json_fail(&t->reader, path, "a tile flipped diagonally (rotated) needs square tiles");
+    }
+    if (t->gid_count + t->variant_count > KG_MAX_TILE_ID) {
+        return kg_json_fail(&t->reader, path, "more than %d distinct tiles and flipped tiles", KG_MAX_TILE_ID);
+    }
+    if (t->variant_count == t->variant_capacity) {
+        int capacity = t->variant_capacity > 0 ? 2 * t->variant_capacity : 16;
+        kg_variant* grown = realloc(t->variants, (size_t)capacity * sizeof *grown);
+        if (!grown) {
+            return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+        }
+        t->variants = grown;
+        t->variant_capacity = capacity;
+    }
+    *id = t->gid_count + t->variant_count;
+    t->variants[t->variant_count++] = (kg_variant){raw, *id};
+    return KG_OK;
+}
+
+static int kg_gid_in_tileset(const kg_tiled* t, uint32_t gid)
+{
+    for (int i = 0; i < t->tileset_count; ++i) {
+        const kg_tileset* ts = &t->tilesets[i];
+        if (gid >= (uint32_t)ts->firstgid && gid < (uint32_t)ts->firstgid + (uint32_t)ts->tilecount) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The tile id of a raw gid: the gid itself, or a flipped variant's id. */
+static kg_result kg_tile_id(kg_tiled* t, uint32_t raw, const kg_json_path* path, int* id)
+{
+    uint32_t gid = raw & KG_GID_MASK;
+    if (gid == 0u) {
+        *id = 0;
+        return KG_OK;
+    }
+    if (raw & KG_GID_ROTATE_HEX) {
+        return kg_json_fail(&t->reader, path, "the 120-degree rotation flag is for hexagonal maps only");
+    }
+    if (gid >= (uint32_t)t->gid_count || !kg_gid_in_tileset(t, gid)) {
+        return kg_json_fail(&t->reader, path, "gid %u is in no tileset", (unsigned)gid);
+    }
+    if ((raw & ~KG_GID_MASK) == 0u) {
+        *id = (int)gid;
+        return KG_OK;
+    }
+    return kg_variant_id(t, raw, path, id);
+}
+
+static kg_result kg_add_layer_storage(kg_tiled* t)
+{
+    size_t cells = (size_t)t->width * (size_t)t->height;
+    if ((long long)cells * (t->layer_count + 1) > (1LL << 28)) {
+        return kg_fail(KG_ERROR_PARSE, "%s: the tile layers hold more than 2^28 cells in all", t->reader.source);
+    }
+    if (t->layer_count == t->layer_capacity) {
+        int capacity = t->layer_capacity > 0 ? 2 * t->layer_capacity : 2;
+        uint16_t* grown = realloc(t->tiles, (size_t)capacity * cells * sizeof *grown);
+        if (!grown) {
+            return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+        }
+        t->tiles = grown;
+        t->layer_capacity = capacity;
+    }
+    t->layer_count += 1;
+    return KG_OK;
+}
+
+/* Converts a layer's gids (top row first) into the newest layer's tile ids (bottom first). */
+static kg_result kg_store_layer(kg_tiled* t, const uint32_t* gids, const kg_json_path* path)
+{
+    KG_TRY(kg_add_layer_storage(t));
+    uint16_t* layer = t->tiles + (size_t)(t->layer_count - 1) * (size_t)t->width * (size_t)t->height;
+    kg_json_path data_path = kg_json_path_key(path, "data");
+    for (int row = 0; row < t->height; ++row) {
+        for (int x = 0; x < t->width; ++x) {
+            int index = row * t->width + x, id = 0;
+            kg_json_path cell_path = kg_json_path_index(&data_path, index);
+            KG_TRY(kg_tile_id(t, gids[index], &cell_path, &id));
+            layer[(t->height - 1 - row) * t->width + x] = (uint16_t)id;
+        }
+    }
+    return KG_OK;
+}
+
+static kg_result kg_read_tile_layer(kg_tiled* t, const cJSON* layer, const kg_json_path* path)
+{
+    const kg_json_reader* reader = &t->reader;
+    if (kg_has(layer, "chunks")) {
+        kg_json_path p = kg_json_path_key(path, "chunks");
+        return kg_json_fail(reader, &p, "chunked layers belong to infinite maps, which are not supported");
+    }
+    int width = t->width, height = t->height;
+    float offset_x = 0.0f, offset_y = 0.0f;
+    KG_TRY(kg_json_int(reader, layer, path, "width", 1, 65536, &width));
+    KG_TRY(kg_json_int(reader, layer, path, "height", 1, 65536, &height));
+    KG_TRY(kg_json_float(reader, layer, path, "offsetx", KG_JSON_ANY, &offset_x));
+    KG_TRY(kg_json_float(reader, layer, path, "offsety", KG_JSON_ANY, &offset_y));
+    if (width != t->width || height != t->height) {
+        return kg_json_fail(reader, path, "the layer is %d x %d tiles but the map %d x %d", width, height, t->width,
+                            t->height);
+    }
+    if (offset_x != 0.0f || offset_y != 0.0f) {
+        return kg_json_fail(reader, path, "tile layer offsets are not supported (the layer is offset by %g, %g "
+                                          "pixels)", (double)offset_x, (double)offset_y);
+    }
+    uint32_t* gids = malloc((size_t)width * (size_t)height * sizeof *gids);
+    if (!gids) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+    }
+    kg_result r = kg_read_layer_gids(t, layer, path, gids);
+    if (r == KG_OK) {
+        r = kg_store_layer(t, gids, path);
+    }
+    free(gids);
+    return r;
+}
+
+/* ---- object layers ---- */
+
+/* Tiled's pixels (y down from the map's top) to world metres (y up from its bottom). */
+static kg_vec2 kg_world_point(const kg_tiled* t, kg_vec2 pixels)
+{
+    float map_height = (float)t->height * (float)t->tile_height;
+    return (kg_vec2){pixels.x / t->pixels_per_meter, (map_height - pixels.y) / t->pixels_per_meter};
+}
+
+static const char* const kBodyTypeNames[] = {"static", "dynamic", "kinematic", "particle"};
+
+static kg_result kg_read_body_type(const kg_json_reader* reader, const cJSON* owner, const kg_json_path* path,
+                                   kg_body_type* type)
+{
+    const char* name = NULL;
+    KG_TRY(kg_string_property(reader, owner, path, "type", &name));
+    for (int i = 0; name && i < 4; ++i) {
+        if (strcmp(name, kBodyTypeNames[i]) == 0) {
+            *type = (kg_body_type)i;
+            return KG_OK;
+        }
+    }
+    if (!name) {
+        return KG_OK;
+    }
+    kg_json_path p = kg_property_path(path, "type");
+    return kg_json_fail(reader, &p, "must be \"static\", \"dynamic\", \"kinematic\" or \"particle\" (got \"%s\")",
+                        name);
+}
+
+/* The body attributes in owner's custom properties (the layer's, then the object's). */
+static kg_result kg_read_body_properties(const kg_json_reader* reader, const cJSON* owner, const kg_json_path* path,
+                                         kg_body_def* def)
+{
+    KG_TRY(kg_check_properties(reader, owner, path));
+    if (kg_property(owner, "density") && kg_property(owner, "mass")) {
+        kg_json_path p = kg_property_path(path, "mass");
+        return kg_json_fail(reader, &p, "give density or mass, not both");
+    }
+    if (kg_property(owner, "density")) {
+        def->mass = 0.0f;
+    }
+    KG_TRY(kg_read_body_type(reader, owner, path, &def->type));
+    KG_TRY(kg_float_property(reader, owner, path, "density", KG_JSON_NON_NEGATIVE, &def->density));
+    KG_TRY(kg_float_property(reader, owner, path, "mass", KG_JSON_POSITIVE, &def->mass));
+    KG_TRY(kg_float_property(reader, owner, path, "friction", KG_JSON_NON_NEGATIVE, &def->friction));
+    KG_TRY(kg_float_property(reader, owner, path, "restitution", KG_JSON_UNIT, &def->restitution));
+    KG_TRY(kg_float_property(reader, owner, path, "linear_damping", KG_JSON_NON_NEGATIVE, &def->linear_damping));
+    KG_TRY(kg_float_property(reader, owner, path, "angular_damping", KG_JSON_NON_NEGATIVE, &def->angular_damping));
+    return kg_bool_property(reader, owner, path, "fixed_rotation", &def->fixed_rotation);
+}
+
+/* An object's shape and pose: a rectangle turns about its top-left corner, the pose is its
+ * centre; an ellipse (round) is a circle; a polygon keeps the object's origin. */
+static kg_result kg_read_body_shape(const kg_tiled* t, const cJSON* object, const kg_json_path* path,
+                                    kg_object_kind kind, kg_body_def* def)
+{
+    const kg_json_reader* reader = &t->reader;
+    kg_object_frame frame;
+    KG_TRY(kg_read_object_frame(reader, object, path, &frame));
+    frame.x += t->object_offset.x;
+    frame.y += t->object_offset.y;
+    float ppm = t->pixels_per_meter;
+    def->angle = (float)(-frame.rotation * 3.14159265358979323846 / 180.0);
+    if (kind == KG_OBJECT_POLYGON) {
+        kg_object_frame unturned = {0.0, 0.0, 0.0};
+        kg_vec2 points[KG_MAX_POLYGON_VERTICES];
+        int count = 0;
+        KG_TRY(kg_read_polygon_points(reader, object, path, &unturned, points, &count));
+        for (int i = 0; i < count; ++i) {
+            points[i] = (kg_vec2){points[i].x / ppm, -points[i].y / ppm};
+        }
+        def->shape = kg_polygon_shape(points, count);
+        def->position = kg_world_point(t, (kg_vec2){(float)frame.x, (float)frame.y});
+        return KG_OK;
+    }
+    if (kind != KG_OBJECT_RECTANGLE && kind != KG_OBJECT_ELLIPSE) {
+        return kg_unsupported_object(reader, path, kind);
+    }
+    float width = 0.0f, height = 0.0f;
+    KG_TRY(kg_read_object_size(reader, object, path, &width, &height));
+    def->position = kg_world_point(t, kg_object_point(&frame, 0.5 * width, 0.5 * height));
+    if (kind == KG_OBJECT_ELLIPSE) {
+        KG_TRY(kg_check_round(reader, path, width, height));
+        def->shape = kg_circle_shape(0.5f * width / ppm);
+    } else {
+        def->shape = kg_box_shape(width / ppm, height / ppm);
+    }
+    return KG_OK;
+}
+
+/* Lets the library judge the shape and the mass, as the scene loader does. */
+static kg_result kg_check_body(const kg_json_reader* reader, const kg_json_path* path, const kg_body_def* def)
+{
+    kg_mass_data mass;
+    if (kg_shape_mass(&def->shape, 1.0f, &mass) != KG_OK) {
+        char reason[256];
+        snprintf(reason, sizeof reason, "%s", kg_last_error());
+        return kg_json_fail(reader, path, "%s", reason);
+    }
+    int moves = def->type == KG_BODY_DYNAMIC || def->type == KG_BODY_PARTICLE;
+    if (moves && def->mass == 0.0f && !(def->density > 0.0f)) {
+        kg_json_path p = kg_property_path(path, "density");
+        return kg_json_fail(reader, &p, "must be > 0 for a %s body", kBodyTypeNames[def->type]);
+    }
+    return KG_OK;
+}
+
+/* NAME#ID, with characters a scene name cannot hold replaced by '_'; "object#ID" unnamed. */
+static void kg_body_name(const cJSON* object, char* out, size_t size)
+{
+    const cJSON* name = cJSON_GetObjectItemCaseSensitive(object, "name");
+    const cJSON* id = cJSON_GetObjectItemCaseSensitive(object, "id");
+    const char* base = cJSON_IsString(name) && name->valuestring[0] != '\0' ? name->valuestring : "object";
+    snprintf(out, size, "%.40s#%.0f", base, cJSON_IsNumber(id) ? id->valuedouble : 0.0);
+    for (char* c = out; *c; ++c) {
+        int ok = (*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9') ||
+                 strchr("_-.:/#", *c) != NULL;
+        *c = ok ? *c : '_';
+    }
+}
+
+static kg_result kg_read_object_body(kg_tiled* t, const cJSON* object, const kg_json_path* path,
+                                     const kg_body_def* layer_def)
+{
+    const kg_json_reader* reader = &t->reader;
+    kg_object_kind kind;
+    KG_TRY(kg_object_kind_of(reader, object, path, &kind));
+    if (kind == KG_OBJECT_POINT || kind == KG_OBJECT_TEXT) {
+        return KG_OK; /* markers and labels: no body */
+    }
+    kg_body_def def = *layer_def;
+    KG_TRY(kg_read_body_properties(reader, object, path, &def));
+    KG_TRY(kg_read_body_shape(t, object, path, kind, &def));
+    KG_TRY(kg_check_body(reader, path, &def));
+    char name[64];
+    kg_body_name(object, name, sizeof name);
+    if (kg_scene_find_body(t->scene, name) >= 0) {
+        return kg_json_fail(reader, path, "a second body named '%s' (object ids must be unique)", name);
+    }
+    if (kg_scene_add_body(t->scene, name, &def) != KG_OK) {
+        char reason[256];
+        snprintf(reason, sizeof reason, "%s", kg_last_error());
+        return kg_json_fail(reader, path, "%s", reason);
+    }
+    return KG_OK;
+}
+
+static kg_result kg_read_object_layer(kg_tiled* t, const cJSON* layer, const kg_json_path* path)
+{
+    const kg_json_reader* reader = &t->reader;
+    kg_body_def layer_def = kg_default_body_def();
+    KG_TRY(kg_read_body_properties(reader, layer, path, &layer_def));
+    t->object_offset = (kg_vec2){0.0f, 0.0f};
+    KG_TRY(kg_json_float(reader, layer, path, "offsetx", KG_JSON_ANY, &t->object_offset.x));
+    KG_TRY(kg_json_float(reader, layer, path, "offsety", KG_JSON_ANY, &t->object_offset.y));
+    const cJSON* objects = cJSON_GetObjectItemCaseSensitive(layer, "objects");
+    kg_json_path objects_path = kg_json_path_key(path, "objects");
+    KG_TRY(kg_json_check_array(reader, objects, &objects_path));
+    int i = 0;
+    for (const cJSON* object = objects->child; object; object = object->next, ++i) {
+        kg_json_path object_path = kg_json_path_index(&objects_path, i);
+        KG_TRY(kg_read_object_body(t, object, &object_path, &layer_def));
+    }
+    return KG_OK;
+}
+
+/* ---- layers ---- */
+
+static kg_result kg_read_layers(kg_tiled* t, const cJSON* owner, const kg_json_path* path, int depth);
+
+static kg_result kg_read_group(kg_tiled* t, const cJSON* group, const kg_json_path* path, int depth)
+{
+    float offset_x = 0.0f, offset_y = 0.0f;
+    KG_TRY(kg_json_float(&t->reader, group, path, "offsetx", KG_JSON_ANY, &offset_x));
+    KG_TRY(kg_json_float(&t->reader, group, path, "offsety", KG_JSON_ANY, &offset_y));
+    if (offset_x != 0.0f || offset_y != 0.0f) {
+        return kg_json_fail(&t->reader, path, "group layer offsets are not supported (the group is offset by %g, "
+                                              "%g pixels)", (double)offset_x, (double)offset_y);
+    }
+    return kg_read_layers(t, group, path, depth + 1);
+}
+
+static kg_result kg_read_layer(kg_tiled* t, const cJSON* layer, const kg_json_path* path, int depth)
+{
+    static const char* const types[] = {"tilelayer", "objectgroup", "group", "imagelayer", NULL};
+    if (!cJSON_IsObject(layer)) {
+        return kg_json_fail(&t->reader, path, "must be an object");
+    }
+    const char* type = NULL;
+    KG_TRY(kg_json_require(&t->reader, layer, path, "type"));
+    KG_TRY(kg_json_string(&t->reader, layer, path, "type", &type));
+    int kind = 0;
+    while (types[kind] && strcmp(types[kind], type) != 0) {
+        kind++;
+    }
+    switch (kind) {
+    case 0: return kg_read_tile_layer(t, layer, path);
+    case 1: return kg_read_object_layer(t, layer, path);
+    case 2: return kg_read_group(t, layer, path, depth);
+    case 3: return KG_OK; /* pictures only */
+    default: break;
+    }
+    kg_json_path p = kg_json_path_key(path, "type");
+    return kg_json_fail(&t->reader, &p, "must be \"tilelayer\", \"objectgroup\", \"group\" or \"imagelayer\" "
+                                        "(got \"%s\")", type);
+}
+
+/* The layers of the map or of a group, in order (groups flattened). */
+static kg_result kg_read_layers(kg_tiled* t, const cJSON* owner, const kg_json_path* path, int depth)
+{
+    const cJSON* list = cJSON_GetObjectItemCaseSensitive(owner, "layers");
+    kg_json_path list_path = kg_json_path_key(path, "layers");
+    if (depth > 32) {
+        return kg_json_fail(&t->reader, &list_path, "groups nested more than 32 deep");
+    }
+    KG_TRY(kg_json_require(&t->reader, owner, path, "layers"));
+    KG_TRY(kg_json_check_array(&t->reader, list, &list_path));
+    int i = 0;
+    for (const cJSON* layer = list->child; layer; layer = layer->next, ++i) {
+        kg_json_path layer_path = kg_json_path_index(&list_path, i);
+        KG_TRY(kg_read_layer(t, layer, &layer_path, depth));
+    }
+    return KG_OK;
+}
+
+/* ---- the tile map ---- */
+
+static kg_result kg_add_tilemap_to_scene(kg_tiled* t)
+{
+    if (t->layer_count == 0) {
+        return KG_OK;
+    }
+    int shape_count = t->gid_count + t->variant_count;
+    kg_tile_shape* shapes = calloc((size_t)shape_count, sizeof *shapes);
+    if (!shapes) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+    }
+    for (int id = 0; id < t->gid_count; ++id) {
+        shapes[id] = kg_final_shape(t->raw_shapes[id], 0u);
+    }
+    for (int i = 0; i < t->variant_count; ++i) {
+        const kg_variant* v = &t->variants[i];
+        shapes[v->id] = kg_final_shape(t->raw_shapes[v->raw & KG_GID_MASK], v->raw);
+    }
+    kg_tilemap_def def = kg_default_tilemap_def();
+    def.width = t->width;
+    def.height = t->height;
+    def.layer_count = t->layer_count;
+    def.tile_size = (kg_vec2){(float)t->tile_width / t->pixels_per_meter, (float)t->tile_height / t->pixels_per_meter};
+    def.shapes = shapes;
+    def.shape_count = shape_count;
+    def.tiles = t->tiles;
+    def.friction = t->friction;
+    def.restitution = t->restitution;
+    kg_result r = kg_scene_add_tilemap(t->scene, &def);
+    free(shapes);
+    return r;
+}
+
+static void kg_tiled_free(kg_tiled* t)
+{
+    for (int i = 0; t->tilesets && i < t->tileset_count; ++i) {
+        cJSON_Delete(t->tilesets[i].document);
+    }
+    free(t->tilesets);
+    free(t->raw_shapes);
+    free(t->variants);
+    free(t->tiles);
+}
+
+kg_result kg_tiled_read(kg_scene* scene, const cJSON* root, const char* path)
+{
+    kg_tiled t;
+    memset(&t, 0, sizeof t);
+    t.scene = scene;
+    t.reader.source = path;
+    kg_json_path root_path = {""};
+    kg_result r = cJSON_IsObject(root) ? KG_OK : kg_json_fail(&t.reader, &root_path, "must be an object");
+    if (r == KG_OK) {
+        r = kg_read_map_header(&t, root);
+    }
+    if (r == KG_OK) {
+        r = kg_read_tilesets(&t, root);
+    }
+    if (r == KG_OK) {
+        r = kg_read_layers(&t, root, &root_path, 0);
+    }
+    if (r == KG_OK) {
+        r = kg_add_tilemap_to_scene(&t);
+    }
+    kg_tiled_free(&t);
+    return r;
+}
+
+kg_result kg_tiled_load_into(kg_scene* scene, const char* path)
+{
+    cJSON* root = NULL;
+    KG_TRY(kg_parse_file(path, &root));
+    kg_result r = kg_tiled_read(scene, root, path);
+    cJSON_Delete(root);
+    return r;
+}
+
+kg_result kg_scene_load_tiled(const char* path, kg_scene** out)
+{
+    if (!path || !out) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_load_tiled: NULL argument");
+    }
+    *out = NULL;
+    kg_scene* scene = NULL;
+    KG_TRY(kg_scene_create(&scene));
+    kg_result r = kg_tiled_load_into(scene, path);
+    if (r != KG_OK) {
+        kg_scene_destroy(scene);
+        return r;
+    }
+    *out = scene;
+    return KG_OK;
+}
