@@ -611,6 +611,7 @@ KG_TEST_MAIN(KG_TEST(test_box_and_circle_slide_across_200_flat_tiles),
              KG_TEST(test_box_and_circle_slide_across_gentle_slope_and_half_tiles),
              KG_TEST(test_resting_heights_match_static_polygons),
              KG_TEST(test_one_way_platform_lets_a_jump_through_and_holds_a_fall),
-             KG_TEST(test_resting_box_falls_when_its_tile_is_dug_out), KG_TEST(test_tile_built_over_a_body_lifts_it_out),
+             KG_TEST(test_resting_box_falls_when_its_tile_is_dug_out),
+             KG_TEST(test_tile_built_over_a_body_lifts_it_out),
              KG_TEST(test_no_contact_comes_from_an_interior_edge), KG_TEST(test_exposed_wall_stops_a_sliding_box),
              KG_TEST(test_several_maps_and_layers), KG_TEST(test_bad_definitions_and_cells_are_refused))

@@ -9,7 +9,9 @@ extern "C" {
 #endif
 
 typedef enum kg_backend {
-    KG_BACKEND_AUTO = 0, /* OpenCL when a device works, else the CPU; KGYRO_BACKEND overrides */
+    KG_BACKEND_AUTO = 0, /* an OpenCL GPU or accelerator when one works, else the CPU (an
+                          * OpenCL CPU device such as PoCL is no faster than the CPU
+                          * backend, so auto never picks one); KGYRO_BACKEND overrides */
     KG_BACKEND_CPU = 1,
     KG_BACKEND_OPENCL = 2
 } kg_backend;

@@ -24,7 +24,7 @@ static kg_result kg_cpu_hosted_step(kg_world* world, float dt) { return kg_cpu_b
 
 /* The CPU backend with the backend state freed on destroy. */
 static const kg_backend_ops kg_cpu_hosted_backend = {KG_BACKEND_CPU, "cpu", kg_cpu_hosted_step, NULL, NULL,
-                                                     kg_backend_state_free};
+                                                     kg_backend_state_free, NULL};
 
 void kg_backend_use_cpu(kg_world* world) { world->backend = &kg_cpu_hosted_backend; }
 

@@ -15,6 +15,8 @@ typedef struct kg_backend_ops {
     /* Marks the host copy as changed by the user, to upload before the next step. */
     void (*host_changed)(kg_world* world);
     void (*destroy)(kg_world* world);
+    /* Brings the host's contact list up to date (NULL when contacts are built on the host). */
+    void (*sync_contacts)(kg_world* world);
 } kg_backend_ops;
 
 extern const kg_backend_ops kg_cpu_backend;

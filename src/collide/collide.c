@@ -2,6 +2,7 @@
  * independent), then the touching pairs become this step's contacts, sorted by (a, b),
  * with last step's impulses carried over point by point through the feature ids. */
 #include "collide/collide.h"
+#include "backend/backend.h"
 #include "backend/cpu/parallel.h"
 #include "collide/aabb.h"
 #include "collide/broadphase.h"
@@ -124,20 +125,6 @@ static void kg_narrowphase_range(void* context, int begin, int end)
     }
 }
 
-/* Carries impulses over point by point, matched by feature id. */
-void kg_contact_carry_impulses(kg_manifold* m, const kg_manifold* old)
-{
-    for (int i = 0; i < m->point_count; ++i) {
-        for (int j = 0; j < old->point_count; ++j) {
-            if (m->points[i].id == old->points[j].id) {
-                m->points[i].normal_impulse = old->points[j].normal_impulse;
-                m->points[i].tangent_impulse = old->points[j].tangent_impulse;
-                break;
-            }
-        }
-    }
-}
-
 static int kg_pair_less(kg_u32 a0, kg_u32 b0, kg_u32 a1, kg_u32 b1) { return a0 < a1 || (a0 == a1 && b0 < b1); }
 
 /* Touching pairs become contacts; both lists are sorted by (a, b), so last step's
@@ -174,12 +161,9 @@ static void kg_build_contacts(kg_world* world, int pair_count)
 kg_result kg_stage_collide(kg_world* world)
 {
     struct kg_collision* c = world->collision;
-    kg_contact* swap = c->previous;
-    c->previous = c->contacts;
-    c->previous_count = c->count;
-    c->previous_body_count = c->body_count;
-    c->contacts = swap;
-    c->count = 0;
+    kg_contact* previous;
+    int previous_count;
+    kg_collision_begin_step(world, &previous, &previous_count);
     int pair_count = 0;
     kg_result r = kg_find_pairs(world, &pair_count);
     if (r != KG_OK) {
@@ -206,7 +190,45 @@ kg_contact* kg_collision_contacts(kg_world* world, int* count)
     return world->collision->contacts;
 }
 
-int kg_world_contact_count(const kg_world* world) { return world ? world->collision->count : 0; }
+/* The OpenCL backend may hold this step's contacts on the device. */
+static void kg_sync_contacts(const kg_world* world)
+{
+    if (world->backend && world->backend->sync_contacts) {
+        world->backend->sync_contacts((kg_world*)world);
+    }
+}
+
+int kg_world_contact_count(const kg_world* world)
+{
+    if (!world) {
+        return 0;
+    }
+    kg_sync_contacts(world);
+    return world->collision->count;
+}
+
+kg_contact* kg_collision_begin_step(kg_world* world, kg_contact** previous, int* previous_count)
+{
+    struct kg_collision* c = world->collision;
+    kg_contact* swap = c->previous;
+    c->previous = c->contacts;
+    c->previous_count = c->count;
+    c->previous_body_count = c->body_count;
+    c->contacts = swap;
+    c->count = 0;
+    c->body_count = 0;
+    *previous = c->previous;
+    *previous_count = c->previous_count;
+    return c->contacts;
+}
+
+void kg_collision_set_count(kg_world* world, int count, int body_count)
+{
+    world->collision->count = count;
+    world->collision->body_count = body_count;
+}
+
+int kg_collision_capacity(const kg_world* world) { return world->collision->capacity; }
 
 static kg_body kg_handle_of(const kg_world* world, kg_u32 slot)
 {
@@ -220,6 +242,9 @@ static kg_body kg_handle_of(const kg_world* world, kg_u32 slot)
 
 kg_result kg_world_get_contact(const kg_world* world, int index, kg_contact_info* out)
 {
+    if (world) {
+        kg_sync_contacts(world);
+    }
     if (!world || !out || index < 0 || index >= world->collision->count) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "contact index %d out of range", index);
     }

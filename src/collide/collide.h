@@ -11,8 +11,13 @@ kg_result kg_collision_create(kg_world* world);
 void kg_collision_destroy(kg_world* world);
 kg_result kg_stage_collide(kg_world* world);
 
-/* Copies accumulated impulses from old to m where the feature ids match. */
-void kg_contact_carry_impulses(kg_manifold* m, const kg_manifold* old);
+/* For a backend that builds contacts itself (OpenCL): starts a step by making the
+ * current list the previous one (returned with its count, body pairs first, then tile
+ * contacts) and returns the buffer, kg_collision_capacity() long, to fill; then
+ * kg_collision_set_count says how many it holds and how many are body pairs. */
+kg_contact* kg_collision_begin_step(kg_world* world, kg_contact** previous, int* previous_count);
+void kg_collision_set_count(kg_world* world, int count, int body_count);
+int kg_collision_capacity(const kg_world* world);
 
 /* The contacts of the current step: body pairs sorted by (a, b), then tile contacts. */
 kg_contact* kg_collision_contacts(kg_world* world, int* count);

@@ -37,9 +37,21 @@
 #define KG_CELL_END_SHIFT 24u
 
 KG_FN kg_u32 kg_cell_id(kg_u32 word) { return word & KG_CELL_ID_MASK; }
-KG_FN int kg_cell_exposed_start(kg_u32 word, int edge) { return (int)((word >> (KG_CELL_START_SHIFT + (kg_u32)edge)) & 1u); }
-KG_FN int kg_cell_exposed_end(kg_u32 word, int edge) { return (int)((word >> (KG_CELL_END_SHIFT + (kg_u32)edge)) & 1u); }
-KG_FN int kg_cell_collidable(kg_u32 word, int edge) { return kg_cell_exposed_start(word, edge) | kg_cell_exposed_end(word, edge); }
+
+KG_FN int kg_cell_exposed_start(kg_u32 word, int edge)
+{
+    return (int)((word >> (KG_CELL_START_SHIFT + (kg_u32)edge)) & 1u);
+}
+
+KG_FN int kg_cell_exposed_end(kg_u32 word, int edge)
+{
+    return (int)((word >> (KG_CELL_END_SHIFT + (kg_u32)edge)) & 1u);
+}
+
+KG_FN int kg_cell_collidable(kg_u32 word, int edge)
+{
+    return kg_cell_exposed_start(word, edge) | kg_cell_exposed_end(word, edge);
+}
 
 /* proto flags */
 #define KG_TILE_FLAG_ONE_WAY 0x1u

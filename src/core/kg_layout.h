@@ -56,6 +56,21 @@ typedef struct kg_contact {
     kg_u32 pad[3];      /* a multiple of 16 bytes, as device buffers prefer */
 } kg_contact;
 
+/* Carries last step's accumulated impulses over to m, point by point, where the feature
+ * ids match: the warm start of a persistent contact. */
+KG_FN void kg_contact_carry_impulses(kg_manifold* m, const kg_manifold* old)
+{
+    for (int i = 0; i < m->point_count; ++i) {
+        for (int j = 0; j < old->point_count; ++j) {
+            if (m->points[i].id == old->points[j].id) {
+                m->points[i].normal_impulse = old->points[j].normal_impulse;
+                m->points[i].tangent_impulse = old->points[j].tangent_impulse;
+                break;
+            }
+        }
+    }
+}
+
 KG_STATIC_ASSERT(sizeof(kg_vec2) == 8, vec2_size);
 KG_STATIC_ASSERT(sizeof(kg_shape) == 144, shape_size);
 KG_STATIC_ASSERT(sizeof(kg_manifold_point) == 48, manifold_point_size);

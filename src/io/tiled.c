@@ -58,7 +58,10 @@ typedef struct kg_tiled {
     kg_vec2 object_offset;  /* of the object layer being read, pixels */
 } kg_tiled;
 
-static int kg_has(const cJSON* object, const char* key) { return cJSON_GetObjectItemCaseSensitive(object, key) != NULL; }
+static int kg_has(const cJSON* object, const char* key)
+{
+    return cJSON_GetObjectItemCaseSensitive(object, key) != NULL;
+}
 
 int kg_tiled_is_map(const cJSON* root)
 {
@@ -430,7 +433,7 @@ static kg_result kg_read_collision_object(const kg_tiled* t, const kg_tileset* t
                                           const kg_json_path* path, kg_tile_shape* out)
 {
     const kg_json_reader* reader = &ts->reader;
-    kg_object_kind kind;
+    kg_object_kind kind = KG_OBJECT_RECTANGLE;
     kg_object_frame frame;
     KG_TRY(kg_object_kind_of(reader, object, path, &kind));
     KG_TRY(kg_read_object_frame(reader, object, path, &frame));
@@ -499,7 +502,7 @@ static kg_result kg_read_tile_shape(const kg_tiled* t, const kg_tileset* ts, con
     int found = 0, i = 0;
     for (const cJSON* object = objects->child; object; object = object->next, ++i) {
         kg_json_path object_path = kg_json_path_index(&objects_path, i);
-        kg_object_kind kind;
+        kg_object_kind kind = KG_OBJECT_RECTANGLE;
         KG_TRY(kg_object_kind_of(reader, object, &object_path, &kind));
         if (kind == KG_OBJECT_POINT) {
             continue; /* a marker: no area */
@@ -951,7 +954,7 @@ static kg_result kg_read_object_body(kg_tiled* t, const cJSON* object, const kg_
                                      const kg_body_def* layer_def)
 {
     const kg_json_reader* reader = &t->reader;
-    kg_object_kind kind;
+    kg_object_kind kind = KG_OBJECT_RECTANGLE;
     KG_TRY(kg_object_kind_of(reader, object, path, &kind));
     if (kind == KG_OBJECT_POINT || kind == KG_OBJECT_TEXT) {
         return KG_OK; /* markers and labels: no body */

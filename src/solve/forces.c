@@ -11,6 +11,10 @@ static kg_result kg_add_applicator(kg_world* world, const kg_applicator_slot* pr
     if (!world || !out || count < 0 || (count > 0 && !bodies)) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "force applicator: bad arguments");
     }
+    if (count > world->def.max_bodies) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "force applicator: %d bodies listed, more than max_bodies (%d)",
+                       count, world->def.max_bodies);
+    }
     int slot = -1;
     for (int i = 0; i < world->def.max_applicators && slot < 0; ++i) {
         if (world->applicators[i].kind == KG_APPLICATOR_FREE) {

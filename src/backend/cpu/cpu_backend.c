@@ -42,4 +42,4 @@ static kg_result kg_cpu_step(kg_world* world, float dt)
     return KG_OK;
 }
 
-const kg_backend_ops kg_cpu_backend = {KG_BACKEND_CPU, "cpu", kg_cpu_step, NULL, NULL, NULL};
+const kg_backend_ops kg_cpu_backend = {KG_BACKEND_CPU, "cpu", kg_cpu_step, NULL, NULL, NULL, NULL};

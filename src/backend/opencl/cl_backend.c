@@ -236,7 +236,7 @@ static void kg_opencl_destroy(kg_world* world)
 }
 
 const kg_backend_ops kg_opencl_backend = {KG_BACKEND_OPENCL, "opencl", kg_opencl_step, kg_opencl_sync_to_host,
-                                          kg_opencl_host_changed, kg_opencl_destroy};
+                                          kg_opencl_host_changed, kg_opencl_destroy, NULL};
 
 /* ---- start ------------------------------------------------------------------------ */
 
