@@ -19,7 +19,7 @@ set(KG_CL_DIR ${CMAKE_CURRENT_SOURCE_DIR}/src/backend/opencl)
 file(GLOB KG_CL_KERNELS CONFIGURE_DEPENDS ${KG_CL_DIR}/kernels/*.cl)
 file(GLOB KG_CL_SHARED_HEADERS CONFIGURE_DEPENDS
   ${CMAKE_CURRENT_SOURCE_DIR}/src/core/*.h ${CMAKE_CURRENT_SOURCE_DIR}/src/collide/*.h
-  ${CMAKE_CURRENT_SOURCE_DIR}/src/solve/*.h)
+  ${CMAKE_CURRENT_SOURCE_DIR}/src/solve/*.h ${KG_CL_DIR}/kernels/*.h)
 set(KG_CL_EMBEDDED ${CMAKE_CURRENT_BINARY_DIR}/generated/kg_cl_kernels.c)
 string(REPLACE ";" "|" KG_CL_KERNEL_LIST "${KG_CL_KERNELS}") # one command-line argument
 

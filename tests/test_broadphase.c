@@ -160,14 +160,14 @@ typedef struct candidate {
     int moves;
 } candidate;
 
-/* The bodies that may pair: alive, not frozen, with finite fattened bounds. */
+/* The bodies that may pair: alive, with finite fattened bounds. A frozen body stays, as
+ * solid as a static one: it pairs only with moving bodies. */
 static int gather_candidates(const kg_body_pool* pool, float margin, candidate* out)
 {
     int n = 0;
     for (int i = 0; i < pool->high_water; ++i) {
         kg_aabb box = kg_aabb_fatten(pool->aabb[i], margin);
-        if ((pool->flags[i] & (KG_FLAG_ALIVE | KG_FLAG_FROZEN)) != KG_FLAG_ALIVE || !kg_vec_is_finite(box.lower) ||
-            !kg_vec_is_finite(box.upper)) {
+        if (!(pool->flags[i] & KG_FLAG_ALIVE) || !kg_vec_is_finite(box.lower) || !kg_vec_is_finite(box.upper)) {
             continue;
         }
         kg_body_type t = kg_pool_type(pool, i);
@@ -176,7 +176,7 @@ static int gather_candidates(const kg_body_pool* pool, float margin, candidate* 
         c->slot = (kg_u32)i;
         c->category = pool->category[i];
         c->mask = pool->mask[i];
-        c->moves = t == KG_BODY_DYNAMIC || t == KG_BODY_PARTICLE;
+        c->moves = !(pool->flags[i] & KG_FLAG_FROZEN) && (t == KG_BODY_DYNAMIC || t == KG_BODY_PARTICLE);
     }
     return n;
 }

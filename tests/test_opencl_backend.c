@@ -1,8 +1,9 @@
 /* The OpenCL backend's interface: device queries, backend selection (definition and
- * KGYRO_BACKEND), lazy read-back of the state kept on the device, partial transform reads,
- * C callbacks and setters between and inside steps, device force applicators (build
- * errors, parameters, removal), and per-kernel profiling. Worlds are compared with a CPU
- * twin, bitwise. Skips (exit 77) when no OpenCL device exists. */
+ * KGYRO_BACKEND), lazy read-back of the state and the contacts kept on the device, partial
+ * transform reads, C callbacks and setters between and inside steps, device force
+ * applicators (build errors, parameters, removal), the collide stage on the device and on
+ * the host (tile maps), and per-kernel profiling. Worlds are compared with a CPU twin,
+ * bitwise. Skips (exit 77) when no OpenCL device exists. */
 #include "kg_test.h"
 #include "kgyro/kgyro.h"
 #include "kgyro/opencl.h"
@@ -12,6 +13,7 @@
 
 #define KG_SKIP 77
 #define KG_DT (1.0f / 60.0f)
+#define KG_CONTACT_BYTES 144 /* sizeof(kg_contact), the layout the device keeps contacts in */
 
 static kg_world* kg_make_world(kg_backend backend)
 {
@@ -393,6 +395,108 @@ static int kg_has_stage(const kg_stage_times* t, const char* name)
     return 0;
 }
 
+/* The contacts of both worlds, every field, impulses included. */
+static int kg_same_contacts(kg_world* a, kg_world* b)
+{
+    int n = kg_world_contact_count(a), same = n == kg_world_contact_count(b);
+    for (int k = 0; same && k < n; ++k) {
+        kg_contact_info ca, cb;
+        KG_CHECK_OK(kg_world_get_contact(a, k, &ca));
+        KG_CHECK_OK(kg_world_get_contact(b, k, &cb));
+        same = memcmp(&ca, &cb, sizeof ca) == 0;
+    }
+    return same;
+}
+
+/* A ground and rows of boxes: a pile with a few hundred contacts. */
+static void kg_pile(kg_world* world, int count)
+{
+    kg_add_box(world, KG_BODY_STATIC, 0.0f, -0.5f);
+    for (int i = 0; i < count; ++i) {
+        kg_add_box(world, KG_BODY_DYNAMIC, -4.5f + 0.9f * (float)(i % 10) + 0.05f * (float)(i / 10 % 2),
+                   0.35f + 0.65f * (float)(i / 10));
+    }
+}
+
+/* A step moves no contact across the bus: it reads back a few counters, whatever the
+ * contact count. The contacts cross once, when asked for, and equal the CPU's. */
+static void test_contacts_stay_on_device(void)
+{
+    kg_world* world = kg_make_world(KG_BACKEND_OPENCL);
+    kg_world* twin = kg_make_world(KG_BACKEND_CPU);
+    kg_pile(world, 100);
+    kg_pile(twin, 100);
+    for (int s = 0; s < 60; ++s) {
+        KG_CHECK_OK(kg_world_step(world, KG_DT));
+        KG_CHECK_OK(kg_world_step(twin, KG_DT));
+    }
+    kg_transfer_stats before, after_step, after_count, after_get;
+    KG_CHECK_OK(kg_world_get_transfer_stats(world, &before));
+    KG_CHECK_OK(kg_world_step(world, KG_DT));
+    KG_CHECK_OK(kg_world_step(twin, KG_DT));
+    KG_CHECK_OK(kg_world_get_transfer_stats(world, &after_step));
+    int n = kg_world_contact_count(world);
+    KG_CHECK_OK(kg_world_get_transfer_stats(world, &after_count));
+    kg_contact_info info;
+    KG_CHECK_OK(kg_world_get_contact(world, n - 1, &info));
+    KG_CHECK_OK(kg_world_get_transfer_stats(world, &after_get));
+    printf("     %d contacts; a step read %llu bytes back and wrote %llu; the contacts read %llu\n", n,
+           (unsigned long long)(after_step.bytes_to_host - before.bytes_to_host),
+           (unsigned long long)(after_step.bytes_to_device - before.bytes_to_device),
+           (unsigned long long)(after_count.bytes_to_host - after_step.bytes_to_host));
+    KG_CHECK(n >= 100);
+    KG_CHECK(after_step.bytes_to_host - before.bytes_to_host <= 256);
+    KG_CHECK(after_step.bytes_to_device - before.bytes_to_device <= 256);
+    KG_CHECK(after_count.bytes_to_host - after_step.bytes_to_host == (uint64_t)n * KG_CONTACT_BYTES);
+    KG_CHECK(after_get.reads == after_count.reads);
+    KG_CHECK(kg_same_contacts(world, twin));
+    kg_destroy_world(world);
+    kg_destroy_world(twin);
+}
+
+/* Tile contacts are built on the host: a world that gets a tile map in mid-run goes on
+ * with the collide stage on the host, from the contacts the device built, bitwise. */
+static void test_tile_map_collides_on_host(void)
+{
+    kg_world* both[2] = {kg_make_world(KG_BACKEND_OPENCL), kg_make_world(KG_BACKEND_CPU)};
+    kg_tile_shape shapes[2] = {kg_tile_empty(), kg_tile_box()};
+    uint16_t tiles[8] = {1, 1, 0, 0, 0, 0, 1, 1};
+    kg_tilemap_def def = kg_default_tilemap_def();
+    def.width = 8;
+    def.height = 1;
+    def.origin = (kg_vec2){-4.0f, 0.5f};
+    def.shapes = shapes;
+    def.shape_count = 2;
+    def.tiles = tiles;
+    for (int w = 0; w < 2; ++w) {
+        kg_pile(both[w], 40);
+    }
+    for (int s = 0; s < 90; ++s) {
+        for (int w = 0; w < 2; ++w) {
+            kg_tilemap map;
+            if (s == 30) {
+                KG_CHECK_OK(kg_create_tilemap(both[w], &def, &map));
+            }
+            KG_CHECK_OK(kg_world_step(both[w], KG_DT));
+        }
+        KG_CHECK(kg_same_contacts(both[0], both[1]));
+    }
+    kg_body bodies[64];
+    int count = 0;
+    kg_world_get_bodies(both[1], bodies, 64, &count);
+    for (int i = 0; i < count; ++i) {
+        KG_CHECK(kg_same_state(both[0], both[1], bodies[i]));
+    }
+    kg_stage_times t;
+    KG_CHECK_OK(kg_world_get_stage_times(both[0], &t));
+    KG_CHECK(kg_has_stage(&t, "collide (host)"));
+    KG_CHECK(kg_world_backend(both[0]) == KG_BACKEND_OPENCL);
+    kg_destroy_world(both[0]);
+    kg_destroy_world(both[1]);
+}
+
+/* With profiling on, the stage times are the kernels' device times, the collide stage's
+ * by stage (kg_broadphase, kg_narrowphase, kg_color); no stage runs on the host. */
 static void test_profiling(void)
 {
     kg_world* world = kg_make_world(KG_BACKEND_OPENCL);
@@ -401,15 +505,18 @@ static void test_profiling(void)
     kg_stage_times t;
     KG_CHECK_OK(kg_world_step(world, KG_DT));
     KG_CHECK_OK(kg_world_get_stage_times(world, &t));
-    KG_CHECK(kg_has_stage(&t, "forces") && kg_has_stage(&t, "solve") && kg_has_stage(&t, "finalize"));
+    KG_CHECK(kg_has_stage(&t, "forces") && kg_has_stage(&t, "collide") && kg_has_stage(&t, "solve") &&
+             kg_has_stage(&t, "finalize"));
     KG_CHECK_OK(kg_world_set_profiling(world, 1));
     for (int s = 0; s < 60; ++s) { /* until the boxes touch: the solver's kernels run */
         KG_CHECK_OK(kg_world_step(world, KG_DT));
     }
     KG_CHECK_OK(kg_world_get_stage_times(world, &t));
+    KG_CHECK(kg_has_stage(&t, "kg_broadphase") && kg_has_stage(&t, "kg_narrowphase") && kg_has_stage(&t, "kg_color"));
     KG_CHECK(kg_has_stage(&t, "kg_integrate_velocities") && kg_has_stage(&t, "kg_solve_colors_in_group") &&
-             kg_has_stage(&t, "kg_finalize") && kg_has_stage(&t, "collide (host)"));
-    KG_CHECK(!kg_has_stage(&t, "solve"));
+             kg_has_stage(&t, "kg_finalize"));
+    KG_CHECK(!kg_has_stage(&t, "collide (host)") && !kg_has_stage(&t, "collide") && !kg_has_stage(&t, "solve"));
+    KG_CHECK(!kg_has_stage(&t, "other"));
     KG_CHECK(kg_world_set_profiling(NULL, 1) == KG_ERROR_INVALID_ARGUMENT);
     kg_destroy_world(world);
 }
@@ -427,6 +534,6 @@ int main(void)
         KG_TEST(test_device_queries), KG_TEST(test_selection), KG_TEST(test_lazy_read_back),
         KG_TEST(test_partial_transform_read), KG_TEST(test_changes_between_steps), KG_TEST(test_callbacks_mid_step),
         KG_TEST(test_device_force), KG_TEST(test_device_force_errors), KG_TEST(test_mixed_bodies_and_pool_growth),
-        KG_TEST(test_profiling)};
+        KG_TEST(test_contacts_stay_on_device), KG_TEST(test_tile_map_collides_on_host), KG_TEST(test_profiling)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

@@ -26,6 +26,7 @@ typedef struct bench_engine {
 
 typedef struct bench_config {
     int threads;
+    int substeps;     /* kgyro's solver sub-steps; 0: the scene's own */
     int steps;        /* 0: each scene's own */
     int runs;
     unsigned seed;

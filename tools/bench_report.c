@@ -303,38 +303,65 @@ static void bench_plot_scenes(FILE* f, const char* dir, const bench_row* rows, i
     fprintf(f, "\nEOD\nplot for [i=2:%d] $scenes using i:xtic(1) title columnheader(i)\n", engines.count + 1);
 }
 
-/* Each stage's share of kgyro's step, one stacked bar per scene (and backend, when
- * there are several). */
+static int bench_has_stages(const bench_row* row)
+{
+    return row->result.status == BENCH_OK && bench_stage_total(&row->result) > 0.0;
+}
+
+/* A fixed-size scene, or the largest size of a series that this engine measured. */
+static int bench_stage_row_wanted(const bench_row* rows, int count, int index)
+{
+    const bench_row* row = &rows[index];
+    if (!bench_has_stages(row)) {
+        return 0;
+    }
+    for (int i = 0; bench_is_series(row) && i < count; ++i) {
+        if (bench_has_stages(&rows[i]) && rows[i].scene.size > row->scene.size &&
+            strcmp(rows[i].scene.family, row->scene.family) == 0 &&
+            strcmp(rows[i].engine.label, row->engine.label) == 0) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static void bench_stage_bar(FILE* f, const bench_row* row, const bench_names* stages)
+{
+    const bench_result* r = &row->result;
+    double total = bench_stage_total(r);
+    fprintf(f, "\n\"%s %s\"", row->scene.name, strchr(row->engine.label, '/') + 1);
+    for (int k = 0; k < stages->count; ++k) {
+        double ms = 0.0;
+        for (int j = 0; j < r->stage_count; ++j) {
+            ms += strcmp(r->stages[j].name, stages->names[k]) == 0 ? r->stages[j].ms : 0.0;
+        }
+        fprintf(f, " %.3f", 100.0 * ms / total);
+    }
+}
+
+/* Each stage's share of kgyro's step: one stacked bar per backend and scene, for the
+ * fixed-size scenes and the largest size of each series. */
 static void bench_plot_stages(FILE* f, const char* dir, const bench_row* rows, int count)
 {
     bench_names stages = {0}, engines = {0};
     for (int i = 0; i < count; ++i) {
-        for (int k = 0; rows[i].result.status == BENCH_OK && k < rows[i].result.stage_count; ++k) {
+        for (int k = 0; bench_stage_row_wanted(rows, count, i) && k < rows[i].result.stage_count; ++k) {
             bench_names_index(&stages, rows[i].result.stages[k].name, 1);
             bench_names_index(&engines, rows[i].engine.label, 1);
         }
     }
-    bench_plot_preamble(f, dir, "stages", "kgyro: share of the step per stage", 1100);
+    bench_plot_preamble(f, dir, "stages", "kgyro: share of the step per stage (scene, backend)", 1000);
     fprintf(f, "set style data histogram\nset style histogram rowstacked\nset style fill solid 0.85 border -1\n");
     fprintf(f, "set yrange [0:100]\nset ylabel 'share of the step (%%)'\nset xtics rotate by -35\n");
     fprintf(f, "set key outside right\n$stages << EOD\nrun");
     for (int k = 0; k < stages.count; ++k) {
         fprintf(f, " \"%s\"", stages.names[k]);
     }
-    for (int i = 0; i < count; ++i) {
-        const bench_result* r = &rows[i].result;
-        double total = bench_stage_total(r);
-        if (r->status != BENCH_OK || !(total > 0.0)) {
-            continue;
-        }
-        fprintf(f, "\n\"%s%s%s\"", rows[i].scene.name, engines.count > 1 ? " " : "",
-                engines.count > 1 ? rows[i].engine.label : "");
-        for (int k = 0; k < stages.count; ++k) {
-            double ms = 0.0;
-            for (int j = 0; j < r->stage_count; ++j) {
-                ms += strcmp(r->stages[j].name, stages.names[k]) == 0 ? r->stages[j].ms : 0.0;
+    for (int e = 0; e < engines.count; ++e) {
+        for (int i = 0; i < count; ++i) {
+            if (bench_stage_row_wanted(rows, count, i) && strcmp(rows[i].engine.label, engines.names[e]) == 0) {
+                bench_stage_bar(f, &rows[i], &stages);
             }
-            fprintf(f, " %.3f", 100.0 * ms / total);
         }
     }
     fprintf(f, "\nEOD\nplot for [i=2:%d] $stages using i:xtic(1) title columnheader(i)\n", stages.count + 1);

@@ -36,6 +36,7 @@ static int bench_kgyro_create(bench_sim* sim, const bench_config* config, char* 
     kg_world_def def = *kg_scene_world_def(sim->scene);
     def.backend = sim->engine->backend;
     def.threads = config->threads;
+    def.substeps = config->substeps > 0 ? config->substeps : def.substeps;
     sim->handles = malloc((size_t)(sim->body_count + 1) * sizeof *sim->handles);
     if (!sim->handles) {
         snprintf(why, size, "out of memory");

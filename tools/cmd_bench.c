@@ -16,7 +16,8 @@
 #include <string.h>
 #include <unistd.h>
 
-enum { BENCH_MAX_ENGINES = 4, BENCH_DEFAULT_STEPS = 100 };
+/* Box2D's benchmark set runs 4 sub-steps where the engine has them. */
+enum { BENCH_MAX_ENGINES = 4, BENCH_DEFAULT_STEPS = 100, BENCH_DEFAULT_SUBSTEPS = 4 };
 
 static const char* const kDefaultScenes[] = {"large_pyramid", "many_pyramids", "smash", "tumbler"};
 
@@ -69,6 +70,8 @@ static void bench_usage(FILE* out)
             "  --engines LIST   kgyro,box2d,chipmunk (default: all three)\n"
             "  --backend LIST   kgyro backends: cpu,opencl (default: cpu)\n"
             "  --threads N      worker threads for kgyro and Chipmunk (default 1; Box2D 2.4 has one)\n"
+            "  --substeps N     kgyro's solver sub-steps (default 4, as in Box2D's benchmarks; 0: the\n"
+            "                   scene's own). The peers have none: Box2D 2.4 iterates, Chipmunk too\n"
             "  --steps N        steps per run for every scene (default: each scene's own)\n"
             "  --runs R         runs per scene and engine (default 3)\n"
             "  --seed S         seed of the random scenes (default 1)\n"
@@ -122,6 +125,8 @@ static int bench_set_option(bench_options* o, const char* name, const char* valu
         return bench_parse_int(value, 1, &c->threads);
     } else if (strcmp(name, "--steps") == 0) {
         return bench_parse_int(value, 1, &c->steps);
+    } else if (strcmp(name, "--substeps") == 0) {
+        return bench_parse_int(value, 0, &c->substeps);
     } else if (strcmp(name, "--runs") == 0) {
         return bench_parse_int(value, 1, &c->runs);
     } else if (strcmp(name, "--seed") == 0) {
@@ -158,7 +163,7 @@ static int bench_parse_option(int argc, char** argv, int* i, bench_options* o)
 /* 0 to go on, else the exit code (-1 after --help). Scenes are the non-option words. */
 static int bench_parse_options(int argc, char** argv, bench_options* o, const char** scenes)
 {
-    o->config = (bench_config){.threads = 1, .runs = 3, .seed = 1};
+    o->config = (bench_config){.threads = 1, .substeps = BENCH_DEFAULT_SUBSTEPS, .runs = 3, .seed = 1};
     o->engines = "kgyro,box2d,chipmunk";
     o->backends = "cpu";
     for (int i = 1; i < argc; ++i) {
@@ -228,9 +233,14 @@ static void bench_add_kgyro(bench_session* s, kg_backend backend, const char* na
         snprintf(e->about, sizeof e->about, "%s backend unavailable: %s", name, why);
         return;
     }
-    snprintf(e->about, sizeof e->about, "KineticGyro %d.%d.%d, %s backend, %d thread%s, the scene's sub-steps",
-             KGYRO_VERSION_MAJOR, KGYRO_VERSION_MINOR, KGYRO_VERSION_PATCH, name, s->options.config.threads,
-             s->options.config.threads == 1 ? "" : "s");
+    const bench_config* c = &s->options.config;
+    char substeps[32] = "the scene's";
+    if (c->substeps > 0) {
+        snprintf(substeps, sizeof substeps, "%d", c->substeps);
+    }
+    snprintf(e->about, sizeof e->about, "KineticGyro %d.%d.%d, %s backend, %s sub-steps, %d thread%s",
+             KGYRO_VERSION_MAJOR, KGYRO_VERSION_MINOR, KGYRO_VERSION_PATCH, name, substeps, c->threads,
+             c->threads == 1 ? "" : "s");
 }
 
 static void bench_add_peer(bench_session* s, bench_engine_kind kind, const char* name)

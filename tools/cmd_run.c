@@ -37,7 +37,8 @@ static void kg_run_usage(FILE* out)
             "step: step,id,name,x,y,angle,vx,vy,omega (id = the body's index in the scene,\n"
             "floats as %%.9g so that runs compare bit for bit).\n"
             "\n"
-            "SCENE is a JSON scene file (docs/scene-format.md) or a generator name:\n"
+            "SCENE is a JSON scene file (docs/scene-format.md), a Tiled map (.tmj, docs/tilemaps.md)\n"
+            "or a generator name:\n"
             "  pyramid_B, stack_N, rain_N, particles_N, large_pyramid, many_pyramids, smash, tumbler\n"
             "\n"
             "options:\n"
@@ -220,7 +221,7 @@ static int kg_names_file(const char* scene)
         fclose(file);
         return 1;
     }
-    return strchr(scene, '/') != NULL || kg_ends_with(scene, ".json");
+    return strchr(scene, '/') != NULL || kg_ends_with(scene, ".json") || kg_ends_with(scene, ".tmj");
 }
 
 static int kg_load_scene(const kg_run_options* o, kg_scene** out)
@@ -233,7 +234,7 @@ static int kg_load_scene(const kg_run_options* o, kg_scene** out)
     return 0;
 }
 
-/* "samples/box_stack.json" -> "box_stack.csv"; "pyramid_20" -> "pyramid_20.csv". */
+/* "samples/box_stack.json" -> "box_stack.csv"; "level.tmj" -> "level.csv"; "pyramid_20" -> "pyramid_20.csv". */
 static void kg_default_csv_name(const char* scene, char* out, size_t size)
 {
     const char* base = strrchr(scene, '/');
@@ -241,6 +242,8 @@ static void kg_default_csv_name(const char* scene, char* out, size_t size)
     size_t length = strlen(base);
     if (kg_ends_with(base, ".json")) {
         length -= 5;
+    } else if (kg_ends_with(base, ".tmj")) {
+        length -= 4;
     }
     snprintf(out, size, "%.*s.csv", (int)(length < 200 ? length : 200), base);
 }

@@ -74,6 +74,11 @@ KG_API kg_body_def kg_default_body_def(void);
 KG_API kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_body);
 KG_API kg_result kg_destroy_body(kg_world* world, kg_body body);
 KG_API int kg_body_is_valid(const kg_world* world, kg_body body);
+/* A body whose state became non-finite (an overflowing force, say) is frozen at its last
+ * finite pose, reported once on stderr, and left out of the simulation so it cannot
+ * poison its neighbours; forces and impulses on it are ignored. Setting its transform or
+ * velocity brings it back. */
+KG_API int kg_body_is_frozen(const kg_world* world, kg_body body);
 
 /* The state a renderer or game reads: origin position, angle and velocities. */
 typedef struct kg_body_state {

@@ -245,7 +245,7 @@ static void kg_gather_proxies(kg_broadphase* bp, const kg_body_pool* bodies, flo
     int n = 0;
     for (int i = 0; i < bodies->high_water; ++i) {
         bp->run_count[i] = 0;
-        if ((bodies->flags[i] & (KG_FLAG_ALIVE | KG_FLAG_FROZEN)) != KG_FLAG_ALIVE) {
+        if (!kg_pool_alive(bodies, i)) {
             continue;
         }
         kg_aabb box = kg_aabb_fatten(bodies->aabb[i], margin);
@@ -258,7 +258,8 @@ static void kg_gather_proxies(kg_broadphase* bp, const kg_body_pool* bodies, flo
         p->body = (kg_u32)i;
         p->category = bodies->category[i];
         p->mask = bodies->mask[i];
-        p->moves = type == KG_BODY_DYNAMIC || type == KG_BODY_PARTICLE;
+        /* a frozen body stays where it froze, as solid as a static one */
+        p->moves = kg_pool_is_simulated(bodies, i) && (type == KG_BODY_DYNAMIC || type == KG_BODY_PARTICLE);
         bp->histogram[kg_extent_bin(kg_extent(box))] += 1;
     }
     bp->proxy_count = n;

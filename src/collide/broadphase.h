@@ -33,9 +33,9 @@ kg_result kg_broadphase_create(int capacity, kg_broadphase** out);
 void kg_broadphase_destroy(kg_broadphase* bp);
 
 /* Finds every pair of slots (a, b), a < b, such that:
- *  - both are alive, not frozen, with finite bounds (others are skipped);
- *  - at least one is dynamic or a particle: static and kinematic bodies never pair with
- *    each other;
+ *  - both are alive, with finite bounds (others are skipped);
+ *  - at least one is a moving dynamic body or particle: static, kinematic and frozen
+ *    bodies never pair with each other (a frozen body is as solid as a static one);
  *  - (category[a] & mask[b]) && (category[b] & mask[a]);
  *  - their aabb fattened by margin on every side overlap (touching counts, as in
  *    kg_aabb_overlap).

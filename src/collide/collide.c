@@ -143,7 +143,9 @@ static void kg_build_contacts(kg_world* world, int pair_count)
         while (old < c->previous_count && kg_pair_less(c->previous[old].a, c->previous[old].b, a, b)) {
             old++;
         }
-        if (old < c->previous_count && c->previous[old].a == a && c->previous[old].b == b) {
+        const kg_contact* prev = &c->previous[old];
+        if (old < c->previous_count && prev->a == a && prev->b == b && prev->generation_a == p->generation[a] &&
+            prev->generation_b == p->generation[b]) {
             kg_contact_carry_impulses(m, &c->previous[old].manifold);
         }
         kg_contact* ct = &c->contacts[count++];
@@ -151,6 +153,8 @@ static void kg_build_contacts(kg_world* world, int pair_count)
         ct->a = a;
         ct->b = b;
         ct->tile = KG_NULL_INDEX;
+        ct->generation_a = p->generation[a];
+        ct->generation_b = p->generation[b];
         ct->friction = sqrtf(p->friction[a] * p->friction[b]);
         ct->restitution = fmaxf(p->restitution[a], p->restitution[b]);
     }
@@ -179,6 +183,10 @@ kg_result kg_stage_collide(kg_world* world)
         kg_warn_once("tile-contacts-full", "more tile contacts (%d) than room left in max_contacts (%d): "
                      "the extra ones were dropped this step; raise kg_world_def.max_contacts", tiles, room);
         tiles = room;
+    }
+    for (int k = c->count; k < c->count + tiles; ++k) {
+        c->contacts[k].generation_a = world->bodies.generation[c->contacts[k].a];
+        c->contacts[k].generation_b = 0;
     }
     c->count += tiles;
     return KG_OK;
@@ -230,12 +238,13 @@ void kg_collision_set_count(kg_world* world, int count, int body_count)
 
 int kg_collision_capacity(const kg_world* world) { return world->collision->capacity; }
 
-static kg_body kg_handle_of(const kg_world* world, kg_u32 slot)
+/* The handle the body had when the contact was made: stale if it died since. */
+static kg_body kg_handle_of(kg_u32 slot, kg_u32 generation)
 {
     kg_body h = KG_NULL_BODY_INIT;
     if (slot != KG_NULL_INDEX) {
         h.index = slot;
-        h.generation = world->bodies.generation[slot];
+        h.generation = generation;
     }
     return h;
 }
@@ -250,8 +259,8 @@ kg_result kg_world_get_contact(const kg_world* world, int index, kg_contact_info
     }
     const kg_contact* c = &world->collision->contacts[index];
     memset(out, 0, sizeof *out);
-    out->a = kg_handle_of(world, c->a);
-    out->b = kg_handle_of(world, c->b);
+    out->a = kg_handle_of(c->a, c->generation_a);
+    out->b = kg_handle_of(c->b, c->generation_b);
     out->normal = c->manifold.normal;
     out->point_count = c->manifold.point_count;
     for (int k = 0; k < c->manifold.point_count; ++k) {

@@ -162,7 +162,7 @@ kg_result kg_destroy_body(kg_world* world, kg_body body)
 {
     int i = kg_world_resolve(world, body);
     if (i < 0) {
-        return KG_ERROR_INVALID_HANDLE;
+        return kg_last_result();
     }
     kg_body_pool* p = kg_write_pool(world);
     kg_body_pool_release(p, i);
@@ -268,6 +268,19 @@ void* kg_body_get_user_data(const kg_world* world, kg_body body)
     return kg_body_is_valid(world, body) ? world->bodies.user_data[body.index] : NULL;
 }
 
+static int kg_frozen(const kg_body_pool* p, int i) { return (p->flags[i] & KG_FLAG_FROZEN) != 0; }
+
+/* Setting a finite pose or velocity is how a user brings a frozen body back. */
+static void kg_unfreeze(kg_body_pool* p, int i) { p->flags[i] &= ~KG_FLAG_FROZEN; }
+
+/* A force or impulse turns a body only if it can turn: 0 * infinity would be NaN. */
+static float kg_turning(const kg_body_pool* p, int i, float moment) { return p->inv_inertia[i] > 0.0f ? moment : 0.0f; }
+
+int kg_body_is_frozen(const kg_world* world, kg_body body)
+{
+    return kg_body_is_valid(world, body) && kg_frozen(kg_read_pool(world), (int)body.index);
+}
+
 /* Resolves a handle for writing after checking the new values; NULL on failure. */
 static kg_body_pool* kg_write_body(kg_world* world, kg_body body, int values_ok, const char* what, int* index)
 {
@@ -294,6 +307,7 @@ kg_result kg_body_set_transform(kg_world* world, kg_body body, kg_vec2 position,
     p->rot[i] = q;
     p->center[i] = kg_add(position, kg_rotate(q, p->local_center[i]));
     kg_body_update_transform(p, i);
+    kg_unfreeze(p, i);
     return KG_OK;
 }
 
@@ -306,6 +320,7 @@ kg_result kg_body_set_velocity(kg_world* world, kg_body body, kg_vec2 velocity)
     }
     if (kg_pool_type(p, i) != KG_BODY_STATIC) {
         p->velocity[i] = velocity;
+        kg_unfreeze(p, i);
     }
     return KG_OK;
 }
@@ -399,8 +414,10 @@ kg_result kg_body_apply_force(kg_world* world, kg_body body, kg_vec2 force, kg_v
     if (!p) {
         return kg_read_error();
     }
-    p->force[i] = kg_add(p->force[i], force);
-    p->torque[i] += kg_cross(kg_sub(world_point, p->center[i]), force);
+    if (!kg_frozen(p, i)) {
+        p->force[i] = kg_add(p->force[i], force);
+        p->torque[i] += kg_turning(p, i, kg_cross(kg_sub(world_point, p->center[i]), force));
+    }
     return KG_OK;
 }
 
@@ -411,7 +428,9 @@ kg_result kg_body_apply_force_to_center(kg_world* world, kg_body body, kg_vec2 f
     if (!p) {
         return kg_read_error();
     }
-    p->force[i] = kg_add(p->force[i], force);
+    if (!kg_frozen(p, i)) {
+        p->force[i] = kg_add(p->force[i], force);
+    }
     return KG_OK;
 }
 
@@ -422,7 +441,9 @@ kg_result kg_body_apply_torque(kg_world* world, kg_body body, float torque)
     if (!p) {
         return kg_read_error();
     }
-    p->torque[i] += torque;
+    if (!kg_frozen(p, i)) {
+        p->torque[i] += kg_turning(p, i, torque);
+    }
     return KG_OK;
 }
 
@@ -434,8 +455,10 @@ kg_result kg_body_apply_impulse(kg_world* world, kg_body body, kg_vec2 impulse, 
     if (!p) {
         return kg_read_error();
     }
-    p->velocity[i] = kg_mul_add(p->velocity[i], p->inv_mass[i], impulse);
-    p->omega[i] += p->inv_inertia[i] * kg_cross(kg_sub(world_point, p->center[i]), impulse);
+    if (!kg_frozen(p, i)) {
+        p->velocity[i] = kg_mul_add(p->velocity[i], p->inv_mass[i], impulse);
+        p->omega[i] += kg_turning(p, i, p->inv_inertia[i] * kg_cross(kg_sub(world_point, p->center[i]), impulse));
+    }
     return KG_OK;
 }
 
@@ -446,6 +469,8 @@ kg_result kg_body_apply_angular_impulse(kg_world* world, kg_body body, float imp
     if (!p) {
         return kg_read_error();
     }
-    p->omega[i] += p->inv_inertia[i] * impulse;
+    if (!kg_frozen(p, i)) {
+        p->omega[i] += kg_turning(p, i, p->inv_inertia[i] * impulse);
+    }
     return KG_OK;
 }

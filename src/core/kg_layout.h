@@ -53,7 +53,9 @@ typedef struct kg_contact {
     kg_u32 tile;        /* tile key (map, layer, cell) for tile contacts */
     float friction;     /* mixed: sqrt(fa * fb) */
     float restitution;  /* mixed: max(ra, rb) */
-    kg_u32 pad[3];      /* a multiple of 16 bytes, as device buffers prefer */
+    kg_u32 generation_a, generation_b; /* of the bodies when the contact was made: a slot
+                                        * reused by a new body is not mistaken for the old */
+    kg_u32 pad;         /* a multiple of 16 bytes, as device buffers prefer */
 } kg_contact;
 
 /* Carries last step's accumulated impulses over to m, point by point, where the feature

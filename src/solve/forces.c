@@ -33,7 +33,7 @@ static kg_result kg_add_applicator(kg_world* world, const kg_applicator_slot* pr
         memcpy(copy, bodies, (size_t)count * sizeof *copy);
     }
     kg_applicator_slot* a = &world->applicators[slot];
-    kg_u32 generation = a->generation + 1u;
+    kg_u32 generation = a->generation + 1u == 0u ? 1u : a->generation + 1u; /* 0 never names one */
     *a = *proto;
     a->generation = generation;
     a->bodies = copy;
@@ -66,7 +66,9 @@ kg_result kg_add_gravity_applicator(kg_world* world, kg_vec2 acceleration, const
 kg_result kg_add_wind_applicator(kg_world* world, kg_vec2 direction, float strength, float drag,
                                  const kg_body* bodies, int count, kg_applicator* out)
 {
-    kg_vec2 unit = kg_normalize(direction);
+    /* scaled down first, so a huge finite direction does not overflow to no direction */
+    float largest = fmaxf(fabsf(direction.x), fabsf(direction.y));
+    kg_vec2 unit = largest > 0.0f && isfinite(largest) ? kg_normalize(kg_scale(1.0f / largest, direction)) : kg_v2(0.0f, 0.0f);
     int direction_ok = isfinite(direction.x) && isfinite(direction.y) && (kg_length_sq(unit) > 0.0f || strength == 0.0f);
     if (!direction_ok || !isfinite(strength) || !isfinite(drag) || drag < 0.0f) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT,
@@ -78,7 +80,10 @@ kg_result kg_add_wind_applicator(kg_world* world, kg_vec2 direction, float stren
 
 kg_result kg_remove_applicator(kg_world* world, kg_applicator applicator)
 {
-    if (!world || applicator.index >= (uint32_t)world->def.max_applicators) {
+    if (!world) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_remove_applicator: NULL world");
+    }
+    if (applicator.index >= (uint32_t)world->def.max_applicators) {
         return kg_fail(KG_ERROR_INVALID_HANDLE, "applicator handle does not name an applicator");
     }
     kg_applicator_slot* a = &world->applicators[applicator.index];

@@ -25,10 +25,12 @@ KG_FN void kg_integrate_velocity(kg_vec2* v, float* w, kg_vec2 force, float torq
     float ang_factor = 1.0f / (1.0f + h * angular_damping);
     kg_vec2 nv = kg_mul_add(kg_scale(lin_factor, *v), h, acc);
     float nw = ang_factor * (*w) + h * inv_inertia * torque;
-    float speed_sq = kg_length_sq(nv);
+    /* Clamped along its direction, found from the velocity scaled to its largest
+     * component first, so a huge but finite velocity does not overflow to nothing. */
     float max_speed = prm.max_linear_speed;
-    if (speed_sq > max_speed * max_speed) {
-        nv = kg_scale(max_speed / sqrtf(speed_sq), nv);
+    float largest = fmaxf(fabsf(nv.x), fabsf(nv.y));
+    if (largest > max_speed || kg_length_sq(nv) > max_speed * max_speed) {
+        nv = kg_scale(max_speed, kg_normalize(kg_scale(1.0f / largest, nv)));
     }
     float max_w = KG_MAX_ROTATION_PER_SUBSTEP / h;
     *v = nv;

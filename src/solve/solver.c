@@ -96,11 +96,34 @@ typedef struct kg_body_job {
     kg_integrate_params prm;
 } kg_body_job;
 
+/* What reached a body between steps (an overflowing impulse or force through the API)
+ * is caught before it is solved, so it cannot reach a neighbour through a contact. */
+static int kg_inputs_finite(const kg_body_pool* p, int i)
+{
+    return kg_vec_is_finite(p->velocity[i]) && kg_is_finite(p->omega[i]) && kg_vec_is_finite(p->force[i]) &&
+           kg_is_finite(p->torque[i]);
+}
+
+static void kg_freeze(kg_body_pool* p, int i)
+{
+    kg_warn_once("non-finite", "body %d got a non-finite state and was frozen", i);
+    p->flags[i] |= KG_FLAG_FROZEN;
+    p->velocity[i] = kg_v2(0.0f, 0.0f);
+    p->omega[i] = 0.0f;
+    p->force[i] = kg_v2(0.0f, 0.0f);
+    p->torque[i] = 0.0f;
+    p->rot[i] = p->xf[i].q; /* back to the last finite pose */
+    p->center[i] = kg_xf_point(p->xf[i], p->local_center[i]);
+}
+
 static void kg_load_bodies(void* context, int begin, int end)
 {
     kg_body_job* job = context;
-    const kg_body_pool* p = job->pool;
+    kg_body_pool* p = job->pool;
     for (int i = begin; i < end; ++i) {
+        if (kg_pool_is_simulated(p, i) && !kg_inputs_finite(p, i)) {
+            kg_freeze(p, i);
+        }
         kg_solver_body* sb = &job->bodies[i];
         sb->motion.v = p->velocity[i];
         sb->motion.w = p->omega[i];
@@ -321,12 +344,7 @@ void kg_stage_finalize(kg_world* world)
         p->force[i] = kg_v2(0.0f, 0.0f);
         p->torque[i] = 0.0f;
         if ((p->flags[i] & KG_FLAG_FROZEN) == 0 && !kg_body_state_finite(p, i)) {
-            kg_warn_once("non-finite", "body %d got a non-finite state and was frozen", i);
-            p->flags[i] |= KG_FLAG_FROZEN;
-            p->velocity[i] = kg_v2(0.0f, 0.0f);
-            p->omega[i] = 0.0f;
-            p->rot[i] = p->xf[i].q; /* back to the last finite pose */
-            p->center[i] = kg_xf_point(p->xf[i], p->local_center[i]);
+            kg_freeze(p, i);
             continue;
         }
         if (kg_pool_type(p, i) != KG_BODY_STATIC) {

@@ -14,8 +14,10 @@
  *    (a force callback's included), with transforms and bounds recomputed from it, and,
  *    inside a step, the forces the step began with. The steps simulated on the device
  *    since are lost, and the warning says how many.
- * Contacts always live on the host (the collide stage runs there), so warm starting goes
- * on undisturbed. */
+ * Contacts live on the device and are read back only when asked for (sync_contacts). A
+ * fallback reads last step's back first (tried twice), so warm starting goes on
+ * undisturbed; when the device cannot be read, the world goes on with no contacts, and
+ * the first step after warm starts from zero. */
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_backend.h"
 #include "collide/collide.h"
@@ -141,6 +143,17 @@ void kg_cl_backend_stop(kg_world* world)
     s->cl = NULL;
 }
 
+/* Last step's contacts into the host's list, which the CPU backend goes on from, or none
+ * when the device cannot be read. Returns 0 then. */
+static int kg_recover_contacts(kg_world* world, kg_cl_backend* b)
+{
+    if (kg_cl_read_contacts(world, b) == KG_OK || kg_cl_read_contacts(world, b) == KG_OK) {
+        return 1;
+    }
+    kg_collision_set_count(world, 0, 0);
+    return 0;
+}
+
 /* Hands the world to the CPU backend after the OpenCL failure described by the current
  * error. in_step: the failure happened inside a step, whose start state is wanted; the
  * step's caller re-applies it (s->restore) once the step has unwound, since a force
@@ -162,6 +175,7 @@ static void kg_fall_back(kg_world* world, int in_step)
     }
     snapshot->high_water = world->bodies.high_water;
     int recovered = kg_recover_state(world, b, in_step, snapshot);
+    int contacts_recovered = kg_recover_contacts(world, b);
     int lost_steps = recovered ? 0 : b->steps_since_snapshot;
     kg_copy_state(&world->bodies, snapshot);
     kg_cl_backend_stop(world);
@@ -172,9 +186,10 @@ static void kg_fall_back(kg_world* world, int in_step)
         kg_body_pool_free(snapshot);
         kg_free(snapshot);
     }
-    if (!recovered) {
+    if (!recovered || !contacts_recovered) {
         kg_warn_once("opencl-lost", "OpenCL device lost (%s); continuing on the CPU backend from the last state "
-                     "read back (%d steps simulated since then are lost)", reason, lost_steps);
+                     "read back (%d steps simulated since then are lost%s)", reason, lost_steps,
+                     contacts_recovered ? "" : ", and the contacts: warm starting restarts");
     } else {
         kg_warn_once(in_step ? "opencl-step" : "opencl-read", "OpenCL backend failed (%s); continuing on the CPU "
                      "backend with the state intact", reason);
@@ -223,6 +238,16 @@ static kg_result kg_opencl_sync_to_host(kg_world* world)
     return KG_OK;
 }
 
+/* Reading the contacts failing between steps is a read failure like any other: the world
+ * falls back, and the fallback reads them again. */
+static void kg_opencl_sync_contacts(kg_world* world)
+{
+    kg_cl_backend* b = kg_state(world)->cl;
+    if (kg_cl_read_contacts(world, b) != KG_OK) {
+        kg_fall_back(world, b->in_step);
+    }
+}
+
 static void kg_opencl_host_changed(kg_world* world)
 {
     kg_cl_backend* b = kg_state(world)->cl;
@@ -236,7 +261,7 @@ static void kg_opencl_destroy(kg_world* world)
 }
 
 const kg_backend_ops kg_opencl_backend = {KG_BACKEND_OPENCL, "opencl", kg_opencl_step, kg_opencl_sync_to_host,
-                                          kg_opencl_host_changed, kg_opencl_destroy, NULL};
+                                          kg_opencl_host_changed, kg_opencl_destroy, kg_opencl_sync_contacts};
 
 /* ---- start ------------------------------------------------------------------------ */
 

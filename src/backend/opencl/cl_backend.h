@@ -6,6 +6,7 @@
 #include "backend/backend.h"
 #include "backend/opencl/backend_state.h"
 #include "backend/opencl/cl_world.h"
+#include "backend/opencl/kernels/kg_collide_shared.h"
 #include "solve/graph_color.h"
 
 typedef struct kg_cl_backend {
@@ -28,6 +29,12 @@ typedef struct kg_cl_backend {
     kg_vec2* start_force;            /* the forces the step began with, when the host set them */
     float* start_torque;
     int start_forces_saved;          /* else the step began with every force zero */
+    /* contacts: the last step's are in w->contacts[w->current]; the host's list (collide.h)
+     * is filled from there only when asked for (contacts_stale) */
+    int contact_count;
+    int body_contact_count;          /* the first ones, body pairs; tile contacts follow */
+    int contacts_stale;
+    cl_uint counters[KG_CC_WORDS];   /* the device collide stage's counters, read back */
 } kg_cl_backend;
 
 extern const kg_backend_ops kg_opencl_backend;
@@ -39,6 +46,14 @@ void kg_cl_backend_stop(kg_world* world);
 
 /* The step on the device, stage by stage; a failure leaves the error set. */
 kg_result kg_cl_step(kg_world* world, kg_cl_backend* b, float dt);
+/* The collision stage on the device (cl_collide.c), without tile maps: this step's
+ * contacts built into w->contacts[!w->current] and coloured there, *count of them, with
+ * b->coloring's colour ranges set for the solver. *fits is 0 when the pairs outgrow the
+ * contact pool: then nothing is built, and the host's stage must run (it grows the pool). */
+kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* count, int* fits);
+/* Reads the last step's contacts into the host's list, if it lacks them. */
+kg_result kg_cl_read_contacts(kg_world* world, kg_cl_backend* b);
+
 /* Builds the program of the device force in slot, its kernel and its parameter buffer. */
 kg_result kg_cl_prepare_device_force(kg_world* world, kg_cl_backend* b, int slot);
 /* The device forces' kernels and buffers of slots no longer holding one are released. */

@@ -65,6 +65,24 @@ static kg_result kg_cl_build(kg_cl_runtime* rt, const char** lines, int count, c
     return KG_OK;
 }
 
+/* The step program: kg_step.cl, then the collision stage's kg_collide.cl (their shared
+ * headers, inlined in both, are kept once by their include guards). */
+static kg_result kg_cl_build_step_program(kg_cl_runtime* rt)
+{
+    const kg_cl_source* step = kg_cl_find_source("kg_step");
+    const kg_cl_source* collide = kg_cl_find_source("kg_collide");
+    int count = step->line_count + collide->line_count;
+    const char** lines = kg_alloc_zeroed((size_t)count * sizeof *lines);
+    if (!lines) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the step program's source");
+    }
+    memcpy(lines, step->lines, (size_t)step->line_count * sizeof *lines);
+    memcpy(lines + step->line_count, collide->lines, (size_t)collide->line_count * sizeof *lines);
+    kg_result r = kg_cl_build(rt, lines, count, NULL, KG_ERROR_BACKEND, "step", &rt->step_program);
+    kg_free(lines);
+    return r;
+}
+
 static kg_result kg_cl_runtime_create(const kg_cl_device* device, kg_cl_runtime** out)
 {
     kg_cl_runtime* rt = kg_alloc_zeroed(sizeof *rt);
@@ -82,9 +100,7 @@ static kg_result kg_cl_runtime_create(const kg_cl_device* device, kg_cl_runtime*
         return kg_fail(KG_ERROR_BACKEND, "OpenCL: cannot create a context on %s (%s)", device->info.name,
                        kg_cl_error_name(err));
     }
-    const kg_cl_source* step = kg_cl_find_source("kg_step");
-    kg_result r = kg_cl_build(rt, (const char**)step->lines, step->line_count, NULL, KG_ERROR_BACKEND, "step",
-                              &rt->step_program);
+    kg_result r = kg_cl_build_step_program(rt);
     if (r != KG_OK) {
         rt->cl->ReleaseContext(rt->context);
         kg_free(rt);

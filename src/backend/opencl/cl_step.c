@@ -2,15 +2,21 @@
  *
  *   upload what the host changed; checkpoint the state (on the device)
  *   forces     built-in and device force applicators as kernels; C callbacks on the host
- *   collide    on the host for now: transforms, bounds, flags and velocities read back,
- *              contacts built by collide/collide.c, then uploaded
+ *   collide    on the device (cl_collide.c): broadphase, narrowphase, persistence and
+ *              graph colouring, into the contact list not holding last step's contacts.
+ *              On the host instead while the world has tile maps, and in the step that
+ *              finds more pairs than the contact pool holds (the host's stage grows it):
+ *              last step's contacts read back, transforms, bounds, flags and velocities
+ *              read back, contacts built by collide/collide.c, coloured, uploaded
  *   solve      on the device: solver bodies loaded, constraints prepared, sub-steps of
  *              warm start, solve and relax colour by colour (one launch per colour, or
- *              all colours in one single-group launch for small worlds; the colouring
- *              itself is computed on the host from the contacts), restitution, impulses
- *              and motion stored
- *   finalize   on the device; the queue drained, so errors surface inside the step; the
- *              solved impulses read back into the host's contacts
+ *              all colours in one single-group launch for small worlds), restitution,
+ *              impulses and motion stored
+ *   finalize   on the device; the queue drained, so errors surface inside the step
+ *
+ * Only then does the step's contact list become the current one; the host's copy of it
+ * is read back when asked for (kg_cl_read_contacts). Until then last step's contacts stay
+ * untouched on both sides, so a step that fails is redone on the CPU exactly.
  *
  * Each kernel calls the shared per-element function the CPU loop calls, so the state
  * agrees bit for bit with the CPU backend's. */
@@ -32,14 +38,6 @@ KG_STATIC_ASSERT(sizeof(kg_force_body) == 56, host_force_body_size);
  * small cannot fill a GPU, and one launch instead of one per colour saves the launch
  * latency (5 to 50 us each, times colours x 3 passes x sub-steps). */
 #define KG_CL_SINGLE_GROUP_CONTACTS 1024
-
-#define KG_TRY(expr)                 \
-    do {                             \
-        kg_result kg_try_ = (expr);  \
-        if (kg_try_ != KG_OK) {      \
-            return kg_try_;          \
-        }                            \
-    } while (0)
 
 /* ---- kernel arguments ------------------------------------------------------------- */
 
@@ -66,12 +64,13 @@ kg_result kg_cl_bind_buffers(kg_cl_world* w)
     KG_BIND(INTEGRATE_POSITIONS, 2, KG_A(FLAGS), w->solver_bodies);
     KG_BIND(LOAD_BODIES, 1, KG_A(FLAGS), KG_A(VELOCITY), KG_A(OMEGA), w->solver_bodies);
     KG_BIND(STORE_BODIES, 1, KG_A(FLAGS), w->solver_bodies, KG_A(VELOCITY), KG_A(OMEGA), KG_A(CENTER), KG_A(ROT));
-    KG_BIND(PREPARE_CONTACTS, 1, w->solver_params, w->contacts, w->constraints, w->solver_bodies, KG_A(INV_MASS),
-            KG_A(INV_INERTIA), KG_A(XF), KG_A(CENTER));
+    KG_BIND(PREPARE_CONTACTS, 1, w->solver_params);
+    KG_BIND(PREPARE_CONTACTS, 3, w->constraints, w->solver_bodies, KG_A(INV_MASS), KG_A(INV_INERTIA), KG_A(XF),
+            KG_A(CENTER));
     KG_BIND(GATHER_COLORED, 1, w->order, w->constraints, w->colored);
     KG_BIND(SOLVE_COLOR, 4, w->solver_params, w->colored, w->solver_bodies);
     KG_BIND(SOLVE_COLORS_IN_GROUP, 1, w->color_start, w->solver_params, w->colored, w->solver_bodies);
-    KG_BIND(STORE_IMPULSES, 1, w->colored, w->contacts);
+    KG_BIND(STORE_IMPULSES, 1, w->colored);
     KG_BIND(FINALIZE, 2, KG_A(FLAGS), KG_A(CENTER), KG_A(ROT), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE),
             KG_A(TORQUE), KG_A(XF), KG_A(AABB), KG_A(SHAPE), KG_A(LOCAL_CENTER));
     return KG_OK;
@@ -299,19 +298,48 @@ static kg_result kg_stage_forces(kg_world* world, kg_cl_backend* b)
     return KG_OK;
 }
 
-/* ---- collide (host) --------------------------------------------------------------- */
+/* ---- collide ---------------------------------------------------------------------- */
 
-static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b)
+/* The contacts at the start of the list that are between two bodies. */
+static int kg_body_contacts(const kg_contact* contacts, int count)
+{
+    int n = 0;
+    while (n < count && contacts[n].b != KG_NULL_INDEX) {
+        n++;
+    }
+    return n;
+}
+
+static kg_result kg_upload_contacts(kg_world* world, kg_cl_backend* b, kg_contact* contacts, int count);
+
+/* collide/collide.c's stage, from last step's contacts and the state it reads. */
+static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b, int* count, int* body_count)
 {
     int flags_stale = (b->w->host_stale & KG_CL_BIT(FLAGS)) != 0;
-    /* what collide/collide.c reads of the state: poses, bounds, flags, and the velocities
-     * that size the speculative margins */
-    unsigned reads = KG_CL_BIT(XF) | KG_CL_BIT(AABB) | KG_CL_BIT(FLAGS) | KG_CL_BIT(VELOCITY);
+    /* what collide/collide.c reads of the state: poses, bounds, flags, the velocities that
+     * size the speculative margins, and the centres tile contacts are anchored to */
+    unsigned reads = KG_CL_BIT(XF) | KG_CL_BIT(AABB) | KG_CL_BIT(FLAGS) | KG_CL_BIT(VELOCITY) | KG_CL_BIT(CENTER);
+    KG_TRY(kg_cl_read_contacts(world, b));
     KG_TRY(kg_cl_to_host(b->w, &world->bodies, reads));
     if (flags_stale) {
         kg_cl_warn_new_frozen(world, b);
     }
-    return kg_stage_collide(world);
+    KG_TRY(kg_stage_collide(world));
+    kg_contact* contacts = kg_collision_contacts(world, count);
+    *body_count = kg_body_contacts(contacts, *count);
+    return kg_upload_contacts(world, b, contacts, *count);
+}
+
+/* On the device unless the world has tile maps (their contacts are built on the host)
+ * or the pairs outgrow the contact pool. */
+static kg_result kg_stage_collide_cl(kg_world* world, kg_cl_backend* b, int* count, int* body_count, int* on_device)
+{
+    *on_device = 0;
+    if (!world->tilemaps) {
+        KG_TRY(kg_cl_collide_on_device(world, b, count, on_device));
+        *body_count = *count;
+    }
+    return *on_device ? KG_OK : kg_stage_collide_on_host(world, b, count, body_count);
 }
 
 /* ---- solve ------------------------------------------------------------------------ */
@@ -395,6 +423,9 @@ static kg_result kg_run_pass(kg_cl_backend* b, int pass)
 static kg_result kg_set_solver_scalars(kg_cl_world* w, int bodies, int contacts, const kg_solver_params* prm,
                                        kg_integrate_params ip)
 {
+    cl_mem list = w->contacts[w->current ^ 1];
+    KG_TRY(kg_cl_arg(w, w->kernels[KG_CL_K_PREPARE_CONTACTS], 2, sizeof list, &list));
+    KG_TRY(kg_cl_arg(w, w->kernels[KG_CL_K_STORE_IMPULSES], 2, sizeof list, &list));
     cl_kernel v = w->kernels[KG_CL_K_INTEGRATE_VELOCITIES], p = w->kernels[KG_CL_K_INTEGRATE_POSITIONS];
     KG_TRY(kg_arg_int(w, v, 0, bodies));
     KG_TRY(kg_arg_float(w, v, 1, ip.h));
@@ -411,25 +442,24 @@ static kg_result kg_set_solver_scalars(kg_cl_world* w, int bodies, int contacts,
     return kg_arg_int(w, w->kernels[KG_CL_K_STORE_IMPULSES], 0, contacts);
 }
 
+/* The host's contacts, coloured on the host, to the device list of this step. */
 static kg_result kg_upload_contacts(kg_world* world, kg_cl_backend* b, kg_contact* contacts, int count)
 {
     KG_TRY(kg_reserve_coloring(world, b, count));
     kg_color_contacts(world, b, contacts, count);
-    KG_TRY(kg_cl_write(b->w, b->w->contacts, 0, (size_t)count * sizeof *contacts, contacts, 0));
+    cl_mem list = b->w->contacts[b->w->current ^ 1];
+    KG_TRY(kg_cl_write(b->w, list, 0, (size_t)count * sizeof *contacts, contacts, 0));
     KG_TRY(kg_cl_write(b->w, b->w->color_start, 0, sizeof b->coloring.color_start, b->coloring.color_start, 0));
     return kg_cl_write(b->w, b->w->order, 0, (size_t)count * sizeof(int), b->coloring.order, 0);
 }
 
-static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, float dt)
+static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, float dt, int count)
 {
     kg_cl_world* w = b->w;
-    int count = 0;
-    kg_contact* contacts = kg_collision_contacts(world, &count);
     int n = world->def.substeps;
     float h = dt / (float)n;
     int bodies = world->bodies.high_water;
     kg_integrate_params ip = {world->def.gravity, h, world->def.max_linear_speed};
-    KG_TRY(kg_upload_contacts(world, b, contacts, count));
     b->solver_params = kg_solver_params_of(&world->def, h);
     KG_TRY(kg_set_solver_scalars(w, bodies, count, &b->solver_params, ip));
     KG_TRY(kg_cl_run(w, KG_CL_K_LOAD_BODIES, bodies));
@@ -456,18 +486,29 @@ static kg_result kg_stage_finalize_on_device(kg_world* world, kg_cl_backend* b, 
     KG_TRY(kg_arg_float(w, w->kernels[KG_CL_K_FINALIZE], 1, dt));
     KG_TRY(kg_cl_run(w, KG_CL_K_FINALIZE, world->bodies.high_water));
     KG_TRY(kg_cl_finish(w));
-    /* The solved impulses, for the host collide of the next step to carry over and for
-     * the contact getters. Read last: until then the host contacts hold the impulses
-     * carried into this step, so a step that fails is redone on the CPU exactly. */
-    int count = 0;
-    kg_contact* contacts = kg_collision_contacts(world, &count);
-    KG_TRY(kg_cl_read(w, w->contacts, 0, (size_t)count * sizeof *contacts, contacts));
     w->host_stale |= kg_cl_state_arrays();
     w->forces_cleared = 1;
     return KG_OK;
 }
 
 /* ---- the step --------------------------------------------------------------------- */
+
+/* The step's contacts become the current ones, on the device (where the solver left their
+ * impulses) and in the host's list, which is read back when asked for. A list built on
+ * the device starts a new step of the host's list here, where nothing can fail any more. */
+static void kg_commit_contacts(kg_world* world, kg_cl_backend* b, int count, int body_count, int on_device)
+{
+    if (on_device) {
+        kg_contact* previous = NULL;
+        int previous_count = 0;
+        kg_collision_begin_step(world, &previous, &previous_count);
+        kg_collision_set_count(world, count, body_count);
+    }
+    b->w->current ^= 1;
+    b->contact_count = count;
+    b->body_contact_count = body_count;
+    b->contacts_stale = count > 0;
+}
 
 static kg_result kg_cl_step_stages(kg_world* world, kg_cl_backend* b, float dt);
 
@@ -507,12 +548,14 @@ static kg_result kg_cl_step_stages(kg_world* world, kg_cl_backend* b, float dt)
     kg_time_stage(world, "upload", 0, &t);
     KG_TRY(kg_stage_forces(world, b));
     kg_time_stage(world, "forces", 0, &t);
-    KG_TRY(kg_stage_collide_on_host(world, b));
-    kg_time_stage(world, "collide (host)", 1, &t);
-    KG_TRY(kg_stage_solve_on_device(world, b, dt));
+    int count = 0, body_count = 0, on_device = 0;
+    KG_TRY(kg_stage_collide_cl(world, b, &count, &body_count, &on_device));
+    kg_time_stage(world, on_device ? "collide" : "collide (host)", !on_device, &t);
+    KG_TRY(kg_stage_solve_on_device(world, b, dt, count));
     kg_time_stage(world, "solve", 0, &t);
     KG_TRY(kg_stage_finalize_on_device(world, b, dt));
     kg_time_stage(world, "finalize", 0, &t);
+    kg_commit_contacts(world, b, count, body_count, on_device);
     if (w->profiling) {
         kg_add_kernel_times(world, w);
     }

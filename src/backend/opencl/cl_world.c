@@ -1,5 +1,6 @@
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_world.h"
+#include "backend/opencl/kernels/kg_collide_shared.h"
 #include "core/alloc.h"
 #include "core/error.h"
 #include "solve/contact_solver.h"
@@ -371,6 +372,55 @@ static kg_result kg_cl_create_kernels(kg_cl_world* w)
     return KG_OK;
 }
 
+typedef struct kg_cl_sized_buffer {
+    cl_mem* buffer;
+    size_t size;
+} kg_cl_sized_buffer;
+
+static kg_result kg_cl_buffers(kg_cl_world* w, const kg_cl_sized_buffer* list, int count)
+{
+    for (int k = 0; k < count; ++k) {
+        kg_result r = kg_cl_buffer(w, list[k].size, list[k].buffer);
+        if (r != KG_OK) {
+            return r;
+        }
+    }
+    return KG_OK;
+}
+
+/* The smallest power of two at least twice slots (and at least the extent bins, which the
+ * clearing kernel covers with the same work-items). */
+static int kg_cl_table_size(int slots)
+{
+    int size = KG_BP_EXTENT_BINS;
+    while (size < 2 * slots) {
+        size *= 2;
+    }
+    return size;
+}
+
+/* The collision stage's buffers of one entry per body slot or fewer. */
+static kg_result kg_cl_create_collide_buffers(kg_cl_world* w, int slots)
+{
+    kg_cl_collide_buffers* c = &w->collide;
+    size_t n = (size_t)slots, words = sizeof(cl_uint);
+    c->table_size = kg_cl_table_size(slots);
+    const kg_cl_sized_buffer list[] = {
+        {&c->counts, KG_CC_WORDS * words},
+        {&c->proxies, n * sizeof(kg_bp_proxy)},
+        {&c->heads, (size_t)c->table_size * words},
+        {&c->histogram, KG_BP_EXTENT_BINS * words},
+        {&c->grid, 2 * sizeof(cl_float)},
+        {&c->run, (n + 1) * words},
+        {&c->run_fill, n * words},
+        {&c->degree, (n + 1) * words},
+        {&c->degree_fill, n * words},
+        {&c->block_sums, KG_SCAN_MAX_BLOCKS * words},
+        {&c->color_histogram, ((KG_COLOR_COUNT + 1) * KG_SCAN_MAX_BLOCKS + 1) * words},
+    };
+    return kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
+}
+
 static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
 {
     const kg_body_pool* pool = &world->bodies;
@@ -383,17 +433,17 @@ static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
             r = kg_cl_buffer(w, size, &w->checkpoint[id]);
         }
     }
+    const kg_cl_sized_buffer list[] = {
+        {&w->solver_bodies, (size_t)pool->capacity * KG_CL_SOLVER_BODY_SIZE},
+        {&w->solver_params, sizeof(kg_solver_params)},
+        {&w->color_start, (KG_COLOR_COUNT + 2) * sizeof(int)},
+        {&w->targets, (size_t)pool->capacity * 2u * sizeof(cl_uint)},
+    };
     if (r == KG_OK) {
-        r = kg_cl_buffer(w, (size_t)pool->capacity * KG_CL_SOLVER_BODY_SIZE, &w->solver_bodies);
+        r = kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
     }
     if (r == KG_OK) {
-        r = kg_cl_buffer(w, sizeof(kg_solver_params), &w->solver_params);
-    }
-    if (r == KG_OK) {
-        r = kg_cl_buffer(w, (KG_COLOR_COUNT + 2) * sizeof(int), &w->color_start);
-    }
-    if (r == KG_OK) {
-        r = kg_cl_buffer(w, (size_t)pool->capacity * 2u * sizeof(cl_uint), &w->targets);
+        r = kg_cl_create_collide_buffers(w, pool->capacity);
     }
     if (r == KG_OK) {
         r = kg_cl_reserve_contacts(w, world->def.max_contacts); /* last: it binds every buffer */
@@ -401,34 +451,48 @@ static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
     return r;
 }
 
+static void kg_cl_release_contact_buffers(kg_cl_world* w)
+{
+    kg_cl_collide_buffers* c = &w->collide;
+    cl_mem* list[] = {&w->contacts[0], &w->contacts[1], &w->constraints, &w->colored, &w->order, &c->raw_pairs,
+                      &c->pairs, &c->manifolds, &c->touching, &c->incidence, &c->colors[0], &c->colors[1]};
+    for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
+        kg_cl_release(w, list[k]);
+    }
+    w->contact_capacity = 0;
+}
+
+/* Both contact lists are reallocated empty: only the host's collide stage grows the pool,
+ * after it has read the last step's contacts back. */
 kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
 {
-    if (capacity <= w->contact_capacity && w->contacts) {
+    if (capacity <= w->contact_capacity && w->contacts[0]) {
         return KG_OK;
     }
-    kg_cl_release(w, &w->contacts);
-    kg_cl_release(w, &w->constraints);
-    kg_cl_release(w, &w->colored);
-    kg_cl_release(w, &w->order);
-    w->contact_capacity = 0;
-    size_t n = (size_t)(capacity > 0 ? capacity : 1);
-    kg_result r = kg_cl_buffer(w, n * sizeof(kg_contact), &w->contacts);
-    if (r == KG_OK) {
-        r = kg_cl_buffer(w, n * sizeof(kg_contact_constraint), &w->constraints);
-    }
-    if (r == KG_OK) {
-        r = kg_cl_buffer(w, n * sizeof(kg_contact_constraint), &w->colored);
-    }
-    if (r == KG_OK) {
-        r = kg_cl_buffer(w, n * sizeof(int), &w->order);
-    }
+    kg_cl_release_contact_buffers(w);
+    kg_cl_collide_buffers* c = &w->collide;
+    size_t n = (size_t)(capacity > 0 ? capacity : 1), words = sizeof(cl_uint);
+    const kg_cl_sized_buffer list[] = {
+        {&w->contacts[0], n * sizeof(kg_contact)},
+        {&w->contacts[1], n * sizeof(kg_contact)},
+        {&w->constraints, n * sizeof(kg_contact_constraint)},
+        {&w->colored, n * sizeof(kg_contact_constraint)},
+        {&w->order, n * sizeof(int)},
+        {&c->raw_pairs, n * 2u * words},
+        {&c->pairs, n * 2u * words},
+        {&c->manifolds, n * sizeof(kg_manifold)},
+        {&c->touching, (n + 1) * words},
+        {&c->incidence, n * 2u * words},
+        {&c->colors[0], n * words},
+        {&c->colors[1], n * words},
+    };
+    kg_result r = kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
     if (r == KG_OK) {
         w->contact_capacity = (int)n;
         r = kg_cl_bind_buffers(w);
     }
     return r;
 }
-
 
 kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_faults* faults, kg_cl_world** out)
 {
@@ -488,11 +552,14 @@ void kg_cl_world_destroy(kg_cl_world* w)
     kg_cl_release(w, &w->solver_bodies);
     kg_cl_release(w, &w->solver_params);
     kg_cl_release(w, &w->color_start);
-    kg_cl_release(w, &w->contacts);
-    kg_cl_release(w, &w->constraints);
-    kg_cl_release(w, &w->colored);
-    kg_cl_release(w, &w->order);
     kg_cl_release(w, &w->targets);
+    kg_cl_release_contact_buffers(w);
+    kg_cl_collide_buffers* c = &w->collide;
+    cl_mem* list[] = {&c->counts, &c->proxies, &c->heads, &c->histogram, &c->grid, &c->run, &c->run_fill,
+                      &c->degree, &c->degree_fill, &c->block_sums, &c->color_histogram};
+    for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
+        kg_cl_release(w, list[k]);
+    }
     for (int k = 0; k < KG_CL_KERNEL_COUNT; ++k) {
         if (w->kernels[k]) {
             w->cl->ReleaseKernel(w->kernels[k]);

@@ -23,7 +23,9 @@
     X(AABB, aabb, 1) X(FLAGS, flags, 1) X(SHAPE, shape, 0)                      \
     X(LOCAL_CENTER, local_center, 0) X(MASS, mass, 0) X(INERTIA, inertia, 0)    \
     X(INV_MASS, inv_mass, 0) X(INV_INERTIA, inv_inertia, 0)                     \
-    X(LINEAR_DAMPING, linear_damping, 0) X(ANGULAR_DAMPING, angular_damping, 0)
+    X(LINEAR_DAMPING, linear_damping, 0) X(ANGULAR_DAMPING, angular_damping, 0) \
+    X(FRICTION, friction, 0) X(RESTITUTION, restitution, 0)                     \
+    X(CATEGORY, category, 0) X(MASK, mask, 0)
 
 typedef enum kg_cl_array {
 #define KG_CL_ARRAY_ENUM(id, member, state) KG_CL_##id,
@@ -42,7 +44,15 @@ typedef enum kg_cl_array {
     X(PREPARE_CONTACTS, kg_prepare_contacts) X(GATHER_COLORED, kg_gather_colored)          \
     X(SOLVE_COLOR, kg_solve_color)                                                         \
     X(SOLVE_COLORS_IN_GROUP, kg_solve_colors_in_group) X(STORE_IMPULSES, kg_store_impulses) \
-    X(FINALIZE, kg_finalize)
+    X(FINALIZE, kg_finalize)                                                               \
+    X(SCAN_BLOCKS, kg_scan_blocks) X(SCAN_APPLY, kg_scan_apply)                            \
+    X(BP_CLEAR, kg_bp_clear) X(BP_PROXIES, kg_bp_proxies) X(BP_GRID, kg_bp_grid)           \
+    X(BP_INSERT, kg_bp_insert) X(BP_FIND, kg_bp_find) X(BP_SCATTER, kg_bp_scatter)         \
+    X(BP_SORT_RUNS, kg_bp_sort_runs) X(NARROWPHASE, kg_narrowphase)                        \
+    X(BUILD_CONTACTS, kg_build_contacts) X(COLOR_DEGREES, kg_color_degrees)                \
+    X(COLOR_INCIDENCE, kg_color_incidence) X(COLOR_ROUND, kg_color_round)                  \
+    X(COLOR_FINISH, kg_color_finish) X(COLOR_COUNT, kg_color_count)                        \
+    X(COLOR_SCATTER, kg_color_scatter) X(COLOR_STARTS, kg_color_starts)
 
 typedef enum kg_cl_kernel_id {
 #define KG_CL_KERNEL_ENUM(id, name) KG_CL_K_##id,
@@ -63,6 +73,30 @@ typedef struct kg_cl_timing {
     cl_ulong ns[KG_CL_MAX_TIMED];
 } kg_cl_timing;
 
+/* The collision stage's buffers (kernels/kg_collide.cl): per body slot, sized once with
+ * the other body buffers... */
+typedef struct kg_cl_collide_buffers {
+    cl_mem counts;         /* KG_CC_WORDS counters: what the host reads back of the stage */
+    cl_mem proxies;        /* kg_bp_proxy per slot */
+    cl_mem heads;          /* hash table of the grid: first slot of each bucket */
+    int table_size;        /* a power of two, at least twice the slots */
+    cl_mem histogram;      /* box extents, KG_BP_EXTENT_BINS */
+    cl_mem grid;           /* level 0's cell size and its inverse */
+    cl_mem run;            /* pairs per lower slot, then their prefix sum (slots + 1) */
+    cl_mem run_fill;
+    cl_mem degree;         /* contacts per moving body, then their prefix sum (slots + 1) */
+    cl_mem degree_fill;
+    cl_mem block_sums;     /* KG_SCAN_MAX_BLOCKS */
+    cl_mem color_histogram;
+    /* ...and per contact, sized with the contact pool */
+    cl_mem raw_pairs;      /* pairs as found */
+    cl_mem pairs;          /* pairs sorted by (a, b) */
+    cl_mem manifolds;      /* one per pair */
+    cl_mem touching;       /* per pair, then its prefix sum: the contact index (pairs + 1) */
+    cl_mem incidence;      /* contacts listed under each moving body, 2 per contact */
+    cl_mem colors[2];      /* colour per contact, this round's and last round's */
+} kg_cl_collide_buffers;
+
 typedef struct kg_cl_world {
     const kg_cl_api* cl;
     kg_cl_runtime* rt;
@@ -74,9 +108,12 @@ typedef struct kg_cl_world {
     cl_mem checkpoint[KG_CL_ARRAY_COUNT]; /* state arrays at the start of the step */
     cl_mem solver_bodies;                 /* kg_solver_body per slot: the solver's state */
     cl_mem solver_params;                 /* kg_solver_params of the step */
-    cl_mem contacts, constraints, colored, order; /* contact_capacity each */
+    cl_mem contacts[2];                   /* this step's and last step's, swapped each step */
+    int current;                          /* contacts[current]: the last step's */
+    cl_mem constraints, colored, order;   /* contact_capacity each */
     cl_mem color_start;                   /* kg_graph_coloring.color_start of the step */
     int contact_capacity;
+    kg_cl_collide_buffers collide;
     cl_mem targets;                       /* applicator targets, (slot, multiplicity), max_bodies */
     unsigned host_stale;
     unsigned device_stale;
@@ -90,6 +127,15 @@ typedef struct kg_cl_world {
 } kg_cl_world;
 
 #define KG_CL_MAX_EVENTS 4096
+
+/* Returns the result of expr from the calling function unless it is KG_OK. */
+#define KG_TRY(expr)                 \
+    do {                             \
+        kg_result kg_try_ = (expr);  \
+        if (kg_try_ != KG_OK) {      \
+            return kg_try_;          \
+        }                            \
+    } while (0)
 
 /* Creates the queue, kernels and buffers for world on rt. */
 kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_faults* faults, kg_cl_world** out);

@@ -1,0 +1,235 @@
+/* The collision stage on the device (kernels in kernels/kg_collide.cl), giving the
+ * contacts collide/collide.c gives, in the same order, with the colouring
+ * solve/graph_color.c gives:
+ *
+ *   broadphase   clear, proxies (and extent histogram), grid size, insert into the hash
+ *                grid, find pairs; [read: pair count]; prefix sum of the runs, scatter,
+ *                sort each run                                     -> pairs sorted by (a, b)
+ *   narrowphase  manifold per pair; prefix sum of the touching ones; contacts built in
+ *                pair order with last step's impulses carried       -> contacts
+ *   colouring    degrees, prefix sum, incidence lists; parallel rounds, then the rest in
+ *                order; colours counted per block, prefix sum, scatter -> order, color_start
+ *   [read: contact count and colour ranges, for the solver's launches]
+ *
+ * Two small reads per step (the pair count, to grow the pool when it overflows, and the
+ * counters at the end); no contact crosses the bus. Kernels are labelled by stage in the
+ * profile (kg_broadphase, kg_narrowphase, kg_color), prefix sums included. */
+#ifdef KG_HAVE_OPENCL
+#include "backend/opencl/cl_backend.h"
+#include "collide/collide.h"
+#include "core/error.h"
+
+/* Parallel colouring rounds before one work-item colours what is left in order. Each
+ * round decides the contacts whose earlier neighbours are all decided; on stacked scenes
+ * a few rounds decide most of them. */
+#define KG_CL_COLOR_ROUNDS 4
+
+typedef struct kg_cl_kernel_arg {
+    size_t size;
+    const void* value;
+} kg_cl_kernel_arg;
+
+#define KG_MEM(buffer) {sizeof(cl_mem), &(buffer)}
+#define KG_INT(v) {sizeof(cl_int), &(cl_int){(v)}}
+#define KG_UINT(v) {sizeof(cl_uint), &(cl_uint){(v)}}
+#define KG_FLOAT(v) {sizeof(cl_float), &(cl_float){(v)}}
+
+static kg_result kg_launch(kg_cl_world* w, kg_cl_kernel_id id, int items, const char* label,
+                           const kg_cl_kernel_arg* args, int count)
+{
+    for (int k = 0; k < count; ++k) {
+        KG_TRY(kg_cl_arg(w, w->kernels[id], k, args[k].size, args[k].value));
+    }
+    return kg_cl_launch(w, w->kernels[id], w->group_size[id], items, label);
+}
+
+/* Sets every argument of kernel id, in order, and launches it over items work-items. */
+#define KG_LAUNCH(w, id, items, label, ...)                                                             \
+    do {                                                                                                \
+        const kg_cl_kernel_arg args_[] = {__VA_ARGS__};                                                 \
+        KG_TRY(kg_launch(w, KG_CL_K_##id, items, label, args_, (int)(sizeof args_ / sizeof args_[0]))); \
+    } while (0)
+
+#define KG_A(name) w->arrays[KG_CL_##name]
+
+/* ---- prefix sums ------------------------------------------------------------------ */
+
+static int kg_block_size(int count)
+{
+    int block = (count + KG_SCAN_MAX_BLOCKS - 1) / KG_SCAN_MAX_BLOCKS;
+    return block > KG_SCAN_MIN_BLOCK ? block : KG_SCAN_MIN_BLOCK;
+}
+
+static int kg_block_count(int count, int block) { return count > 0 ? (count + block - 1) / block : 1; }
+
+/* Exclusive prefix sum of values[0, count) into offsets[0, count] (may be values), the
+ * total also into counters[total_slot] unless total_slot < 0. */
+static kg_result kg_scan(kg_cl_world* w, cl_mem values, cl_mem offsets, int count, int total_slot, const char* label)
+{
+    kg_cl_collide_buffers* c = &w->collide;
+    int block = kg_block_size(count);
+    int blocks = kg_block_count(count, block);
+    KG_LAUNCH(w, SCAN_BLOCKS, blocks, label, KG_INT(count), KG_INT(block), KG_MEM(values), KG_MEM(c->block_sums));
+    KG_LAUNCH(w, SCAN_APPLY, blocks, label, KG_INT(count), KG_INT(block), KG_MEM(values), KG_MEM(offsets),
+              KG_MEM(c->block_sums), KG_MEM(c->counts), KG_INT(total_slot));
+    return KG_OK;
+}
+
+/* ---- broadphase --------------------------------------------------------------------- */
+
+static kg_result kg_find_pairs(kg_world* world, kg_cl_world* w, int capacity)
+{
+    kg_cl_collide_buffers* c = &w->collide;
+    const char* label = "kg_broadphase";
+    int slots = world->bodies.high_water;
+    cl_uint table_mask = (cl_uint)c->table_size - 1u;
+    KG_LAUNCH(w, BP_CLEAR, c->table_size, label, KG_INT(c->table_size), KG_MEM(c->heads), KG_MEM(c->histogram),
+              KG_MEM(c->counts));
+    KG_LAUNCH(w, BP_PROXIES, slots, label, KG_INT(slots), KG_FLOAT(world->def.speculative_distance), KG_MEM(KG_A(FLAGS)),
+              KG_MEM(KG_A(AABB)), KG_MEM(KG_A(CATEGORY)), KG_MEM(KG_A(MASK)), KG_MEM(c->proxies),
+              KG_MEM(c->histogram), KG_MEM(c->run_fill), KG_MEM(c->degree), KG_MEM(c->degree_fill), KG_MEM(c->run));
+    KG_LAUNCH(w, BP_GRID, 1, label, KG_MEM(c->histogram), KG_MEM(c->grid));
+    KG_LAUNCH(w, BP_INSERT, slots, label, KG_INT(slots), KG_UINT(table_mask), KG_MEM(c->grid), KG_MEM(c->proxies),
+              KG_MEM(c->heads), KG_MEM(c->counts));
+    KG_LAUNCH(w, BP_FIND, slots, label, KG_INT(slots), KG_INT(capacity), KG_UINT(table_mask), KG_MEM(c->grid),
+              KG_MEM(c->proxies), KG_MEM(c->heads), KG_MEM(c->counts), KG_MEM(c->raw_pairs), KG_MEM(c->run));
+    return KG_OK;
+}
+
+/* The pairs found, in (a, b) order: each lower slot's run placed by the prefix sum of the
+ * run lengths, then sorted by the upper slot. */
+static kg_result kg_order_pairs(kg_world* world, kg_cl_world* w, int pairs)
+{
+    kg_cl_collide_buffers* c = &w->collide;
+    const char* label = "kg_broadphase";
+    int slots = world->bodies.high_water;
+    KG_TRY(kg_scan(w, c->run, c->run, slots, -1, label));
+    KG_LAUNCH(w, BP_SCATTER, pairs, label, KG_INT(pairs), KG_MEM(c->raw_pairs), KG_MEM(c->run), KG_MEM(c->run_fill),
+              KG_MEM(c->pairs));
+    KG_LAUNCH(w, BP_SORT_RUNS, slots, label, KG_INT(slots), KG_MEM(c->run), KG_MEM(c->pairs));
+    return KG_OK;
+}
+
+/* ---- narrowphase and persistence ------------------------------------------------------ */
+
+static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
+{
+    kg_cl_world* w = b->w;
+    kg_cl_collide_buffers* c = &w->collide;
+    const char* label = "kg_narrowphase";
+    cl_mem previous = w->contacts[w->current], next = w->contacts[w->current ^ 1];
+    KG_LAUNCH(w, NARROWPHASE, pairs, label, KG_INT(pairs), KG_FLOAT(world->def.speculative_distance),
+              KG_FLOAT(world->last_dt), KG_MEM(c->pairs), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)),
+              KG_MEM(c->manifolds), KG_MEM(c->touching));
+    KG_TRY(kg_scan(w, c->touching, c->touching, pairs, KG_CC_CONTACTS, label));
+    KG_LAUNCH(w, BUILD_CONTACTS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->manifolds),
+              KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(FRICTION)),
+              KG_MEM(KG_A(RESTITUTION)), KG_MEM(next));
+    return KG_OK;
+}
+
+/* ---- colouring ------------------------------------------------------------------------ */
+
+/* Each moving body's contacts, listed under it: the neighbours the colouring asks about. */
+static kg_result kg_list_incidence(kg_world* world, kg_cl_world* w, int contacts_bound, cl_mem contacts)
+{
+    kg_cl_collide_buffers* c = &w->collide;
+    const char* label = "kg_color";
+    KG_LAUNCH(w, COLOR_DEGREES, contacts_bound, label, KG_MEM(c->counts), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+              KG_MEM(c->degree), KG_MEM(c->colors[0]));
+    KG_TRY(kg_scan(w, c->degree, c->degree, world->bodies.high_water, -1, label));
+    KG_LAUNCH(w, COLOR_INCIDENCE, contacts_bound, label, KG_MEM(c->counts), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+              KG_MEM(c->degree), KG_MEM(c->degree_fill), KG_MEM(c->incidence));
+    return KG_OK;
+}
+
+/* The colours, into c->colors[*last]. */
+static kg_result kg_pick_colors(kg_cl_world* w, int contacts_bound, cl_mem contacts, int* last)
+{
+    kg_cl_collide_buffers* c = &w->collide;
+    const char* label = "kg_color";
+    int in = 0;
+    for (int round = 0; round < KG_CL_COLOR_ROUNDS; ++round, in ^= 1) {
+        KG_LAUNCH(w, COLOR_ROUND, contacts_bound, label, KG_MEM(c->counts), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+                  KG_MEM(c->degree), KG_MEM(c->incidence), KG_MEM(c->colors[in]), KG_MEM(c->colors[in ^ 1]));
+    }
+    KG_LAUNCH(w, COLOR_FINISH, 1, label, KG_MEM(c->counts), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)), KG_MEM(c->degree),
+              KG_MEM(c->incidence), KG_MEM(c->colors[in]));
+    *last = in;
+    return KG_OK;
+}
+
+/* graph_color.h's order and color_start, by a stable counting sort on the colours. */
+static kg_result kg_group_by_color(kg_cl_world* w, int contacts_bound, int last)
+{
+    kg_cl_collide_buffers* c = &w->collide;
+    const char* label = "kg_color";
+    int block = kg_block_size(contacts_bound);
+    int blocks = kg_block_count(contacts_bound, block);
+    KG_LAUNCH(w, COLOR_COUNT, blocks, label, KG_INT(block), KG_INT(blocks), KG_MEM(c->counts), KG_MEM(c->colors[last]),
+              KG_MEM(c->color_histogram));
+    KG_TRY(kg_scan(w, c->color_histogram, c->color_histogram, (KG_COLOR_COUNT + 1) * blocks, -1, label));
+    KG_LAUNCH(w, COLOR_SCATTER, blocks, label, KG_INT(block), KG_INT(blocks), KG_MEM(c->counts),
+              KG_MEM(c->colors[last]), KG_MEM(c->color_histogram), KG_MEM(w->order));
+    KG_LAUNCH(w, COLOR_STARTS, 1, label, KG_INT(blocks), KG_MEM(c->color_histogram), KG_MEM(c->counts),
+              KG_MEM(w->color_start));
+    return KG_OK;
+}
+
+/* ---- the stage -------------------------------------------------------------------------- */
+
+static kg_result kg_read_counters(kg_cl_backend* b, int words)
+{
+    return kg_cl_read(b->w, b->w->collide.counts, 0, (size_t)words * sizeof(cl_uint), b->counters);
+}
+
+/* The colour ranges the solver's launches need, from the counters read back. */
+static void kg_take_color_ranges(kg_cl_backend* b)
+{
+    kg_graph_coloring* g = &b->coloring;
+    g->color_count = 0;
+    for (int c = 0; c < KG_COLOR_COUNT + 2; ++c) {
+        g->color_start[c] = (int)b->counters[KG_CC_COLOR_START + c];
+        if (c > 0 && c <= KG_COLOR_COUNT && g->color_start[c] > g->color_start[c - 1]) {
+            g->color_count = c;
+        }
+    }
+}
+
+kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* count, int* fits)
+{
+    kg_cl_world* w = b->w;
+    int capacity = kg_collision_capacity(world);
+    capacity = capacity < w->contact_capacity ? capacity : w->contact_capacity;
+    KG_TRY(kg_find_pairs(world, w, capacity));
+    KG_TRY(kg_read_counters(b, KG_CC_CONTACTS));
+    *fits = b->counters[KG_CC_OVERFLOW] == 0u;
+    if (!*fits) {
+        return KG_OK;
+    }
+    int pairs = (int)b->counters[KG_CC_PAIRS];
+    cl_mem contacts = w->contacts[w->current ^ 1];
+    int last = 0;
+    KG_TRY(kg_order_pairs(world, w, pairs));
+    KG_TRY(kg_build_contacts(world, b, pairs));
+    KG_TRY(kg_list_incidence(world, w, pairs, contacts));
+    KG_TRY(kg_pick_colors(w, pairs, contacts, &last));
+    KG_TRY(kg_group_by_color(w, pairs, last));
+    KG_TRY(kg_read_counters(b, KG_CC_WORDS));
+    *count = (int)b->counters[KG_CC_CONTACTS];
+    kg_take_color_ranges(b);
+    return KG_OK;
+}
+
+kg_result kg_cl_read_contacts(kg_world* world, kg_cl_backend* b)
+{
+    if (!b->contacts_stale) {
+        return KG_OK;
+    }
+    int count = 0;
+    kg_contact* host = kg_collision_contacts(world, &count);
+    KG_TRY(kg_cl_read(b->w, b->w->contacts[b->w->current], 0, (size_t)count * sizeof *host, host));
+    b->contacts_stale = 0;
+    return KG_OK;
+}
+#endif

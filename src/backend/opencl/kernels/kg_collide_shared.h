@@ -1,0 +1,56 @@
+/* What the collision stage's kernels (kg_collide.cl) and their host code (cl_collide.c)
+ * agree on: the slots of the small counters buffer, the broadphase proxy, the grid's
+ * levels and the sizes of the scan blocks. KG_COLOR_COUNT comes from solve/graph_color.h
+ * on the host and as a build option on the device. */
+#ifndef KG_COLLIDE_SHARED_H
+#define KG_COLLIDE_SHARED_H
+
+#include "core/kg_layout.h"
+
+/* The counters buffer: what the host reads back of a step, 4 + KG_COLOR_COUNT + 2 words. */
+#define KG_CC_PAIRS 0        /* pairs the broadphase found, counted past the capacity */
+#define KG_CC_OVERFLOW 1     /* non-zero when they did not all fit */
+#define KG_CC_CONTACTS 2     /* touching pairs: this step's contacts */
+#define KG_CC_LEVELS 3       /* bit m set: some proxy is keyed at grid level m */
+#define KG_CC_COLOR_START 4  /* graph_color.h's color_start, KG_COLOR_COUNT + 2 words */
+#define KG_CC_WORDS (KG_CC_COLOR_START + KG_COLOR_COUNT + 2)
+
+/* Grid levels: level m has cells of the base size times 2^m. A box is keyed at the
+ * lowest level where it spans at most two cells per axis; the top level is one cell that
+ * holds whatever is too large for every other. */
+#define KG_BP_LEVELS 32
+#define KG_BP_TOP_LEVEL (KG_BP_LEVELS - 1)
+
+/* proxy flags */
+#define KG_BP_CANDIDATE 0x1u /* alive, not frozen, finite bounds */
+#define KG_BP_MOVES 0x2u     /* dynamic body or particle */
+
+/* A body as the broadphase sees it, indexed by slot: its fattened box, the filter, and
+ * where it is keyed in the hash grid. 48 bytes. */
+typedef struct kg_bp_proxy {
+    kg_aabb box;
+    kg_u32 category;
+    kg_u32 mask;
+    kg_i32 cell_x;
+    kg_i32 cell_y;
+    kg_u32 level;
+    kg_u32 flags;
+    kg_u32 next; /* the next slot keyed in the same hash bucket, or KG_NULL_INDEX */
+    kg_u32 pad;
+} kg_bp_proxy;
+
+KG_STATIC_ASSERT(sizeof(kg_bp_proxy) == 48, bp_proxy_size);
+
+/* Box extents are binned by their float bits >> 20 (as collide/broadphase.c does), to
+ * take the base cell size from their 90th percentile. */
+#define KG_BP_EXTENT_SHIFT 20
+#define KG_BP_EXTENT_BINS 2048
+
+/* Prefix sums run in at most this many blocks, each summed serially by one work-item. */
+#define KG_SCAN_MAX_BLOCKS 256
+#define KG_SCAN_MIN_BLOCK 256
+
+/* A contact's colour before the colouring has decided it. */
+#define KG_COLOR_UNDECIDED 0xFFu
+
+#endif

@@ -1,0 +1,325 @@
+/* The Tiled loader and the scene format's tilemap section: maps in Tiled's JSON format
+ * (tests/data/tiled: embedded and external tilesets, CSV and base64 layers, a group layer,
+ * flipped and rotated tiles, every kind of collision object, object layers with custom
+ * properties), what they turn into, how the result behaves, and broken files. */
+#include "kg_test.h"
+#include "kgyro/kgyro.h"
+#include "kgyro/scene.h"
+
+#include <string.h>
+
+#define DATA KG_SOURCE_DIR "/tests/data/tiled/"
+#define DT (1.0f / 60.0f)
+
+static kg_scene* load(const char* name)
+{
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_load_file(name, &scene));
+    return scene;
+}
+
+/* The shape of tile id, which must be a polygon, has exactly the expected vertices (any
+ * order, any start). */
+static int polygon_is(const kg_tile_shape* shape, const kg_vec2* expected, int count)
+{
+    if (shape->type != KG_TILE_SHAPE_POLYGON || shape->count != count) {
+        return 0;
+    }
+    for (int i = 0; i < count; ++i) {
+        int found = 0;
+        for (int j = 0; j < count; ++j) {
+            found |= fabsf(shape->vertices[j].x - expected[i].x) < 1e-6f &&
+                     fabsf(shape->vertices[j].y - expected[i].y) < 1e-6f;
+        }
+        if (!found) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static int tile_at(const kg_tilemap_def* def, int layer, int x, int y)
+{
+    return def->tiles[(layer * def->height + y) * def->width + x];
+}
+
+/* What tests/data/tiled/embedded.tmj and external.tmj hold (see the comments per check):
+ * the scene's first tile map and its bodies. */
+static void check_level_contents(const kg_scene* scene)
+{
+    const kg_tilemap_def* def = kg_scene_get_tilemap(scene, 0);
+    if (!def) {
+        return;
+    }
+    /* 12 x 8 tiles of 16 px at the default 16 px per metre; two tile layers */
+    KG_CHECK(def->width == 12 && def->height == 8 && def->layer_count == 2);
+    KG_CHECK_NEAR(def->tile_size.x, 1.0, 1e-6);
+    KG_CHECK_NEAR(def->tile_size.y, 1.0, 1e-6);
+    KG_CHECK_NEAR(def->friction, 0.8, 1e-6); /* a map property */
+    /* gids 1..16 keep their numbers; three flipped tiles get 17, 18, 19 */
+    KG_CHECK(def->shape_count == 20);
+    KG_CHECK(tile_at(def, 0, 0, 0) == 1 && tile_at(def, 0, 11, 0) == 1); /* Tiled's last row is the bottom */
+    KG_CHECK(tile_at(def, 0, 3, 1) == 2 && tile_at(def, 0, 8, 1) == 4 && tile_at(def, 0, 6, 4) == 5);
+    KG_CHECK(tile_at(def, 0, 10, 2) == 6);
+    KG_CHECK(tile_at(def, 1, 0, 7) == 9 && def->shapes[9].type == KG_TILE_SHAPE_EMPTY); /* decoration only */
+    kg_vec2 box[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    kg_vec2 slope_up[3] = {{0, 0}, {1, 0}, {1, 1}};
+    kg_vec2 slope_down[3] = {{0, 0}, {1, 0}, {0, 1}};
+    kg_vec2 half[4] = {{0, 0}, {1, 0}, {1, 0.5f}, {0, 0.5f}};
+    kg_vec2 platform[4] = {{0, 0.5f}, {1, 0.5f}, {1, 1}, {0, 1}};
+    kg_vec2 ceiling_wedge[3] = {{0, 1}, {1, 1}, {1, 0.5f}};
+    KG_CHECK(polygon_is(&def->shapes[1], box, 4));
+    KG_CHECK(polygon_is(&def->shapes[2], slope_up, 3));
+    KG_CHECK(polygon_is(&def->shapes[3], slope_down, 3));
+    KG_CHECK(polygon_is(&def->shapes[4], half, 4));
+    KG_CHECK(polygon_is(&def->shapes[5], platform, 4) && def->shapes[5].one_way && !def->shapes[4].one_way);
+    KG_CHECK(def->shapes[6].type == KG_TILE_SHAPE_CIRCLE);
+    KG_CHECK_NEAR(def->shapes[6].radius, 0.25, 1e-6);
+    KG_CHECK_NEAR(def->shapes[6].center.x, 0.5, 1e-6);
+    KG_CHECK_NEAR(def->shapes[6].center.y, 0.5, 1e-6);
+    /* flipped: a slope mirrored left-right, a gentle slope mirrored top-bottom, and a slope
+     * turned 90 degrees clockwise (the diagonal and horizontal flags) */
+    int mirrored = tile_at(def, 0, 5, 1), upside_down = tile_at(def, 0, 10, 1), turned = tile_at(def, 0, 11, 1);
+    KG_CHECK(mirrored >= 17 && upside_down >= 17 && turned >= 17);
+    KG_CHECK(mirrored != upside_down && mirrored != turned && upside_down != turned);
+    KG_CHECK(polygon_is(&def->shapes[mirrored], slope_down, 3));
+    KG_CHECK(polygon_is(&def->shapes[upside_down], ceiling_wedge, 3));
+    KG_CHECK(polygon_is(&def->shapes[turned], slope_down, 3));
+
+    /* the object layer: four bodies (the point object is a marker) */
+    KG_CHECK(kg_scene_body_count(scene) == 4);
+    int crate = kg_scene_find_body(scene, "crate#1"), ball = kg_scene_find_body(scene, "ball#2");
+    int wedge = kg_scene_find_body(scene, "wedge#3"), plank = kg_scene_find_body(scene, "plank#5");
+    KG_CHECK(crate == 0 && ball == 1 && wedge == 2 && plank == 3);
+    if (crate < 0 || ball < 0 || wedge < 0 || plank < 0) {
+        return;
+    }
+    const kg_body_def* c = kg_scene_body_def(scene, crate);
+    KG_CHECK(c->type == KG_BODY_DYNAMIC && c->shape.type == KG_SHAPE_POLYGON);
+    KG_CHECK_NEAR(c->position.x, 1.5, 1e-6); /* rectangle (16, 16) 16 x 16 px: centre (24, 24) px */
+    KG_CHECK_NEAR(c->position.y, 6.5, 1e-6);
+    KG_CHECK_NEAR(c->density, 2.0, 1e-6);
+    const kg_body_def* b = kg_scene_body_def(scene, ball);
+    KG_CHECK(b->shape.type == KG_SHAPE_CIRCLE);
+    KG_CHECK_NEAR(b->shape.radius, 0.375, 1e-6);
+    KG_CHECK_NEAR(b->position.x, 2.875, 1e-6);
+    KG_CHECK_NEAR(b->position.y, 7.125, 1e-6);
+    KG_CHECK_NEAR(b->friction, 0.2, 1e-6);
+    KG_CHECK_NEAR(b->restitution, 0.5, 1e-6);
+    const kg_body_def* w = kg_scene_body_def(scene, wedge);
+    KG_CHECK(w->type == KG_BODY_STATIC && w->shape.count == 3);
+    KG_CHECK_NEAR(w->position.x, 10.0, 1e-6);
+    KG_CHECK_NEAR(w->position.y, 4.0, 1e-6);
+    const kg_body_def* p = kg_scene_body_def(scene, plank);
+    /* rectangle (120, 8) 16 x 8 px turned 90 degrees clockwise about its corner */
+    KG_CHECK_NEAR(p->position.x, 7.25, 1e-5);
+    KG_CHECK_NEAR(p->position.y, 7.0, 1e-5);
+    KG_CHECK_NEAR(p->angle, -1.5707963, 1e-6);
+    KG_CHECK_NEAR(p->mass, 3.0, 1e-6);
+    KG_CHECK_NEAR(p->linear_damping, 0.1, 1e-6);
+}
+
+static void test_embedded_tileset_map(void)
+{
+    kg_scene* scene = load(DATA "embedded.tmj");
+    if (scene) {
+        KG_CHECK(kg_scene_tilemap_count(scene) == 1);
+        check_level_contents(scene);
+    }
+    kg_scene_destroy(scene);
+}
+
+/* The same map with its tileset in terrain.tsj, its ground layer in base64 and inside a
+ * group layer: the same contents. */
+static void test_external_tileset_base64_and_groups(void)
+{
+    kg_scene* scene = load(DATA "external.tmj");
+    kg_scene* reference = NULL;
+    KG_CHECK_OK(kg_scene_load_tiled(DATA "embedded.tmj", &reference));
+    if (scene && reference) {
+        check_level_contents(scene);
+        const kg_tilemap_def* a = kg_scene_get_tilemap(scene, 0);
+        const kg_tilemap_def* b = kg_scene_get_tilemap(reference, 0);
+        size_t cells = (size_t)a->width * a->height * a->layer_count;
+        KG_CHECK(memcmp(a->tiles, b->tiles, cells * sizeof *a->tiles) == 0);
+        KG_CHECK(memcmp(a->shapes, b->shapes, (size_t)a->shape_count * sizeof *a->shapes) == 0);
+    }
+    kg_scene_destroy(scene);
+    kg_scene_destroy(reference);
+}
+
+/* The level runs: the crate and the ball land on the ground, the plank on the one-way
+ * platform it was dropped on. */
+static void test_loaded_level_runs(void)
+{
+    kg_scene* scene = load(DATA "embedded.tmj");
+    kg_world_def def = *kg_scene_world_def(scene);
+    def.backend = KG_BACKEND_CPU;
+    kg_world* world = NULL;
+    kg_body bodies[4];
+    KG_CHECK_OK(kg_scene_instantiate(scene, &def, &world, bodies));
+    KG_CHECK(kg_world_tilemap_count(world) == 1);
+    for (int step = 0; step < 180; ++step) {
+        KG_CHECK_OK(kg_scene_step(scene, world, bodies, DT));
+    }
+    kg_body_state crate, ball, plank;
+    KG_CHECK_OK(kg_body_get_state(world, bodies[0], &crate));
+    KG_CHECK_OK(kg_body_get_state(world, bodies[1], &ball));
+    KG_CHECK_OK(kg_body_get_state(world, bodies[3], &plank));
+    printf("measured: embedded.tmj after 3 s: crate y %.4f (1.5), ball y %.4f (1.375), plank y %.4f (5.5 on the "
+           "one-way platform)\n", crate.position.y, ball.position.y, plank.position.y);
+    KG_CHECK_NEAR(crate.position.y, 1.5, 1e-3);
+    KG_CHECK_NEAR(ball.position.y, 1.375, 1e-3);
+    KG_CHECK_NEAR(plank.position.y, 5.5, 1e-3);
+    kg_destroy_world(world);
+    kg_scene_destroy(scene);
+}
+
+/* ---- broken files ---- */
+
+static void check_refused(const char* file, kg_result expected, const char* where, const char* what)
+{
+    kg_scene* scene = NULL;
+    kg_result r = kg_scene_load_file(file, &scene);
+    const char* message = kg_last_error();
+    int ok = r == expected && scene == NULL && strstr(message, where) && strstr(message, what);
+    if (!ok) {
+        printf("%s: got %d '%s', expected %d with '%s' and '%s'\n", file, (int)r, message, (int)expected, where,
+               what);
+    }
+    KG_CHECK(ok);
+    kg_scene_destroy(scene);
+}
+
+static void test_broken_maps_are_refused_clearly(void)
+{
+    static const struct {
+        const char* file;
+        kg_result result;
+        const char* where;
+        const char* what;
+    } cases[] = {
+        {DATA "bad_infinite.tmj", KG_ERROR_PARSE, "bad_infinite.tmj: infinite:", "infinite maps are not supported"},
+        {DATA "bad_isometric.tmj", KG_ERROR_PARSE, "orientation:", "only orthogonal maps"},
+        {DATA "bad_compressed.tmj", KG_ERROR_PARSE, "layers[0].compression:", "zlib-compressed layer data"},
+        {DATA "bad_concave.tmj", KG_ERROR_PARSE, "tilesets[0].tiles[1].objectgroup.objects[0].polygon:",
+         "concave"},
+        {DATA "bad_xml_tileset.tmj", KG_ERROR_PARSE, "tilesets[0].source:", "XML tileset"},
+        {DATA "bad_missing_tileset.tmj", KG_ERROR_PARSE, "tilesets[0].source:", "missing.tsj: cannot open"},
+        {DATA "bad_unknown_gid.tmj", KG_ERROR_PARSE, "layers[0].data[5]:", "gid 40 is in no tileset"},
+        {DATA "bad_short_data.tmj", KG_ERROR_PARSE, "layers[0].data:", "must be an array of 96 tile ids"},
+        {DATA "bad_two_shapes.tmj", KG_ERROR_PARSE, "tiles[0].objectgroup.objects[1]:", "one convex shape per tile"},
+        {DATA "bad_oval.tmj", KG_ERROR_PARSE, "tiles[5].objectgroup.objects[0]:", "only round ellipses"},
+        {DATA "bad_bad_property.tmj", KG_ERROR_PARSE, "layers[1].objects[0].properties.density.value:",
+         "must be a number"},
+        {DATA "bad_density_and_mass.tmj", KG_ERROR_PARSE, "layers[1].objects[0].properties.mass:",
+         "give density or mass, not both"},
+        {DATA "bad_outside_tile.tmj", KG_ERROR_PARSE, "tiles[0].objectgroup.objects[0]:", "reaches outside its tile"},
+        {DATA "bad_tile_size.tmj", KG_ERROR_PARSE, "tilesets[0].tilewidth:", "tiles must fit their cells"},
+        {DATA "bad_syntax.tmj", KG_ERROR_PARSE, "bad_syntax.tmj: line 2, column", "malformed JSON"},
+        {DATA "no_such_map.tmj", KG_ERROR_IO, "no_such_map.tmj: cannot open", ""},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        check_refused(cases[i].file, cases[i].result, cases[i].where, cases[i].what);
+    }
+}
+
+/* ---- the scene format's tilemap section ---- */
+
+static kg_scene* parse(const char* json)
+{
+    kg_scene* scene = NULL;
+    kg_result r = kg_scene_parse(json, strlen(json), DATA "scene.json", &scene);
+    KG_CHECK(r == KG_OK || scene == NULL);
+    return scene;
+}
+
+static void test_scene_with_inline_tilemap(void)
+{
+    const char* json = "{\"bodies\": [{\"name\": \"ball\", \"position\": [1.75, 3],"
+                       " \"shape\": {\"type\": \"circle\", \"radius\": 0.25}}],"
+                       " \"tilemap\": {\"origin\": [0, 0], \"tile_size\": 0.5,"
+                       "  \"tiles\": {\"#\": \"box\", \"/\": \"slope_bottom_right\","
+                       "            \"=\": {\"shape\": \"half_top\", \"one_way\": true},"
+                       "            \"o\": {\"circle\": {\"radius\": 0.5}},"
+                       "            \"v\": {\"polygon\": [[0, 1], [1, 1], [0.5, 0]]}},"
+                       "  \"layers\": [[\"  ==  o \", \"./##..v.\", \"########\"],"
+                       "             [\"........\", \"........\", \"#.......\"]]}}";
+    kg_scene* scene = parse(json);
+    KG_CHECK(scene != NULL);
+    if (!scene) {
+        printf("%s\n", kg_last_error());
+        return;
+    }
+    const kg_tilemap_def* def = kg_scene_get_tilemap(scene, 0);
+    KG_CHECK(def->width == 8 && def->height == 3 && def->layer_count == 2 && def->shape_count == 6);
+    KG_CHECK_NEAR(def->tile_size.x, 0.5, 1e-6);
+    KG_CHECK(tile_at(def, 0, 0, 0) == 1 && tile_at(def, 0, 1, 1) == 2 && tile_at(def, 0, 2, 2) == 3);
+    KG_CHECK(tile_at(def, 0, 6, 2) == 4 && tile_at(def, 0, 6, 1) == 5 && tile_at(def, 0, 0, 1) == 0);
+    KG_CHECK(tile_at(def, 1, 0, 0) == 1 && tile_at(def, 1, 1, 0) == 0);
+    KG_CHECK(def->shapes[3].one_way && def->shapes[4].type == KG_TILE_SHAPE_CIRCLE);
+    kg_world* world = NULL;
+    kg_body ball;
+    KG_CHECK_OK(kg_scene_instantiate(scene, NULL, &world, &ball));
+    for (int step = 0; step < 120; ++step) {
+        KG_CHECK_OK(kg_world_step(world, DT));
+    }
+    kg_vec2 at;
+    KG_CHECK_OK(kg_body_get_position(world, ball, &at));
+    KG_CHECK_NEAR(at.y, 1.5 + 0.25, 1e-3); /* on the one-way platform at column 3, row 2: top at 1.5 m */
+    kg_destroy_world(world);
+    kg_scene_destroy(scene);
+}
+
+static void test_scene_with_tiled_tilemap(void)
+{
+    kg_scene* scene = parse("{\"gravity\": [0, -5], \"tilemap\": [{\"tiled\": \"embedded.tmj\"},"
+                            " {\"tiles\": {\"#\": \"box\"}, \"origin\": [20, 0], \"layers\": [[\"##\"]]}],"
+                            " \"forces\": [{\"type\": \"wind\", \"direction\": [1, 0], \"strength\": 1,"
+                            " \"bodies\": [\"crate#1\"]}]}");
+    KG_CHECK(scene != NULL);
+    if (scene) {
+        KG_CHECK(kg_scene_tilemap_count(scene) == 2 && kg_scene_body_count(scene) == 4);
+        KG_CHECK(kg_scene_force_count(scene) == 1);
+        check_level_contents(scene);
+    }
+    kg_scene_destroy(scene);
+}
+
+static void check_scene_refused(const char* json, const char* where, const char* what)
+{
+    kg_scene* scene = parse(json);
+    const char* message = kg_last_error();
+    int ok = scene == NULL && strstr(message, where) && strstr(message, what);
+    if (!ok) {
+        printf("got '%s', expected '%s' and '%s'\n", message, where, what);
+    }
+    KG_CHECK(ok);
+    kg_scene_destroy(scene);
+}
+
+static void test_bad_tilemap_sections(void)
+{
+    check_scene_refused("{\"tilemap\": {\"tiles\": {\"#\": \"bx\"}, \"layers\": [[\"#\"]]}}",
+                        "scene.json: tilemap.tiles.#:", "unknown tile shape \"bx\"");
+    check_scene_refused("{\"tilemap\": {\"tiles\": {\"#\": \"box\"}, \"layers\": [[\"#x\"]]}}",
+                        "tilemap.layers[0][0]:", "'x' (column 1) is not one of the \"tiles\"");
+    check_scene_refused("{\"tilemap\": {\"tiles\": {\"#\": \"box\"}, \"layers\": [[\"##\", \"#\"]]}}",
+                        "tilemap.layers[0][1]:", "must be a string of 2 tiles");
+    check_scene_refused("{\"tilemap\": {\"tiles\": {\"ab\": \"box\"}, \"layers\": [[\"#\"]]}}", "tilemap.tiles.ab:",
+                        "single characters");
+    check_scene_refused("{\"tilemap\": {\"tiles\": {\"#\": {\"polygon\": [[0, 0], [2, 0], [0, 1]]}},"
+                        " \"layers\": [[\"#\"]]}}",
+                        "tilemap.tiles.#:", "outside the cell");
+    check_scene_refused("{\"tilemap\": {\"tiles\": {\"#\": \"box\"}, \"layers\": [[\"#\"]], \"size\": 1}}",
+                        "tilemap.size:", "unknown field");
+    check_scene_refused("{\"tilemap\": {\"tiled\": \"bad_infinite.tmj\"}}", "scene.json: tilemap.tiled:",
+                        "infinite maps are not supported");
+    check_scene_refused("{\"tilemap\": {\"tiled\": \"embedded.tmj\", \"origin\": [0, 0]}}", "tilemap.origin:",
+                        "unknown field");
+}
+
+KG_TEST_MAIN(KG_TEST(test_embedded_tileset_map), KG_TEST(test_external_tileset_base64_and_groups),
+             KG_TEST(test_loaded_level_runs), KG_TEST(test_broken_maps_are_refused_clearly),
+             KG_TEST(test_scene_with_inline_tilemap), KG_TEST(test_scene_with_tiled_tilemap),
+             KG_TEST(test_bad_tilemap_sections))
