@@ -210,6 +210,7 @@ static kg_world* pick_world(sequence* s) { return rng_chance(&s->r, 4) ? NULL : 
 
 typedef struct snapshot {
     int valid;
+    int frozen; /* body.h: forces and impulses on a frozen body are ignored */
     kg_body_state state;
     float inv_mass, inv_inertia;
     int body_count;
@@ -224,6 +225,7 @@ static snapshot take_snapshot(const sequence* s, kg_body h)
     if (snap.valid) {
         kg_body_get_state(s->world, h, &snap.state);
         kg_body_get_inverse_mass(s->world, h, &snap.inv_mass, &snap.inv_inertia);
+        snap.frozen = kg_body_is_frozen(s->world, h);
     }
     return snap;
 }
@@ -651,7 +653,7 @@ static void call_apply_impulse(sequence* s)
     }
     kg_vec2 v;
     kg_body_get_velocity(s->world, h, &v);
-    float want_x = before.state.velocity.x + before.inv_mass * impulse.x;
+    float want_x = before.frozen ? before.state.velocity.x : before.state.velocity.x + before.inv_mass * impulse.x;
     if (isfinite(want_x)) {
         check_true(s, "kg_body_apply_impulse", near(v.x, want_x, 1e-5f), "the impulse did not change the velocity");
     }
@@ -678,7 +680,7 @@ static void call_apply_angular_impulse(sequence* s)
     }
     float omega = NAN;
     kg_body_get_angular_velocity(s->world, h, &omega);
-    float want = before.state.angular_velocity + before.inv_inertia * impulse;
+    float want = before.frozen ? before.state.angular_velocity : before.state.angular_velocity + before.inv_inertia * impulse;
     if (isfinite(want)) {
         check_true(s, "kg_body_apply_angular_impulse", near(omega, want, 1e-5f),
                    "the angular impulse did not change the angular velocity");
@@ -824,6 +826,7 @@ static void call_add_applicator(sequence* s)
     fault_if(&f, w == NULL, KG_ERROR_INVALID_ARGUMENT);
     fault_if(&f, count < 0, KG_ERROR_INVALID_ARGUMENT);
     fault_if(&f, count > 0 && list_null, KG_ERROR_INVALID_ARGUMENT);
+    fault_if(&f, w != NULL && count > s->max_bodies, KG_ERROR_INVALID_ARGUMENT); /* longer than the pool */
     fault_if(&f, out_null, KG_ERROR_INVALID_ARGUMENT);
     const kg_body* bodies = list_null || count == 0 ? NULL : list;
     kg_applicator a = {0u, 0u};
@@ -1254,6 +1257,7 @@ static void test_non_finite_body_is_frozen_and_isolated(void)
         KG_CHECK_OK(kg_world_step(w, DT));
         KG_CHECK_OK(kg_world_step(reference, DT));
     }
+    KG_CHECK(kg_body_is_frozen(w, bad) && !kg_body_is_frozen(w, good));
     kg_body_state frozen = state_of(w, bad);
     KG_CHECK(frozen.position.x == 0.0f && frozen.position.y == 0.0f && frozen.angle == 0.0f);
     KG_CHECK(frozen.velocity.x == 0.0f && frozen.velocity.y == 0.0f && frozen.angular_velocity == 0.0f);
@@ -1312,6 +1316,26 @@ static double component_along(kg_vec2 v, kg_vec2 dir)
 {
     double length = hypot((double)dir.x, (double)dir.y);
     return ((double)v.x * dir.x + (double)v.y * dir.y) / length;
+}
+
+/* body.h: setting a frozen body's transform and velocity brings it back, and it moves
+ * under gravity again. */
+static void test_frozen_body_comes_back(void)
+{
+    kg_world* w = make_world((kg_vec2){0.0f, -10.0f}, 400.0f);
+    kg_body b = add_box(w, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.0f}, 1.0f, 1.0f, 0.0f);
+    make_non_finite(w, b);
+    KG_CHECK_OK(kg_world_step(w, DT));
+    KG_CHECK(kg_body_is_frozen(w, b));
+    KG_CHECK_OK(kg_body_set_transform(w, b, (kg_vec2){0.0f, 5.0f}, 0.0f));
+    KG_CHECK_OK(kg_body_set_velocity(w, b, (kg_vec2){0.0f, 0.0f}));
+    KG_CHECK(!kg_body_is_frozen(w, b));
+    for (int i = 0; i < 10; ++i) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+    }
+    kg_body_state st = state_of(w, b);
+    KG_CHECK(!kg_body_is_frozen(w, b) && st.position.y < 5.0f && st.velocity.y < 0.0f);
+    kg_destroy_world(w);
 }
 
 /* world.h: velocities are clamped to max_linear_speed; the direction is kept. Speeds
@@ -1396,7 +1420,7 @@ static void test_extreme_mass_ratio_light_on_heavy(void) { check_stack_of_ratio(
 
 /* force.h: an applicator's list is copied, and handles in it that die are skipped.
  * Nothing forbids a body listed twice; a list longer than the world's body capacity
- * must not overrun the buffer the step collects the live targets in. */
+ * must be refused or must not overrun the buffer the step collects the live targets in. */
 static void test_applicator_list_longer_than_the_pool(void)
 {
     kg_world_def def = kg_default_world_def();
@@ -1446,6 +1470,7 @@ KG_TEST_MAIN(KG_TEST(test_null_world_is_an_invalid_argument), KG_TEST(test_body_
              KG_TEST(test_impulse_on_body_that_cannot_turn_stays_finite),
              KG_TEST(test_non_finite_body_is_frozen_and_isolated),
              KG_TEST(test_non_finite_body_does_not_poison_its_neighbour), KG_TEST(test_frozen_body_stays_finite),
+             KG_TEST(test_frozen_body_comes_back),
              KG_TEST(test_linear_speed_is_clamped), KG_TEST(test_angular_rate_is_clamped),
              KG_TEST(test_extreme_mass_ratio_heavy_on_light), KG_TEST(test_extreme_mass_ratio_light_on_heavy),
              KG_TEST(test_contact_never_names_a_newcomer), KG_TEST(test_applicator_list_longer_than_the_pool),

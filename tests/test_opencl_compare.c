@@ -129,9 +129,10 @@ static void kg_sizes_scene(kg_world* world)
         def.position = (kg_vec2){(far ? 50000.0f : 0.0f) + kg_uniform(&seed, -8.0f, 8.0f),
                                  1.0f + 0.15f * (float)i + kg_uniform(&seed, 0.0f, 0.5f)};
         def.angle = kg_uniform(&seed, 0.0f, 3.0f);
-        def.shape = def.type == KG_BODY_PARTICLE ? kg_circle_shape(i % 2 ? 0.0f : 0.05f)
+        def.shape = def.type == KG_BODY_PARTICLE ? (i % 2 ? def.shape : kg_circle_shape(0.05f))
                     : i % 2                      ? kg_circle_shape(0.5f * size)
                                                  : kg_box_shape(size, kg_uniform(&seed, 0.3f, 1.0f) * size);
+        def.mass = def.type == KG_BODY_PARTICLE ? 0.01f : 0.0f; /* a point particle needs one */
         def.category = i % 7 == 3 ? 2u : 1u;
         def.mask = i % 7 == 3 ? ~2u : ~0u;
         kg_body body;

@@ -159,6 +159,7 @@ static slide_result slide(terrain kind, kg_shape_def shape, float half_height, i
     return r;
 }
 
+/* The bodies slid: on the OpenCL backend, slower under the sanitizers, the first two. */
 static void check_slides(terrain kind, int run, kg_backend backend)
 {
     struct {
@@ -167,12 +168,13 @@ static void check_slides(terrain kind, int run, kg_backend backend)
         float half_height;
     } bodies[] = {
         {"box 0.5 m", kg_box_shape(0.5f, 0.5f), 0.25f},
-        {"box 1.6 x 0.4 m", kg_box_shape(1.6f, 0.4f), 0.2f},
         {"circle r 0.25 m", kg_circle_shape(0.25f), 0.25f},
+        {"box 1.6 x 0.4 m", kg_box_shape(1.6f, 0.4f), 0.2f},
         {"circle r 0.8 m", kg_circle_shape(0.8f), 0.8f},
     };
     const char* backend_name = backend == KG_BACKEND_OPENCL ? "opencl" : "cpu";
-    for (size_t i = 0; i < sizeof bodies / sizeof bodies[0]; ++i) {
+    size_t count = backend == KG_BACKEND_OPENCL ? 2 : sizeof bodies / sizeof bodies[0];
+    for (size_t i = 0; i < count; ++i) {
         kg_world* w = make_world_on((kg_vec2){0.0f, -10.0f}, backend);
         if (!w) {
             printf("skipped on %s: %s\n", backend_name, kg_last_error());
@@ -330,7 +332,7 @@ static void test_resting_heights_match_static_polygons(void)
     static kg_body tiled_bodies[DROP_COLUMNS], static_bodies[DROP_COLUMNS];
     kg_world* tiled = drop_world(&d, 1, tiled_bodies);
     kg_world* polygons = drop_world(&d, 0, static_bodies);
-    for (int step = 0; step < 360; ++step) {
+    for (int step = 0; step < 180; ++step) {
         KG_CHECK_OK(kg_world_step(tiled, DT));
         KG_CHECK_OK(kg_world_step(polygons, DT));
     }
@@ -346,7 +348,7 @@ static void test_resting_heights_match_static_polygons(void)
         }
         fastest = fmax(fastest, fmax(hypot(a.velocity.x, a.velocity.y), hypot(b.velocity.x, b.velocity.y)));
     }
-    printf("measured: 1000 drops after 6 s, tile map vs static polygons: resting height difference mean %.3g m, "
+    printf("measured: 1000 drops after 3 s, tile map vs static polygons: resting height difference mean %.3g m, "
            "largest %.3g m (body %d), fastest body %.3g m/s\n", sum / DROP_COLUMNS, worst, worst_body, fastest);
     KG_CHECK(worst <= 1e-3);
     KG_CHECK(fastest < 0.05);
@@ -630,6 +632,10 @@ static void test_bad_definitions_and_cells_are_refused(void)
     KG_CHECK(kg_create_tilemap(NULL, &def, &map) == KG_ERROR_INVALID_ARGUMENT);
     kg_destroy_world(w);
 }
+
+/* Line-buffered, so that each result shows as soon as its test ends (and is not lost when a
+ * sanitizer report aborts a later one). */
+__attribute__((constructor)) static void flush_every_line(void) { setvbuf(stdout, NULL, _IOLBF, 0); }
 
 KG_TEST_MAIN(KG_TEST(test_box_and_circle_slide_across_200_flat_tiles),
              KG_TEST(test_box_and_circle_slide_across_200_slope_tiles),

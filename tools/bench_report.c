@@ -186,6 +186,18 @@ static int bench_names_index(bench_names* set, const char* name, int add)
 
 static int bench_is_series(const bench_row* row) { return row->scene.size > 0; }
 
+/* A fixed colour per engine, so that charts of different runs read alike. */
+static int bench_engine_color(const char* label)
+{
+    static const char* const labels[] = {"kgyro/cpu", "kgyro/opencl", "box2d", "chipmunk"};
+    for (int i = 0; i < 4; ++i) {
+        if (strcmp(label, labels[i]) == 0) {
+            return i + 1;
+        }
+    }
+    return 5;
+}
+
 static void bench_plot_preamble(FILE* f, const char* dir, const char* name, const char* title, int width)
 {
     fprintf(f, "set terminal pngcairo size %d,600 noenhanced font 'sans,10'\n", width);
@@ -255,7 +267,8 @@ static void bench_plot_scaling(FILE* f, const char* dir, const bench_row* rows, 
     fprintf(f, "plot $linear with lines lc 'dark-gray' lw 1.5 dt 2 title 'linear (slope 1)'");
     for (int e = 0; e < engines.count; ++e) {
         for (int s = 0; s < families.count; ++s) {
-            fprintf(f, ", \\\n  $e%ds%d with linespoints lc %d dt %d pt %d title '%s %s_N'", e, s, e + 1, s + 1,
+            fprintf(f, ", \\\n  $e%ds%d with linespoints lc %d dt %d pt %d title '%s %s_N'", e, s,
+                    bench_engine_color(engines.names[e]), s + 1,
                     5 + 2 * s, engines.names[e], families.names[s]);
         }
     }
@@ -300,7 +313,12 @@ static void bench_plot_scenes(FILE* f, const char* dir, const bench_row* rows, i
             }
         }
     }
-    fprintf(f, "\nEOD\nplot for [i=2:%d] $scenes using i:xtic(1) title columnheader(i)\n", engines.count + 1);
+    fprintf(f, "\nEOD\nplot");
+    for (int e = 0; e < engines.count; ++e) {
+        fprintf(f, "%s $scenes using %d:xtic(1) lc %d title columnheader(%d)", e ? "," : "", e + 2,
+                bench_engine_color(engines.names[e]), e + 2);
+    }
+    fprintf(f, "\n");
 }
 
 static int bench_has_stages(const bench_row* row)

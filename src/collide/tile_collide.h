@@ -132,13 +132,13 @@ KG_FN int kg_find_edge_in_cell(const kg_tile_neighbourhood* nb, int dx, int dy, 
         return 0;
     }
     const kg_shape* s = &cell.proto->shape;
-    kg_vec2 local = kg_v2(v.x - (float)dx * nb->tile_size.x, v.y - (float)dy * nb->tile_size.y);
+    kg_vec2 in_cell = kg_v2(v.x - (float)dx * nb->tile_size.x, v.y - (float)dy * nb->tile_size.y);
     float tolerance = KG_TILE_WELD * fmaxf(nb->tile_size.x, nb->tile_size.y);
     for (int j = 0; j < s->count && j < KG_MAX_VERTS; ++j) {
         int k = kg_next_vertex(j, s->count);
         int exposed = want_end ? kg_cell_exposed_end(cell.word, j) : kg_cell_exposed_start(cell.word, j);
         kg_vec2 end = want_end ? s->vertices[k] : s->vertices[j];
-        if (exposed && kg_near_point(end, local, tolerance)) {
+        if (exposed && kg_near_point(end, in_cell, tolerance)) {
             *direction = kg_normalize(kg_sub(s->vertices[k], s->vertices[j]));
             *normal = s->normals[j];
             return 1;

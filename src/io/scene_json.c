@@ -765,6 +765,10 @@ static kg_result kg_read_grid_size(const kg_json_reader* reader, const cJSON* la
     *width = cJSON_IsArray(layers->child) && layers->child->child && cJSON_IsString(layers->child->child)
                  ? (int)strlen(layers->child->child->valuestring)
                  : 0;
+    if (*width > 65536 || *height > 65536) {
+        return kg_json_fail(reader, path, "the grid is %d x %d tiles; each side must be at most 65536", *width,
+                            *height);
+    }
     int l = 0;
     for (const cJSON* layer = layers->child; layer; layer = layer->next, ++l) {
         kg_json_path layer_path = kg_json_path_index(path, l);
@@ -846,6 +850,15 @@ static kg_result kg_read_inline_tilemap(kg_loader* loader, const cJSON* json, co
     KG_TRY(kg_read_grid_size(reader, layers, &layers_path, &def.width, &def.height));
     def.layer_count = cJSON_GetArraySize(layers);
     size_t cells = (size_t)def.width * (size_t)def.height * (size_t)def.layer_count;
+    if (cells > ((size_t)1 << 28)) {
+        return kg_json_fail(reader, &layers_path, "the layers hold %zu cells; at most 2^28 are supported", cells);
+    }
+    for (int id = 1; id < def.shape_count + 1; ++id) {
+        if (shapes[id].type == KG_TILE_SHAPE_CIRCLE && def.tile_size.x != def.tile_size.y) {
+            kg_json_path size_path = kg_json_path_key(path, "tile_size");
+            return kg_json_fail(reader, &size_path, "circle tiles need square tiles");
+        }
+    }
     uint16_t* tiles = malloc(cells * sizeof *tiles);
     if (!tiles) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);

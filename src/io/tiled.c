@@ -21,6 +21,8 @@
 #define KG_GID_ROTATE_HEX 0x10000000u
 #define KG_GID_MASK 0x0FFFFFFFu
 #define KG_FILE_NAME_MAX 1024
+/* A tileset or map file bigger than this is not one (a device, say): refused, not read. */
+#define KG_FILE_SIZE_MAX ((size_t)1 << 28)
 /* Shape points this far outside the tile (in tile sizes) are rounding, not design. */
 #define KG_TILE_SLACK 1.0e-3f
 
@@ -29,9 +31,10 @@ typedef struct kg_tileset {
     int tilecount;
     cJSON* document;        /* an external tileset's file, owned */
     const cJSON* json;      /* the tileset object */
-    kg_json_reader reader;  /* names the file the tileset is in */
+    kg_json_reader reader;  /* messages about it start "MAP: tilesets[i] (FILE)" when external */
     kg_json_path path;      /* the tileset in that file */
     char file[KG_FILE_NAME_MAX];
+    char label[KG_FILE_NAME_MAX + 256];
 } kg_tileset;
 
 /* A flipped tile: its raw gid (flags included) and the id it got. */
@@ -82,7 +85,7 @@ static kg_result kg_read_text_file(const char* path, char** out, size_t* length)
     char* text = malloc(capacity);
     while (text) {
         used += fread(text + used, 1, capacity - used, file);
-        if (used < capacity) {
+        if (used < capacity || capacity >= KG_FILE_SIZE_MAX) {
             break;
         }
         char* grown = realloc(text, capacity * 2);
@@ -94,9 +97,9 @@ static kg_result kg_read_text_file(const char* path, char** out, size_t* length)
     }
     int failed = !text || ferror(file);
     fclose(file);
-    if (failed) {
+    if (failed || used >= KG_FILE_SIZE_MAX) {
         free(text);
-        return kg_fail(KG_ERROR_IO, "%s: cannot read it", path);
+        return kg_fail(KG_ERROR_IO, "%s: cannot read it%s", path, failed ? "" : " (larger than 256 MiB)");
     }
     *out = text;
     *length = used;
@@ -212,6 +215,10 @@ static kg_result kg_read_map_header(kg_tiled* t, const cJSON* root)
         KG_TRY(kg_json_require(reader, root, &root_path, sizes[i]));
         KG_TRY(kg_json_int(reader, root, &root_path, sizes[i], 1, 65536, fields[i]));
     }
+    if ((long long)t->width * t->height > (1LL << 28)) {
+        return kg_json_fail(reader, &root_path, "the map is %d x %d tiles; at most 2^28 cells are supported",
+                            t->width, t->height);
+    }
     KG_TRY(kg_check_properties(reader, root, &root_path));
     t->pixels_per_meter = (float)t->tile_width;
     t->friction = 0.6f;
@@ -237,14 +244,13 @@ static kg_result kg_load_external_tileset(kg_tiled* t, kg_tileset* ts, const cha
         kg_json_path p = kg_json_path_key(path, "source");
         return kg_json_fail(&t->reader, &p, "cannot load the tileset: %s", reason);
     }
-    if (!cJSON_IsObject(ts->document)) {
-        kg_json_reader reader = {ts->file};
-        kg_json_path root = {""};
-        return kg_json_fail(&reader, &root, "must be an object (a Tiled tileset)");
-    }
+    snprintf(ts->label, sizeof ts->label, "%s: %s (%s)", t->reader.source, path->text, ts->file);
     ts->json = ts->document;
-    ts->reader.source = ts->file;
+    ts->reader.source = ts->label;
     ts->path.text[0] = '\0';
+    if (!cJSON_IsObject(ts->document)) {
+        return kg_json_fail(&ts->reader, &ts->path, "must be an object (a Tiled tileset)");
+    }
     return KG_OK;
 }
 
@@ -454,6 +460,10 @@ static kg_result kg_read_collision_object(const kg_tiled* t, const kg_tileset* t
     KG_TRY(kg_read_object_size(reader, object, path, &width, &height));
     if (kind == KG_OBJECT_ELLIPSE) {
         KG_TRY(kg_check_round(reader, path, width, height));
+        if (t->tile_width != t->tile_height) {
+            return kg_json_fail(reader, path, "a circle collides only in square tiles (the map's are %d x %d)",
+                                t->tile_width, t->tile_height);
+        }
         kg_vec2 c = kg_object_point(&frame, 0.5 * width, 0.5 * height);
         *out = kg_tile_circle(kg_tile_fraction(t, c.x, c.y), 0.5f * width / (float)t->tile_width);
         return KG_OK;
@@ -485,6 +495,19 @@ static kg_result kg_check_inside_tile(const kg_json_reader* reader, const kg_jso
     return inside ? KG_OK : kg_json_fail(reader, path, "the collision shape reaches outside its tile");
 }
 
+/* Lets the library judge the shape (a polygon with no area, above all), as it will when
+ * the map is made. */
+static kg_result kg_check_tile_shape(const kg_json_reader* reader, const kg_json_path* path,
+                                     const kg_tile_shape* shape)
+{
+    if (kg_tile_shape_check(shape) == KG_OK) {
+        return KG_OK;
+    }
+    char reason[256];
+    snprintf(reason, sizeof reason, "%s", kg_last_error());
+    return kg_json_fail(reader, path, "%s", reason);
+}
+
 /* The collision shape of a tileset's tile entry: none, or its one collision object. */
 static kg_result kg_read_tile_shape(const kg_tiled* t, const kg_tileset* ts, const cJSON* tile,
                                     const kg_json_path* path, kg_tile_shape* out)
@@ -513,6 +536,7 @@ static kg_result kg_read_tile_shape(const kg_tiled* t, const kg_tileset* ts, con
         }
         KG_TRY(kg_read_collision_object(t, ts, object, &object_path, out));
         KG_TRY(kg_check_inside_tile(reader, &object_path, out));
+        KG_TRY(kg_check_tile_shape(reader, &object_path, out));
     }
     int one_way = 0;
     KG_TRY(kg_check_properties(reader, tile, path));

@@ -1,7 +1,7 @@
 /* kg_soak: steps random scenes for a long time with bodies and applicators added and
  * removed all the time, and fails when anything drifts (issue 9, `make soak`).
  *
- *   kg_soak [--seconds N] [--seed N] [--no-memory-check]
+ *   kg_soak [--seconds N] [--seed N] [--first-round N] [--no-memory-check]
  *
  * Rounds follow each other until the time is up. A round is a world from a fixed cycle
  * of configurations (capacities, sub-steps, threads), a container on a wide ground, and
@@ -23,6 +23,8 @@
  *    with --no-memory-check (under AddressSanitizer, whose quarantine grows the RSS on
  *    its own). Leaks are checked by running this program under LeakSanitizer
  *    (scripts/soak.sh).
+ * Every round depends only on the seed and its number, so a failure, reported as
+ * "seed S round R step N", is replayed by kg_soak --seed S --first-round R.
  * Prints a summary; exit status 1 on any failure. */
 #include "core/body_pool.h"
 #include "core/world.h"
@@ -75,6 +77,7 @@ static const soak_config kConfigs[] = {
 #define CONFIG_COUNT ((int)(sizeof kConfigs / sizeof kConfigs[0]))
 
 typedef struct soak_stats {
+    long seed, first_round;
     long rounds, steps, created, destroyed, pool_full, wraps, kicks, applicators_added, wandered_off;
     long failures;
     float fastest;
@@ -89,6 +92,7 @@ typedef struct soak {
     soak_rng r;
     kg_world* world;
     const soak_config* config;
+    int step; /* in the round */
     kg_body* live; /* the live dynamic, kinematic and particle bodies (statics apart) */
     int live_count;
     kg_body stale[SOAK_STALE_KEPT];
@@ -137,7 +141,7 @@ static long rss_kb(void)
 static void fail(soak* s, const char* what)
 {
     if (s->stats->failures++ < 20) {
-        fprintf(stderr, "kg_soak: round %ld step %ld: %s\n", s->stats->rounds, s->stats->steps, what);
+        fprintf(stderr, "kg_soak: seed %ld round %ld step %d: %s\n", s->stats->seed, s->stats->rounds, s->step, what);
     }
 }
 
@@ -504,11 +508,11 @@ static kg_world* create_world(const soak_config* c)
     return kg_create_world(&def, &w) == KG_OK ? w : NULL;
 }
 
-static void run_round(soak_stats* stats, uint64_t seed, double deadline, double* next_sample)
+static void run_round(soak_stats* stats, double deadline, double* next_sample)
 {
     soak s;
     memset(&s, 0, sizeof s);
-    s.r.state = seed;
+    s.r.state = (uint64_t)stats->seed * 0x9E3779B97F4A7C15ull + (uint64_t)stats->rounds;
     s.stats = stats;
     s.config = &kConfigs[stats->rounds % CONFIG_COUNT];
     s.world = create_world(s.config);
@@ -519,7 +523,7 @@ static void run_round(soak_stats* stats, uint64_t seed, double deadline, double*
         fail(&s, "cannot create the round's world");
     } else {
         build_arena(&s);
-        for (int step = 0; step < SOAK_STEPS_PER_ROUND && now_seconds() < deadline; ++step) {
+        for (s.step = 0; s.step < SOAK_STEPS_PER_ROUND && now_seconds() < deadline; ++s.step) {
             churn(&s);
             if (kg_world_step(s.world, DT) != KG_OK) {
                 fail(&s, "kg_world_step failed");
@@ -528,11 +532,11 @@ static void run_round(soak_stats* stats, uint64_t seed, double deadline, double*
             check_bodies(&s);
             check_none_frozen(&s);
             recycle_wanderers(&s);
-            if (step % 97 == 0) {
+            if (s.step % 97 == 0) {
                 check_stale_handles(&s);
             }
             if (now_seconds() >= *next_sample) {
-                sample_memory(&s, stats->rounds < CONFIG_COUNT);
+                sample_memory(&s, stats->rounds < stats->first_round + CONFIG_COUNT);
                 *next_sample += 1.0;
             }
         }
@@ -550,7 +554,7 @@ static void print_summary(const soak_stats* st, double seconds)
            "         %ld pool-full answers, %ld generation wraps, %ld kicks, %ld applicators added,\n"
            "         fastest body %.1f m/s (runaway above %.0f), RSS %ld kB after the first cycle, %ld kB at most\n"
            "         later, %ld failures\n",
-           seconds, st->rounds, st->steps, st->created, st->destroyed, st->wandered_off, st->pool_full, st->wraps,
+           seconds, st->rounds - st->first_round, st->steps, st->created, st->destroyed, st->wandered_off, st->pool_full, st->wraps,
            st->kicks, st->applicators_added, (double)st->fastest, (double)SOAK_RUNAWAY_SPEED, st->rss_baseline_kb,
            st->rss_peak_kb, st->failures);
 }
@@ -558,27 +562,32 @@ static void print_summary(const soak_stats* st, double seconds)
 int main(int argc, char** argv)
 {
     double seconds = 60.0;
-    uint64_t seed = 1;
+    long seed = 1, first_round = 0;
     int check_memory = 1;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--seconds") == 0 && i + 1 < argc) {
             seconds = atof(argv[++i]);
         } else if (strcmp(argv[i], "--seed") == 0 && i + 1 < argc) {
-            seed = strtoull(argv[++i], NULL, 10);
+            seed = atol(argv[++i]);
+        } else if (strcmp(argv[i], "--first-round") == 0 && i + 1 < argc) {
+            first_round = atol(argv[++i]);
         } else if (strcmp(argv[i], "--no-memory-check") == 0) {
             check_memory = 0;
         } else {
-            fprintf(stderr, "usage: kg_soak [--seconds N] [--seed N] [--no-memory-check]\n");
+            fprintf(stderr, "usage: kg_soak [--seconds N] [--seed N] [--first-round N] [--no-memory-check]\n");
             return 2;
         }
     }
     soak_stats stats;
     memset(&stats, 0, sizeof stats);
+    stats.seed = seed;
+    stats.first_round = first_round;
+    stats.rounds = first_round;
     double start = now_seconds(), deadline = start + seconds, next_sample = start;
     while (now_seconds() < deadline) {
-        run_round(&stats, seed * 0x9E3779B97F4A7C15ull + (uint64_t)stats.rounds, deadline, &next_sample);
+        run_round(&stats, deadline, &next_sample);
     }
-    int memory_grew = check_memory && stats.rounds > CONFIG_COUNT &&
+    int memory_grew = check_memory && stats.rounds > first_round + CONFIG_COUNT &&
                       stats.rss_peak_kb > stats.rss_baseline_kb + SOAK_RSS_MARGIN_KB;
     if (memory_grew) {
         fprintf(stderr, "kg_soak: the resident set grew from %ld kB to %ld kB\n", stats.rss_baseline_kb,

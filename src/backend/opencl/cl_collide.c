@@ -7,8 +7,7 @@
  *                sort each run                                     -> pairs sorted by (a, b)
  *   narrowphase  manifold per pair; prefix sum of the touching ones; contacts built in
  *                pair order with last step's impulses carried       -> contacts
- *   colouring    degrees, prefix sum, incidence lists; parallel rounds, then the rest in
- *                order; colours counted per block, prefix sum, scatter -> order, color_start
+ *   colouring    greedy in contact order, by one work-item            -> order, color_start
  *   [read: contact count and colour ranges, for the solver's launches]
  *
  * Two small reads per step (the pair count, to grow the pool when it overflows, and the
@@ -18,11 +17,9 @@
 #include "backend/opencl/cl_backend.h"
 #include "collide/collide.h"
 #include "core/error.h"
-
-/* Parallel colouring rounds before one work-item colours what is left in order. Each
- * round decides the contacts whose earlier neighbours are all decided; on stacked scenes
- * a few rounds decide most of them. */
-#define KG_CL_COLOR_ROUNDS 4
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 typedef struct kg_cl_kernel_arg {
     size_t size;
@@ -40,7 +37,13 @@ static kg_result kg_launch(kg_cl_world* w, kg_cl_kernel_id id, int items, const 
     for (int k = 0; k < count; ++k) {
         KG_TRY(kg_cl_arg(w, w->kernels[id], k, args[k].size, args[k].value));
     }
-    return kg_cl_launch(w, w->kernels[id], w->group_size[id], items, label);
+    static const char* const names[] = {
+#define N_(id, name) #name,
+    KG_CL_KERNELS(N_)
+#undef N_
+    };
+    const char* only = getenv("DBG_LABEL");
+    return kg_cl_launch(w, w->kernels[id], w->group_size[id], items, only && strcmp(label, only) == 0 ? names[id] : label);
 }
 
 /* Sets every argument of kernel id, in order, and launches it over items work-items. */
@@ -84,15 +87,19 @@ static kg_result kg_find_pairs(kg_world* world, kg_cl_world* w, int capacity)
     int slots = world->bodies.high_water;
     cl_uint table_mask = (cl_uint)c->table_size - 1u;
     KG_LAUNCH(w, BP_CLEAR, c->table_size, label, KG_INT(c->table_size), KG_MEM(c->heads), KG_MEM(c->histogram),
-              KG_MEM(c->counts));
+              KG_MEM(c->plan), KG_MEM(c->counts));
     KG_LAUNCH(w, BP_PROXIES, slots, label, KG_INT(slots), KG_FLOAT(world->def.speculative_distance), KG_MEM(KG_A(FLAGS)),
               KG_MEM(KG_A(AABB)), KG_MEM(KG_A(CATEGORY)), KG_MEM(KG_A(MASK)), KG_MEM(c->proxies),
-              KG_MEM(c->histogram), KG_MEM(c->run_fill), KG_MEM(c->degree), KG_MEM(c->degree_fill), KG_MEM(c->run));
+              KG_MEM(c->histogram), KG_MEM(c->run), KG_MEM(c->run_fill), KG_MEM(c->colors_used));
     KG_LAUNCH(w, BP_GRID, 1, label, KG_MEM(c->histogram), KG_MEM(c->grid));
     KG_LAUNCH(w, BP_INSERT, slots, label, KG_INT(slots), KG_UINT(table_mask), KG_MEM(c->grid), KG_MEM(c->proxies),
-              KG_MEM(c->heads), KG_MEM(c->counts));
+              KG_MEM(c->heads), KG_MEM(c->plan), KG_MEM(c->counts));
+    KG_LAUNCH(w, BP_MEASURE, slots, label, KG_INT(slots), KG_MEM(c->grid), KG_MEM(c->proxies), KG_MEM(c->plan),
+              KG_MEM(c->counts));
+    KG_LAUNCH(w, BP_PLAN, 1, label, KG_MEM(c->plan), KG_MEM(c->counts));
     KG_LAUNCH(w, BP_FIND, slots, label, KG_INT(slots), KG_INT(capacity), KG_UINT(table_mask), KG_MEM(c->grid),
-              KG_MEM(c->proxies), KG_MEM(c->heads), KG_MEM(c->counts), KG_MEM(c->raw_pairs), KG_MEM(c->run));
+              KG_MEM(c->proxies), KG_MEM(c->heads), KG_MEM(c->plan), KG_MEM(c->counts), KG_MEM(c->raw_pairs),
+              KG_MEM(c->run));
     return KG_OK;
 }
 
@@ -123,56 +130,18 @@ static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
               KG_MEM(c->manifolds), KG_MEM(c->touching));
     KG_TRY(kg_scan(w, c->touching, c->touching, pairs, KG_CC_CONTACTS, label));
     KG_LAUNCH(w, BUILD_CONTACTS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->manifolds),
-              KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(FRICTION)),
-              KG_MEM(KG_A(RESTITUTION)), KG_MEM(next));
+              KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)),
+              KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)), KG_MEM(next));
     return KG_OK;
 }
 
 /* ---- colouring ------------------------------------------------------------------------ */
 
-/* Each moving body's contacts, listed under it: the neighbours the colouring asks about. */
-static kg_result kg_list_incidence(kg_world* world, kg_cl_world* w, int contacts_bound, cl_mem contacts)
+static kg_result kg_color(kg_cl_world* w, cl_mem contacts)
 {
     kg_cl_collide_buffers* c = &w->collide;
-    const char* label = "kg_color";
-    KG_LAUNCH(w, COLOR_DEGREES, contacts_bound, label, KG_MEM(c->counts), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
-              KG_MEM(c->degree), KG_MEM(c->colors[0]));
-    KG_TRY(kg_scan(w, c->degree, c->degree, world->bodies.high_water, -1, label));
-    KG_LAUNCH(w, COLOR_INCIDENCE, contacts_bound, label, KG_MEM(c->counts), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
-              KG_MEM(c->degree), KG_MEM(c->degree_fill), KG_MEM(c->incidence));
-    return KG_OK;
-}
-
-/* The colours, into c->colors[*last]. */
-static kg_result kg_pick_colors(kg_cl_world* w, int contacts_bound, cl_mem contacts, int* last)
-{
-    kg_cl_collide_buffers* c = &w->collide;
-    const char* label = "kg_color";
-    int in = 0;
-    for (int round = 0; round < KG_CL_COLOR_ROUNDS; ++round, in ^= 1) {
-        KG_LAUNCH(w, COLOR_ROUND, contacts_bound, label, KG_MEM(c->counts), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
-                  KG_MEM(c->degree), KG_MEM(c->incidence), KG_MEM(c->colors[in]), KG_MEM(c->colors[in ^ 1]));
-    }
-    KG_LAUNCH(w, COLOR_FINISH, 1, label, KG_MEM(c->counts), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)), KG_MEM(c->degree),
-              KG_MEM(c->incidence), KG_MEM(c->colors[in]));
-    *last = in;
-    return KG_OK;
-}
-
-/* graph_color.h's order and color_start, by a stable counting sort on the colours. */
-static kg_result kg_group_by_color(kg_cl_world* w, int contacts_bound, int last)
-{
-    kg_cl_collide_buffers* c = &w->collide;
-    const char* label = "kg_color";
-    int block = kg_block_size(contacts_bound);
-    int blocks = kg_block_count(contacts_bound, block);
-    KG_LAUNCH(w, COLOR_COUNT, blocks, label, KG_INT(block), KG_INT(blocks), KG_MEM(c->counts), KG_MEM(c->colors[last]),
-              KG_MEM(c->color_histogram));
-    KG_TRY(kg_scan(w, c->color_histogram, c->color_histogram, (KG_COLOR_COUNT + 1) * blocks, -1, label));
-    KG_LAUNCH(w, COLOR_SCATTER, blocks, label, KG_INT(block), KG_INT(blocks), KG_MEM(c->counts),
-              KG_MEM(c->colors[last]), KG_MEM(c->color_histogram), KG_MEM(w->order));
-    KG_LAUNCH(w, COLOR_STARTS, 1, label, KG_INT(blocks), KG_MEM(c->color_histogram), KG_MEM(c->counts),
-              KG_MEM(w->color_start));
+    KG_LAUNCH(w, COLOR_CONTACTS, 1, "kg_color", KG_MEM(c->counts), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+              KG_MEM(c->colors_used), KG_MEM(c->colors), KG_MEM(w->order), KG_MEM(w->color_start));
     return KG_OK;
 }
 
@@ -208,13 +177,9 @@ kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* count,
         return KG_OK;
     }
     int pairs = (int)b->counters[KG_CC_PAIRS];
-    cl_mem contacts = w->contacts[w->current ^ 1];
-    int last = 0;
     KG_TRY(kg_order_pairs(world, w, pairs));
     KG_TRY(kg_build_contacts(world, b, pairs));
-    KG_TRY(kg_list_incidence(world, w, pairs, contacts));
-    KG_TRY(kg_pick_colors(w, pairs, contacts, &last));
-    KG_TRY(kg_group_by_color(w, pairs, last));
+    KG_TRY(kg_color(w, w->contacts[w->current ^ 1]));
     KG_TRY(kg_read_counters(b, KG_CC_WORDS));
     *count = (int)b->counters[KG_CC_CONTACTS];
     kg_take_color_ranges(b);

@@ -62,7 +62,8 @@ kg_result kg_cl_bind_buffers(kg_cl_world* w)
     KG_BIND(INTEGRATE_VELOCITIES, 5, w->solver_bodies, KG_A(FORCE), KG_A(TORQUE), KG_A(INV_MASS), KG_A(INV_INERTIA),
             KG_A(LINEAR_DAMPING), KG_A(ANGULAR_DAMPING));
     KG_BIND(INTEGRATE_POSITIONS, 2, KG_A(FLAGS), w->solver_bodies);
-    KG_BIND(LOAD_BODIES, 1, KG_A(FLAGS), KG_A(VELOCITY), KG_A(OMEGA), w->solver_bodies);
+    KG_BIND(LOAD_BODIES, 1, KG_A(FLAGS), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE), KG_A(TORQUE), KG_A(ROT),
+            KG_A(CENTER), KG_A(XF), KG_A(LOCAL_CENTER), w->solver_bodies);
     KG_BIND(STORE_BODIES, 1, KG_A(FLAGS), w->solver_bodies, KG_A(VELOCITY), KG_A(OMEGA), KG_A(CENTER), KG_A(ROT));
     KG_BIND(PREPARE_CONTACTS, 1, w->solver_params);
     KG_BIND(PREPARE_CONTACTS, 3, w->constraints, w->solver_bodies, KG_A(INV_MASS), KG_A(INV_INERTIA), KG_A(XF),

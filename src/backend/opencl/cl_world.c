@@ -411,12 +411,11 @@ static kg_result kg_cl_create_collide_buffers(kg_cl_world* w, int slots)
         {&c->heads, (size_t)c->table_size * words},
         {&c->histogram, KG_BP_EXTENT_BINS * words},
         {&c->grid, 2 * sizeof(cl_float)},
+        {&c->plan, KG_BP_PLAN_WORDS * words},
         {&c->run, (n + 1) * words},
         {&c->run_fill, n * words},
-        {&c->degree, (n + 1) * words},
-        {&c->degree_fill, n * words},
+        {&c->colors_used, n * words},
         {&c->block_sums, KG_SCAN_MAX_BLOCKS * words},
-        {&c->color_histogram, ((KG_COLOR_COUNT + 1) * KG_SCAN_MAX_BLOCKS + 1) * words},
     };
     return kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
 }
@@ -454,8 +453,8 @@ static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
 static void kg_cl_release_contact_buffers(kg_cl_world* w)
 {
     kg_cl_collide_buffers* c = &w->collide;
-    cl_mem* list[] = {&w->contacts[0], &w->contacts[1], &w->constraints, &w->colored, &w->order, &c->raw_pairs,
-                      &c->pairs, &c->manifolds, &c->touching, &c->incidence, &c->colors[0], &c->colors[1]};
+    cl_mem* list[] = {&w->contacts[0], &w->contacts[1], &w->constraints, &w->colored, &w->order,
+                      &c->raw_pairs,   &c->pairs,       &c->manifolds,   &c->touching, &c->colors};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
         kg_cl_release(w, list[k]);
     }
@@ -482,9 +481,7 @@ kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
         {&c->pairs, n * 2u * words},
         {&c->manifolds, n * sizeof(kg_manifold)},
         {&c->touching, (n + 1) * words},
-        {&c->incidence, n * 2u * words},
-        {&c->colors[0], n * words},
-        {&c->colors[1], n * words},
+        {&c->colors, n * words},
     };
     kg_result r = kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
     if (r == KG_OK) {
@@ -555,8 +552,8 @@ void kg_cl_world_destroy(kg_cl_world* w)
     kg_cl_release(w, &w->targets);
     kg_cl_release_contact_buffers(w);
     kg_cl_collide_buffers* c = &w->collide;
-    cl_mem* list[] = {&c->counts, &c->proxies, &c->heads, &c->histogram, &c->grid, &c->run, &c->run_fill,
-                      &c->degree, &c->degree_fill, &c->block_sums, &c->color_histogram};
+    cl_mem* list[] = {&c->counts, &c->proxies, &c->heads, &c->histogram, &c->grid,       &c->plan,
+                      &c->run,    &c->run_fill, &c->colors_used, &c->block_sums};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
         kg_cl_release(w, list[k]);
     }

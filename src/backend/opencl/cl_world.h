@@ -25,7 +25,7 @@
     X(INV_MASS, inv_mass, 0) X(INV_INERTIA, inv_inertia, 0)                     \
     X(LINEAR_DAMPING, linear_damping, 0) X(ANGULAR_DAMPING, angular_damping, 0) \
     X(FRICTION, friction, 0) X(RESTITUTION, restitution, 0)                     \
-    X(CATEGORY, category, 0) X(MASK, mask, 0)
+    X(CATEGORY, category, 0) X(MASK, mask, 0) X(GENERATION, generation, 0)
 
 typedef enum kg_cl_array {
 #define KG_CL_ARRAY_ENUM(id, member, state) KG_CL_##id,
@@ -47,12 +47,10 @@ typedef enum kg_cl_array {
     X(FINALIZE, kg_finalize)                                                               \
     X(SCAN_BLOCKS, kg_scan_blocks) X(SCAN_APPLY, kg_scan_apply)                            \
     X(BP_CLEAR, kg_bp_clear) X(BP_PROXIES, kg_bp_proxies) X(BP_GRID, kg_bp_grid)           \
-    X(BP_INSERT, kg_bp_insert) X(BP_FIND, kg_bp_find) X(BP_SCATTER, kg_bp_scatter)         \
+    X(BP_INSERT, kg_bp_insert) X(BP_MEASURE, kg_bp_measure) X(BP_PLAN, kg_bp_plan)         \
+    X(BP_FIND, kg_bp_find) X(BP_SCATTER, kg_bp_scatter)                                    \
     X(BP_SORT_RUNS, kg_bp_sort_runs) X(NARROWPHASE, kg_narrowphase)                        \
-    X(BUILD_CONTACTS, kg_build_contacts) X(COLOR_DEGREES, kg_color_degrees)                \
-    X(COLOR_INCIDENCE, kg_color_incidence) X(COLOR_ROUND, kg_color_round)                  \
-    X(COLOR_FINISH, kg_color_finish) X(COLOR_COUNT, kg_color_count)                        \
-    X(COLOR_SCATTER, kg_color_scatter) X(COLOR_STARTS, kg_color_starts)
+    X(BUILD_CONTACTS, kg_build_contacts) X(COLOR_CONTACTS, kg_color_contacts)
 
 typedef enum kg_cl_kernel_id {
 #define KG_CL_KERNEL_ENUM(id, name) KG_CL_K_##id,
@@ -82,19 +80,17 @@ typedef struct kg_cl_collide_buffers {
     int table_size;        /* a power of two, at least twice the slots */
     cl_mem histogram;      /* box extents, KG_BP_EXTENT_BINS */
     cl_mem grid;           /* level 0's cell size and its inverse */
+    cl_mem plan;           /* how the grid's levels search each other, KG_BP_PLAN_WORDS */
     cl_mem run;            /* pairs per lower slot, then their prefix sum (slots + 1) */
     cl_mem run_fill;
-    cl_mem degree;         /* contacts per moving body, then their prefix sum (slots + 1) */
-    cl_mem degree_fill;
+    cl_mem colors_used;    /* per slot, the colours its contacts took so far */
     cl_mem block_sums;     /* KG_SCAN_MAX_BLOCKS */
-    cl_mem color_histogram;
     /* ...and per contact, sized with the contact pool */
     cl_mem raw_pairs;      /* pairs as found */
     cl_mem pairs;          /* pairs sorted by (a, b) */
     cl_mem manifolds;      /* one per pair */
     cl_mem touching;       /* per pair, then its prefix sum: the contact index (pairs + 1) */
-    cl_mem incidence;      /* contacts listed under each moving body, 2 per contact */
-    cl_mem colors[2];      /* colour per contact, this round's and last round's */
+    cl_mem colors;         /* colour per contact */
 } kg_cl_collide_buffers;
 
 typedef struct kg_cl_world {

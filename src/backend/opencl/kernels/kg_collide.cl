@@ -1,13 +1,12 @@
 /* The collision stage's kernels: broadphase, narrowphase, persistent contacts and the
  * constraint graph colouring, with the prefix sums they share. Built in one program after
- * kg_step.cl, whose body flag helpers (kg_type_of, kg_is_simulated) they use.
+ * kg_step.cl, whose body flag helpers (kg_is_alive, kg_is_simulated) they use.
  *
  * Each stage ends in the exact list the CPU backend builds, in the same order, although
- * some kernels append with integer atomics in whatever order work-items run: every
- * atomically filled list is either consumed by an order-independent step (counts, sets
- * of neighbours) or put in order before it is used (pair runs sorted by partner). No
- * float is ever accumulated atomically. Element counts the host does not know come from
- * the counters buffer (KG_CC_*); kernels return past them. */
+ * the broadphase appends pairs with integer atomics in whatever order work-items run:
+ * the pairs are put in order (runs sorted by partner) before they are used. No float is
+ * ever accumulated atomically. Element counts the host does not know come from the
+ * counters buffer (KG_CC_*). */
 #include "core/kg_layout.h"
 #include "collide/aabb.h"
 #include "collide/manifold.h"
@@ -77,13 +76,17 @@ __kernel void kg_scan_apply(int count, int block, __global const uint* values, _
  *  - boxes are keyed by the cell of their lower corner, at the lowest grid level where
  *    they span at most two cells per axis (level 0's cells are the 90th percentile of the
  *    box extents, each level doubles them), in a hash table of singly linked lists;
- *  - each box looks for partners at its own level and above: a box overlapping it has its
- *    lower corner in the cells of its footprint widened by one cell down and left (cell
- *    coordinates are monotone in position, and a partner spans at most two cells). At
- *    its own level it takes partners of higher slots, above it takes every partner, so
- *    each pair is found once;
- *  - pairs are appended, counted per lower slot, scattered to their slot's run and each
- *    run sorted by the upper slot. */
+ *  - a box overlapping box i, keyed at level m, has its lower corner in the cells of i's
+ *    footprint at level m widened by one cell down and left: cell coordinates are
+ *    monotone in position, and a keyed box spans at most two cells. So two boxes of one
+ *    level are at most one cell apart, and each finds the partners in its own cell of
+ *    higher slot, in the cell on its right and in the three above (collide/broadphase.c's
+ *    scheme): each pair once. Between two levels, either every box of the lower level
+ *    looks up (3 x 3 cells), or every box of the upper level looks down (its footprint),
+ *    whichever probes fewer cells (kg_bp_plan): a few grounds and walls look down rather
+ *    than have every small box look up at them;
+ *  - pairs are appended (in batches, to spare the shared counter), counted per lower
+ *    slot, scattered to their slot's run and each run sorted by the upper slot. */
 
 KG_FN float kg_bp_extent(kg_aabb box)
 {
@@ -105,7 +108,30 @@ KG_FN kg_i32 kg_bp_coord(float v, float inv_cell_size, kg_u32 level)
     return (kg_i32)fmin(fmax(f, -KG_BP_COORD_LIMIT), KG_BP_COORD_LIMIT);
 }
 
-KG_FN kg_u32 kg_bp_hash(kg_i32 x, kg_i32 y, kg_u32 level, kg_u32 table_mask)
+/* The cells whose keyed boxes may overlap box at level: its footprint widened by one cell
+ * down and left. */
+typedef struct kg_bp_range {
+    kg_i32 x0, y0, x1, y1;
+} kg_bp_range;
+
+KG_FN kg_bp_range kg_bp_search_range(kg_aabb box, float inv_cell_size, kg_u32 level)
+{
+    kg_bp_range r;
+    r.x0 = kg_bp_coord(box.lower.x, inv_cell_size, level) - 1;
+    r.y0 = kg_bp_coord(box.lower.y, inv_cell_size, level) - 1;
+    r.x1 = kg_bp_coord(box.upper.x, inv_cell_size, level);
+    r.y1 = kg_bp_coord(box.upper.y, inv_cell_size, level);
+    return r;
+}
+
+/* How many cells the range holds, saturated (the ranges of huge boxes overflow). */
+KG_FN kg_u32 kg_bp_range_cells(kg_bp_range r)
+{
+    float cells = ((float)r.x1 - (float)r.x0 + 1.0f) * ((float)r.y1 - (float)r.y0 + 1.0f);
+    return cells < 1073741824.0f ? (kg_u32)cells : 1073741824u;
+}
+
+KG_FN kg_u32 kg_bp_hash(kg_i32 x, kg_i32 y, kg_u32 level, uint table_mask)
 {
     kg_u32 h = (kg_u32)x * 0x8DA6B343u ^ (kg_u32)y * 0xD8163841u ^ level * 0xCB1AB31Fu;
     h ^= h >> 15;
@@ -114,8 +140,17 @@ KG_FN kg_u32 kg_bp_hash(kg_i32 x, kg_i32 y, kg_u32 level, kg_u32 table_mask)
     return h & table_mask;
 }
 
-/* Empties the hash table, the extent histogram and the counters. */
-__kernel void kg_bp_clear(int table_size, __global uint* heads, __global uint* histogram, __global uint* counts)
+KG_FN int kg_bp_occupied(uint levels, kg_u32 level) { return (levels >> level) & 1u; }
+
+/* Whether the boxes of level upper look down at level lower (else those of lower look up). */
+KG_FN int kg_bp_looks_down(__global const uint* plan, kg_u32 lower, kg_u32 upper)
+{
+    return (plan[KG_BP_PLAN_DOWN + upper] >> lower) & 1u;
+}
+
+/* Empties the hash table, the extent histogram, the level plan and the counters. */
+__kernel void kg_bp_clear(int table_size, __global uint* heads, __global uint* histogram, __global uint* plan,
+                          __global uint* counts)
 {
     int i = (int)get_global_id(0);
     if (i < table_size) {
@@ -123,6 +158,9 @@ __kernel void kg_bp_clear(int table_size, __global uint* heads, __global uint* h
     }
     if (i < KG_BP_EXTENT_BINS) {
         histogram[i] = 0u;
+    }
+    if (i < KG_BP_PLAN_WORDS) {
+        plan[i] = 0u;
     }
     if (i < KG_CC_WORDS) {
         counts[i] = 0u;
@@ -133,8 +171,8 @@ __kernel void kg_bp_clear(int table_size, __global uint* heads, __global uint* h
  * the slot's per-step counters zeroed for the stages after. */
 __kernel void kg_bp_proxies(int count, float margin, __global const kg_u32* flags, __global const kg_aabb* aabb,
                             __global const kg_u32* category, __global const kg_u32* mask,
-                            __global kg_bp_proxy* proxies, __global uint* histogram, __global uint* run_fill,
-                            __global uint* degree, __global uint* degree_fill, __global uint* run_count)
+                            __global kg_bp_proxy* proxies, __global uint* histogram, __global uint* run_count,
+                            __global uint* run_fill, __global uint* colors_used)
 {
     int i = (int)get_global_id(0);
     if (i >= count) {
@@ -142,10 +180,8 @@ __kernel void kg_bp_proxies(int count, float margin, __global const kg_u32* flag
     }
     run_count[i] = 0u;
     run_fill[i] = 0u;
-    degree[i] = 0u;
-    degree_fill[i] = 0u;
+    colors_used[i] = 0u;
     kg_u32 f = flags[i];
-    kg_u32 type = kg_type_of(f);
     kg_bp_proxy p;
     p.box = kg_aabb_fatten(aabb[i], margin);
     p.category = category[i];
@@ -155,10 +191,9 @@ __kernel void kg_bp_proxies(int count, float margin, __global const kg_u32* flag
     p.level = 0u;
     p.next = KG_NULL_INDEX;
     p.pad = 0u;
-    int candidate = (f & (KG_FLAG_ALIVE | KG_FLAG_FROZEN)) == KG_FLAG_ALIVE && kg_vec_is_finite(p.box.lower) &&
-                    kg_vec_is_finite(p.box.upper);
-    int moves = type == KG_BODY_DYNAMIC || type == KG_BODY_PARTICLE;
-    p.flags = (candidate ? KG_BP_CANDIDATE : 0u) | (moves ? KG_BP_MOVES : 0u);
+    /* a frozen body stays where it froze, as solid as a static one */
+    int candidate = kg_is_alive(f) && kg_vec_is_finite(p.box.lower) && kg_vec_is_finite(p.box.upper);
+    p.flags = (candidate ? KG_BP_CANDIDATE : 0u) | (kg_is_simulated(f) ? KG_BP_MOVES : 0u);
     proxies[i] = p;
     if (candidate) {
         atomic_inc(&histogram[kg_bp_extent_bin(p.box)]);
@@ -190,7 +225,7 @@ __kernel void kg_bp_grid(__global const uint* histogram, __global float* grid)
 
 /* Keys candidate i at the lowest level where it spans at most two cells per axis. */
 __kernel void kg_bp_insert(int count, uint table_mask, __global const float* grid, __global kg_bp_proxy* proxies,
-                           __global uint* heads, __global uint* counts)
+                           __global uint* heads, __global uint* plan, __global uint* counts)
 {
     int i = (int)get_global_id(0);
     if (i >= count || !(proxies[i].flags & KG_BP_CANDIDATE)) {
@@ -212,7 +247,49 @@ __kernel void kg_bp_insert(int count, uint table_mask, __global const float* gri
     proxies[i].cell_x = x0;
     proxies[i].cell_y = y0;
     proxies[i].next = atomic_xchg(&heads[kg_bp_hash(x0, y0, level, table_mask)], (uint)i);
+    atomic_inc(&plan[KG_BP_PLAN_COUNTS + level]);
     atomic_or(&counts[KG_CC_LEVELS], 1u << level);
+}
+
+/* For each lower occupied level, the largest footprint a box of i's level would search
+ * there: what looking down would cost. */
+__kernel void kg_bp_measure(int count, __global const float* grid, __global const kg_bp_proxy* proxies,
+                            __global uint* plan, __global const uint* counts)
+{
+    int i = (int)get_global_id(0);
+    if (i >= count || !(proxies[i].flags & KG_BP_CANDIDATE)) {
+        return;
+    }
+    kg_aabb box = proxies[i].box;
+    kg_u32 level = proxies[i].level;
+    uint levels = counts[KG_CC_LEVELS];
+    for (kg_u32 lower = 0u; lower < level; ++lower) {
+        if (kg_bp_occupied(levels, lower)) {
+            kg_u32 cells = kg_bp_range_cells(kg_bp_search_range(box, grid[1], lower));
+            atomic_max(&plan[KG_BP_PLAN_FOOTPRINTS + lower * KG_BP_LEVELS + level], cells);
+        }
+    }
+}
+
+/* Which way each couple of occupied levels searches: down when the upper level's boxes
+ * would probe fewer cells over their footprints than the lower level's would probe
+ * looking up (3 x 3 each). One work-item. */
+__kernel void kg_bp_plan(__global uint* plan, __global const uint* counts)
+{
+    if (get_global_id(0) != 0) {
+        return;
+    }
+    uint levels = counts[KG_CC_LEVELS];
+    for (kg_u32 upper = 1u; upper < KG_BP_LEVELS; ++upper) {
+        uint down = 0u;
+        for (kg_u32 lower = 0u; lower < upper && kg_bp_occupied(levels, upper); ++lower) {
+            float up_cost = 9.0f * (float)plan[KG_BP_PLAN_COUNTS + lower];
+            float down_cost = (float)plan[KG_BP_PLAN_COUNTS + upper] *
+                              (float)plan[KG_BP_PLAN_FOOTPRINTS + lower * KG_BP_LEVELS + upper];
+            down |= (kg_bp_occupied(levels, lower) && down_cost < up_cost) ? 1u << lower : 0u;
+        }
+        plan[KG_BP_PLAN_DOWN + upper] = down;
+    }
 }
 
 /* kg_consider of collide/broadphase.c: one of them moves, the boxes overlap, the filters
@@ -223,38 +300,61 @@ KG_FN int kg_bp_pairs_with(const kg_bp_proxy* p, const kg_bp_proxy* q)
            (q->category & p->mask);
 }
 
-/* Appends (a, b), and counts it in a's run, while the capacity lasts. */
-KG_FN void kg_bp_emit(kg_u32 a, kg_u32 b, int capacity, __global uint* counts, __global uint2* raw,
-                      __global uint* run_count)
+/* Pairs found by one work-item, appended to the shared list a batch at a time. */
+#define KG_BP_BATCH 16
+
+typedef struct kg_bp_batch {
+    uint2 pairs[KG_BP_BATCH];
+    int count;
+} kg_bp_batch;
+
+/* Appends the batch, and counts each pair in its lower slot's run, while the capacity
+ * lasts; past it, only counts. */
+KG_FN void kg_bp_flush(kg_bp_batch* batch, int capacity, __global uint* counts, __global uint2* raw,
+                       __global uint* run_count)
 {
-    uint at = atomic_inc(&counts[KG_CC_PAIRS]);
-    if (at < (uint)capacity) {
-        raw[at] = (uint2)(a, b);
-        atomic_inc(&run_count[a]);
-    } else {
-        atomic_or(&counts[KG_CC_OVERFLOW], 1u);
+    uint at = atomic_add(&counts[KG_CC_PAIRS], (uint)batch->count);
+    for (int k = 0; k < batch->count; ++k) {
+        if (at + (uint)k < (uint)capacity) {
+            raw[at + (uint)k] = batch->pairs[k];
+            atomic_inc(&run_count[batch->pairs[k].x]);
+        } else {
+            atomic_or(&counts[KG_CC_OVERFLOW], 1u);
+        }
     }
+    batch->count = 0;
 }
 
-/* The boxes keyed in cell (x, y) of level that pair with proxy i. */
-KG_FN void kg_bp_scan_cell(kg_u32 i, const kg_bp_proxy* p, kg_i32 x, kg_i32 y, kg_u32 level, uint table_mask,
-                           __global const kg_bp_proxy* proxies, __global const uint* heads, int capacity,
-                           __global uint* counts, __global uint2* raw, __global uint* run_count)
+KG_FN void kg_bp_emit(kg_bp_batch* batch, kg_u32 p, kg_u32 q, int capacity, __global uint* counts,
+                      __global uint2* raw, __global uint* run_count)
 {
+    if (batch->count == KG_BP_BATCH) {
+        kg_bp_flush(batch, capacity, counts, raw, run_count);
+    }
+    batch->pairs[batch->count++] = (uint2)(min(p, q), max(p, q));
+}
+
+/* The boxes keyed in cell (x, y) of level that pair with proxy i; in i's own cell only
+ * those of higher slots. */
+KG_FN void kg_bp_scan_cell(kg_bp_batch* batch, kg_u32 i, const kg_bp_proxy* p, kg_i32 x, kg_i32 y, kg_u32 level,
+                           uint table_mask, __global const kg_bp_proxy* proxies, __global const uint* heads,
+                           int capacity, __global uint* counts, __global uint2* raw, __global uint* run_count)
+{
+    int own_cell = level == p->level && x == p->cell_x && y == p->cell_y;
     for (kg_u32 j = heads[kg_bp_hash(x, y, level, table_mask)]; j != KG_NULL_INDEX; j = proxies[j].next) {
         kg_bp_proxy q = proxies[j];
-        if (q.level != level || q.cell_x != x || q.cell_y != y || (level == p->level && j <= i)) {
+        if (q.level != level || q.cell_x != x || q.cell_y != y || (own_cell && j <= i)) {
             continue;
         }
         if (kg_bp_pairs_with(p, &q)) {
-            kg_bp_emit(min(i, j), max(i, j), capacity, counts, raw, run_count);
+            kg_bp_emit(batch, i, j, capacity, counts, raw, run_count);
         }
     }
 }
 
 __kernel void kg_bp_find(int count, int capacity, uint table_mask, __global const float* grid,
-                         __global const kg_bp_proxy* proxies, __global const uint* heads, __global uint* counts,
-                         __global uint2* raw, __global uint* run_count)
+                         __global const kg_bp_proxy* proxies, __global const uint* heads, __global const uint* plan,
+                         __global uint* counts, __global uint2* raw, __global uint* run_count)
 {
     int i = (int)get_global_id(0);
     if (i >= count) {
@@ -264,21 +364,33 @@ __kernel void kg_bp_find(int count, int capacity, uint table_mask, __global cons
     if (!(p.flags & KG_BP_CANDIDATE)) {
         return;
     }
+    kg_bp_batch batch;
+    batch.count = 0;
     float inv = grid[1];
     uint levels = counts[KG_CC_LEVELS];
-    for (kg_u32 level = p.level; level < KG_BP_LEVELS; ++level) {
-        if (!((levels >> level) & 1u)) {
+    kg_u32 own = p.level;
+    kg_i32 x = p.cell_x, y = p.cell_y;
+    /* own level: the rest of its cell, the cell on its right, the three above */
+    kg_bp_scan_cell(&batch, (kg_u32)i, &p, x, y, own, table_mask, proxies, heads, capacity, counts, raw, run_count);
+    kg_bp_scan_cell(&batch, (kg_u32)i, &p, x + 1, y, own, table_mask, proxies, heads, capacity, counts, raw, run_count);
+    for (kg_i32 dx = -1; dx <= 1 && own != KG_BP_TOP_LEVEL; ++dx) {
+        kg_bp_scan_cell(&batch, (kg_u32)i, &p, x + dx, y + 1, own, table_mask, proxies, heads, capacity, counts, raw,
+                        run_count);
+    }
+    for (kg_u32 level = 0u; level < KG_BP_LEVELS; ++level) {
+        int other_side = level < own ? kg_bp_looks_down(plan, level, own) : !kg_bp_looks_down(plan, own, level);
+        if (level == own || !kg_bp_occupied(levels, level) || !other_side) {
             continue;
         }
-        kg_i32 x0 = kg_bp_coord(p.box.lower.x, inv, level) - 1, x1 = kg_bp_coord(p.box.upper.x, inv, level);
-        kg_i32 y0 = kg_bp_coord(p.box.lower.y, inv, level) - 1, y1 = kg_bp_coord(p.box.upper.y, inv, level);
-        for (kg_i32 y = y0; y <= y1; ++y) {
-            for (kg_i32 x = x0; x <= x1; ++x) {
-                kg_bp_scan_cell((kg_u32)i, &p, x, y, level, table_mask, proxies, heads, capacity, counts, raw,
-                                run_count);
+        kg_bp_range r = kg_bp_search_range(p.box, inv, level);
+        for (kg_i32 cy = r.y0; cy <= r.y1; ++cy) {
+            for (kg_i32 cx = r.x0; cx <= r.x1; ++cx) {
+                kg_bp_scan_cell(&batch, (kg_u32)i, &p, cx, cy, level, table_mask, proxies, heads, capacity, counts,
+                                raw, run_count);
             }
         }
     }
+    kg_bp_flush(&batch, capacity, counts, raw, run_count);
 }
 
 /* Pair k to the run of its lower slot (run_start: the prefix sum of the run counts). */
@@ -376,8 +488,10 @@ __kernel void kg_narrowphase(int count, float speculative_distance, float dt, __
     touching[k] = m.point_count > 0 ? 1u : 0u;
 }
 
-/* Last step's contact of pair (a, b) among its body contacts (sorted by (a, b)), or -1. */
-KG_FN int kg_find_previous(__global const kg_contact* previous, int count, kg_u32 a, kg_u32 b)
+/* Last step's contact of pair (a, b) among its body contacts (sorted by (a, b)), or -1;
+ * only a contact between the same two bodies, not others that took over their slots. */
+KG_FN int kg_find_previous(__global const kg_contact* previous, int count, kg_u32 a, kg_u32 b,
+                           __global const kg_u32* generation)
 {
     int lo = 0, hi = count;
     while (lo < hi) {
@@ -389,15 +503,18 @@ KG_FN int kg_find_previous(__global const kg_contact* previous, int count, kg_u3
             hi = mid;
         }
     }
-    return lo < count && previous[lo].a == a && previous[lo].b == b ? lo : -1;
+    int same = lo < count && previous[lo].a == a && previous[lo].b == b &&
+               previous[lo].generation_a == generation[a] && previous[lo].generation_b == generation[b];
+    return same ? lo : -1;
 }
 
 /* kg_build_contacts of collide/collide.c: touching pair k becomes contact index[k] (the
  * prefix sum of touching keeps the pairs' order), with last step's impulses carried. */
 __kernel void kg_build_contacts(int count, __global const uint2* pairs, __global const kg_manifold* manifolds,
                                 __global const uint* index, __global const kg_contact* previous,
-                                int previous_count, __global const float* friction,
-                                __global const float* restitution, __global kg_contact* contacts)
+                                int previous_count, __global const kg_u32* generation,
+                                __global const float* friction, __global const float* restitution,
+                                __global kg_contact* contacts)
 {
     int k = (int)get_global_id(0);
     if (k >= count || index[k + 1] == index[k]) {
@@ -406,7 +523,7 @@ __kernel void kg_build_contacts(int count, __global const uint2* pairs, __global
     uint2 p = pairs[k];
     kg_contact c;
     c.manifold = manifolds[k];
-    int old = kg_find_previous(previous, previous_count, p.x, p.y);
+    int old = kg_find_previous(previous, previous_count, p.x, p.y, generation);
     if (old >= 0) {
         kg_manifold carried = previous[old].manifold;
         kg_contact_carry_impulses(&c.manifold, &carried);
@@ -416,94 +533,22 @@ __kernel void kg_build_contacts(int count, __global const uint2* pairs, __global
     c.tile = KG_NULL_INDEX;
     c.friction = sqrtf(friction[p.x] * friction[p.y]);
     c.restitution = fmaxf(restitution[p.x], restitution[p.y]);
-    c.pad[0] = 0u;
-    c.pad[1] = 0u;
-    c.pad[2] = 0u;
+    c.generation_a = generation[p.x];
+    c.generation_b = generation[p.y];
+    c.pad = 0u;
     contacts[index[k]] = c;
 }
 
 /* ---- graph colouring ------------------------------------------------------------------ */
-
-/* solve/graph_color.c colours contacts greedily in order: contact k takes the lowest
- * colour that no earlier contact sharing a moving body with it took, or the overflow when
- * all KG_COLOR_COUNT are taken. The same colours in parallel: contact k is decided as soon
- * as all its earlier neighbours are (rounds, one launch each), and a last work-item
- * decides the rest in order. Neighbours come from an incidence list per moving body. */
 
 KG_FN int kg_slot_moves(__global const kg_u32* flags, kg_u32 slot)
 {
     return slot != KG_NULL_INDEX && kg_is_simulated(flags[slot]);
 }
 
-/* Counts each moving body's contacts; marks every contact undecided. */
-__kernel void kg_color_degrees(__global const uint* counts, __global const kg_contact* contacts,
-                               __global const kg_u32* flags, __global uint* degree, __global uint* colors)
+/* The lowest colour free in used, or the overflow when all KG_COLOR_COUNT are taken. */
+KG_FN uint kg_first_free_color(uint used)
 {
-    int k = (int)get_global_id(0);
-    if (k >= (int)counts[KG_CC_CONTACTS]) {
-        return;
-    }
-    colors[k] = KG_COLOR_UNDECIDED;
-    kg_u32 a = contacts[k].a, b = contacts[k].b;
-    if (kg_slot_moves(flags, a)) {
-        atomic_inc(&degree[a]);
-    }
-    if (kg_slot_moves(flags, b)) {
-        atomic_inc(&degree[b]);
-    }
-}
-
-/* Lists contact k under each of its moving bodies (start: prefix sum of the degrees). */
-__kernel void kg_color_incidence(__global const uint* counts, __global const kg_contact* contacts,
-                                 __global const kg_u32* flags, __global const uint* start, __global uint* fill,
-                                 __global uint* incidence)
-{
-    int k = (int)get_global_id(0);
-    if (k >= (int)counts[KG_CC_CONTACTS]) {
-        return;
-    }
-    kg_u32 a = contacts[k].a, b = contacts[k].b;
-    if (kg_slot_moves(flags, a)) {
-        incidence[start[a] + atomic_inc(&fill[a])] = (uint)k;
-    }
-    if (kg_slot_moves(flags, b)) {
-        incidence[start[b] + atomic_inc(&fill[b])] = (uint)k;
-    }
-}
-
-/* Adds the colours of contact k's earlier neighbours through body slot to *used; 0 when
- * one of them is still undecided. */
-KG_FN int kg_gather_colors(kg_u32 slot, uint k, __global const uint* start, __global const uint* incidence,
-                           __global const uint* colors, uint* used)
-{
-    for (uint e = start[slot]; e < start[slot + 1u]; ++e) {
-        uint j = incidence[e];
-        if (j >= k) {
-            continue;
-        }
-        uint c = colors[j];
-        if (c == KG_COLOR_UNDECIDED) {
-            return 0;
-        }
-        if (c < KG_COLOR_COUNT) {
-            *used |= 1u << c;
-        }
-    }
-    return 1;
-}
-
-/* kg_pick_color of solve/graph_color.c, or KG_COLOR_UNDECIDED while an earlier neighbour
- * is undecided. */
-KG_FN uint kg_color_of(uint k, __global const kg_contact* contacts, __global const kg_u32* flags,
-                       __global const uint* start, __global const uint* incidence, __global const uint* colors)
-{
-    kg_u32 a = contacts[k].a, b = contacts[k].b;
-    uint used = 0u;
-    int ready = (!kg_slot_moves(flags, a) || kg_gather_colors(a, k, start, incidence, colors, &used)) &&
-                (!kg_slot_moves(flags, b) || kg_gather_colors(b, k, start, incidence, colors, &used));
-    if (!ready) {
-        return KG_COLOR_UNDECIDED;
-    }
     uint c = 0u;
     while (c < KG_COLOR_COUNT && ((used >> c) & 1u)) {
         c += 1u;
@@ -511,89 +556,49 @@ KG_FN uint kg_color_of(uint k, __global const kg_contact* contacts, __global con
     return c;
 }
 
-/* One round: reads last round's colours, writes this round's (no work-item reads what
- * another writes in the same launch). */
-__kernel void kg_color_round(__global const uint* counts, __global const kg_contact* contacts,
-                             __global const kg_u32* flags, __global const uint* start,
-                             __global const uint* incidence, __global const uint* colors_in, __global uint* colors_out)
-{
-    int k = (int)get_global_id(0);
-    if (k >= (int)counts[KG_CC_CONTACTS]) {
-        return;
-    }
-    uint c = colors_in[k];
-    colors_out[k] = c != KG_COLOR_UNDECIDED ? c : kg_color_of((uint)k, contacts, flags, start, incidence, colors_in);
-}
-
-/* The contacts the rounds left undecided, in order, by one work-item: when it reaches
- * one, every earlier contact is decided. */
-__kernel void kg_color_finish(__global const uint* counts, __global const kg_contact* contacts,
-                              __global const kg_u32* flags, __global const uint* start,
-                              __global const uint* incidence, __global uint* colors)
+/* kg_graph_color of solve/graph_color.c, by one work-item: contact k takes the lowest
+ * colour that no earlier contact sharing a moving body with it took (used: per body
+ * slot, the colours its contacts took so far, zeroed by kg_bp_proxies), or the overflow;
+ * then graph_color.h's color_start and order (contact indices grouped by colour, in
+ * contact order within each), also into the counters for the host. Greedy in contact
+ * order is serial by nature; it costs the CPU backend's colouring, one pass over the
+ * contacts and one over their bodies' masks, on one core of the device. */
+__kernel void kg_color_contacts(__global uint* counts, __global const kg_contact* contacts,
+                                __global const kg_u32* flags, __global uint* used, __global uint* colors,
+                                __global int* order, __global int* color_start)
 {
     if (get_global_id(0) != 0) {
         return;
     }
     uint count = counts[KG_CC_CONTACTS];
-    for (uint k = 0u; k < count; ++k) {
-        if (colors[k] == KG_COLOR_UNDECIDED) {
-            colors[k] = kg_color_of(k, contacts, flags, start, incidence, colors);
-        }
-    }
-}
-
-/* How many contacts of each colour block g holds, at histogram[colour * blocks + g], so
- * that the prefix sum of the histogram gives each block's first place in each colour. */
-__kernel void kg_color_count(int block, int blocks, __global const uint* counts, __global const uint* colors,
-                             __global uint* histogram)
-{
-    int g = (int)get_global_id(0);
-    if (g >= blocks) {
-        return;
-    }
-    uint sizes[KG_COLOR_COUNT + 1];
-    for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
-        sizes[c] = 0u;
-    }
-    int end = min((int)counts[KG_CC_CONTACTS], (g + 1) * block);
-    for (int k = g * block; k < end; ++k) {
-        sizes[colors[k]] += 1u;
-    }
-    for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
-        histogram[c * blocks + g] = sizes[c];
-    }
-}
-
-/* graph_color.h's order: contact indices grouped by colour, in contact order within each
- * (each block places its own contacts in order from its offsets). */
-__kernel void kg_color_scatter(int block, int blocks, __global const uint* counts, __global const uint* colors,
-                               __global const uint* offsets, __global int* order)
-{
-    int g = (int)get_global_id(0);
-    if (g >= blocks) {
-        return;
-    }
     uint next[KG_COLOR_COUNT + 1];
     for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
-        next[c] = offsets[c * blocks + g];
+        next[c] = 0u;
     }
-    int end = min((int)counts[KG_CC_CONTACTS], (g + 1) * block);
-    for (int k = g * block; k < end; ++k) {
-        order[next[colors[k]]++] = k;
+    for (uint k = 0u; k < count; ++k) {
+        kg_u32 a = contacts[k].a, b = contacts[k].b;
+        int a_moves = kg_slot_moves(flags, a), b_moves = kg_slot_moves(flags, b);
+        uint c = kg_first_free_color((a_moves ? used[a] : 0u) | (b_moves ? used[b] : 0u));
+        if (c < KG_COLOR_COUNT && a_moves) {
+            used[a] |= 1u << c;
+        }
+        if (c < KG_COLOR_COUNT && b_moves) {
+            used[b] |= 1u << c;
+        }
+        colors[k] = c;
+        next[c] += 1u;
     }
-}
-
-/* graph_color.h's color_start, for the solver's kernels and, in the counters, the host. */
-__kernel void kg_color_starts(int blocks, __global const uint* offsets, __global uint* counts,
-                              __global int* color_start)
-{
-    if (get_global_id(0) != 0) {
-        return;
-    }
+    uint start = 0u;
     for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
-        color_start[c] = (int)offsets[c * blocks];
-        counts[KG_CC_COLOR_START + c] = offsets[c * blocks];
+        uint size = next[c];
+        color_start[c] = (int)start;
+        counts[KG_CC_COLOR_START + c] = start;
+        next[c] = start;
+        start += size;
     }
-    color_start[KG_COLOR_COUNT + 1] = (int)counts[KG_CC_CONTACTS];
-    counts[KG_CC_COLOR_START + KG_COLOR_COUNT + 1] = counts[KG_CC_CONTACTS];
+    color_start[KG_COLOR_COUNT + 1] = (int)count;
+    counts[KG_CC_COLOR_START + KG_COLOR_COUNT + 1] = count;
+    for (uint k = 0u; k < count; ++k) {
+        order[next[colors[k]]++] = (int)k;
+    }
 }

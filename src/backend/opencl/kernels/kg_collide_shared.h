@@ -21,6 +21,14 @@
 #define KG_BP_LEVELS 32
 #define KG_BP_TOP_LEVEL (KG_BP_LEVELS - 1)
 
+/* The plan of the level searches, words: boxes per level, then the largest footprint a
+ * box of level u searches at level l (l * KG_BP_LEVELS + u), then per level u the bit
+ * mask of the lower levels its boxes search down into. */
+#define KG_BP_PLAN_COUNTS 0
+#define KG_BP_PLAN_FOOTPRINTS KG_BP_LEVELS
+#define KG_BP_PLAN_DOWN (KG_BP_PLAN_FOOTPRINTS + KG_BP_LEVELS * KG_BP_LEVELS)
+#define KG_BP_PLAN_WORDS (KG_BP_PLAN_DOWN + KG_BP_LEVELS)
+
 /* proxy flags */
 #define KG_BP_CANDIDATE 0x1u /* alive, not frozen, finite bounds */
 #define KG_BP_MOVES 0x2u     /* dynamic body or particle */

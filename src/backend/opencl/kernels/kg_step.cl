@@ -63,13 +63,37 @@ typedef struct kg_solver_body {
 
 KG_STATIC_ASSERT(sizeof(kg_solver_body) == 32, solver_body_size);
 
-/* kg_load_bodies of solve/solver.c. */
-__kernel void kg_load_bodies(int count, __global const kg_u32* flags, __global const kg_vec2* velocity,
-                             __global const float* omega, __global kg_solver_body* bodies)
+/* kg_freeze of solve/solver.c: out of the simulation, back at its last finite pose (the
+ * host warns when it next reads the flags back). */
+KG_FN void kg_freeze_body(int i, __global kg_u32* flags, __global kg_vec2* velocity, __global float* omega,
+                          __global kg_vec2* force, __global float* torque, __global kg_rot* rot,
+                          __global kg_vec2* center, __global const kg_xf* xf, __global const kg_vec2* local_center)
+{
+    kg_xf last = xf[i];
+    flags[i] |= KG_FLAG_FROZEN;
+    velocity[i] = kg_v2(0.0f, 0.0f);
+    omega[i] = 0.0f;
+    force[i] = kg_v2(0.0f, 0.0f);
+    torque[i] = 0.0f;
+    rot[i] = last.q;
+    center[i] = kg_xf_point(last, local_center[i]);
+}
+
+/* kg_load_bodies of solve/solver.c: what reached a body between steps non-finite (through
+ * the API) is frozen before it is solved, so it cannot reach a neighbour. */
+__kernel void kg_load_bodies(int count, __global kg_u32* flags, __global kg_vec2* velocity, __global float* omega,
+                             __global kg_vec2* force, __global float* torque, __global kg_rot* rot,
+                             __global kg_vec2* center, __global const kg_xf* xf,
+                             __global const kg_vec2* local_center, __global kg_solver_body* bodies)
 {
     int i = (int)get_global_id(0);
     if (i >= count) {
         return;
+    }
+    int inputs_finite = kg_vec_is_finite(velocity[i]) && kg_is_finite(omega[i]) && kg_vec_is_finite(force[i]) &&
+                        kg_is_finite(torque[i]);
+    if (kg_is_simulated(flags[i]) && !inputs_finite) {
+        kg_freeze_body(i, flags, velocity, omega, force, torque, rot, center, xf, local_center);
     }
     kg_solver_body sb;
     sb.motion.v = velocity[i];
@@ -310,12 +334,7 @@ __kernel void kg_finalize(int count, float dt, __global kg_u32* flags, __global 
     kg_vec2 c = center[i];
     kg_rot q = rot[i];
     if ((f & KG_FLAG_FROZEN) == 0u && !kg_state_finite(c, q, velocity[i], omega[i])) {
-        kg_xf last = xf[i];
-        flags[i] = f | KG_FLAG_FROZEN;
-        velocity[i] = kg_v2(0.0f, 0.0f);
-        omega[i] = 0.0f;
-        rot[i] = last.q;
-        center[i] = kg_xf_point(last, local_center[i]);
+        kg_freeze_body(i, flags, velocity, omega, force, torque, rot, center, xf, local_center);
         return;
     }
     if (kg_type_of(f) == KG_BODY_STATIC) {
