@@ -216,6 +216,8 @@ static void test_broken_maps_are_refused_clearly(void)
          "give density or mass, not both"},
         {DATA "bad_outside_tile.tmj", KG_ERROR_PARSE, "tiles[0].objectgroup.objects[0]:", "reaches outside its tile"},
         {DATA "bad_tile_size.tmj", KG_ERROR_PARSE, "tilesets[0].tilewidth:", "tiles must fit their cells"},
+        {DATA "bad_external_tile_size.tmj", KG_ERROR_PARSE, "bad_external_tile_size.tmj: tilesets[0] (",
+         "terrain.tsj): tilewidth: its tiles are 16 x 16 pixels but the map's are 32 x 16"},
         {DATA "bad_syntax.tmj", KG_ERROR_PARSE, "bad_syntax.tmj: line 2, column", "malformed JSON"},
         {DATA "no_such_map.tmj", KG_ERROR_IO, "no_such_map.tmj: cannot open", ""},
     };

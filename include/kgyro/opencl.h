@@ -118,9 +118,11 @@ KG_API kg_result kg_set_device_force_params(kg_world* world, kg_applicator appli
 
 /* Per-kernel timings. When on (or with KGYRO_PROFILE=1 in the environment), an OpenCL
  * world times every kernel with profiling events and kg_world_get_stage_times() gives one
- * entry per kernel name (device time summed over the step, ms) and one per stage run on
- * the host. When off, it gives the host's wall-clock time of each stage. The CPU backend
- * always gives its stage times. */
+ * entry per kernel name (device time summed over the step, ms; the collide stage's
+ * kernels summed per stage: kg_broadphase, kg_narrowphase, kg_color) and one per stage
+ * run on the host ("collide (host)" while the world has a tile map). When off, it gives
+ * the host's wall-clock time of each stage. The CPU backend always gives its stage
+ * times. */
 KG_API kg_result kg_world_set_profiling(kg_world* world, int enabled);
 
 /* The origin positions and angles (radians) of count bodies. An OpenCL world copies from

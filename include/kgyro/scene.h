@@ -1,7 +1,7 @@
 /* KineticGyro: scenes, a world's contents described as data, built from JSON files,
  * from Tiled maps, from generators (pyramids, rain, the benchmark set) or from code. One
- * scene can be instantiated in a kgyro world, or (in bench/) in a peer engine, from the same data.
- * Part of the kgyro_io library (needs cJSON). */
+ * scene can be instantiated in a kgyro world, or (in bench/) in a peer engine, from the
+ * same data. Part of the kgyro_io library (needs cJSON). */
 #ifndef KGYRO_SCENE_H
 #define KGYRO_SCENE_H
 
@@ -37,7 +37,7 @@ KG_API kg_result kg_scene_load_file(const char* path, kg_scene** out);
 KG_API kg_result kg_scene_parse(const char* json, size_t length, const char* source_name, kg_scene** out);
 /* A Tiled map (orthogonal, JSON format, docs/tilemaps.md): its tile layers become one tile
  * map (one layer each), the collision shapes drawn in its tilesets the tile shapes, its
- * object layers bodies. Errors read "FILE: what is wrong". */
+ * object layers bodies. Errors read "FILE: JSON.PATH: what is wrong", as above. */
 KG_API kg_result kg_scene_load_tiled(const char* path, kg_scene** out);
 
 /* Building from code. A name is 1 to 63 characters among letters, digits and _-.:/#

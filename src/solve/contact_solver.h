@@ -138,17 +138,22 @@ KG_FN void kg_apply_impulse_pair(const kg_contact_constraint* c, kg_body_motion*
     b->w += c->inv_i_b * kg_cross(rb, p);
 }
 
-/* Where a point's anchors are now: each body's anchor has moved with its body since
- * the step began, so they no longer meet. Both are moved to the point halfway between,
- * so the equal and opposite impulses act at one point and add no torque to the pair
- * (with the step-start anchors, angular momentum drifted by 1e-3 in an off-centre hit). */
-KG_FN void kg_current_anchors(const kg_constraint_point* cp, const kg_body_motion* a, const kg_body_motion* b,
-                              kg_vec2* ra, kg_vec2* rb)
+/* The anchors an impulse acts at. Box2D keeps each body's anchor fixed relative to its
+ * centre during the step; but the bodies move apart, so the equal and opposite impulses
+ * (normal and friction) then act at two points and add a torque to the pair (angular
+ * momentum drifted by 1e-3 in an off-centre hit). Both anchors are moved to one point,
+ * weighted by inverse mass: against an immovable body it stays with the moving body
+ * (exactly Box2D's anchor, so a sliding circle feels no lever arm), between equal bodies
+ * it is halfway. Anchors do not turn with the bodies: a spinning circle's anchor must
+ * stay at its bottom. */
+KG_FN void kg_current_anchors(const kg_contact_constraint* c, const kg_constraint_point* cp, const kg_body_motion* a,
+                              const kg_body_motion* b, kg_vec2* ra, kg_vec2* rb)
 {
-    kg_vec2 ra_now = kg_rotate(a->dq, cp->anchor_a), rb_now = kg_rotate(b->dq, cp->anchor_b);
-    kg_vec2 gap = kg_sub(kg_add(kg_sub(b->dp, a->dp), kg_sub(rb_now, ra_now)), kg_sub(cp->anchor_b, cp->anchor_a));
-    *ra = kg_mul_add(ra_now, 0.5f, gap);
-    *rb = kg_mul_sub(rb_now, 0.5f, gap);
+    kg_vec2 gap = kg_sub(b->dp, a->dp); /* how far b's anchor point moved from a's */
+    float inv_sum = c->inv_mass_a + c->inv_mass_b;
+    float share_b = inv_sum > 0.0f ? c->inv_mass_b / inv_sum : 0.5f;
+    *ra = kg_mul_add(cp->anchor_a, share_b, gap);
+    *rb = kg_mul_sub(cp->anchor_b, 1.0f - share_b, gap);
 }
 
 KG_FN float kg_normal_velocity_at(const kg_contact_constraint* c, const kg_body_motion* a, const kg_body_motion* b,
@@ -172,7 +177,7 @@ KG_FN void kg_contact_warm_start(const kg_contact_constraint* c, kg_body_motion*
     for (int j = 0; j < c->point_count; ++j) {
         const kg_constraint_point* cp = &c->points[j];
         kg_vec2 ra, rb;
-        kg_current_anchors(cp, a, b, &ra, &rb);
+        kg_current_anchors(c, cp, a, b, &ra, &rb);
         kg_vec2 p = kg_add(kg_scale(cp->normal_impulse, n), kg_scale(cp->tangent_impulse, t));
         kg_apply_impulse_pair(c, a, b, ra, rb, p);
     }
@@ -275,7 +280,7 @@ KG_FN void kg_contact_solve(kg_contact_constraint* c, kg_body_motion* a, kg_body
 {
     kg_vec2 ra[2], rb[2];
     for (int j = 0; j < c->point_count; ++j) {
-        kg_current_anchors(&c->points[j], a, b, &ra[j], &rb[j]);
+        kg_current_anchors(c, &c->points[j], a, b, &ra[j], &rb[j]);
     }
     if (c->point_count != 2 || !kg_contact_solve_block(c, a, b, ra, rb, prm, use_bias)) {
         for (int j = 0; j < c->point_count; ++j) {
@@ -347,7 +352,7 @@ KG_FN void kg_contact_restitution(kg_contact_constraint* c, kg_body_motion* a, k
     }
     kg_vec2 ra[2], rb[2];
     for (int j = 0; j < c->point_count; ++j) {
-        kg_current_anchors(&c->points[j], a, b, &ra[j], &rb[j]);
+        kg_current_anchors(c, &c->points[j], a, b, &ra[j], &rb[j]);
     }
     int both = c->point_count == 2 && kg_bounces(&c->points[0], prm) && kg_bounces(&c->points[1], prm);
     if (both && kg_restitution_block(c, a, b, ra, rb)) {

@@ -6,8 +6,6 @@
  * in the scene format) is instantiated on the CPU and stepped for its "steps" (120 when
  * it gives none). It fails when a body state is not finite, a body is frozen, or a body
  * runs faster than the soak allows (SOAK_RUNAWAY_SPEED in soak.c). */
-#include "core/body_pool.h"
-#include "core/world.h"
 #include "kgyro/kgyro.h"
 #include "kgyro/scene.h"
 
@@ -18,17 +16,6 @@
 #define REPLAY_RUNAWAY_SPEED 150.0f
 #define REPLAY_DEFAULT_STEPS 120
 
-static int any_frozen(const kg_world* world)
-{
-    const kg_body_pool* p = &world->bodies;
-    for (int i = 0; i < p->high_water; ++i) {
-        if (kg_pool_alive(p, i) && (p->flags[i] & KG_FLAG_FROZEN)) {
-            return 1;
-        }
-    }
-    return 0;
-}
-
 /* The first problem of this step, or NULL. */
 static const char* check_step(const kg_world* world, const kg_body* bodies, int count, float* fastest)
 {
@@ -37,16 +24,16 @@ static const char* check_step(const kg_world* world, const kg_body* bodies, int 
         if (kg_body_get_state(world, bodies[i], &st) != KG_OK) {
             return "a body was lost";
         }
+        if (kg_body_is_frozen(world, bodies[i])) {
+            return "a body was frozen";
+        }
         float speed = hypotf(st.velocity.x, st.velocity.y);
         if (!isfinite(st.position.x) || !isfinite(st.position.y) || !isfinite(speed) || !isfinite(st.angular_velocity)) {
             return "a body state is not finite";
         }
         *fastest = fmaxf(*fastest, speed);
     }
-    if (*fastest > REPLAY_RUNAWAY_SPEED) {
-        return "a body runs away";
-    }
-    return any_frozen(world) ? "a body was frozen" : NULL;
+    return *fastest > REPLAY_RUNAWAY_SPEED ? "a body runs away" : NULL;
 }
 
 static int replay(const char* path)

@@ -31,7 +31,6 @@ typedef struct kg_cl_backend {
     int start_forces_saved;          /* else the step began with every force zero */
     /* contacts: the last step's are in w->contacts[w->current]; the host's list (collide.h)
      * is filled from there only when asked for (contacts_stale) */
-    int contact_count;
     int body_contact_count;          /* the first ones, body pairs; tile contacts follow */
     int contacts_stale;
     cl_uint counters[KG_CC_WORDS];   /* the device collide stage's counters, read back */

@@ -17,9 +17,6 @@
 #include "backend/opencl/cl_backend.h"
 #include "collide/collide.h"
 #include "core/error.h"
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
 
 typedef struct kg_cl_kernel_arg {
     size_t size;
@@ -37,13 +34,7 @@ static kg_result kg_launch(kg_cl_world* w, kg_cl_kernel_id id, int items, const 
     for (int k = 0; k < count; ++k) {
         KG_TRY(kg_cl_arg(w, w->kernels[id], k, args[k].size, args[k].value));
     }
-    static const char* const names[] = {
-#define N_(id, name) #name,
-    KG_CL_KERNELS(N_)
-#undef N_
-    };
-    const char* only = getenv("DBG_LABEL");
-    return kg_cl_launch(w, w->kernels[id], w->group_size[id], items, only && strcmp(label, only) == 0 ? names[id] : label);
+    return kg_cl_launch(w, w->kernels[id], w->group_size[id], items, label);
 }
 
 /* Sets every argument of kernel id, in order, and launches it over items work-items. */
@@ -80,26 +71,36 @@ static kg_result kg_scan(kg_cl_world* w, cl_mem values, cl_mem offsets, int coun
 
 /* ---- broadphase --------------------------------------------------------------------- */
 
+/* The hash table's row stride: odd, and about the square root of its size. */
+static cl_uint kg_row_stride(int table_size)
+{
+    cl_uint root = 1u;
+    while ((size_t)root * root < (size_t)table_size) {
+        root *= 2u;
+    }
+    return root + 1u;
+}
+
 static kg_result kg_find_pairs(kg_world* world, kg_cl_world* w, int capacity)
 {
     kg_cl_collide_buffers* c = &w->collide;
     const char* label = "kg_broadphase";
     int slots = world->bodies.high_water;
-    cl_uint table_mask = (cl_uint)c->table_size - 1u;
+    cl_uint table_mask = (cl_uint)c->table_size - 1u, row_stride = kg_row_stride(c->table_size);
     KG_LAUNCH(w, BP_CLEAR, c->table_size, label, KG_INT(c->table_size), KG_MEM(c->heads), KG_MEM(c->histogram),
               KG_MEM(c->plan), KG_MEM(c->counts));
     KG_LAUNCH(w, BP_PROXIES, slots, label, KG_INT(slots), KG_FLOAT(world->def.speculative_distance), KG_MEM(KG_A(FLAGS)),
               KG_MEM(KG_A(AABB)), KG_MEM(KG_A(CATEGORY)), KG_MEM(KG_A(MASK)), KG_MEM(c->proxies),
               KG_MEM(c->histogram), KG_MEM(c->run), KG_MEM(c->run_fill), KG_MEM(c->colors_used));
     KG_LAUNCH(w, BP_GRID, 1, label, KG_MEM(c->histogram), KG_MEM(c->grid));
-    KG_LAUNCH(w, BP_INSERT, slots, label, KG_INT(slots), KG_UINT(table_mask), KG_MEM(c->grid), KG_MEM(c->proxies),
-              KG_MEM(c->heads), KG_MEM(c->plan), KG_MEM(c->counts));
+    KG_LAUNCH(w, BP_INSERT, slots, label, KG_INT(slots), KG_UINT(table_mask), KG_UINT(row_stride), KG_MEM(c->grid),
+              KG_MEM(c->proxies), KG_MEM(c->heads), KG_MEM(c->plan), KG_MEM(c->counts));
     KG_LAUNCH(w, BP_MEASURE, slots, label, KG_INT(slots), KG_MEM(c->grid), KG_MEM(c->proxies), KG_MEM(c->plan),
               KG_MEM(c->counts));
     KG_LAUNCH(w, BP_PLAN, 1, label, KG_MEM(c->plan), KG_MEM(c->counts));
-    KG_LAUNCH(w, BP_FIND, slots, label, KG_INT(slots), KG_INT(capacity), KG_UINT(table_mask), KG_MEM(c->grid),
-              KG_MEM(c->proxies), KG_MEM(c->heads), KG_MEM(c->plan), KG_MEM(c->counts), KG_MEM(c->raw_pairs),
-              KG_MEM(c->run));
+    KG_LAUNCH(w, BP_FIND, slots, label, KG_INT(slots), KG_INT(capacity), KG_UINT(table_mask), KG_UINT(row_stride),
+              KG_MEM(c->grid), KG_MEM(c->proxies), KG_MEM(c->heads), KG_MEM(c->plan), KG_MEM(c->counts),
+              KG_MEM(c->raw_pairs), KG_MEM(c->run));
     return KG_OK;
 }
 

@@ -506,7 +506,6 @@ static void kg_commit_contacts(kg_world* world, kg_cl_backend* b, int count, int
         kg_collision_set_count(world, count, body_count);
     }
     b->w->current ^= 1;
-    b->contact_count = count;
     b->body_contact_count = body_count;
     b->contacts_stale = count > 0;
 }

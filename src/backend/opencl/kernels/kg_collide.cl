@@ -15,7 +15,7 @@
 /* Cell coordinates are clamped to this (exact in float), so any finite position maps. */
 #define KG_BP_COORD_LIMIT 1073741824.0f
 
-/* Below this a cell never gets (m), as in collide/broadphase.c. */
+/* Cells are never smaller than this (m), as in collide/broadphase.c. */
 #define KG_BP_MIN_CELL_SIZE 1.0e-6f
 
 /* Runs of pairs up to this length are insertion sorted; longer ones heap sorted. */
@@ -85,8 +85,9 @@ __kernel void kg_scan_apply(int count, int block, __global const uint* values, _
  *    looks up (3 x 3 cells), or every box of the upper level looks down (its footprint),
  *    whichever probes fewer cells (kg_bp_plan): a few grounds and walls look down rather
  *    than have every small box look up at them;
- *  - pairs are appended (in batches, to spare the shared counter), counted per lower
- *    slot, scattered to their slot's run and each run sorted by the upper slot. */
+ *  - pairs are appended (in batches, and the last batches of a work-group together, to
+ *    spare the shared counter), counted per lower slot, scattered to their slot's run and
+ *    each run sorted by the upper slot. */
 
 KG_FN float kg_bp_extent(kg_aabb box)
 {
@@ -131,13 +132,18 @@ KG_FN kg_u32 kg_bp_range_cells(kg_bp_range r)
     return cells < 1073741824.0f ? (kg_u32)cells : 1073741824u;
 }
 
-KG_FN kg_u32 kg_bp_hash(kg_i32 x, kg_i32 y, kg_u32 level, uint table_mask)
+/* The hash table's geometry: a power-of-two size and a row stride near its square root. */
+typedef struct kg_bp_table {
+    uint mask;
+    uint row_stride;
+} kg_bp_table;
+
+/* The bucket of a cell. Neighbouring cells of a row get neighbouring buckets, and a block
+ * of row_stride columns by size / row_stride rows none in common: the few cells a box
+ * searches share cache lines, and a compact world has few collisions. */
+KG_FN kg_u32 kg_bp_hash(kg_i32 x, kg_i32 y, kg_u32 level, kg_bp_table table)
 {
-    kg_u32 h = (kg_u32)x * 0x8DA6B343u ^ (kg_u32)y * 0xD8163841u ^ level * 0xCB1AB31Fu;
-    h ^= h >> 15;
-    h *= 0x2C1B3C6Du;
-    h ^= h >> 12;
-    return h & table_mask;
+    return ((kg_u32)x + (kg_u32)y * table.row_stride + level * 0x9E3779B1u) & table.mask;
 }
 
 KG_FN int kg_bp_occupied(uint levels, kg_u32 level) { return (levels >> level) & 1u; }
@@ -223,32 +229,49 @@ __kernel void kg_bp_grid(__global const uint* histogram, __global float* grid)
     grid[1] = 1.0f / cell;
 }
 
-/* Keys candidate i at the lowest level where it spans at most two cells per axis. */
-__kernel void kg_bp_insert(int count, uint table_mask, __global const float* grid, __global kg_bp_proxy* proxies,
-                           __global uint* heads, __global uint* plan, __global uint* counts)
+/* The lowest level where box spans at most two cells per axis, and its lower corner's
+ * cell there. */
+KG_FN kg_u32 kg_bp_level_of(kg_aabb box, float inv_cell_size, kg_i32* x, kg_i32* y)
 {
-    int i = (int)get_global_id(0);
-    if (i >= count || !(proxies[i].flags & KG_BP_CANDIDATE)) {
-        return;
-    }
-    kg_aabb box = proxies[i].box;
-    float inv = grid[1];
-    kg_u32 level = 0u;
-    kg_i32 x0 = 0, y0 = 0;
-    for (;; ++level) {
-        x0 = kg_bp_coord(box.lower.x, inv, level);
-        y0 = kg_bp_coord(box.lower.y, inv, level);
-        kg_i32 x1 = kg_bp_coord(box.upper.x, inv, level), y1 = kg_bp_coord(box.upper.y, inv, level);
-        if ((x1 - x0 <= 1 && y1 - y0 <= 1) || level == KG_BP_TOP_LEVEL) {
-            break;
+    for (kg_u32 level = 0u;; ++level) {
+        *x = kg_bp_coord(box.lower.x, inv_cell_size, level);
+        *y = kg_bp_coord(box.lower.y, inv_cell_size, level);
+        kg_i32 x1 = kg_bp_coord(box.upper.x, inv_cell_size, level), y1 = kg_bp_coord(box.upper.y, inv_cell_size, level);
+        if ((x1 - *x <= 1 && y1 - *y <= 1) || level == KG_BP_TOP_LEVEL) {
+            return level;
         }
     }
-    proxies[i].level = level;
-    proxies[i].cell_x = x0;
-    proxies[i].cell_y = y0;
-    proxies[i].next = atomic_xchg(&heads[kg_bp_hash(x0, y0, level, table_mask)], (uint)i);
-    atomic_inc(&plan[KG_BP_PLAN_COUNTS + level]);
-    atomic_or(&counts[KG_CC_LEVELS], 1u << level);
+}
+
+/* Keys candidate i in the hash grid. The boxes per level are counted in the work-group
+ * first, so that the shared counters see one atomic per group and level. */
+__kernel void kg_bp_insert(int count, uint table_mask, uint row_stride, __global const float* grid,
+                           __global kg_bp_proxy* proxies, __global uint* heads, __global uint* plan,
+                           __global uint* counts)
+{
+    __local uint level_counts[KG_BP_LEVELS];
+    int i = (int)get_global_id(0), lid = (int)get_local_id(0), size = (int)get_local_size(0);
+    for (int level = lid; level < KG_BP_LEVELS; level += size) {
+        level_counts[level] = 0u;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (i < count && (proxies[i].flags & KG_BP_CANDIDATE)) {
+        kg_bp_table table = {table_mask, row_stride};
+        kg_i32 x = 0, y = 0;
+        kg_u32 level = kg_bp_level_of(proxies[i].box, grid[1], &x, &y);
+        proxies[i].level = level;
+        proxies[i].cell_x = x;
+        proxies[i].cell_y = y;
+        proxies[i].next = atomic_xchg(&heads[kg_bp_hash(x, y, level, table)], (uint)i);
+        atomic_inc(&level_counts[level]);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (int level = lid; level < KG_BP_LEVELS; level += size) {
+        if (level_counts[level] > 0u) {
+            atomic_add(&plan[KG_BP_PLAN_COUNTS + level], level_counts[level]);
+            atomic_or(&counts[KG_CC_LEVELS], 1u << level);
+        }
+    }
 }
 
 /* For each lower occupied level, the largest footprint a box of i's level would search
@@ -308,12 +331,11 @@ typedef struct kg_bp_batch {
     int count;
 } kg_bp_batch;
 
-/* Appends the batch, and counts each pair in its lower slot's run, while the capacity
- * lasts; past it, only counts. */
-KG_FN void kg_bp_flush(kg_bp_batch* batch, int capacity, __global uint* counts, __global uint2* raw,
+/* Writes the batch at raw[at, at + count), and counts each pair in its lower slot's run,
+ * while the capacity lasts; past it, raises the overflow. */
+KG_FN void kg_bp_store(kg_bp_batch* batch, uint at, int capacity, __global uint* counts, __global uint2* raw,
                        __global uint* run_count)
 {
-    uint at = atomic_add(&counts[KG_CC_PAIRS], (uint)batch->count);
     for (int k = 0; k < batch->count; ++k) {
         if (at + (uint)k < (uint)capacity) {
             raw[at + (uint)k] = batch->pairs[k];
@@ -329,7 +351,8 @@ KG_FN void kg_bp_emit(kg_bp_batch* batch, kg_u32 p, kg_u32 q, int capacity, __gl
                       __global uint2* raw, __global uint* run_count)
 {
     if (batch->count == KG_BP_BATCH) {
-        kg_bp_flush(batch, capacity, counts, raw, run_count);
+        uint at = atomic_add(&counts[KG_CC_PAIRS], (uint)batch->count);
+        kg_bp_store(batch, at, capacity, counts, raw, run_count);
     }
     batch->pairs[batch->count++] = (uint2)(min(p, q), max(p, q));
 }
@@ -337,11 +360,11 @@ KG_FN void kg_bp_emit(kg_bp_batch* batch, kg_u32 p, kg_u32 q, int capacity, __gl
 /* The boxes keyed in cell (x, y) of level that pair with proxy i; in i's own cell only
  * those of higher slots. */
 KG_FN void kg_bp_scan_cell(kg_bp_batch* batch, kg_u32 i, const kg_bp_proxy* p, kg_i32 x, kg_i32 y, kg_u32 level,
-                           uint table_mask, __global const kg_bp_proxy* proxies, __global const uint* heads,
+                           kg_bp_table table, __global const kg_bp_proxy* proxies, __global const uint* heads,
                            int capacity, __global uint* counts, __global uint2* raw, __global uint* run_count)
 {
     int own_cell = level == p->level && x == p->cell_x && y == p->cell_y;
-    for (kg_u32 j = heads[kg_bp_hash(x, y, level, table_mask)]; j != KG_NULL_INDEX; j = proxies[j].next) {
+    for (kg_u32 j = heads[kg_bp_hash(x, y, level, table)]; j != KG_NULL_INDEX; j = proxies[j].next) {
         kg_bp_proxy q = proxies[j];
         if (q.level != level || q.cell_x != x || q.cell_y != y || (own_cell && j <= i)) {
             continue;
@@ -352,45 +375,61 @@ KG_FN void kg_bp_scan_cell(kg_bp_batch* batch, kg_u32 i, const kg_bp_proxy* p, k
     }
 }
 
-__kernel void kg_bp_find(int count, int capacity, uint table_mask, __global const float* grid,
-                         __global const kg_bp_proxy* proxies, __global const uint* heads, __global const uint* plan,
-                         __global uint* counts, __global uint2* raw, __global uint* run_count)
+/* Every partner of proxy i that i is the one to find (see above), into batch. */
+KG_FN void kg_bp_search(kg_bp_batch* batch, kg_u32 i, const kg_bp_proxy* p, float inv_cell_size, kg_bp_table table,
+                        __global const kg_bp_proxy* proxies, __global const uint* heads, __global const uint* plan,
+                        int capacity, __global uint* counts, __global uint2* raw, __global uint* run_count)
 {
-    int i = (int)get_global_id(0);
-    if (i >= count) {
-        return;
-    }
-    kg_bp_proxy p = proxies[i];
-    if (!(p.flags & KG_BP_CANDIDATE)) {
-        return;
-    }
-    kg_bp_batch batch;
-    batch.count = 0;
-    float inv = grid[1];
     uint levels = counts[KG_CC_LEVELS];
-    kg_u32 own = p.level;
-    kg_i32 x = p.cell_x, y = p.cell_y;
+    kg_u32 own = p->level;
+    kg_i32 x = p->cell_x, y = p->cell_y;
     /* own level: the rest of its cell, the cell on its right, the three above */
-    kg_bp_scan_cell(&batch, (kg_u32)i, &p, x, y, own, table_mask, proxies, heads, capacity, counts, raw, run_count);
-    kg_bp_scan_cell(&batch, (kg_u32)i, &p, x + 1, y, own, table_mask, proxies, heads, capacity, counts, raw, run_count);
+    kg_bp_scan_cell(batch, i, p, x, y, own, table, proxies, heads, capacity, counts, raw, run_count);
+    kg_bp_scan_cell(batch, i, p, x + 1, y, own, table, proxies, heads, capacity, counts, raw, run_count);
     for (kg_i32 dx = -1; dx <= 1 && own != KG_BP_TOP_LEVEL; ++dx) {
-        kg_bp_scan_cell(&batch, (kg_u32)i, &p, x + dx, y + 1, own, table_mask, proxies, heads, capacity, counts, raw,
-                        run_count);
+        kg_bp_scan_cell(batch, i, p, x + dx, y + 1, own, table, proxies, heads, capacity, counts, raw, run_count);
     }
     for (kg_u32 level = 0u; level < KG_BP_LEVELS; ++level) {
-        int other_side = level < own ? kg_bp_looks_down(plan, level, own) : !kg_bp_looks_down(plan, own, level);
-        if (level == own || !kg_bp_occupied(levels, level) || !other_side) {
+        int mine = level < own ? kg_bp_looks_down(plan, level, own) : !kg_bp_looks_down(plan, own, level);
+        if (level == own || !kg_bp_occupied(levels, level) || !mine) {
             continue;
         }
-        kg_bp_range r = kg_bp_search_range(p.box, inv, level);
+        kg_bp_range r = kg_bp_search_range(p->box, inv_cell_size, level);
         for (kg_i32 cy = r.y0; cy <= r.y1; ++cy) {
             for (kg_i32 cx = r.x0; cx <= r.x1; ++cx) {
-                kg_bp_scan_cell(&batch, (kg_u32)i, &p, cx, cy, level, table_mask, proxies, heads, capacity, counts,
-                                raw, run_count);
+                kg_bp_scan_cell(batch, i, p, cx, cy, level, table, proxies, heads, capacity, counts, raw, run_count);
             }
         }
     }
-    kg_bp_flush(&batch, capacity, counts, raw, run_count);
+}
+
+/* The last batch of each work-item is placed with one shared atomic per work-group: the
+ * group's batches are counted in local memory, the group reserves their total, and each
+ * writes at its offset in the group's range. */
+__kernel void kg_bp_find(int count, int capacity, uint table_mask, uint row_stride, __global const float* grid,
+                         __global const kg_bp_proxy* proxies, __global const uint* heads, __global const uint* plan,
+                         __global uint* counts, __global uint2* raw, __global uint* run_count)
+{
+    __local uint group_count, group_at;
+    int i = (int)get_global_id(0);
+    kg_bp_batch batch;
+    batch.count = 0;
+    if (get_local_id(0) == 0) {
+        group_count = 0u;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (i < count && (proxies[i].flags & KG_BP_CANDIDATE)) {
+        kg_bp_proxy p = proxies[i];
+        kg_bp_table table = {table_mask, row_stride};
+        kg_bp_search(&batch, (kg_u32)i, &p, grid[1], table, proxies, heads, plan, capacity, counts, raw, run_count);
+    }
+    uint offset = atomic_add(&group_count, (uint)batch.count);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (get_local_id(0) == 0) {
+        group_at = atomic_add(&counts[KG_CC_PAIRS], group_count);
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    kg_bp_store(&batch, group_at + offset, capacity, counts, raw, run_count);
 }
 
 /* Pair k to the run of its lower slot (run_start: the prefix sum of the run counts). */
