@@ -235,6 +235,25 @@ KG_FN void kg_apply_normal_impulse(kg_contact_constraint* c, int j, kg_body_moti
  * unreliable (Box2D v2's limit). */
 #define KG_MAX_BLOCK_CONDITION 1000.0f
 
+/* The 2x2 effective mass of a two-point contact's normal rows; 0 when the rows are too
+ * nearly redundant to invert reliably. */
+typedef struct kg_block_mass {
+    float k11, k12, k22, det;
+} kg_block_mass;
+
+KG_FN int kg_make_block_mass(const kg_contact_constraint* c, const kg_vec2* ra, const kg_vec2* rb, kg_block_mass* k)
+{
+    kg_vec2 n = c->normal;
+    float ra0 = kg_cross(ra[0], n), rb0 = kg_cross(rb[0], n);
+    float ra1 = kg_cross(ra[1], n), rb1 = kg_cross(rb[1], n);
+    float m = c->inv_mass_a + c->inv_mass_b;
+    k->k11 = m + c->inv_i_a * ra0 * ra0 + c->inv_i_b * rb0 * rb0;
+    k->k22 = m + c->inv_i_a * ra1 * ra1 + c->inv_i_b * rb1 * rb1;
+    k->k12 = m + c->inv_i_a * ra0 * ra1 + c->inv_i_b * rb0 * rb1;
+    k->det = k->k11 * k->k22 - k->k12 * k->k12;
+    return k->k11 * k->k11 < KG_MAX_BLOCK_CONDITION * k->det;
+}
+
 /* Both points of a two-point manifold at once (the "block solver", Box2D v2): solving
  * them one after the other leaves a small torque each time, which a tall stack
  * amplifies until it topples. Applies the impulses and returns 1 when both points stay
@@ -247,24 +266,17 @@ KG_FN int kg_contact_solve_block(kg_contact_constraint* c, kg_body_motion* a, kg
     if (p0.mass_scale != p1.mass_scale) {
         return 0;
     }
-    kg_vec2 n = c->normal;
-    float ra0 = kg_cross(ra[0], n), rb0 = kg_cross(rb[0], n);
-    float ra1 = kg_cross(ra[1], n), rb1 = kg_cross(rb[1], n);
-    float m = c->inv_mass_a + c->inv_mass_b;
-    float k11 = m + c->inv_i_a * ra0 * ra0 + c->inv_i_b * rb0 * rb0;
-    float k22 = m + c->inv_i_a * ra1 * ra1 + c->inv_i_b * rb1 * rb1;
-    float k12 = m + c->inv_i_a * ra0 * ra1 + c->inv_i_b * rb0 * rb1;
-    float det = k11 * k22 - k12 * k12;
-    if (!(k11 * k11 < KG_MAX_BLOCK_CONDITION * det)) {
+    kg_block_mass k;
+    if (!kg_make_block_mass(c, ra, rb, &k)) {
         return 0;
     }
     float vn0 = kg_normal_velocity_at(c, a, b, ra[0], rb[0]), vn1 = kg_normal_velocity_at(c, a, b, ra[1], rb[1]);
     float rhs0 = p0.mass_scale * (vn0 + p0.bias);
     float rhs1 = p1.mass_scale * (vn1 + p1.bias);
-    float inv_det = 1.0f / det;
+    float inv_det = 1.0f / k.det;
     float acc0 = c->points[0].normal_impulse, acc1 = c->points[1].normal_impulse;
-    float x0 = -inv_det * (k22 * rhs0 - k12 * rhs1) - p0.impulse_scale * acc0;
-    float x1 = -inv_det * (k11 * rhs1 - k12 * rhs0) - p1.impulse_scale * acc1;
+    float x0 = -inv_det * (k.k22 * rhs0 - k.k12 * rhs1) - p0.impulse_scale * acc0;
+    float x1 = -inv_det * (k.k11 * rhs1 - k.k12 * rhs0) - p1.impulse_scale * acc1;
     if (acc0 + x0 < 0.0f || acc1 + x1 < 0.0f) {
         return 0;
     }
@@ -317,27 +329,21 @@ KG_FN int kg_bounces(const kg_constraint_point* cp, kg_solver_params prm)
 KG_FN int kg_restitution_block(kg_contact_constraint* c, kg_body_motion* a, kg_body_motion* b, const kg_vec2* ra,
                                const kg_vec2* rb)
 {
-    kg_vec2 n = c->normal;
-    float ra0 = kg_cross(ra[0], n), rb0 = kg_cross(rb[0], n), ra1 = kg_cross(ra[1], n), rb1 = kg_cross(rb[1], n);
-    float m = c->inv_mass_a + c->inv_mass_b;
-    float k11 = m + c->inv_i_a * ra0 * ra0 + c->inv_i_b * rb0 * rb0;
-    float k22 = m + c->inv_i_a * ra1 * ra1 + c->inv_i_b * rb1 * rb1;
-    float k12 = m + c->inv_i_a * ra0 * ra1 + c->inv_i_b * rb0 * rb1;
-    float det = k11 * k22 - k12 * k12;
-    if (!(k11 * k11 < KG_MAX_BLOCK_CONDITION * det)) {
+    kg_block_mass k;
+    if (!kg_make_block_mass(c, ra, rb, &k)) {
         return 0;
     }
     float rhs0 = kg_normal_velocity_at(c, a, b, ra[0], rb[0]) + c->restitution * c->points[0].relative_velocity;
     float rhs1 = kg_normal_velocity_at(c, a, b, ra[1], rb[1]) + c->restitution * c->points[1].relative_velocity;
-    float x0 = -(k22 * rhs0 - k12 * rhs1) / det;
-    float x1 = -(k11 * rhs1 - k12 * rhs0) / det;
+    float x0 = -(k.k22 * rhs0 - k.k12 * rhs1) / k.det;
+    float x1 = -(k.k11 * rhs1 - k.k12 * rhs0) / k.det;
     if (c->points[0].normal_impulse + x0 < 0.0f || c->points[1].normal_impulse + x1 < 0.0f) {
         return 0;
     }
     float x[2] = {x0, x1};
     for (int j = 0; j < 2; ++j) {
         c->points[j].normal_impulse += x[j];
-        kg_apply_impulse_pair(c, a, b, ra[j], rb[j], kg_scale(x[j], n));
+        kg_apply_impulse_pair(c, a, b, ra[j], rb[j], kg_scale(x[j], c->normal));
     }
     return 1;
 }
