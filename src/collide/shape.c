@@ -45,64 +45,99 @@ kg_shape_def kg_polygon_shape(const kg_vec2* vertices, int count)
     return def;
 }
 
-/* Gift-wrapping hull, counter-clockwise, with welded duplicates and collinear points
- * removed. Returns the hull's vertex count (< 3 means no area). */
-static int kg_convex_hull(const kg_vec2* in, int n, kg_vec2* out)
+static int kg_point_less(kg_vec2 p, kg_vec2 q) { return p.x < q.x || (p.x == q.x && p.y < q.y); }
+
+/* Points welded: each closer than KG_WELD_DISTANCE to a kept one is dropped. Returns
+ * how many are kept, sorted by x then y. */
+static int kg_weld_sorted(const kg_vec2* in, int n, kg_vec2* pts)
 {
-    kg_vec2 pts[KG_MAX_VERTS];
     int m = 0;
     for (int i = 0; i < n; ++i) {
         int unique = 1;
-        for (int j = 0; j < m; ++j) {
-            if (kg_distance(in[i], pts[j]) < KG_WELD_DISTANCE) {
-                unique = 0;
-                break;
-            }
+        for (int j = 0; j < m && unique; ++j) {
+            unique = kg_distance(in[i], pts[j]) >= KG_WELD_DISTANCE;
         }
         if (unique) {
             pts[m++] = in[i];
         }
     }
+    for (int i = 1; i < m; ++i) {
+        for (int j = i; j > 0 && kg_point_less(pts[j], pts[j - 1]); --j) {
+            kg_vec2 t = pts[j];
+            pts[j] = pts[j - 1];
+            pts[j - 1] = t;
+        }
+    }
+    return m;
+}
+
+/* Andrew's monotone chain: lower hull left to right, upper hull back, dropping every
+ * point that does not turn left. It cannot cycle, whatever duplicates or collinear
+ * runs it is given (gift wrapping could). */
+/* In double: a float orientation test can call a slightly reflex vertex convex. */
+static int kg_turns_left(kg_vec2 a, kg_vec2 b, kg_vec2 p)
+{
+    double cross = ((double)b.x - a.x) * ((double)p.y - a.y) - ((double)b.y - a.y) * ((double)p.x - a.x);
+    return cross > 0.0;
+}
+
+static int kg_monotone_chain(const kg_vec2* pts, int m, kg_vec2* out)
+{
+    kg_vec2 hull[2 * KG_MAX_VERTS];
+    int k = 0;
+    for (int i = 0; i < m; ++i) {
+        while (k >= 2 && !kg_turns_left(hull[k - 2], hull[k - 1], pts[i])) {
+            k--;
+        }
+        hull[k++] = pts[i];
+    }
+    int lower = k + 1;
+    for (int i = m - 2; i >= 0; --i) {
+        while (k >= lower && !kg_turns_left(hull[k - 2], hull[k - 1], pts[i])) {
+            k--;
+        }
+        hull[k++] = pts[i];
+    }
+    k--; /* the last point is the first again */
+    for (int i = 0; i < k; ++i) {
+        out[i] = hull[i];
+    }
+    return k;
+}
+
+/* Drops, one at a time and against its current neighbours, each vertex that lies within
+ * half the weld distance of the line through them: removing one changes the lines its
+ * neighbours are measured against. */
+static int kg_drop_collinear(kg_vec2* v, int count)
+{
+    int removed = 1;
+    while (removed && count >= 3) {
+        removed = 0;
+        for (int i = 0; i < count && !removed; ++i) {
+            kg_vec2 prev = v[(i + count - 1) % count], next = v[(i + 1) % count];
+            kg_vec2 edge = kg_sub(next, prev);
+            float len = kg_length(edge);
+            float dist = len > 0.0f ? kg_cross(edge, kg_sub(v[i], prev)) / len : 0.0f;
+            if (fabsf(dist) <= 0.5f * KG_WELD_DISTANCE) {
+                memmove(&v[i], &v[i + 1], (size_t)(count - i - 1) * sizeof *v);
+                count--;
+                removed = 1;
+            }
+        }
+    }
+    return count;
+}
+
+/* Counter-clockwise hull with welded duplicates and collinear points removed; returns
+ * its vertex count (< 3 means no area). */
+static int kg_convex_hull(const kg_vec2* in, int n, kg_vec2* out)
+{
+    kg_vec2 pts[KG_MAX_VERTS];
+    int m = kg_weld_sorted(in, n, pts);
     if (m < 3) {
         return m;
     }
-    int start = 0;
-    for (int i = 1; i < m; ++i) {
-        if (pts[i].x < pts[start].x || (pts[i].x == pts[start].x && pts[i].y < pts[start].y)) {
-            start = i;
-        }
-    }
-    int count = 0, current = start;
-    do {
-        out[count++] = pts[current];
-        int next = current == 0 ? 1 : 0;
-        for (int j = 0; j < m; ++j) {
-            if (j == current) {
-                continue;
-            }
-            float c = kg_cross(kg_sub(pts[next], pts[current]), kg_sub(pts[j], pts[current]));
-            /* j lies to the right of current->next, or on the line but farther: wrap to it */
-            if (c < 0.0f || (c == 0.0f && kg_length_sq(kg_sub(pts[j], pts[current])) >
-                                              kg_length_sq(kg_sub(pts[next], pts[current])))) {
-                next = j;
-            }
-        }
-        current = next;
-    } while (current != start && count < m);
-    /* drop vertices that are (nearly) on the line through their neighbours */
-    int kept = 0;
-    kg_vec2 tmp[KG_MAX_VERTS];
-    for (int i = 0; i < count; ++i) {
-        kg_vec2 prev = out[(i + count - 1) % count], v = out[i], next = out[(i + 1) % count];
-        kg_vec2 edge = kg_sub(next, prev);
-        float len = kg_length(edge);
-        float dist = len > 0.0f ? kg_cross(edge, kg_sub(v, prev)) / len : 0.0f;
-        if (fabsf(dist) > 0.5f * KG_WELD_DISTANCE) {
-            tmp[kept++] = v;
-        }
-    }
-    memcpy(out, tmp, (size_t)kept * sizeof *tmp);
-    return kept;
+    return kg_drop_collinear(out, kg_monotone_chain(pts, m, out));
 }
 
 static float kg_polygon_area(const kg_vec2* v, int n)
@@ -150,8 +185,15 @@ static kg_result kg_build_polygon(const kg_shape_def* def, kg_shape* out)
     for (int i = 0; i < n; ++i) {
         out->vertices[i] = hull[i];
         out->normals[i] = kg_normalize(kg_right_perp(kg_sub(hull[(i + 1) % n], hull[i])));
+        if (fabsf(kg_length(out->normals[i]) - 1.0f) > 1.0e-3f) {
+            return kg_fail(KG_ERROR_DEGENERATE_SHAPE, "polygon too large: its edges overflow single precision");
+        }
     }
-    out->centroid = kg_shape_mass_of(out, 1.0f).center;
+    kg_mass_data md = kg_shape_mass_of(out, 1.0f);
+    if (!kg_finite_vec(md.center) || !isfinite(md.mass) || !isfinite(md.inertia) || !(md.inertia > 0.0f)) {
+        return kg_fail(KG_ERROR_DEGENERATE_SHAPE, "polygon too large or too thin: its mass properties overflow");
+    }
+    out->centroid = md.center;
     return KG_OK;
 }
 
