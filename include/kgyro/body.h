@@ -72,6 +72,8 @@ typedef struct kg_body_def {
 KG_API kg_body_def kg_default_body_def(void);
 
 KG_API kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_body);
+/* Whether kg_create_body would accept def (pool capacity aside), with the same error. */
+KG_API kg_result kg_check_body_def(const kg_body_def* def);
 KG_API kg_result kg_destroy_body(kg_world* world, kg_body body);
 KG_API int kg_body_is_valid(const kg_world* world, kg_body body);
 /* A body whose state became non-finite (an overflowing force, say) is frozen at its last

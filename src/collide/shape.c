@@ -284,5 +284,10 @@ kg_result kg_shape_mass(const kg_shape_def* def, float density, kg_mass_data* ou
         return r;
     }
     *out = kg_shape_mass_of(&shape, density);
+    if (!isfinite(out->mass) || !isfinite(out->inertia) || !(out->mass > 0.0f) || !(out->inertia >= 0.0f)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT,
+                       "mass properties of this shape at density %g are not representable (mass %g, inertia %g)",
+                       (double)density, (double)out->mass, (double)out->inertia);
+    }
     return KG_OK;
 }

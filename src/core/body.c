@@ -93,7 +93,8 @@ static kg_result kg_body_mass_from_def(const kg_body_def* d, const kg_shape* sha
     float scale = d->mass > 0.0f ? d->mass / md->mass : d->density;
     md->mass *= scale;
     md->inertia *= scale;
-    if (!(md->mass > 0.0f) || !isfinite(md->mass) || !isfinite(md->inertia)) {
+    if (!(md->mass > 0.0f) || !isfinite(md->mass) || !isfinite(md->inertia) || md->inertia < 0.0f ||
+        !isfinite(1.0f / md->mass) || (md->inertia > 0.0f && !isfinite(1.0f / md->inertia))) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "body mass is not representable (%g)", (double)md->mass);
     }
     return KG_OK;
@@ -130,20 +131,38 @@ static void kg_body_write(kg_body_pool* p, int i, const kg_body_def* d, const kg
     kg_body_update_transform(p, i);
 }
 
+/* Everything kg_create_body checks about a definition, with the shape and mass it
+ * would build. */
+static kg_result kg_prepare_body(const kg_body_def* def, kg_shape* shape, kg_mass_data* md)
+{
+    kg_result r = kg_validate_body_def(def);
+    if (r == KG_OK) {
+        r = kg_shape_build(&def->shape, shape);
+    }
+    if (r == KG_OK) {
+        r = kg_body_mass_from_def(def, shape, md);
+    }
+    return r;
+}
+
+kg_result kg_check_body_def(const kg_body_def* def)
+{
+    if (!def) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_check_body_def: NULL definition");
+    }
+    kg_shape shape;
+    kg_mass_data md;
+    return kg_prepare_body(def, &shape, &md);
+}
+
 kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_body)
 {
     if (!world || !def || !out_body) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_create_body: NULL argument");
     }
-    kg_result r = kg_validate_body_def(def);
     kg_shape shape;
     kg_mass_data md;
-    if (r == KG_OK) {
-        r = kg_shape_build(&def->shape, &shape);
-    }
-    if (r == KG_OK) {
-        r = kg_body_mass_from_def(def, &shape, &md);
-    }
+    kg_result r = kg_prepare_body(def, &shape, &md);
     if (r != KG_OK) {
         return r;
     }

@@ -286,6 +286,9 @@ kg_result kg_scene_add_body(kg_scene* scene, const char* name, const kg_body_def
         name = default_name;
     }
     kg_result r = kg_check_name(name);
+    if (r == KG_OK) {
+        r = kg_check_body_def(def);
+    }
     if (r != KG_OK) {
         return r;
     }

@@ -137,8 +137,10 @@ static int kg_grid_capacity(kg_aabb region, float cell, int* columns)
 {
     double across = floor((double)(region.upper.x - region.lower.x) / cell);
     double up = floor((double)(region.upper.y - region.lower.y) / cell);
-    *columns = across > 0.0 && across < 1.0e9 ? (int)across : 0;
-    double cells = across > 0.0 && up > 0.0 ? across * up : 0.0;
+    /* a region wider than a billion cells still fills row by row: only the first
+     * billion columns are ever needed */
+    *columns = across > 0.0 ? (int)fmin(across, 1.0e9) : 0;
+    double cells = *columns > 0 && up > 0.0 ? (double)*columns * up : 0.0;
     return cells > 2.0e9 ? 2000000000 : (int)cells;
 }
 

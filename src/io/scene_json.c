@@ -963,7 +963,7 @@ static kg_result kg_read_settings(kg_loader* loader, const cJSON* root)
     KG_TRY(kg_json_vec2(reader, root, &root_path, "gravity", &def->gravity));
     KG_TRY(kg_json_float(reader, root, &root_path, "dt", KG_JSON_POSITIVE, &dt));
     KG_TRY(kg_json_int(reader, root, &root_path, "steps", 0, 100000000, &steps));
-    KG_TRY(kg_json_int(reader, root, &root_path, "substeps", 1, 1000, &def->substeps));
+    KG_TRY(kg_json_int(reader, root, &root_path, "substeps", 1, 64, &def->substeps));
     KG_TRY(kg_scene_set_dt(loader->scene, dt));
     return kg_scene_set_steps(loader->scene, steps);
 }
