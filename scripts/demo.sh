@@ -19,11 +19,10 @@ scenes=(
   "demo_pyramid|samples/demo_pyramid.json|--view -15,-1.5,25,28.5 --every 3"
   "demo_rain|samples/demo_rain.json|--view -20,-1.5,20,28.5 --every 4"
 )
-# Hook for the tile-map platform level (issue 7): once tile maps exist and kgyro render
-# draws their layers, samples/demo_platformer.json (a Tiled level with slopes, one-way
-# platforms, bodies, particles and a wind applicator) joins the showcase here.
+# The tile-map platform level (the Tiled level samples/platformer.tmj with slopes, one-way
+# platforms, bodies, particles and a wind applicator), wide to fit the level.
 if [ -f samples/demo_platformer.json ]; then
-  scenes+=("demo_platformer|samples/demo_platformer.json|--every 3")
+  scenes+=("demo_platformer|samples/demo_platformer.json|--view -1,-0.5,49,24.5 --size 800x400 --every 3")
 fi
 
 # The mean step time that kgyro render printed, or "-" when it did not run there.

@@ -115,12 +115,17 @@ static float kg_log_uniform(uint32_t* seed, float lo, float hi)
 
 /* What the broadphase must get right beyond a rain: sizes over two decades, zero-sized
  * particles, filters, kinematic sweepers (long runs of partners), a fast body (swept
- * bounds), a far-away pile (large coordinates) and a static floor far wider than the rest. */
+ * bounds), a far-away pile (large coordinates), a static floor far wider than the rest,
+ * and floors too wide for any grid level but the top one, each with a box falling on it. */
 static void kg_sizes_scene(kg_world* world)
 {
     uint32_t seed = 777u;
     kg_ground(world, 400.0f);
     kg_add(world, KG_BODY_STATIC, (kg_vec2){50000.0f, -0.5f}, 0.0f, kg_box_shape(20.0f, 1.0f));
+    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -5000.0f}, 0.0f, kg_box_shape(2.0e7f, 2.0f));
+    kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){30.0f, -4998.0f}, 0.3f, kg_box_shape(1.0f, 0.5f));
+    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -20000.0f}, 0.0f, kg_box_shape(4.0e9f, 2.0f));
+    kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-30.0f, -19998.0f}, 0.3f, kg_box_shape(1.0f, 0.5f));
     for (int i = 0; i < 600; ++i) {
         float size = kg_log_uniform(&seed, 0.04f, 3.0f);
         int far = i % 10 == 9;

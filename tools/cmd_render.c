@@ -7,6 +7,7 @@
 #include "render/image.h"
 #include "render/palette.h"
 #include "render/sim.h"
+#include "render/tiles.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -38,8 +39,9 @@ static void kg_render_usage(FILE* out)
 {
     fprintf(out,
             "usage: kgyro render SCENE [--gif FILE] [--png FILE] [OPTIONS]\n"
-            "Runs SCENE (a scene file or a generator name such as pyramid_10 or rain_2000) offscreen\n"
-            "and writes an animated GIF and/or a PNG of the last frame.\n\n"
+            "Runs SCENE (a scene file, a Tiled map (.tmj) or a generator name such as pyramid_10 or\n"
+            "rain_2000) offscreen and writes an animated GIF and/or a PNG of the last frame, tile maps\n"
+            "drawn under the bodies.\n\n"
             "  --gif FILE        animated GIF, one frame every K steps\n"
             "  --png FILE        the last frame as PNG\n"
             "  --steps N         steps to run (default: the scene's, else 300)\n"
@@ -168,14 +170,21 @@ typedef struct kg_render_job {
     kg_camera camera;
     kg_canvas canvas;
     kg_draw_options draw;
+    kg_tile_view tiles;
     kg_gif* gif;
     int frames;
     kg_step_stats stats;
 } kg_render_job;
 
+static void kg_draw_frame(kg_render_job* job)
+{
+    kg_tile_view_refresh(&job->tiles, job->sim.world, &job->camera);
+    kg_draw_world(&job->canvas, &job->camera, job->sim.world, &job->draw);
+}
+
 static int kg_add_gif_frame(kg_render_job* job, int delay_cs)
 {
-    kg_draw_world(&job->canvas, &job->camera, job->sim.world, &job->draw);
+    kg_draw_frame(job);
     job->frames++;
     return kg_gif_add_frame(job->gif, job->canvas.pixels, delay_cs);
 }
@@ -217,11 +226,12 @@ static int kg_setup_job(kg_render_job* job, kg_scene* scene)
         view = (kg_aabb){{-10.0f, -10.0f}, {10.0f, 10.0f}};
     }
     job->camera = kg_camera_fit(view, o->width, o->height, o->has_view ? 0.0f : 0.05f);
-    job->draw = (kg_draw_options){o->contacts, o->aabbs, 1, o->grid, NULL, 0};
-    if (kg_canvas_init(&job->canvas, o->width, o->height) != 0) {
+    if (kg_tile_view_init(&job->tiles, job->sim.scene, job->sim.world) != KG_OK ||
+        kg_canvas_init(&job->canvas, o->width, o->height) != 0) {
         fprintf(stderr, "kgyro render: out of memory\n");
         return 1;
     }
+    job->draw = (kg_draw_options){o->contacts, o->aabbs, 1, o->grid, job->tiles.layers, job->tiles.layer_count};
     if (o->gif && !(job->gif = kg_gif_open(o->gif, o->width, o->height, kg_palette_rgb()))) {
         fprintf(stderr, "kgyro render: cannot write %s\n", o->gif);
         return 1;
@@ -243,7 +253,7 @@ static int kg_finish_job(kg_render_job* job)
         }
     }
     if (o->png) {
-        kg_draw_world(&job->canvas, &job->camera, job->sim.world, &job->draw);
+        kg_draw_frame(job);
         if (kg_write_png(o->png, &job->canvas) != 0) {
             fprintf(stderr, "kgyro render: cannot write %s\n", o->png);
             failed = 1;
@@ -260,6 +270,7 @@ static void kg_free_job(kg_render_job* job)
         kg_gif_close(job->gif);
     }
     kg_canvas_free(&job->canvas);
+    kg_tile_view_free(&job->tiles);
     kg_sim_stop(&job->sim);
 }
 

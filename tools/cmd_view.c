@@ -11,7 +11,8 @@ static void kg_view_usage(FILE* out)
 {
     fprintf(out,
             "usage: kgyro view SCENE [OPTIONS]\n"
-            "Opens SCENE (a scene file or a generator name such as pyramid_10) in a window.\n\n"
+            "Opens SCENE (a scene file, a Tiled map (.tmj) or a generator name such as pyramid_10) in\n"
+            "a window.\n\n"
             "  mouse: left drag moves a body; left click on empty space spawns a box, with shift a circle;\n"
             "         right drag pans; the wheel zooms\n"
             "  keys:  space pause, . or n single step, c contacts, b bounding boxes, t tiles,\n"

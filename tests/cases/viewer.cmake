@@ -1,13 +1,17 @@
 # The renderer and the viewer (tools/render):
-# - test_render (tests/test_render.c) links the renderer library;
-# - render_cli runs 'kgyro render' on a sample and checks the PNG it wrote;
+# - test_render and test_render_tiles (tests/test_render*.c) link the renderer library;
+# - render_cli and render_cli_tiled run 'kgyro render' on a sample scene and on a Tiled
+#   map and check the PNGs they wrote;
 # - viewer_xvfb runs 'kgyro view' under Xvfb with scripted input and checks the
-#   screenshot (tools/render/viewer_test.sh; skipped when Xvfb is missing).
+#   screenshot, also of a Tiled map with its tiles toggled (tools/render/viewer_test.sh;
+#   skipped when Xvfb is missing).
 # kg_png_probe reads a PNG and checks pixel colours, so no image tools are needed.
-if(TARGET test_render)
-  include(${PROJECT_SOURCE_DIR}/tools/render/render_lib.cmake)
-  target_link_libraries(test_render PRIVATE kgyro_render)
-endif()
+foreach(test test_render test_render_tiles)
+  if(TARGET ${test})
+    include(${PROJECT_SOURCE_DIR}/tools/render/render_lib.cmake)
+    target_link_libraries(${test} PRIVATE kgyro_render)
+  endif()
+endforeach()
 
 if(TARGET kgyro_cli AND KGYRO_STB_INCLUDE_DIR)
   add_executable(kg_png_probe ${PROJECT_SOURCE_DIR}/tools/render/png_probe.c)
@@ -27,6 +31,18 @@ if(TARGET kgyro_cli AND KGYRO_STB_INCLUDE_DIR)
   set_tests_properties(render_cli PROPERTIES WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
     PASS_REGULAR_EXPRESSION "wrote .*pyramid.gif: 3 frames, 160x120")
   set_tests_properties(render_cli_pixels PROPERTIES DEPENDS render_cli)
+  # A Tiled map: 160x80 showing x in [0, 16], y in [0, 8] (10 px/m, pixel (10x, 80 - 10y)):
+  # ground at (0.5, 0.5), the slope tile (8, 2) filled lower right and empty upper left,
+  # the empty cell (6, 3), the crate stack at (3, 5.5).
+  add_test(NAME render_cli_tiled
+    COMMAND $<TARGET_FILE:kgyro_cli> render samples/platformer.tmj --backend cpu --steps 1 --size 160x80
+            --view 0,0,16,8 --png ${KG_RENDER_OUT}/platformer.png)
+  add_test(NAME render_cli_tiled_pixels
+    COMMAND kg_png_probe ${KG_RENDER_OUT}/platformer.png at 5 75 tile at 88 58 tile at 82 52 background
+            at 65 45 background at 30 25 body)
+  set_tests_properties(render_cli_tiled PROPERTIES WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
+    PASS_REGULAR_EXPRESSION "wrote .*platformer.png: 160x80")
+  set_tests_properties(render_cli_tiled_pixels PROPERTIES DEPENDS render_cli_tiled)
   add_test(NAME render_cli_bad_option COMMAND $<TARGET_FILE:kgyro_cli> render samples/demo_pyramid.json --size 10)
   set_tests_properties(render_cli_bad_option PROPERTIES WILL_FAIL ON)
 

@@ -61,15 +61,15 @@ static kg_body* kg_live_bodies(const kg_world* world, int* count)
     return bodies;
 }
 
-/* The union of the AABBs of the bodies that are (moving != 0) or are not moving. */
-static int kg_union_of(const kg_world* world, const kg_body* bodies, int count, int moving, kg_aabb* out)
+/* The union of the AABBs of the bodies that move (all but the static ones). */
+static int kg_moving_union(const kg_world* world, const kg_body* bodies, int count, kg_aabb* out)
 {
     int found = 0;
     for (int i = 0; i < count; ++i) {
         kg_body_type type;
         kg_aabb box;
-        if (kg_body_get_type(world, bodies[i], &type) != KG_OK || kg_body_get_aabb(world, bodies[i], &box) != KG_OK ||
-            (type != KG_BODY_STATIC) != moving) {
+        if (kg_body_get_type(world, bodies[i], &type) != KG_OK || type == KG_BODY_STATIC ||
+            kg_body_get_aabb(world, bodies[i], &box) != KG_OK) {
             continue;
         }
         *out = found ? kg_aabb_union(*out, box) : box;
@@ -78,20 +78,50 @@ static int kg_union_of(const kg_world* world, const kg_body* bodies, int count, 
     return found;
 }
 
-/* The static bodies that reach into the moving bodies' box, grown a little sideways and
- * by half its height up and down (to find the floor under a pile), clipped to it. */
-static kg_aabb kg_add_nearby_statics(const kg_world* world, const kg_body* bodies, int count, kg_aabb moving)
+static int kg_tilemap_box(const kg_world* world, kg_tilemap map, kg_aabb* out)
+{
+    kg_tilemap_def def;
+    if (kg_tilemap_get_def(world, map, &def) != KG_OK) {
+        return 0;
+    }
+    kg_vec2 size = {(float)def.width * def.tile_size.x, (float)def.height * def.tile_size.y};
+    *out = (kg_aabb){def.origin, {def.origin.x + size.x, def.origin.y + size.y}};
+    return 1;
+}
+
+/* The boxes of what does not move: static bodies and tile maps. *count of them; NULL
+ * when there are none or no memory. */
+static kg_aabb* kg_terrain_boxes(const kg_world* world, const kg_body* bodies, int body_count, int* count)
+{
+    int map_count = kg_world_tilemap_count(world), capacity = body_count + map_count;
+    kg_aabb* boxes = capacity > 0 ? malloc((size_t)capacity * sizeof *boxes) : NULL;
+    kg_tilemap* maps = map_count > 0 ? malloc((size_t)map_count * sizeof *maps) : NULL;
+    *count = 0;
+    for (int i = 0; boxes && i < body_count; ++i) {
+        kg_body_type type;
+        if (kg_body_get_type(world, bodies[i], &type) == KG_OK && type == KG_BODY_STATIC &&
+            kg_body_get_aabb(world, bodies[i], &boxes[*count]) == KG_OK) {
+            (*count)++;
+        }
+    }
+    if (boxes && maps && kg_world_get_tilemaps(world, maps, map_count, &map_count) == KG_OK) {
+        for (int i = 0; i < map_count; ++i) {
+            *count += kg_tilemap_box(world, maps[i], &boxes[*count]);
+        }
+    }
+    free(maps);
+    return boxes;
+}
+
+/* The terrain that reaches into the moving bodies' box, grown a little sideways and by
+ * half its height up and down (to find the floor under a pile), clipped to it. */
+static kg_aabb kg_add_nearby_terrain(const kg_aabb* terrain, int count, kg_aabb moving)
 {
     float grow_x = 0.1f * (moving.upper.x - moving.lower.x), grow_y = 0.5f * (moving.upper.y - moving.lower.y);
     kg_aabb near = {{moving.lower.x - grow_x, moving.lower.y - grow_y}, {moving.upper.x + grow_x, moving.upper.y + grow_y}};
     kg_aabb view = moving;
     for (int i = 0; i < count; ++i) {
-        kg_body_type type;
-        kg_aabb box;
-        if (kg_body_get_type(world, bodies[i], &type) != KG_OK || type != KG_BODY_STATIC ||
-            kg_body_get_aabb(world, bodies[i], &box) != KG_OK) {
-            continue;
-        }
+        kg_aabb box = terrain[i];
         kg_aabb clipped = {{fmaxf(box.lower.x, near.lower.x), fmaxf(box.lower.y, near.lower.y)},
                            {fminf(box.upper.x, near.upper.x), fminf(box.upper.y, near.upper.y)}};
         if (clipped.lower.x <= clipped.upper.x && clipped.lower.y <= clipped.upper.y) {
@@ -103,15 +133,21 @@ static kg_aabb kg_add_nearby_statics(const kg_world* world, const kg_body* bodie
 
 int kg_world_view_box(const kg_world* world, kg_aabb* out)
 {
-    int count;
-    kg_body* bodies = kg_live_bodies(world, &count);
-    kg_aabb moving;
-    int found = 1;
-    if (kg_union_of(world, bodies, count, 1, &moving)) {
-        *out = kg_add_nearby_statics(world, bodies, count, moving);
-    } else {
-        found = kg_union_of(world, bodies, count, 0, out);
+    int body_count, terrain_count;
+    kg_body* bodies = kg_live_bodies(world, &body_count);
+    kg_aabb* terrain = kg_terrain_boxes(world, bodies, body_count, &terrain_count);
+    kg_aabb moving = {{0.0f, 0.0f}, {0.0f, 0.0f}}; /* set when found; zeroed for the compiler */
+    int found = kg_moving_union(world, bodies, body_count, &moving);
+    if (found) {
+        *out = kg_add_nearby_terrain(terrain, terrain_count, moving);
+    } else if (terrain_count > 0) {
+        *out = terrain[0];
+        for (int i = 1; i < terrain_count; ++i) {
+            *out = kg_aabb_union(*out, terrain[i]);
+        }
+        found = 1;
     }
+    free(terrain);
     free(bodies);
     return found;
 }
@@ -304,39 +340,52 @@ static int kg_tile_id(const kg_tile_layer* layer, int x, int y)
     return id >= 0 && id < layer->look_count && layer->looks[id].count >= 3 ? id : -1;
 }
 
-/* A full square tile hides the edge its neighbour shares with it. */
-static int kg_tile_is_full(const kg_tile_layer* layer, int x, int y)
+/* The side of the unit cell that segment a-b lies on (0 left, 1 right, 2 bottom, 3 top)
+ * and the part of that side it covers; -1 when it lies inside the cell. */
+static int kg_cell_side(kg_vec2 a, kg_vec2 b, float* low, float* high)
 {
+    const float eps = 1e-4f;
+    int side = -1;
+    if (fabsf(a.x - b.x) < eps && (fabsf(a.x) < eps || fabsf(a.x - 1.0f) < eps)) {
+        side = fabsf(a.x) < eps ? 0 : 1;
+        *low = fminf(a.y, b.y);
+        *high = fmaxf(a.y, b.y);
+    } else if (fabsf(a.y - b.y) < eps && (fabsf(a.y) < eps || fabsf(a.y - 1.0f) < eps)) {
+        side = fabsf(a.y) < eps ? 2 : 3;
+        *low = fminf(a.x, b.x);
+        *high = fmaxf(a.x, b.x);
+    }
+    return side;
+}
+
+/* Whether the tile at (x, y) has an edge on side that covers [low, high] of it. */
+static int kg_tile_covers(const kg_tile_layer* layer, int x, int y, int side, float low, float high, int one_way)
+{
+    const float eps = 1e-4f;
     int id = kg_tile_id(layer, x, y);
-    if (id < 0 || layer->looks[id].one_way) {
+    if (id < 0 || layer->looks[id].one_way != one_way) {
         return 0;
     }
     const kg_tile_look* look = &layer->looks[id];
-    float area = 0.0f;
     for (int i = 0; i < look->count; ++i) {
-        kg_vec2 a = look->vertices[i], b = look->vertices[(i + 1) % look->count];
-        area += a.x * b.y - b.x * a.y;
-    }
-    return fabsf(0.5f * fabsf(area) - 1.0f) < 1e-4f;
-}
-
-/* Whether a tile edge lies on its cell's border next to a full tile, which hides it. */
-static int kg_edge_hidden(const kg_tile_layer* layer, int x, int y, kg_vec2 a, kg_vec2 b)
-{
-    const float eps = 1e-4f;
-    if (fabsf(a.x) < eps && fabsf(b.x) < eps) {
-        return kg_tile_is_full(layer, x - 1, y);
-    }
-    if (fabsf(a.x - 1.0f) < eps && fabsf(b.x - 1.0f) < eps) {
-        return kg_tile_is_full(layer, x + 1, y);
-    }
-    if (fabsf(a.y) < eps && fabsf(b.y) < eps) {
-        return kg_tile_is_full(layer, x, y - 1);
-    }
-    if (fabsf(a.y - 1.0f) < eps && fabsf(b.y - 1.0f) < eps) {
-        return kg_tile_is_full(layer, x, y + 1);
+        float other_low = 0.0f, other_high = 0.0f;
+        if (kg_cell_side(look->vertices[i], look->vertices[(i + 1) % look->count], &other_low, &other_high) == side &&
+            other_low <= low + eps && other_high >= high - eps) {
+            return 1;
+        }
     }
     return 0;
+}
+
+/* An edge on the cell's border is hidden where the neighbour across it has an edge of
+ * the same kind (solid or one-way) covering it: the two tiles then read as one piece of
+ * terrain, as they collide. */
+static int kg_edge_hidden(const kg_tile_layer* layer, int x, int y, int one_way, kg_vec2 a, kg_vec2 b)
+{
+    static const int kDx[4] = {-1, 1, 0, 0}, kDy[4] = {0, 0, -1, 1}, kOpposite[4] = {1, 0, 3, 2};
+    float low = 0.0f, high = 0.0f;
+    int side = kg_cell_side(a, b, &low, &high);
+    return side >= 0 && kg_tile_covers(layer, x + kDx[side], y + kDy[side], kOpposite[side], low, high, one_way);
 }
 
 static kg_point kg_tile_point(const kg_camera* camera, const kg_tile_layer* layer, int x, int y, kg_vec2 unit)
@@ -357,7 +406,7 @@ static void kg_draw_tile(kg_canvas* canvas, const kg_camera* camera, const kg_ti
     uint8_t line = look->one_way ? KG_COLOR_ONE_WAY_LINE : KG_COLOR_TILE_LINE;
     for (int i = 0; i < look->count; ++i) {
         int next = (i + 1) % look->count;
-        if (!kg_edge_hidden(layer, x, y, look->vertices[i], look->vertices[next])) {
+        if (!kg_edge_hidden(layer, x, y, look->one_way, look->vertices[i], look->vertices[next])) {
             kg_canvas_line(canvas, points[i], points[next], line);
         }
     }
@@ -365,27 +414,37 @@ static void kg_draw_tile(kg_canvas* canvas, const kg_camera* camera, const kg_ti
 
 static int kg_clamp_int(int v, int low, int high) { return v < low ? low : (v > high ? high : v); }
 
-/* Only the cells on screen are visited, so a huge map costs what its visible part does. */
-void kg_draw_tile_layer(kg_canvas* canvas, const kg_camera* camera, const kg_tile_layer* layer)
+int kg_tile_layer_visible(const kg_camera* camera, const kg_tile_layer* layer, kg_cell_range* out)
 {
     if (!layer->cells || layer->tile_size.x <= 0.0f || layer->tile_size.y <= 0.0f) {
-        return;
+        return 0;
     }
-    kg_vec2 low = kg_camera_to_world(camera, (kg_point){0.0f, (float)canvas->height});
-    kg_vec2 high = kg_camera_to_world(camera, (kg_point){(float)canvas->width, 0.0f});
+    kg_vec2 low = kg_camera_to_world(camera, (kg_point){0.0f, (float)camera->height});
+    kg_vec2 high = kg_camera_to_world(camera, (kg_point){(float)camera->width, 0.0f});
     float x0 = floorf((low.x - layer->origin.x) / layer->tile_size.x);
     float x1 = floorf((high.x - layer->origin.x) / layer->tile_size.x);
     float y0 = floorf((low.y - layer->origin.y) / layer->tile_size.y);
     float y1 = floorf((high.y - layer->origin.y) / layer->tile_size.y);
-    int first_x = kg_clamp_int((int)fmaxf(x0, -1.0f), 0, layer->width - 1);
-    int last_x = kg_clamp_int((int)fminf(x1, (float)layer->width), 0, layer->width - 1);
-    int first_y = kg_clamp_int((int)fmaxf(y0, -1.0f), 0, layer->height - 1);
-    int last_y = kg_clamp_int((int)fminf(y1, (float)layer->height), 0, layer->height - 1);
     if (x1 < 0.0f || y1 < 0.0f || x0 >= (float)layer->width || y0 >= (float)layer->height) {
+        return 0;
+    }
+    /* clamped as floats first: far off the map the cell numbers overflow an int */
+    out->x0 = kg_clamp_int((int)fmaxf(x0, -1.0f), 0, layer->width - 1);
+    out->x1 = kg_clamp_int((int)fminf(x1, (float)layer->width), 0, layer->width - 1);
+    out->y0 = kg_clamp_int((int)fmaxf(y0, -1.0f), 0, layer->height - 1);
+    out->y1 = kg_clamp_int((int)fminf(y1, (float)layer->height), 0, layer->height - 1);
+    return 1;
+}
+
+/* Only the cells on screen are visited, so a huge map costs what its visible part does. */
+void kg_draw_tile_layer(kg_canvas* canvas, const kg_camera* camera, const kg_tile_layer* layer)
+{
+    kg_cell_range range;
+    if (!kg_tile_layer_visible(camera, layer, &range)) {
         return;
     }
-    for (int y = first_y; y <= last_y; ++y) {
-        for (int x = first_x; x <= last_x; ++x) {
+    for (int y = range.y0; y <= range.y1; ++y) {
+        for (int x = range.x0; x <= range.x1; ++x) {
             int id = kg_tile_id(layer, x, y);
             if (id >= 0) {
                 kg_draw_tile(canvas, camera, layer, x, y, &layer->looks[id]);

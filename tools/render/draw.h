@@ -22,9 +22,9 @@ kg_camera kg_camera_fit(kg_aabb box, int width, int height, float margin);
 /* Zooms by factor keeping the world point under screen point fixed. */
 void kg_camera_zoom_at(kg_camera* camera, kg_point screen, float factor);
 
-/* The box a camera should show for a world: every moving body, and the static ones only
- * where they are near the moving ones, so that a long floor does not shrink the scene.
- * Returns 0 when the world has no bodies. */
+/* The box a camera should show for a world: every moving body, and the static ones and
+ * tile maps only where they are near the moving ones, so that a long floor does not
+ * shrink the scene. Returns 0 when the world has neither bodies nor tile maps. */
 int kg_world_view_box(const kg_world* world, kg_aabb* out);
 
 /* One tile id's look: a convex polygon in the tile's unit square (0..1, y up), filled,
@@ -35,8 +35,8 @@ typedef struct kg_tile_look {
     int one_way;
 } kg_tile_look;
 
-/* A grid of tile ids as the renderer sees it; the adapter from a loaded tile map
- * (issue 7) fills one of these per layer. cells[y * width + x] with row 0 at the
+/* A grid of tile ids as the renderer sees it; the adapter from a world's tile maps
+ * (tiles.h) fills one of these per layer. cells[y * width + x] with row 0 at the
  * bottom, at world origin + (x, y) * tile_size. ids outside [0, look_count) are empty. */
 typedef struct kg_tile_layer {
     kg_vec2 origin;
@@ -61,6 +61,14 @@ void kg_draw_world(kg_canvas* canvas, const kg_camera* camera, const kg_world* w
                    const kg_draw_options* options);
 
 void kg_draw_tile_layer(kg_canvas* canvas, const kg_camera* camera, const kg_tile_layer* layer);
+
+/* Cells x0..x1, y0..y1, bounds included. */
+typedef struct kg_cell_range {
+    int x0, y0, x1, y1;
+} kg_cell_range;
+
+/* The cells of layer that camera shows; 0 when it shows none. */
+int kg_tile_layer_visible(const kg_camera* camera, const kg_tile_layer* layer, kg_cell_range* out);
 /* One body with its shape at its current pose, in the colours of its type. */
 void kg_draw_body(kg_canvas* canvas, const kg_camera* camera, const kg_world* world, kg_body body);
 /* The fill and outline colours of a body by type and handle index. */

@@ -6,8 +6,8 @@
  *     not X Y COLOR           pixel (X, Y) does not have COLOR
  *     any X0 Y0 X1 Y1 COLOR   some pixel with X0 <= x < X1, Y0 <= y < Y1 has COLOR
  *     size W H                the image is W x H
- *   COLOR: background, grid, static, static-line, kinematic, particle, text, body (the
- *   fill of any dynamic body) or RRGGBB in hex.
+ *   COLOR: background, grid, static, static-line, kinematic, particle, text, tile, one-way,
+ *   body (the fill of any dynamic body) or RRGGBB in hex.
  *
  * Prints one line per check; exits 0 when all pass, 1 when one fails, 2 on bad usage. */
 #include "image.h"
@@ -26,7 +26,8 @@ static const kg_named_color kNames[] = {
     {"background", KG_COLOR_BACKGROUND}, {"grid", KG_COLOR_GRID},
     {"static", KG_COLOR_STATIC_FILL},    {"static-line", KG_COLOR_STATIC_LINE},
     {"kinematic", KG_COLOR_KINEMATIC_FILL}, {"particle", KG_COLOR_PARTICLE},
-    {"text", KG_COLOR_TEXT},
+    {"text", KG_COLOR_TEXT},             {"tile", KG_COLOR_TILE_FILL},
+    {"one-way", KG_COLOR_ONE_WAY_FILL},
 };
 
 static int kg_same(kg_rgb a, const uint8_t* b) { return a.r == b[0] && a.g == b[1] && a.b == b[2]; }

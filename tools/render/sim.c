@@ -4,9 +4,16 @@
 #include <string.h>
 #include <unistd.h>
 
+static int kg_ends_with(const char* text, const char* suffix)
+{
+    size_t length = strlen(text), suffix_length = strlen(suffix);
+    return length >= suffix_length && strcmp(text + length - suffix_length, suffix) == 0;
+}
+
+/* kg_scene_load_file recognises a map saved by Tiled (.tmj, or .json) by its contents. */
 kg_result kg_open_scene(const char* name, uint32_t seed, kg_scene** out)
 {
-    if (access(name, F_OK) == 0 || strchr(name, '/') || strstr(name, ".json")) {
+    if (access(name, F_OK) == 0 || strchr(name, '/') || kg_ends_with(name, ".json") || kg_ends_with(name, ".tmj")) {
         return kg_scene_load_file(name, out);
     }
     return kg_scene_generate(name, seed, out);

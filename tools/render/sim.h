@@ -13,8 +13,8 @@ typedef struct kg_sim {
     float dt;
 } kg_sim;
 
-/* Opens name as the tools take a scene: a path to a scene file, else a generator name
- * (kg_scene_generate with seed). Tiled maps (issue 7) will be recognised here too. */
+/* Opens name as the tools take a scene: a path to a scene file or a Tiled map (.tmj),
+ * else a generator name (kg_scene_generate with seed). */
 kg_result kg_open_scene(const char* name, uint32_t seed, kg_scene** out);
 
 /* Builds the world for scene on backend, with room for extra_bodies more bodies. The

@@ -2,7 +2,8 @@
 # The viewer test (tests/cases/viewer.cmake): runs 'kgyro view' under Xvfb with scripted
 # input (a click that spawns a box, space to pause, a shift-click that spawns a circle),
 # then checks its own report and the pixels of the screenshot it read back from its
-# window; then switches a running scene to OpenCL and checks that every body came along.
+# window; then switches a running scene to OpenCL and checks that every body came along;
+# then shows the Tiled level samples/platformer.tmj with its tiles, and without after 't'.
 # Exits 77 (skipped) when Xvfb is not installed.
 # Usage: viewer_test.sh KGYRO PROBE SCENE OUTDIR
 set -eu
@@ -75,3 +76,12 @@ scene_bodies=$(($(sed -n 's/.* \([0-9]*\) bodies (2 added).*/\1/p' "$log") - 2))
 cat "$log"
 grep -q "$((scene_bodies + 1)) bodies (1 added), $expected, running" "$log"
 "$probe" "$shot" at 187 322 body at 60 60 body at 20 200 background
+
+# Tiles: 480x360 showing x in [0, 24], y in [0, 18], 20 px/m, pixel (20 x, 360 - 20 y);
+# at 70 330 the ground tile (3, 1), at 176 316 the lower right of the slope tile (8, 2).
+"$kgyro" view samples/platformer.tmj --backend cpu --size 480x360 --view 0,0,24,18 --frames 3 \
+  --screenshot "$shot" >"$log" 2>&1 || { cat "$log"; exit 1; }
+"$probe" "$shot" at 70 330 tile at 176 316 tile
+"$kgyro" view samples/platformer.tmj --backend cpu --size 480x360 --view 0,0,24,18 --frames 3 \
+  --script "key t" --screenshot "$shot" >"$log" 2>&1 || { cat "$log"; exit 1; }
+"$probe" "$shot" at 70 330 background at 176 316 background
