@@ -4,8 +4,10 @@
  *  - inside a step (enqueue, finish, any read, a force callback's read included): the step
  *    is redone on the CPU from the checkpoint, and the world ends bitwise where a CPU-only
  *    world ends;
- *  - a failed read for a getter between steps: tried again, same result;
- *  - a lost device: the world goes on from the last state the host read back whole.
+ *  - a failed read for a getter between steps (the contacts' included): tried again, same
+ *    result;
+ *  - a lost device: the world goes on from the last state and contacts the host read back
+ *    whole.
  * Skips (exit 77) when no OpenCL device exists. */
 #include "kg_test.h"
 #include "kgyro/kgyro.h"
@@ -191,6 +193,46 @@ static void test_read_failures(void)
     kg_expect_intact_at("read", calls, (int)(sizeof calls / sizeof calls[0]));
 }
 
+/* The contacts stay on the device until asked for. When reading them back between steps
+ * fails, the world falls back, reads them again, and goes on with them intact: the
+ * contacts and, steps later, the state are bitwise the CPU world's. */
+static void test_contact_read_failure(void)
+{
+    const int steps = 40;
+    kg_world* probe = kg_make_world(KG_BACKEND_OPENCL, NULL, NULL);
+    for (int s = 0; s < steps; ++s) {
+        KG_CHECK_OK(kg_world_step(probe, KG_DT));
+    }
+    kg_transfer_stats stats;
+    KG_CHECK_OK(kg_world_get_transfer_stats(probe, &stats));
+    kg_destroy_world(probe);
+    char faults[32];
+    snprintf(faults, sizeof faults, "read:%d", stats.reads + 1); /* the next read: the contacts' */
+    kg_world* cpu = kg_make_world(KG_BACKEND_CPU, NULL, NULL);
+    kg_world* world = kg_make_world(KG_BACKEND_OPENCL, faults, NULL);
+    for (int s = 0; s < steps; ++s) {
+        KG_CHECK_OK(kg_world_step(cpu, KG_DT));
+        KG_CHECK_OK(kg_world_step(world, KG_DT));
+    }
+    KG_CHECK(kg_world_backend(world) == KG_BACKEND_OPENCL);
+    int n = kg_world_contact_count(world);
+    KG_CHECK(kg_world_backend(world) == KG_BACKEND_CPU);
+    KG_CHECK(n > 0 && n == kg_world_contact_count(cpu));
+    for (int k = 0; k < n; ++k) {
+        kg_contact_info a, b;
+        KG_CHECK_OK(kg_world_get_contact(cpu, k, &a));
+        KG_CHECK_OK(kg_world_get_contact(world, k, &b));
+        KG_CHECK(memcmp(&a, &b, sizeof a) == 0);
+    }
+    for (int s = steps; s < KG_STEPS; ++s) {
+        KG_CHECK_OK(kg_world_step(cpu, KG_DT));
+        KG_CHECK_OK(kg_world_step(world, KG_DT));
+    }
+    KG_CHECK(kg_state_hash(world) == kg_state_hash(cpu));
+    kg_destroy_world(cpu);
+    kg_destroy_world(world);
+}
+
 /* Runs a world whose device is lost from the nth enqueue on beside a CPU world; returns
  * how far apart their bodies end (m), the step it fell back in, and whether that step's
  * callback had read the contacts and the state back before the device was lost. */
@@ -264,7 +306,8 @@ int main(void)
     static const kg_test_case tests[] = {
         KG_TEST(test_no_fault_no_fallback), KG_TEST(test_load_failure), KG_TEST(test_no_platform),
         KG_TEST(test_build_failure), KG_TEST(test_alloc_failure), KG_TEST(test_enqueue_failures),
-        KG_TEST(test_kernel_failures), KG_TEST(test_read_failures), KG_TEST(test_device_lost),
+        KG_TEST(test_kernel_failures), KG_TEST(test_read_failures), KG_TEST(test_contact_read_failure),
+        KG_TEST(test_device_lost),
         KG_TEST(test_bad_spec_is_ignored)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

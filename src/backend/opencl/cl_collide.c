@@ -172,7 +172,7 @@ kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* count,
     int capacity = kg_collision_capacity(world);
     capacity = capacity < w->contact_capacity ? capacity : w->contact_capacity;
     KG_TRY(kg_find_pairs(world, w, capacity));
-    KG_TRY(kg_read_counters(b, KG_CC_CONTACTS));
+    KG_TRY(kg_read_counters(b, KG_CC_OVERFLOW + 1)); /* the pair count and the overflow flag */
     *fits = b->counters[KG_CC_OVERFLOW] == 0u;
     if (!*fits) {
         return KG_OK;

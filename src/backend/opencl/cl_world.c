@@ -454,7 +454,7 @@ static void kg_cl_release_contact_buffers(kg_cl_world* w)
 {
     kg_cl_collide_buffers* c = &w->collide;
     cl_mem* list[] = {&w->contacts[0], &w->contacts[1], &w->constraints, &w->colored, &w->order,
-                      &c->raw_pairs,   &c->pairs,       &c->manifolds,   &c->touching, &c->colors};
+                      &c->raw_pairs, &c->pairs, &c->manifolds, &c->touching, &c->colors};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
         kg_cl_release(w, list[k]);
     }
@@ -552,8 +552,8 @@ void kg_cl_world_destroy(kg_cl_world* w)
     kg_cl_release(w, &w->targets);
     kg_cl_release_contact_buffers(w);
     kg_cl_collide_buffers* c = &w->collide;
-    cl_mem* list[] = {&c->counts, &c->proxies, &c->heads, &c->histogram, &c->grid,       &c->plan,
-                      &c->run,    &c->run_fill, &c->colors_used, &c->block_sums};
+    cl_mem* list[] = {&c->counts, &c->proxies, &c->heads, &c->histogram, &c->grid,
+                      &c->plan, &c->run, &c->run_fill, &c->colors_used, &c->block_sums};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
         kg_cl_release(w, list[k]);
     }
