@@ -204,6 +204,74 @@ static void kg_applicator_scene(kg_world* world)
     KG_CHECK_OK(kg_add_device_force_applicator(world, &def, &a));
 }
 
+/* A platform level as a tile map: a floor with a 45-degree and a gentle slope, a block,
+ * a one-way platform that some bodies fall onto and one jumps up through, half tiles,
+ * and a second map (other key range) with a step; boxes and circles dropped on them. */
+static void kg_tiles_scene(kg_world* world)
+{
+    enum { W = 32, H = 12 };
+    kg_tile_shape shapes[9] = {kg_tile_empty(),
+                               kg_tile_box(),
+                               kg_tile_slope(KG_TILE_BOTTOM_RIGHT),
+                               kg_tile_slope(KG_TILE_BOTTOM_LEFT),
+                               kg_tile_slope_low(KG_TILE_BOTTOM_RIGHT),
+                               kg_tile_slope_high(KG_TILE_BOTTOM_RIGHT),
+                               kg_tile_platform(),
+                               kg_tile_half(KG_TILE_SIDE_BOTTOM),
+                               kg_tile_circle((kg_vec2){0.5f, 0.5f}, 0.4f)};
+    static uint16_t tiles[W * H];
+    memset(tiles, 0, sizeof tiles);
+    for (int x = 0; x < W; ++x) {
+        tiles[x] = 1; /* the floor */
+    }
+    tiles[0 * W + 0] = tiles[1 * W + 0] = tiles[2 * W + 0] = 1; /* walls */
+    tiles[1 * W + W - 1] = tiles[2 * W + W - 1] = 1;
+    tiles[1 * W + 3] = 2;                                  /* a 45-degree ramp up to a block */
+    tiles[1 * W + 4] = 1;
+    tiles[1 * W + 5] = 3;
+    tiles[1 * W + 8] = 4;                                  /* a gentle slope */
+    tiles[1 * W + 9] = 5;
+    tiles[1 * W + 10] = 1;
+    tiles[2 * W + 10] = 7;
+    tiles[1 * W + 22] = 8;                                 /* a round bump */
+    for (int x = 13; x < 20; ++x) {
+        tiles[4 * W + x] = 6;                              /* the one-way platform */
+    }
+    kg_tilemap_def def = kg_default_tilemap_def();
+    def.width = W;
+    def.height = H;
+    def.origin = (kg_vec2){-16.0f, -1.0f};
+    def.shapes = shapes;
+    def.shape_count = 9;
+    def.tiles = tiles;
+    def.friction = 0.4f;
+    kg_tilemap map;
+    KG_CHECK_OK(kg_create_tilemap(world, &def, &map));
+    uint16_t step[4 * 2] = {1, 1, 1, 1, 0, 1, 1, 0};
+    kg_tilemap_def second = def;
+    second.width = 4;
+    second.height = 2;
+    second.origin = (kg_vec2){20.0f, -1.0f};
+    second.tiles = step;
+    second.restitution = 0.3f;
+    KG_CHECK_OK(kg_create_tilemap(world, &second, &map));
+    uint32_t seed = 4242u;
+    for (int i = 0; i < 90; ++i) {
+        kg_vec2 p = {kg_uniform(&seed, -14.0f, 22.0f), 4.0f + 0.5f * (float)(i / 10) + kg_uniform(&seed, 0.0f, 0.3f)};
+        float size = kg_uniform(&seed, 0.3f, 0.7f);
+        kg_shape_def shape = i % 2 ? kg_circle_shape(0.5f * size) : kg_box_shape(size, 0.8f * size);
+        kg_body body = kg_add(world, KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
+        if (i % 15 == 7) {
+            KG_CHECK_OK(kg_body_set_velocity(world, body, (kg_vec2){kg_uniform(&seed, -6.0f, 6.0f), -8.0f}));
+        }
+    }
+    /* one jumping up through the platform from below, one sliding fast along the floor */
+    kg_body jumper = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-0.5f, 0.4f}, 0.0f, kg_box_shape(0.5f, 0.5f));
+    KG_CHECK_OK(kg_body_set_velocity(world, jumper, (kg_vec2){0.5f, 11.0f}));
+    kg_body slider = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-12.0f, 0.3f}, 0.0f, kg_circle_shape(0.25f));
+    KG_CHECK_OK(kg_body_set_velocity(world, slider, (kg_vec2){10.0f, 0.0f}));
+}
+
 static kg_world* kg_make_world(kg_backend backend, kg_scene_fn* scene)
 {
     kg_world_def def = kg_default_world_def();
@@ -229,6 +297,11 @@ static int kg_same_contacts(kg_world* cpu, kg_world* cl)
         KG_CHECK_OK(kg_world_get_contact(cpu, k, &a));
         KG_CHECK_OK(kg_world_get_contact(cl, k, &b));
         same = memcmp(&a, &b, sizeof a) == 0;
+        kg_tilemap ma = {0, 0}, mb = {0, 0};
+        int ta[3] = {-1, -1, -1}, tb[3] = {-1, -1, -1};
+        int ra = kg_world_get_contact_tile(cpu, k, &ma, &ta[0], &ta[1], &ta[2]);
+        int rb = kg_world_get_contact_tile(cl, k, &mb, &tb[0], &tb[1], &tb[2]);
+        same = same && ra == rb && memcmp(&ma, &mb, sizeof ma) == 0 && memcmp(ta, tb, sizeof ta) == 0;
     }
     return same;
 }
@@ -303,6 +376,33 @@ static void test_stack(void) { kg_compare_scene("stack", kg_stack_scene); }
 static void test_pyramid_20(void) { kg_compare_scene("pyramid 20", kg_pyramid_scene); }
 static void test_rain_2000(void) { kg_compare_scene("rain 2000", kg_rain_scene); }
 static void test_sizes(void) { kg_compare_scene("sizes", kg_sizes_scene); }
+static void test_tiles(void) { kg_compare_scene("tiles", kg_tiles_scene); }
+
+/* With a tile map, the collide stage runs on the device: no "collide (host)" in the
+ * stage times, with profiling off or on, and the world stays on the OpenCL backend. */
+static void test_tiles_collide_on_device(void)
+{
+    kg_world* world = kg_make_world(KG_BACKEND_OPENCL, kg_tiles_scene);
+    if (!world) {
+        return;
+    }
+    int host = 0, device = 0;
+    for (int s = 0; s < 40; ++s) {
+        KG_CHECK_OK(kg_world_set_profiling(world, s >= 20));
+        KG_CHECK_OK(kg_world_step(world, KG_DT));
+        kg_stage_times t;
+        KG_CHECK_OK(kg_world_get_stage_times(world, &t));
+        for (int i = 0; i < t.count; ++i) {
+            host += strcmp(t.names[i], "collide (host)") == 0;
+            device += strcmp(t.names[i], "collide") == 0 || strcmp(t.names[i], "kg_narrowphase") == 0;
+        }
+    }
+    KG_CHECK(host == 0);
+    KG_CHECK(device == 40);
+    KG_CHECK(kg_world_contact_count(world) > 0);
+    KG_CHECK(kg_world_backend(world) == KG_BACKEND_OPENCL);
+    kg_destroy_world(world);
+}
 
 int main(void)
 {
@@ -320,6 +420,7 @@ int main(void)
     printf("device 0: %s (%s), %d steps, bitwise agreement %s\n", info.name, info.platform_name, g_steps,
            g_bitwise_expected ? "required" : "not required (no correctly rounded divide/sqrt)");
     static const kg_test_case tests[] = {KG_TEST(test_projectile), KG_TEST(test_applicators), KG_TEST(test_stack),
-                                         KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_sizes)};
+                                         KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_sizes),
+                                         KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

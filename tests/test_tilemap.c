@@ -200,8 +200,8 @@ static void test_box_and_circle_slide_across_gentle_slope_and_half_tiles(void)
     check_slides(HALF_TILES, 100, KG_BACKEND_CPU);
 }
 
-/* The OpenCL backend collides on the host too, then solves on the device: the same runs,
- * when a device is there. */
+/* The same runs on the OpenCL backend, where the maps are device buffers and tile
+ * contacts are found by a kernel, when a device is there. */
 static void test_slides_on_the_opencl_backend(void)
 {
     check_slides(FLAT, 200, KG_BACKEND_OPENCL);

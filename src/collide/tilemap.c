@@ -22,6 +22,7 @@ typedef struct kg_map {
     kg_u32* cells;      /* layer_count * height * width words */
     kg_u32 key_base;
     kg_u32 key_count;
+    int cells_dirty;    /* set_tile changed cells since the OpenCL backend last looked */
 } kg_map;
 
 struct kg_tilemaps {
@@ -30,6 +31,7 @@ struct kg_tilemaps {
     int map_capacity;
     int* order;    /* live slots by key_base */
     int live_count;
+    kg_u32 layout_version; /* bumped when a map is created or destroyed */
     /* body origins at the last collision, for one-way platforms; generation 0 = unknown */
     kg_vec2* last_origin;
     kg_u32* last_generation;
@@ -361,6 +363,7 @@ kg_result kg_create_tilemap(kg_world* world, const kg_tilemap_def* def, kg_tilem
         return r;
     }
     m->generation += 1u;
+    t->layout_version += 1u;
     out_map->index = (uint32_t)slot;
     out_map->generation = m->generation;
     return KG_OK;
@@ -381,6 +384,7 @@ kg_result kg_destroy_tilemap(kg_world* world, kg_tilemap map)
     t->live_count -= 1;
     kg_map_free(m);
     m->generation += 1u;
+    t->layout_version += 1u;
     return KG_OK;
 }
 
@@ -416,6 +420,7 @@ kg_result kg_tilemap_set_tile(kg_world* world, kg_tilemap map, int layer, int x,
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "tile id %d is not in [0, %d)", id, m->def.shape_count);
     }
     m->cells[kg_cell_index(m, layer, x, y)] = (kg_u32)id;
+    m->cells_dirty = 1;
     kg_refresh_cell(m, layer, x, y);
     for (int side = 0; side < 4; ++side) {
         kg_refresh_cell(m, layer, x + kSideDx[side], y + kSideDy[side]);
@@ -538,18 +543,6 @@ typedef struct kg_tile_pass {
     int cursor; /* into previous: the first contact not below (body, key) */
 } kg_tile_pass;
 
-/* A body's shape moved into a cell's frame: xf is the body's pose relative to the cell. */
-static kg_shape kg_shape_in_cell(const kg_shape* shape, kg_xf xf)
-{
-    kg_shape out = *shape;
-    for (int i = 0; i < shape->count; ++i) {
-        out.vertices[i] = kg_xf_point(xf, shape->vertices[i]);
-        out.normals[i] = kg_rotate(xf.q, shape->normals[i]);
-    }
-    out.centroid = kg_xf_point(xf, shape->centroid);
-    return out;
-}
-
 static kg_tile_neighbourhood kg_neighbourhood(const kg_map* m, int layer, int x, int y)
 {
     kg_tile_neighbourhood nb;
@@ -602,30 +595,6 @@ static int kg_one_way_accepts(const kg_tile_pass* pass, int body, const kg_manif
     kg_vec2 moved = kg_sub(pass->world->bodies.xf[body].p, kg_last_origin(pass, body));
     float previous_separation = kg_min_separation(local) - kg_dot(moved, local->normal);
     return previous_separation >= -pass->world->def.linear_slop;
-}
-
-/* A contact from a manifold in the cell frame (normal from the tile to the body): normal
- * from the body to the tile, anchor_a from the body's origin. The world never moves, so
- * the solver's result does not depend on anchor_b (it enters only as anchor_b - r_a, the
- * lever arm r_a = anchor_a + origin - centre of mass, in terms that cancel); anchor_b is
- * set to r_a itself, so they cancel exactly. The world point (anchor_b relative to the
- * world origin) would leave float round-off of the size of the coordinates, 1e-5 m at
- * 100 m, which the contact spring turns into millimetres per second of jitter. */
-static kg_manifold kg_contact_manifold(const kg_manifold* local, kg_vec2 cell_origin, kg_xf body_in_cell,
-                                       kg_vec2 body_origin, kg_vec2 body_center)
-{
-    kg_manifold m = *local;
-    m.normal = kg_neg(local->normal);
-    for (int k = 0; k < m.point_count; ++k) {
-        kg_manifold_point* mp = &m.points[k];
-        mp->anchor_a = kg_sub(local->points[k].point, body_in_cell.p);
-        mp->point = kg_add(cell_origin, local->points[k].point);
-        mp->anchor_b = kg_sub(kg_add(mp->anchor_a, body_origin), body_center);
-        mp->normal_impulse = 0.0f;
-        mp->tangent_impulse = 0.0f;
-        mp->normal_velocity = 0.0f;
-    }
-    return m;
 }
 
 static void kg_emit_contact(kg_tile_pass* pass, int body, const kg_map* m, kg_u32 key, const kg_manifold* manifold,
@@ -749,3 +718,45 @@ int kg_tilemap_collide(kg_world* world, kg_contact* out, int room, const kg_cont
     kg_remember_origins(t, p);
     return pass.count;
 }
+
+/* ---- for the OpenCL backend ---- */
+
+kg_u32 kg_tilemaps_layout_version(const kg_world* world)
+{
+    return world->tilemaps ? world->tilemaps->layout_version : 0u;
+}
+
+int kg_tilemaps_live_count(const kg_world* world) { return world->tilemaps ? world->tilemaps->live_count : 0; }
+
+static kg_map* kg_live_map(const kg_world* world, int live_index)
+{
+    return &world->tilemaps->maps[world->tilemaps->order[live_index]];
+}
+
+void kg_tilemaps_view(const kg_world* world, int live_index, kg_tilemap_view* out)
+{
+    const kg_map* m = kg_live_map(world, live_index);
+    out->def = &m->def;
+    out->cells = m->cells;
+    out->cell_count = (int)m->key_count;
+    out->key_base = m->key_base;
+}
+
+void kg_tilemaps_copy_protos(const kg_world* world, int live_index, kg_tile_proto* out)
+{
+    const kg_map* m = kg_live_map(world, live_index);
+    for (int id = 0; id < m->def.shape_count; ++id) {
+        out[id] = m->templates[id].proto;
+    }
+}
+
+int kg_tilemaps_take_dirty(kg_world* world, int live_index)
+{
+    kg_map* m = kg_live_map(world, live_index);
+    int dirty = m->cells_dirty;
+    m->cells_dirty = 0;
+    return dirty;
+}
+
+kg_vec2* kg_tilemaps_last_origin(kg_world* world) { return world->tilemaps->last_origin; }
+kg_u32* kg_tilemaps_last_generation(kg_world* world) { return world->tilemaps->last_generation; }

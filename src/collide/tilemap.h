@@ -27,6 +27,8 @@
 #define KG_TILEMAP_H
 
 #include "collide/collide.h"
+#include "collide/tile_collide.h"
+#include "kgyro/tilemap.h"
 
 /* Writes up to room contacts of bodies against the world's tile maps into out (b =
  * KG_NULL_INDEX, tile = the tile's key, impulses carried from previous[0, previous_count),
@@ -34,5 +36,27 @@
  * many it found, which may exceed room. */
 int kg_tilemap_collide(kg_world* world, kg_contact* out, int room, const kg_contact* previous, int previous_count);
 void kg_tilemaps_destroy(kg_world* world);
+
+/* ---- for the OpenCL backend, which keeps the maps in device buffers ---- */
+
+/* Changes each time a map is created or destroyed (then every buffer is built again). */
+kg_u32 kg_tilemaps_layout_version(const kg_world* world);
+/* The live maps in key order (the order the collision visits them). */
+int kg_tilemaps_live_count(const kg_world* world);
+typedef struct kg_tilemap_view {
+    const kg_tilemap_def* def;
+    const kg_u32* cells; /* cell_count words (layer_count * height * width) */
+    int cell_count;
+    kg_u32 key_base;
+} kg_tilemap_view;
+void kg_tilemaps_view(const kg_world* world, int live_index, kg_tilemap_view* out);
+/* The map's kg_tile_proto per tile id, def->shape_count of them, into out. */
+void kg_tilemaps_copy_protos(const kg_world* world, int live_index, kg_tile_proto* out);
+/* Whether kg_tilemap_set_tile changed the map's cells since the last call (which clears it). */
+int kg_tilemaps_take_dirty(kg_world* world, int live_index);
+/* The one-way platform state, per body slot (world->def.max_bodies each): origin and
+ * generation at the last collision (generation 0 = unknown). */
+kg_vec2* kg_tilemaps_last_origin(kg_world* world);
+kg_u32* kg_tilemaps_last_generation(kg_world* world);
 
 #endif

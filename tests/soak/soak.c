@@ -11,10 +11,9 @@
  *  - every state read back is finite, and no body is ever frozen (inputs are sane, so
  *    a frozen body means the step produced a NaN or an infinity);
  *  - no energy blow-up: the mechanical energy of the scene (kinetic and potential)
- *    stays within what the scene was given (a fall from the top of the arena under
- *    the strongest gravity, a spawn speed, a kick, the wind and the contact push-out
- *    per kilogram); no body runs away faster than SOAK_RUNAWAY_SPEED; no body falls
- *    through the ground;
+ *    stays within what the scene was given (a fall from the ceiling under the strongest
+ *    gravity, a spawn speed, a kick, the wind and the contact push-out per kilogram);
+ *    no body runs away faster than SOAK_RUNAWAY_SPEED; no body falls through the ground;
  *  - handles: a full pool answers KG_ERROR_POOL_FULL and the world goes on; slot
  *    generations are moved close to their end so that they wrap during the run; a
  *    handle never has generation 0 and a destroyed body's handle never works again;
@@ -41,16 +40,17 @@
 #define SOAK_GRAVITY 10.0f
 #define SOAK_EXTRA_GRAVITY 1.0f /* the most one gravity applicator adds, downwards */
 #define SOAK_MAX_APPLICATORS 8
-#define SOAK_ARENA_HEIGHT 30.0f
+#define SOAK_ARENA_HEIGHT 30.0f /* bodies spawn and are teleported below this */
+#define SOAK_CEILING 100.0f     /* bodies above (a wind with an upward part lifts light ones) are recycled */
 #define SOAK_SPAWN_SPEED 5.0f
 #define SOAK_KICK_SPEED 8.0f
 #define SOAK_WIND_TERMINAL 4.0f /* strength / drag of every wind */
 #define SOAK_PUSH_OUT_SPEED 3.0f /* kg_world_def.max_push_out_speed, the default */
-/* Energy per kg a body can be given: a fall from the top of the arena under gravity
- * and every applicator, the fastest spawn, kick, wind and push-out. Contacts move
- * energy between bodies but must not add to the total. */
+/* Energy per kg a body can be given: a fall from the ceiling under gravity and every
+ * applicator, the fastest spawn, kick, wind and push-out. Contacts move energy between
+ * bodies but must not add to the total. */
 #define SOAK_ENERGY_PER_KG                                                                           \
-    ((SOAK_GRAVITY + SOAK_MAX_APPLICATORS * SOAK_EXTRA_GRAVITY) * SOAK_ARENA_HEIGHT +                \
+    ((SOAK_GRAVITY + SOAK_MAX_APPLICATORS * SOAK_EXTRA_GRAVITY) * SOAK_CEILING +                     \
      0.5f * (SOAK_SPAWN_SPEED * SOAK_SPAWN_SPEED + SOAK_KICK_SPEED * SOAK_KICK_SPEED +              \
              SOAK_WIND_TERMINAL * SOAK_WIND_TERMINAL + SOAK_PUSH_OUT_SPEED * SOAK_PUSH_OUT_SPEED))
 /* Far beyond what a light body can get from a heavy one in a pile, far below the
@@ -60,6 +60,7 @@
 #define SOAK_STEPS_PER_ROUND 3000
 #define SOAK_STALE_KEPT 256
 #define SOAK_RSS_MARGIN_KB (8 * 1024)
+#define SOAK_ROUNDS_LISTED 16
 #define DT (1.0f / 60.0f)
 
 typedef struct soak_config {
@@ -80,6 +81,8 @@ typedef struct soak_stats {
     long seed, first_round;
     long rounds, steps, created, destroyed, pool_full, wraps, kicks, applicators_added, wandered_off;
     long failures;
+    long failed_rounds[SOAK_ROUNDS_LISTED]; /* the first rounds that failed, to replay */
+    int failed_round_count;
     float fastest;
     long rss_baseline_kb, rss_peak_kb;
 } soak_stats;
@@ -138,8 +141,17 @@ static long rss_kb(void)
     return resident * (sysconf(_SC_PAGESIZE) / 1024);
 }
 
+static void note_failed_round(soak_stats* st)
+{
+    int n = st->failed_round_count;
+    if (n < SOAK_ROUNDS_LISTED && (n == 0 || st->failed_rounds[n - 1] != st->rounds)) {
+        st->failed_rounds[st->failed_round_count++] = st->rounds;
+    }
+}
+
 static void fail(soak* s, const char* what)
 {
+    note_failed_round(s->stats);
     if (s->stats->failures++ < 20) {
         fprintf(stderr, "kg_soak: seed %ld round %ld step %d: %s\n", s->stats->seed, s->stats->rounds, s->step, what);
     }
@@ -475,7 +487,7 @@ static void recycle_wanderers(soak* s)
 {
     for (int k = s->live_count - 1; k >= 0; --k) {
         kg_vec2 p;
-        if (kg_body_get_position(s->world, s->live[k], &p) == KG_OK && (fabsf(p.x) > 100.0f || p.y > 100.0f)) {
+        if (kg_body_get_position(s->world, s->live[k], &p) == KG_OK && (fabsf(p.x) > 100.0f || p.y > SOAK_CEILING)) {
             destroy_at(s, k);
             s->stats->wandered_off++;
         }
@@ -556,6 +568,13 @@ static void print_summary(const soak_stats* st, double seconds)
            seconds, st->rounds - st->first_round, st->steps, st->created, st->destroyed, st->wandered_off, st->pool_full, st->wraps,
            st->kicks, st->applicators_added, (double)st->fastest, (double)SOAK_RUNAWAY_SPEED, st->rss_baseline_kb,
            st->rss_peak_kb, st->failures);
+    for (int i = 0; i < st->failed_round_count; ++i) {
+        printf("%s%ld", i == 0 ? "kg_soak: failing rounds (kg_soak --seed N --first-round R): " : ", ",
+               st->failed_rounds[i]);
+    }
+    if (st->failed_round_count > 0) {
+        printf("\n");
+    }
 }
 
 int main(int argc, char** argv)

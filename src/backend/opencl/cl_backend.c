@@ -176,6 +176,9 @@ static void kg_fall_back(kg_world* world, int in_step)
     snapshot->high_water = world->bodies.high_water;
     int recovered = kg_recover_state(world, b, in_step, snapshot);
     int contacts_recovered = kg_recover_contacts(world, b);
+    if (kg_cl_tile_state_to_host(world, b) != KG_OK) {
+        kg_cl_tile_state_to_host(world, b); /* tried twice; else one-way platforms go on from older origins */
+    }
     int lost_steps = recovered ? 0 : b->steps_since_snapshot;
     kg_copy_state(&world->bodies, snapshot);
     kg_cl_backend_stop(world);

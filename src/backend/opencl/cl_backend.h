@@ -32,6 +32,8 @@ typedef struct kg_cl_backend {
     /* contacts: the last step's are in w->contacts[w->current]; the host's list (collide.h)
      * is filled from there only when asked for (contacts_stale) */
     int body_contact_count;          /* the first ones, body pairs; tile contacts follow */
+    int tile_state_on_device;        /* the one-way platform state is newer on the device */
+    int tiles_ran;                   /* this step collided the tile maps on the device */
     int contacts_stale;
     cl_uint counters[KG_CC_WORDS];   /* the device collide stage's counters, read back */
 } kg_cl_backend;
@@ -45,11 +47,18 @@ void kg_cl_backend_stop(kg_world* world);
 
 /* The step on the device, stage by stage; a failure leaves the error set. */
 kg_result kg_cl_step(kg_world* world, kg_cl_backend* b, float dt);
-/* The collision stage on the device (cl_collide.c), without tile maps: this step's
- * contacts built into w->contacts[!w->current] and coloured there, *count of them, with
- * b->coloring's colour ranges set for the solver. *fits is 0 when the pairs outgrow the
- * contact pool: then nothing is built, and the host's stage must run (it grows the pool). */
-kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* count, int* fits);
+/* The collision stage on the device (cl_collide.c), tile maps included: this step's
+ * contacts built into w->contacts[!w->current] and coloured there, *count of them, the
+ * first *body_count between bodies, with b->coloring's colour ranges set for the solver.
+ * *fits is 0 when the pairs outgrow the contact pool: then nothing is built, and the
+ * host's stage must run (it grows the pool). */
+kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* count, int* body_count, int* fits);
+/* The one-way platform state (collide/tilemap.c's last origins) into the host's arrays,
+ * when the device has it newer: before the host's collide stage runs, or the CPU backend
+ * takes over. */
+kg_result kg_cl_tile_state_to_host(kg_world* world, kg_cl_backend* b);
+/* A step that collided tiles on the device makes its one-way state the current one. */
+void kg_cl_commit_tile_state(kg_cl_backend* b);
 /* Reads the last step's contacts into the host's list, if it lacks them. */
 kg_result kg_cl_read_contacts(kg_world* world, kg_cl_backend* b);
 

@@ -7,6 +7,8 @@
  *                sort each run                                     -> pairs sorted by (a, b)
  *   narrowphase  manifold per pair; prefix sum of the touching ones; contacts built in
  *                pair order with last step's impulses carried       -> contacts
+ *   tiles        per moving body, its tile contacts counted; prefix sum; written after
+ *                the body contacts, in (body, key) order, impulses carried   -> contacts
  *   colouring    greedy in contact order, by one work-item            -> order, color_start
  *   [read: contact count and colour ranges, for the solver's launches]
  *
@@ -16,6 +18,8 @@
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_backend.h"
 #include "collide/collide.h"
+#include "collide/tilemap.h"
+#include "core/alloc.h"
 #include "core/error.h"
 
 typedef struct kg_cl_kernel_arg {
@@ -136,6 +140,182 @@ static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
     return KG_OK;
 }
 
+/* ---- tile maps -------------------------------------------------------------------------- */
+
+static kg_result kg_write_map_cells(kg_cl_world* w, const kg_tilemap_view* v, size_t offset)
+{
+    /* blocking: kg_tilemap_set_tile may change the host's cells as soon as the step ends */
+    return kg_cl_write(w, w->collide.tile_cells, offset * sizeof(kg_u32), (size_t)v->cell_count * sizeof(kg_u32),
+                       v->cells, 1);
+}
+
+/* Every live map's cells, protos and description into new buffers. */
+static kg_result kg_build_tile_buffers(kg_world* world, kg_cl_world* w, int maps)
+{
+    kg_cl_collide_buffers* c = &w->collide;
+    kg_cl_release(w, &c->tile_maps);
+    kg_cl_release(w, &c->tile_cells);
+    kg_cl_release(w, &c->tile_protos);
+    c->tiles_built = 0;
+    kg_tile_map_info* infos = kg_alloc_zeroed((size_t)maps * sizeof *infos);
+    if (!infos) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the tile map descriptions");
+    }
+    size_t cells = 0, protos = 0;
+    for (int i = 0; i < maps; ++i) {
+        kg_tilemap_view v;
+        kg_tilemaps_view(world, i, &v);
+        kg_tile_map_info* m = &infos[i];
+        m->origin = v.def->origin;
+        m->tile_size = v.def->tile_size;
+        m->width = v.def->width;
+        m->height = v.def->height;
+        m->layer_count = v.def->layer_count;
+        m->cell_offset = (kg_u32)cells;
+        m->proto_offset = (kg_u32)protos;
+        m->key_base = v.key_base;
+        m->friction = v.def->friction;
+        m->restitution = v.def->restitution;
+        m->category = v.def->category;
+        m->mask = v.def->mask;
+        cells += (size_t)v.cell_count;
+        protos += (size_t)v.def->shape_count;
+    }
+    kg_tile_proto* host_protos = kg_alloc_zeroed(protos * sizeof *host_protos);
+    kg_result r = host_protos ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the tile protos");
+    for (int i = 0; r == KG_OK && i < maps; ++i) {
+        kg_tilemaps_copy_protos(world, i, host_protos + infos[i].proto_offset);
+    }
+    if (r == KG_OK) {
+        r = kg_cl_buffer(w, (size_t)maps * sizeof *infos, &c->tile_maps);
+    }
+    if (r == KG_OK) {
+        r = kg_cl_buffer(w, cells * sizeof(kg_u32), &c->tile_cells);
+    }
+    if (r == KG_OK) {
+        r = kg_cl_buffer(w, protos * sizeof *host_protos, &c->tile_protos);
+    }
+    if (r == KG_OK) {
+        r = kg_cl_write(w, c->tile_maps, 0, (size_t)maps * sizeof *infos, infos, 1);
+    }
+    if (r == KG_OK) {
+        r = kg_cl_write(w, c->tile_protos, 0, protos * sizeof *host_protos, host_protos, 1);
+    }
+    for (int i = 0; r == KG_OK && i < maps; ++i) {
+        kg_tilemap_view v;
+        kg_tilemaps_view(world, i, &v);
+        kg_tilemaps_take_dirty(world, i);
+        r = kg_write_map_cells(w, &v, infos[i].cell_offset);
+    }
+    kg_free(infos);
+    kg_free(host_protos);
+    if (r == KG_OK) {
+        c->tiles_built = 1;
+        c->tile_map_count = maps;
+        c->tile_layout = kg_tilemaps_layout_version(world);
+    }
+    return r;
+}
+
+/* The maps on the device: built again when a map was created or destroyed, else the
+ * cells of the maps whose tiles changed written again. */
+static kg_result kg_sync_tiles(kg_world* world, kg_cl_world* w, int maps)
+{
+    kg_cl_collide_buffers* c = &w->collide;
+    if (!c->tiles_built || c->tile_layout != kg_tilemaps_layout_version(world) || c->tile_map_count != maps) {
+        return kg_build_tile_buffers(world, w, maps);
+    }
+    size_t offset = 0;
+    for (int i = 0; i < maps; ++i) {
+        kg_tilemap_view v;
+        kg_tilemaps_view(world, i, &v);
+        if (kg_tilemaps_take_dirty(world, i)) {
+            kg_result r = kg_write_map_cells(w, &v, offset);
+            if (r != KG_OK) {
+                c->tiles_built = 0; /* written again in whole next time */
+                return r;
+            }
+        }
+        offset += (size_t)v.cell_count;
+    }
+    return KG_OK;
+}
+
+/* The host's one-way state to both device copies (slots the steps never write keep it). */
+static kg_result kg_tile_state_to_device(kg_world* world, kg_cl_backend* b)
+{
+    if (b->tile_state_on_device) {
+        return KG_OK;
+    }
+    kg_cl_collide_buffers* c = &b->w->collide;
+    size_t n = (size_t)world->bodies.capacity;
+    for (int k = 0; k < 2; ++k) {
+        KG_TRY(kg_cl_write(b->w, c->last_origin[k], 0, n * sizeof(kg_vec2), kg_tilemaps_last_origin(world), 1));
+        KG_TRY(kg_cl_write(b->w, c->last_generation[k], 0, n * sizeof(kg_u32), kg_tilemaps_last_generation(world), 1));
+    }
+    b->tile_state_on_device = 1;
+    return KG_OK;
+}
+
+kg_result kg_cl_tile_state_to_host(kg_world* world, kg_cl_backend* b)
+{
+    if (!b->tile_state_on_device || !world->tilemaps) {
+        return KG_OK;
+    }
+    kg_cl_collide_buffers* c = &b->w->collide;
+    size_t n = (size_t)world->bodies.high_water;
+    KG_TRY(kg_cl_read(b->w, c->last_origin[c->tile_state], 0, n * sizeof(kg_vec2), kg_tilemaps_last_origin(world)));
+    KG_TRY(kg_cl_read(b->w, c->last_generation[c->tile_state], 0, n * sizeof(kg_u32),
+                      kg_tilemaps_last_generation(world)));
+    b->tile_state_on_device = 0;
+    return KG_OK;
+}
+
+void kg_cl_commit_tile_state(kg_cl_backend* b)
+{
+    if (b->tiles_ran) {
+        b->w->collide.tile_state ^= 1;
+        b->tiles_ran = 0;
+    }
+}
+
+/* kg_tilemap_collide of collide/tilemap.c: after the body contacts, counted per body,
+ * summed, then written; counts[KG_CC_CONTACTS] becomes the total within capacity. */
+static kg_result kg_collide_tiles(kg_world* world, kg_cl_backend* b, int capacity)
+{
+    kg_cl_world* w = b->w;
+    kg_cl_collide_buffers* c = &w->collide;
+    const char* label = "kg_narrowphase";
+    int maps = kg_tilemaps_live_count(world);
+    b->tiles_ran = 0;
+    if (maps == 0) {
+        return KG_OK; /* as on the host: no contacts, the one-way state left as it is */
+    }
+    KG_TRY(kg_sync_tiles(world, w, maps));
+    KG_TRY(kg_tile_state_to_device(world, b));
+    int slots = world->bodies.high_water, previous_count = 0;
+    kg_collision_contacts(world, &previous_count);
+    cl_mem previous = w->contacts[w->current], next = w->contacts[w->current ^ 1];
+    int in = c->tile_state, out = c->tile_state ^ 1;
+    for (int write = 0; write < 2; ++write) {
+        if (write) {
+            KG_TRY(kg_scan(w, c->tile_run, c->tile_run, slots, KG_CC_TILES, label));
+            KG_LAUNCH(w, TILE_TOTAL, 1, label, KG_INT(capacity), KG_MEM(c->counts));
+        }
+        KG_LAUNCH(w, TILE_COLLIDE_BODIES, slots, label, KG_INT(slots), KG_INT(write),
+                  KG_FLOAT(world->def.speculative_distance), KG_FLOAT(world->def.linear_slop), KG_INT(maps),
+                  KG_MEM(c->tile_maps), KG_MEM(c->tile_cells), KG_MEM(c->tile_protos), KG_MEM(KG_A(FLAGS)),
+                  KG_MEM(KG_A(AABB)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(CENTER)),
+                  KG_MEM(KG_A(CATEGORY)), KG_MEM(KG_A(MASK)), KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FRICTION)),
+                  KG_MEM(KG_A(RESTITUTION)), KG_MEM(previous), KG_INT(b->body_contact_count), KG_INT(previous_count),
+                  KG_MEM(c->last_origin[in]), KG_MEM(c->last_generation[in]), KG_MEM(c->last_origin[out]),
+                  KG_MEM(c->last_generation[out]), KG_MEM(c->tile_run), KG_MEM(c->counts), KG_INT(capacity),
+                  KG_MEM(next));
+    }
+    b->tiles_ran = 1;
+    return KG_OK;
+}
+
 /* ---- colouring ------------------------------------------------------------------------ */
 
 static kg_result kg_color(kg_cl_world* w, cl_mem contacts)
@@ -166,7 +346,7 @@ static void kg_take_color_ranges(kg_cl_backend* b)
     }
 }
 
-kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* count, int* fits)
+kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* count, int* body_count, int* fits)
 {
     kg_cl_world* w = b->w;
     int capacity = kg_collision_capacity(world);
@@ -180,9 +360,20 @@ kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* count,
     int pairs = (int)b->counters[KG_CC_PAIRS];
     KG_TRY(kg_order_pairs(world, w, pairs));
     KG_TRY(kg_build_contacts(world, b, pairs));
+    KG_TRY(kg_collide_tiles(world, b, capacity));
     KG_TRY(kg_color(w, w->contacts[w->current ^ 1]));
     KG_TRY(kg_read_counters(b, KG_CC_WORDS));
     *count = (int)b->counters[KG_CC_CONTACTS];
+    *body_count = *count;
+    if (b->tiles_ran) {
+        int bodies = (int)b->counters[KG_CC_BODY_CONTACTS], tiles = (int)b->counters[KG_CC_TILES];
+        *body_count = bodies;
+        if (tiles > capacity - bodies) {
+            kg_warn_once("tile-contacts-full", "more tile contacts (%d) than room left in max_contacts (%d): "
+                         "the extra ones were dropped this step; raise kg_world_def.max_contacts", tiles,
+                         capacity - bodies);
+        }
+    }
     kg_take_color_ranges(b);
     return KG_OK;
 }

@@ -3,11 +3,12 @@
  *   upload what the host changed; checkpoint the state (on the device)
  *   forces     built-in and device force applicators as kernels; C callbacks on the host
  *   collide    on the device (cl_collide.c): broadphase, narrowphase, persistence and
- *              graph colouring, into the contact list not holding last step's contacts.
- *              On the host instead while the world has tile maps, and in the step that
- *              finds more pairs than the contact pool holds (the host's stage grows it):
- *              last step's contacts read back, transforms, bounds, flags and velocities
- *              read back, contacts built by collide/collide.c, coloured, uploaded
+ *              graph colouring, tile maps (their contacts after the body pairs), into
+ *              the contact list not holding last step's contacts. On the host instead
+ *              in the step that finds more pairs than the contact pool holds (the
+ *              host's stage grows it): last step's contacts and one-way platform state
+ *              read back, transforms, bounds, flags and velocities read back, contacts
+ *              built by collide/collide.c, coloured, uploaded
  *   solve      on the device: solver bodies loaded, constraints prepared, sub-steps of
  *              warm start, solve and relax colour by colour (one launch per colour, or
  *              all colours in one single-group launch for small worlds), restitution,
@@ -321,6 +322,7 @@ static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b, int
      * size the speculative margins, and the centres tile contacts are anchored to */
     unsigned reads = KG_CL_BIT(XF) | KG_CL_BIT(AABB) | KG_CL_BIT(FLAGS) | KG_CL_BIT(VELOCITY) | KG_CL_BIT(CENTER);
     KG_TRY(kg_cl_read_contacts(world, b));
+    KG_TRY(kg_cl_tile_state_to_host(world, b));
     KG_TRY(kg_cl_to_host(b->w, &world->bodies, reads));
     if (flags_stale) {
         kg_cl_warn_new_frozen(world, b);
@@ -331,15 +333,11 @@ static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b, int
     return kg_upload_contacts(world, b, contacts, *count);
 }
 
-/* On the device unless the world has tile maps (their contacts are built on the host)
- * or the pairs outgrow the contact pool. */
+/* On the device, tile maps included, unless the pairs outgrow the contact pool. */
 static kg_result kg_stage_collide_cl(kg_world* world, kg_cl_backend* b, int* count, int* body_count, int* on_device)
 {
     *on_device = 0;
-    if (!world->tilemaps) {
-        KG_TRY(kg_cl_collide_on_device(world, b, count, on_device));
-        *body_count = *count;
-    }
+    KG_TRY(kg_cl_collide_on_device(world, b, count, body_count, on_device));
     return *on_device ? KG_OK : kg_stage_collide_on_host(world, b, count, body_count);
 }
 
@@ -506,6 +504,7 @@ static void kg_commit_contacts(kg_world* world, kg_cl_backend* b, int count, int
         kg_collision_set_count(world, count, body_count);
     }
     b->w->current ^= 1;
+    kg_cl_commit_tile_state(b);
     b->body_contact_count = body_count;
     b->contacts_stale = count > 0;
 }

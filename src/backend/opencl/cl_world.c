@@ -93,7 +93,7 @@ kg_result kg_cl_buffer(kg_cl_world* w, size_t size, cl_mem* out)
     return KG_OK;
 }
 
-static void kg_cl_release(kg_cl_world* w, cl_mem* buffer)
+void kg_cl_release(kg_cl_world* w, cl_mem* buffer)
 {
     if (*buffer) {
         w->cl->ReleaseMemObject(*buffer);
@@ -416,6 +416,11 @@ static kg_result kg_cl_create_collide_buffers(kg_cl_world* w, int slots)
         {&c->run_fill, n * words},
         {&c->colors_used, n * words},
         {&c->block_sums, KG_SCAN_MAX_BLOCKS * words},
+        {&c->tile_run, (n + 1) * words},
+        {&c->last_origin[0], n * sizeof(kg_vec2)},
+        {&c->last_origin[1], n * sizeof(kg_vec2)},
+        {&c->last_generation[0], n * words},
+        {&c->last_generation[1], n * words},
     };
     return kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
 }
@@ -552,8 +557,10 @@ void kg_cl_world_destroy(kg_cl_world* w)
     kg_cl_release(w, &w->targets);
     kg_cl_release_contact_buffers(w);
     kg_cl_collide_buffers* c = &w->collide;
-    cl_mem* list[] = {&c->counts, &c->proxies, &c->heads, &c->histogram, &c->grid,
-                      &c->plan, &c->run, &c->run_fill, &c->colors_used, &c->block_sums};
+    cl_mem* list[] = {&c->counts, &c->proxies, &c->heads, &c->histogram, &c->grid, &c->plan,
+                      &c->run, &c->run_fill, &c->colors_used, &c->block_sums, &c->tile_run,
+                      &c->last_origin[0], &c->last_origin[1], &c->last_generation[0], &c->last_generation[1],
+                      &c->tile_maps, &c->tile_cells, &c->tile_protos};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
         kg_cl_release(w, list[k]);
     }

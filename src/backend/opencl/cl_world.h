@@ -50,7 +50,8 @@ typedef enum kg_cl_array {
     X(BP_INSERT, kg_bp_insert) X(BP_MEASURE, kg_bp_measure) X(BP_PLAN, kg_bp_plan)         \
     X(BP_FIND, kg_bp_find) X(BP_SCATTER, kg_bp_scatter)                                    \
     X(BP_SORT_RUNS, kg_bp_sort_runs) X(NARROWPHASE, kg_narrowphase)                        \
-    X(BUILD_CONTACTS, kg_build_contacts) X(COLOR_CONTACTS, kg_color_contacts)
+    X(BUILD_CONTACTS, kg_build_contacts) X(COLOR_CONTACTS, kg_color_contacts)            \
+    X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies) X(TILE_TOTAL, kg_tile_total)
 
 typedef enum kg_cl_kernel_id {
 #define KG_CL_KERNEL_ENUM(id, name) KG_CL_K_##id,
@@ -85,6 +86,19 @@ typedef struct kg_cl_collide_buffers {
     cl_mem run_fill;
     cl_mem colors_used;    /* per slot, the colours its contacts took so far */
     cl_mem block_sums;     /* KG_SCAN_MAX_BLOCKS */
+    cl_mem tile_run;       /* tile contacts per slot, then their prefix sum (slots + 1) */
+    cl_mem last_origin[2]; /* one-way platforms: each slot's origin and generation at the */
+    cl_mem last_generation[2]; /* last collision (collide/tilemap.c keeps the same on the
+                            * host), [tile_state] the current, the other written by a step */
+    int tile_state;
+    /* the tile maps (collide/tilemap.h's layout), built when the maps are created or
+     * destroyed, a map's cells written again when kg_tilemap_set_tile changed them */
+    cl_mem tile_maps;      /* kg_tile_map_info per live map, in key order */
+    cl_mem tile_cells;     /* every live map's cells, one after the other */
+    cl_mem tile_protos;    /* every live map's kg_tile_proto per tile id */
+    int tile_map_count;
+    int tiles_built;       /* the buffers above match layout tile_layout */
+    unsigned tile_layout;
     /* ...and per contact, sized with the contact pool */
     cl_mem raw_pairs;      /* pairs as found */
     cl_mem pairs;          /* pairs sorted by (a, b) */
@@ -132,6 +146,8 @@ typedef struct kg_cl_world {
             return kg_try_;          \
         }                            \
     } while (0)
+
+void kg_cl_release(kg_cl_world* w, cl_mem* buffer);
 
 /* Creates the queue, kernels and buffers for world on rt. */
 kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_faults* faults, kg_cl_world** out);

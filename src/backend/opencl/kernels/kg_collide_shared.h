@@ -7,12 +7,14 @@
 
 #include "core/kg_layout.h"
 
-/* The counters buffer: what the host reads back of a step, 4 + KG_COLOR_COUNT + 2 words. */
+/* The counters buffer: what the host reads back of a step, 6 + KG_COLOR_COUNT + 2 words. */
 #define KG_CC_PAIRS 0        /* pairs the broadphase found, counted past the capacity */
 #define KG_CC_OVERFLOW 1     /* non-zero when they did not all fit */
-#define KG_CC_CONTACTS 2     /* touching pairs: this step's contacts */
+#define KG_CC_CONTACTS 2     /* this step's contacts: touching pairs, then tile contacts */
 #define KG_CC_LEVELS 3       /* bit m set: some proxy is keyed at grid level m */
-#define KG_CC_COLOR_START 4  /* graph_color.h's color_start, KG_COLOR_COUNT + 2 words */
+#define KG_CC_TILES 4        /* tile contacts found, counted past the room left */
+#define KG_CC_BODY_CONTACTS 5 /* the touching pairs, the first contacts */
+#define KG_CC_COLOR_START 6  /* graph_color.h's color_start, KG_COLOR_COUNT + 2 words */
 #define KG_CC_WORDS (KG_CC_COLOR_START + KG_COLOR_COUNT + 2)
 
 /* Grid levels: level m has cells of the base size times 2^m. A box is keyed at the
@@ -57,6 +59,25 @@ KG_STATIC_ASSERT(sizeof(kg_bp_proxy) == 48, bp_proxy_size);
 /* Prefix sums run in at most this many blocks, each summed serially by one work-item. */
 #define KG_SCAN_MAX_BLOCKS 256
 #define KG_SCAN_MIN_BLOCK 256
+
+/* A live tile map as the tile kernel sees it (collide/tilemap.h's layout): its cells
+ * start at cell_offset in the world's cell buffer, its protos (one per tile id) at
+ * proto_offset in the proto buffer. 64 bytes. */
+typedef struct kg_tile_map_info {
+    kg_vec2 origin;
+    kg_vec2 tile_size;
+    kg_i32 width, height, layer_count;
+    kg_u32 cell_offset;
+    kg_u32 proto_offset;
+    kg_u32 key_base;
+    float friction;
+    float restitution;
+    kg_u32 category;
+    kg_u32 mask;
+    kg_u32 pad[2];
+} kg_tile_map_info;
+
+KG_STATIC_ASSERT(sizeof(kg_tile_map_info) == 64, tile_map_info_size);
 
 /* A contact's colour before the colouring has decided it. */
 #define KG_COLOR_UNDECIDED 0xFFu
