@@ -13,7 +13,7 @@ extern "C" {
 typedef void kg_force_fn(kg_world* world, const kg_body* bodies, int count, void* user_data);
 
 /* bodies == NULL with count == 0 means all bodies (those created later too). The list is
- * copied. Handles in it that die later are skipped. */
+ * copied and holds at most max_bodies handles. Handles in it that die later are skipped. */
 KG_API kg_result kg_add_force_applicator(kg_world* world, kg_force_fn* fn, const kg_body* bodies,
                                          int count, void* user_data, kg_applicator* out);
 /* Extra gravity (m/s^2, a force of mass * acceleration) on some bodies. */
