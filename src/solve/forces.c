@@ -97,8 +97,7 @@ kg_result kg_remove_applicator(kg_world* world, kg_applicator applicator)
     return KG_OK;
 }
 
-/* The live bodies an applicator applies to, written into the world's scratch list. */
-static int kg_applicator_targets(kg_world* world, const kg_applicator_slot* a)
+int kg_applicator_targets(kg_world* world, const kg_applicator_slot* a)
 {
     const kg_body_pool* p = &world->bodies;
     kg_body* out = world->handle_scratch;

@@ -6,4 +6,8 @@
 
 void kg_stage_apply_forces(kg_world* world);
 
+/* The live bodies an applicator applies to (every live body, or the live ones of its
+ * list in list order), written into world->handle_scratch; returns how many. */
+int kg_applicator_targets(kg_world* world, const kg_applicator_slot* a);
+
 #endif

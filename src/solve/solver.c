@@ -277,7 +277,7 @@ static void kg_store_impulses_range(void* context, int begin, int end)
     }
 }
 
-static kg_solver_params kg_make_params(const kg_world_def* def, float h)
+kg_solver_params kg_solver_params_of(const kg_world_def* def, float h)
 {
     kg_solver_params prm;
     prm.h = h;
@@ -307,7 +307,7 @@ void kg_stage_solve(kg_world* world, float dt)
     float h = dt / (float)n;
     kg_body_pool* p = &world->bodies;
     kg_body_job bjob = {p, s->bodies, {world->def.gravity, h, world->def.max_linear_speed}};
-    kg_constraint_job cjob = {p, s->bodies, contacts, s->constraints, kg_make_params(&world->def, h), KG_PASS_SOLVE};
+    kg_constraint_job cjob = {p, s->bodies, contacts, s->constraints, kg_solver_params_of(&world->def, h), KG_PASS_SOLVE};
 
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_load_bodies, &bjob);
     kg_parallel_for(world->threads, count, KG_CONSTRAINT_GRAIN, kg_prepare_range, &cjob);

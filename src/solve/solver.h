@@ -4,10 +4,14 @@
 #define KG_SOLVER_H
 
 #include "core/world.h"
+#include "solve/contact_solver.h"
 
 kg_result kg_solver_create(kg_world* world);
 void kg_solver_destroy(kg_world* world);
 void kg_stage_solve(kg_world* world, float dt);
+
+/* The solver's parameters for sub-steps of length h: both backends use this one. */
+kg_solver_params kg_solver_params_of(const kg_world_def* def, float h);
 
 /* Stage 4: derived state (origin transforms, bounds), forces cleared, and bodies whose
  * state became non-finite frozen so they cannot poison their neighbours. */

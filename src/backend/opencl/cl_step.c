@@ -27,6 +27,8 @@
 #include "core/alloc.h"
 #include "core/error.h"
 #include "solve/contact_solver.h"
+#include "solve/forces.h"
+#include "solve/solver.h"
 #include "solve/integrate.h"
 
 #include <stdlib.h>
@@ -239,36 +241,13 @@ static kg_result kg_run_device_force(kg_world* world, kg_cl_backend* b, int slot
     return kg_cl_launch(w, k, b->force_group_sizes[slot], items, f->function_name);
 }
 
-/* The bodies a C callback is given, as forces.c gives them: every live body, or the live
- * bodies of its list in list order, at most max_bodies of them (the scratch list's size). */
-static int kg_callback_targets(kg_world* world, const kg_applicator_slot* a)
-{
-    const kg_body_pool* p = &world->bodies;
-    kg_body* out = world->handle_scratch;
-    int n = 0;
-    if (!a->bodies) {
-        for (int i = 0; i < p->high_water; ++i) {
-            if (kg_pool_alive(p, i)) {
-                out[n].index = (uint32_t)i;
-                out[n++].generation = p->generation[i];
-            }
-        }
-        return n;
-    }
-    for (int k = 0; k < a->body_count && n < world->def.max_bodies; ++k) {
-        if (kg_body_is_valid(world, a->bodies[k])) {
-            out[n++] = a->bodies[k];
-        }
-    }
-    return n;
-}
 
 /* A C callback runs on the host. It reads and writes through the body API, whose getters
  * read back what the device changed (sync_to_host) and whose setters mark the host copy
  * changed (host_changed); what it changed is uploaded before the next kernel. */
 static kg_result kg_run_callback(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a)
 {
-    int count = kg_callback_targets(world, a);
+    int count = kg_applicator_targets(world, a);
     a->fn(world, world->handle_scratch, count, a->user_data);
     if (world->backend_state != NULL && ((kg_backend_state*)world->backend_state)->cl != b) {
         return kg_fail(KG_ERROR_BACKEND, "OpenCL: the device failed during a force callback");
@@ -342,23 +321,6 @@ static kg_result kg_stage_collide_cl(kg_world* world, kg_cl_backend* b, int* cou
 }
 
 /* ---- solve ------------------------------------------------------------------------ */
-
-/* kg_make_params of solve/solver.c, which is static there: the two must stay the same
- * (test_opencl_compare fails bitwise the moment they do not). */
-static kg_solver_params kg_solver_params_of(const kg_world_def* def, float h)
-{
-    kg_solver_params prm;
-    prm.h = h;
-    prm.inv_h = 1.0f / h;
-    prm.max_push_out_speed = def->max_push_out_speed;
-    prm.linear_slop = def->linear_slop;
-    prm.restitution_threshold = def->restitution_threshold;
-    float max_hertz = 0.25f * prm.inv_h;
-    float hertz = fminf(def->contact_hertz, max_hertz);
-    prm.contact_softness = kg_make_softness(hertz, def->contact_damping_ratio, h);
-    prm.static_softness = kg_make_softness(fminf(2.0f * hertz, max_hertz), def->contact_damping_ratio, h);
-    return prm;
-}
 
 static kg_result kg_reserve_coloring(kg_world* world, kg_cl_backend* b, int count)
 {
