@@ -5,6 +5,7 @@
 #define KG_TEST_H
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -38,6 +39,20 @@ static int kg_test_failures;
             kg_test_failures++;                                                         \
         }                                                                               \
     } while (0)
+
+/* Prints a measured figure at once (flushed), so a run's numbers can be quoted even if
+ * a later check aborts. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 1, 2)))
+#endif
+static inline void measured(const char* format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    vprintf(format, args);
+    va_end(args);
+    fflush(stdout);
+}
 
 typedef struct kg_test_case {
     const char* name;

@@ -26,17 +26,6 @@
 
 /* Prints a line of measured numbers and flushes it, so that it comes out before the
  * harness's failure messages (on stderr) about the same numbers. */
-#if defined(__GNUC__)
-__attribute__((format(printf, 1, 2)))
-#endif
-static void measured(const char* format, ...)
-{
-    va_list args;
-    va_start(args, format);
-    vprintf(format, args);
-    va_end(args);
-    fflush(stdout);
-}
 
 #define DT (1.0f / 60.0f)
 

@@ -87,25 +87,33 @@ static kg_result kg_read_circle(const kg_json_reader* reader, const cJSON* json,
     return KG_OK;
 }
 
+/* A JSON array of 3 to KG_MAX_POLYGON_VERTICES [x, y] points, for body and tile polygons. */
+static kg_result kg_read_vertex_list(const kg_json_reader* reader, const cJSON* vertices, const kg_json_path* path,
+                                     kg_vec2* points, int* count)
+{
+    KG_TRY(kg_json_check_array(reader, vertices, path));
+    *count = cJSON_GetArraySize(vertices);
+    if (*count < 3 || *count > KG_MAX_POLYGON_VERTICES) {
+        return kg_json_fail(reader, path, "must have 3 to %d vertices (got %d)", KG_MAX_POLYGON_VERTICES, *count);
+    }
+    int i = 0;
+    for (const cJSON* vertex = vertices->child; vertex; vertex = vertex->next, ++i) {
+        kg_json_path vertex_path = kg_json_path_index(path, i);
+        KG_TRY(kg_json_vec2_value(reader, vertex, &vertex_path, &points[i]));
+    }
+    return KG_OK;
+}
+
 static kg_result kg_read_polygon(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
                                  kg_shape_def* out)
 {
     KG_TRY(kg_json_check_object(reader, json, path, kPolygonFields));
     KG_TRY(kg_json_require(reader, json, path, "vertices"));
-    const cJSON* vertices = cJSON_GetObjectItemCaseSensitive(json, "vertices");
     kg_json_path vertices_path = kg_json_path_key(path, "vertices");
-    KG_TRY(kg_json_check_array(reader, vertices, &vertices_path));
-    int count = cJSON_GetArraySize(vertices);
-    if (count < 3 || count > KG_MAX_POLYGON_VERTICES) {
-        return kg_json_fail(reader, &vertices_path, "must have 3 to %d vertices (got %d)", KG_MAX_POLYGON_VERTICES,
-                            count);
-    }
     kg_vec2 points[KG_MAX_POLYGON_VERTICES];
-    int i = 0;
-    for (const cJSON* vertex = vertices->child; vertex; vertex = vertex->next, ++i) {
-        kg_json_path vertex_path = kg_json_path_index(&vertices_path, i);
-        KG_TRY(kg_json_vec2_value(reader, vertex, &vertex_path, &points[i]));
-    }
+    int count;
+    KG_TRY(kg_read_vertex_list(reader, cJSON_GetObjectItemCaseSensitive(json, "vertices"), &vertices_path, points,
+                               &count));
     *out = kg_polygon_shape(points, count);
     return KG_OK;
 }
@@ -635,20 +643,11 @@ static kg_result kg_read_named_tile(const kg_json_reader* reader, const cJSON* v
 static kg_result kg_read_tile_polygon(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
                                       kg_tile_shape* out)
 {
-    const cJSON* vertices = cJSON_GetObjectItemCaseSensitive(json, "polygon");
     kg_json_path vertices_path = kg_json_path_key(path, "polygon");
-    KG_TRY(kg_json_check_array(reader, vertices, &vertices_path));
-    int count = cJSON_GetArraySize(vertices);
-    if (count < 3 || count > KG_MAX_POLYGON_VERTICES) {
-        return kg_json_fail(reader, &vertices_path, "must have 3 to %d vertices (got %d)", KG_MAX_POLYGON_VERTICES,
-                            count);
-    }
     kg_vec2 points[KG_MAX_POLYGON_VERTICES];
-    int i = 0;
-    for (const cJSON* vertex = vertices->child; vertex; vertex = vertex->next, ++i) {
-        kg_json_path vertex_path = kg_json_path_index(&vertices_path, i);
-        KG_TRY(kg_json_vec2_value(reader, vertex, &vertex_path, &points[i]));
-    }
+    int count;
+    KG_TRY(kg_read_vertex_list(reader, cJSON_GetObjectItemCaseSensitive(json, "polygon"), &vertices_path, points,
+                               &count));
     *out = kg_tile_polygon(points, count);
     return KG_OK;
 }
