@@ -81,6 +81,12 @@ KG_API int kg_body_is_valid(const kg_world* world, kg_body body);
  * poison its neighbours; forces and impulses on it are ignored. Setting its transform or
  * velocity brings it back. */
 KG_API int kg_body_is_frozen(const kg_world* world, kg_body body);
+/* Sleeping (kg_world_def.enable_sleep): a body at rest with its whole island is asleep,
+ * not simulated, until a moving body touches it or it is changed through the API (every
+ * setter, force and impulse wakes the body; removing or moving a body, or changing its
+ * filter, also wakes what rested on it). kg_body_wake wakes it without changing it. */
+KG_API int kg_body_is_awake(const kg_world* world, kg_body body);
+KG_API kg_result kg_body_wake(kg_world* world, kg_body body);
 
 /* The state a renderer or game reads: origin position, angle and velocities. */
 typedef struct kg_body_state {

@@ -8,8 +8,11 @@
 extern "C" {
 #endif
 
-/* A user force applicator. bodies lists the bodies it applies to (every live body when it
- * was registered for all); it adds forces with kg_body_apply_force* and may read state. */
+/* A user force applicator. bodies lists the awake bodies it applies to (every live awake
+ * body when it was registered for all); it adds forces with kg_body_apply_force* and may
+ * read state. Sleeping bodies are left out: they rest under the forces they fell asleep
+ * with. Adding or removing an applicator wakes every body; a callback whose forces change
+ * on their own (a wind that starts) wakes the bodies it means with kg_body_wake. */
 typedef void kg_force_fn(kg_world* world, const kg_body* bodies, int count, void* user_data);
 
 /* bodies == NULL with count == 0 means all bodies (those created later too). The list is

@@ -30,6 +30,9 @@ typedef struct kg_world_def {
     float linear_slop;        /* m: penetration allowed, to keep contacts stable */
     float speculative_distance; /* m: contacts are reported this far before touching */
     float max_linear_speed;   /* m/s: velocities are clamped to this (numerical safety) */
+    int enable_sleep;         /* islands at rest stop being simulated until touched (default 1) */
+    float sleep_speed;        /* m/s: a body whose every point is slower than this is at rest */
+    float time_to_sleep;      /* s: an island whose bodies all rest this long falls asleep */
     kg_backend backend;
     int device_index;         /* OpenCL device, counted over all platforms */
     int threads;              /* CPU worker threads; 0 = 1 */
@@ -50,6 +53,9 @@ KG_API const kg_world_def* kg_world_get_def(const kg_world* world);
 
 /* Number of live bodies (particles included). */
 KG_API int kg_world_body_count(const kg_world* world);
+/* Number of bodies asleep: islands at rest that cost no integration or solving until a
+ * moving body touches them or the API changes them (docs/design.md, "Sleeping"). */
+KG_API int kg_world_asleep_count(const kg_world* world);
 /* Writes up to capacity live body handles, in slot order; *count gets how many. */
 KG_API kg_result kg_world_get_bodies(const kg_world* world, kg_body* out, int capacity, int* count);
 

@@ -252,14 +252,14 @@ static void kg_gather_proxies(kg_broadphase* bp, const kg_body_pool* bodies, flo
         if (!kg_vec_is_finite(box.lower) || !kg_vec_is_finite(box.upper)) {
             continue;
         }
-        kg_body_type type = kg_pool_type(bodies, i);
         kg_proxy* p = &bp->proxies[n++];
         p->box = box;
         p->body = (kg_u32)i;
         p->category = bodies->category[i];
         p->mask = bodies->mask[i];
-        /* a frozen body stays where it froze, as solid as a static one */
-        p->moves = kg_pool_is_simulated(bodies, i) && (type == KG_BODY_DYNAMIC || type == KG_BODY_PARTICLE);
+        /* a frozen body stays where it froze, as solid as a static one; a sleeping one
+         * keeps its contacts, so that its stack wakes warm */
+        p->moves = kg_pool_collides(bodies, i);
         bp->histogram[kg_extent_bin(kg_extent(box))] += 1;
     }
     bp->proxy_count = n;

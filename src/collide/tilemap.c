@@ -366,6 +366,7 @@ kg_result kg_create_tilemap(kg_world* world, const kg_tilemap_def* def, kg_tilem
     t->layout_version += 1u;
     out_map->index = (uint32_t)slot;
     out_map->generation = m->generation;
+    kg_world_wake_all(world); /* what the new map now holds up or overlaps */
     return KG_OK;
 }
 
@@ -385,6 +386,7 @@ kg_result kg_destroy_tilemap(kg_world* world, kg_tilemap map)
     kg_map_free(m);
     m->generation += 1u;
     t->layout_version += 1u;
+    kg_world_wake_all(world); /* what rested on the map */
     return KG_OK;
 }
 
@@ -421,6 +423,10 @@ kg_result kg_tilemap_set_tile(kg_world* world, kg_tilemap map, int layer, int x,
     }
     m->cells[kg_cell_index(m, layer, x, y)] = (kg_u32)id;
     m->cells_dirty = 1;
+    kg_vec2 size = m->def.tile_size;
+    kg_aabb cell = {{m->def.origin.x + (float)x * size.x, m->def.origin.y + (float)y * size.y},
+                    {m->def.origin.x + (float)(x + 1) * size.x, m->def.origin.y + (float)(y + 1) * size.y}};
+    kg_world_wake_region(world, cell); /* what rests on the tile, or is about to be inside it */
     kg_refresh_cell(m, layer, x, y);
     for (int side = 0; side < 4; ++side) {
         kg_refresh_cell(m, layer, x + kSideDx[side], y + kSideDy[side]);
@@ -711,7 +717,7 @@ int kg_tilemap_collide(kg_world* world, kg_contact* out, int room, const kg_cont
     kg_tile_pass pass = {world, t, out, room, 0, previous, previous_count, 0};
     const kg_body_pool* p = &world->bodies;
     for (int i = 0; i < p->high_water; ++i) {
-        if (kg_pool_is_simulated(p, i)) {
+        if (kg_pool_collides(p, i)) {
             kg_collide_body(&pass, i);
         }
     }

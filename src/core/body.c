@@ -4,6 +4,7 @@
 #include "collide/shape.h"
 #include "core/error.h"
 #include "core/world.h"
+#include "solve/sleep.h"
 
 #include <math.h>
 #include <string.h>
@@ -34,7 +35,7 @@ static const kg_body_pool* kg_read_pool(const kg_world* world)
 }
 
 /* Write access for setters: sync first, then tell the backend to upload. */
-static kg_body_pool* kg_write_pool(kg_world* world)
+kg_body_pool* kg_world_write_pool(kg_world* world)
 {
     kg_read_pool(world);
     if (world->backend && world->backend->host_changed) {
@@ -113,6 +114,8 @@ static void kg_body_write(kg_body_pool* p, int i, const kg_body_def* d, const kg
     p->omega[i] = (d->type == KG_BODY_STATIC || particle) ? 0.0f : d->angular_velocity;
     p->force[i] = kg_v2(0.0f, 0.0f);
     p->torque[i] = 0.0f;
+    p->sleep_time[i] = 0.0f;
+    p->island[i] = 0u;
     p->mass[i] = md->mass;
     p->inertia[i] = md->inertia;
     p->inv_mass[i] = md->mass > 0.0f ? 1.0f / md->mass : 0.0f;
@@ -166,7 +169,7 @@ kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_b
     if (r != KG_OK) {
         return r;
     }
-    kg_body_pool* p = kg_write_pool(world);
+    kg_body_pool* p = kg_world_write_pool(world);
     int i = kg_body_pool_acquire(p);
     if (i < 0) {
         return kg_fail(KG_ERROR_POOL_FULL, "body pool full (max_bodies = %d)", p->capacity);
@@ -183,7 +186,8 @@ kg_result kg_destroy_body(kg_world* world, kg_body body)
     if (i < 0) {
         return kg_last_result();
     }
-    kg_body_pool* p = kg_write_pool(world);
+    kg_body_pool* p = kg_world_write_pool(world);
+    kg_wake_touching(p, p->aabb[i], world->def.speculative_distance); /* what rested on it */
     kg_body_pool_release(p, i);
     if (p->generation[i] == 0) {
         p->generation[i] = 1;
@@ -311,7 +315,45 @@ static kg_body_pool* kg_write_body(kg_world* world, kg_body body, int values_ok,
         kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s", what);
         return NULL;
     }
-    return kg_write_pool(world);
+    kg_body_pool* p = kg_world_write_pool(world);
+    kg_wake_slot(p, *index); /* a body changed through the API is simulated again */
+    return p;
+}
+
+int kg_body_is_awake(const kg_world* world, kg_body body)
+{
+    return kg_body_is_valid(world, body) && !kg_pool_asleep(kg_read_pool(world), (int)body.index);
+}
+
+kg_result kg_body_wake(kg_world* world, kg_body body)
+{
+    int i;
+    return kg_write_body(world, body, 1, "", &i) ? KG_OK : kg_read_error();
+}
+
+int kg_world_asleep_count(const kg_world* world)
+{
+    return world ? kg_pool_asleep_count(kg_read_pool(world)) : 0;
+}
+
+void kg_world_wake_region(kg_world* world, kg_aabb box)
+{
+    if (kg_pool_asleep_count(kg_read_pool(world)) > 0) {
+        kg_wake_touching(kg_world_write_pool(world), box, world->def.speculative_distance);
+    }
+}
+
+void kg_world_wake_all(kg_world* world)
+{
+    if (kg_pool_asleep_count(kg_read_pool(world)) == 0) {
+        return;
+    }
+    kg_body_pool* p = kg_world_write_pool(world);
+    for (int i = 0; i < p->high_water; ++i) {
+        if (kg_pool_asleep(p, i)) {
+            kg_wake_slot(p, i);
+        }
+    }
 }
 
 kg_result kg_body_set_transform(kg_world* world, kg_body body, kg_vec2 position, float angle)
@@ -323,9 +365,11 @@ kg_result kg_body_set_transform(kg_world* world, kg_body body, kg_vec2 position,
         return kg_read_error();
     }
     kg_rot q = kg_pool_type(p, i) == KG_BODY_PARTICLE ? kg_rot_identity() : (kg_rot){cosf(angle), sinf(angle)};
+    kg_wake_touching(p, p->aabb[i], world->def.speculative_distance); /* what rested on it */
     p->rot[i] = q;
     p->center[i] = kg_add(position, kg_rotate(q, p->local_center[i]));
     kg_body_update_transform(p, i);
+    kg_wake_touching(p, p->aabb[i], world->def.speculative_distance); /* what it lands in */
     kg_unfreeze(p, i);
     return KG_OK;
 }
@@ -420,6 +464,7 @@ kg_result kg_body_set_filter(kg_world* world, kg_body body, uint32_t category, u
     if (!p) {
         return kg_read_error();
     }
+    kg_wake_touching(p, p->aabb[i], world->def.speculative_distance); /* contacts it may lose */
     p->category[i] = category;
     p->mask[i] = mask;
     return KG_OK;

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "collide/collide.h"
 #include "collide/tilemap.h"
+#include "solve/sleep.h"
 #include "solve/solver.h"
 
 #include <math.h>
@@ -29,6 +30,11 @@ kg_world_def kg_default_world_def(void)
     def.linear_slop = 0.005f;
     def.speculative_distance = 0.02f;
     def.max_linear_speed = 400.0f;
+    /* Box2D's values: slow enough that a resting pile's creep is rest, and half a second
+     * so that a ball at the top of its bounce is not taken for one at rest. */
+    def.enable_sleep = 1;
+    def.sleep_speed = 0.05f;
+    def.time_to_sleep = 0.5f;
     def.backend = KG_BACKEND_AUTO;
     def.threads = 1;
     return def;
@@ -51,7 +57,8 @@ static kg_result kg_validate_world_def(const kg_world_def* d)
     if (!kg_positive_finite(d->contact_hertz) || !kg_positive_finite(d->contact_damping_ratio) ||
         !kg_positive_finite(d->max_push_out_speed) || !kg_positive_finite(d->max_linear_speed) ||
         !isfinite(d->restitution_threshold) || d->restitution_threshold < 0.0f || !isfinite(d->linear_slop) ||
-        d->linear_slop < 0.0f || !isfinite(d->speculative_distance) || d->speculative_distance < 0.0f) {
+        d->linear_slop < 0.0f || !isfinite(d->speculative_distance) || d->speculative_distance < 0.0f ||
+        !isfinite(d->sleep_speed) || d->sleep_speed < 0.0f || !kg_positive_finite(d->time_to_sleep)) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "world solver parameters must be finite and positive");
     }
     if (d->threads < 0 || d->threads > 256 || d->device_index < 0 || d->backend < KG_BACKEND_AUTO ||
@@ -99,6 +106,9 @@ kg_result kg_create_world(const kg_world_def* def, kg_world** out_world)
         r = kg_solver_create(w);
     }
     if (r == KG_OK) {
+        r = kg_sleep_create(w);
+    }
+    if (r == KG_OK) {
         r = kg_backend_select(w);
     }
     if (r != KG_OK) {
@@ -118,6 +128,7 @@ void kg_destroy_world(kg_world* world)
         world->backend->destroy(world);
     }
     kg_solver_destroy(world);
+    kg_sleep_destroy(world);
     kg_tilemaps_destroy(world);
     kg_collision_destroy(world);
     kg_thread_pool_destroy(world->threads);
@@ -150,6 +161,7 @@ kg_result kg_world_set_gravity(kg_world* world, kg_vec2 gravity)
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "gravity must be finite");
     }
     world->def.gravity = gravity;
+    kg_world_wake_all(world);
     return KG_OK;
 }
 

@@ -30,6 +30,7 @@ struct kg_thread_pool;
 struct kg_tilemaps;
 struct kg_collision;
 struct kg_solver;
+struct kg_sleep;
 
 struct kg_world {
     kg_world_def def;
@@ -38,6 +39,7 @@ struct kg_world {
     kg_body* handle_scratch; /* capacity max_bodies: the body list handed to applicators */
     struct kg_collision* collision;
     struct kg_solver* solver;
+    struct kg_sleep* sleep;
     struct kg_tilemaps* tilemaps;   /* NULL until a tile map is added */
     struct kg_thread_pool* threads; /* CPU worker threads (NULL with one thread) */
     const struct kg_backend_ops* backend;
@@ -46,6 +48,13 @@ struct kg_world {
     float last_dt; /* of the step being taken (0 before the first): sizes speculative margins */
     uint64_t step_index;
 };
+
+/* The pool for writing, after the backend synced it (it uploads what changed). */
+kg_body_pool* kg_world_write_pool(kg_world* world);
+/* Wakes every sleeping body: for changes that reach them all (gravity, applicators). */
+void kg_world_wake_all(kg_world* world);
+/* Wakes the sleeping bodies near box: for changes of the static world there (tiles). */
+void kg_world_wake_region(kg_world* world, kg_aabb box);
 
 /* The slot of a live body handle, or -1 with the error set. */
 int kg_world_resolve(const kg_world* world, kg_body body);

@@ -40,6 +40,7 @@ static kg_result kg_add_applicator(kg_world* world, const kg_applicator_slot* pr
     a->body_count = count;
     out->index = (uint32_t)slot;
     out->generation = generation;
+    kg_world_wake_all(world); /* sleeping bodies rest under the forces they fell asleep with */
     return KG_OK;
 }
 
@@ -94,6 +95,7 @@ kg_result kg_remove_applicator(kg_world* world, kg_applicator applicator)
     kg_u32 generation = a->generation;
     memset(a, 0, sizeof *a);
     a->generation = generation;
+    kg_world_wake_all(world);
     return KG_OK;
 }
 
@@ -104,7 +106,7 @@ int kg_applicator_targets(kg_world* world, const kg_applicator_slot* a)
     int n = 0;
     if (!a->bodies) {
         for (int i = 0; i < p->high_water; ++i) {
-            if (kg_pool_alive(p, i)) {
+            if (kg_pool_alive(p, i) && !kg_pool_asleep(p, i)) {
                 out[n].index = (uint32_t)i;
                 out[n++].generation = p->generation[i];
             }
@@ -112,7 +114,7 @@ int kg_applicator_targets(kg_world* world, const kg_applicator_slot* a)
         return n;
     }
     for (int k = 0; k < a->body_count; ++k) {
-        if (kg_body_is_valid(world, a->bodies[k])) {
+        if (kg_body_is_valid(world, a->bodies[k]) && !kg_pool_asleep(p, (int)a->bodies[k].index)) {
             out[n++] = a->bodies[k];
         }
     }

@@ -17,6 +17,7 @@
 #include "solve/contact_solver.h"
 #include "solve/graph_color.h"
 #include "solve/integrate.h"
+#include "solve/island.h"
 
 #include <string.h>
 
@@ -94,6 +95,9 @@ typedef struct kg_body_job {
     kg_body_pool* pool;
     kg_solver_body* bodies;
     kg_integrate_params prm;
+    float dt; /* of the whole step */
+    int sleep; /* kg_world_def.enable_sleep: rest timers are kept */
+    float sleep_speed;
 } kg_body_job;
 
 /* What reached a body between steps (an overflowing impulse or force through the API)
@@ -151,7 +155,7 @@ static void kg_integrate_positions(void* context, int begin, int end)
     kg_body_job* job = context;
     const kg_body_pool* p = job->pool;
     for (int i = begin; i < end; ++i) {
-        if (kg_pool_alive(p, i) && kg_pool_type(p, i) != KG_BODY_STATIC && !(p->flags[i] & KG_FLAG_FROZEN)) {
+        if (kg_pool_moves(p, i)) {
             kg_body_motion* m = &job->bodies[i].motion;
             kg_integrate_position(&m->dp, &m->dq, m->v, m->w, job->prm.h);
         }
@@ -164,7 +168,7 @@ static void kg_store_bodies(void* context, int begin, int end)
     kg_body_job* job = context;
     kg_body_pool* p = job->pool;
     for (int i = begin; i < end; ++i) {
-        if (!kg_pool_alive(p, i) || kg_pool_type(p, i) == KG_BODY_STATIC || (p->flags[i] & KG_FLAG_FROZEN)) {
+        if (!kg_pool_moves(p, i)) {
             continue;
         }
         const kg_body_motion* m = &job->bodies[i].motion;
@@ -172,6 +176,10 @@ static void kg_store_bodies(void* context, int begin, int end)
         p->omega[i] = m->w;
         p->center[i] = kg_add(p->center[i], m->dp);
         p->rot[i] = kg_rot_normalize(kg_rot_mul(m->dq, p->rot[i]));
+        if (job->sleep && job->bodies[i].moves) {
+            float extent = kg_shape_extent(&p->shape[i], p->local_center[i]);
+            p->sleep_time[i] = kg_rest_timer(p->sleep_time[i], *m, extent, job->dt, job->sleep_speed);
+        }
     }
 }
 
@@ -260,6 +268,9 @@ static void kg_prepare_range(void* context, int begin, int end)
         kg_vec2 center_a = ct->a != KG_NULL_INDEX ? p->center[ct->a] : origin_a;
         kg_vec2 center_b = ct->b != KG_NULL_INDEX ? p->center[ct->b] : origin_b;
         kg_contact_prepare(c, &ct->manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w, job->prm);
+        if (!a_moves && !b_moves) {
+            c->point_count = 0; /* asleep or frozen on both sides: nothing to solve, impulses kept */
+        }
     }
 }
 
@@ -306,7 +317,8 @@ void kg_stage_solve(kg_world* world, float dt)
     int n = world->def.substeps;
     float h = dt / (float)n;
     kg_body_pool* p = &world->bodies;
-    kg_body_job bjob = {p, s->bodies, {world->def.gravity, h, world->def.max_linear_speed}};
+    kg_body_job bjob = {p, s->bodies, {world->def.gravity, h, world->def.max_linear_speed}, dt,
+                        world->def.enable_sleep, world->def.sleep_speed};
     kg_constraint_job cjob = {p, s->bodies, contacts, s->constraints, kg_solver_params_of(&world->def, h), KG_PASS_SOLVE};
 
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_load_bodies, &bjob);

@@ -43,6 +43,7 @@
 #define SOAK_ARENA_HEIGHT 30.0f /* bodies spawn and are teleported below this */
 #define SOAK_CEILING 100.0f     /* bodies above (a wind with an upward part lifts light ones) are recycled */
 #define SOAK_SPAWN_SPEED 5.0f
+#define SOAK_PLATFORM_LOWEST 14.0f /* kinematic bodies move above the walls (12 m high) */
 #define SOAK_KICK_SPEED 8.0f
 #define SOAK_WIND_TERMINAL 4.0f /* strength / drag of every wind */
 #define SOAK_PUSH_OUT_SPEED 3.0f /* kg_world_def.max_push_out_speed, the default */
@@ -103,6 +104,7 @@ typedef struct soak {
     kg_applicator* applicators;
     int applicator_count;
     uint32_t* last_generation; /* per slot, to count wraps */
+    kg_vec2 platform_velocity; /* of every kinematic body of the round */
     soak_stats* stats;
 } soak;
 
@@ -206,8 +208,17 @@ static kg_body_def random_body(soak* s)
     d.shape = random_shape(s);
     d.position = (kg_vec2){soak_range(s, -11.0f, 11.0f), soak_range(s, 12.0f, SOAK_ARENA_HEIGHT - 2.0f)};
     d.angle = d.type == KG_BODY_PARTICLE ? 0.0f : soak_range(s, -3.0f, 3.0f);
-    float speed = d.type == KG_BODY_KINEMATIC ? 1.0f : SOAK_SPAWN_SPEED / 1.5f;
+    float speed = SOAK_SPAWN_SPEED / 1.5f;
     d.velocity = (kg_vec2){soak_range(s, -speed, speed), soak_range(s, -speed, speed)};
+    if (d.type == KG_BODY_KINEMATIC) {
+        /* A moving platform above the walls, all of a round's platforms at the same
+         * velocity, not turning: an infinite mass driven into the ground, a wall or
+         * another platform rightly crushes what lies between, which no solver can
+         * resolve (the soak found bodies pushed through the ground and ejected at 150 m/s). */
+        d.position.y = soak_range(s, SOAK_PLATFORM_LOWEST, SOAK_ARENA_HEIGHT - 2.0f);
+        d.velocity = s->platform_velocity;
+        d.angular_velocity = 0.0f;
+    }
     d.angular_velocity = d.type == KG_BODY_PARTICLE ? 0.0f : soak_range(s, -2.0f, 2.0f);
     d.density = soak_range(s, 0.5f, 5.0f); /* with the sizes: masses up to 200x apart */
     d.friction = soak_range(s, 0.0f, 1.0f);
@@ -400,8 +411,10 @@ static void churn(soak* s)
     }
     if (s->live_count > 0 && soak_chance(s, 5)) {
         kg_body h = s->live[soak_below(s, s->live_count)];
+        kg_body_type type = KG_BODY_DYNAMIC;
+        kg_body_get_type(s->world, h, &type);
         kg_body_set_transform(s->world, h, (kg_vec2){soak_range(s, -10.0f, 10.0f), 25.0f}, 0.0f);
-        kg_body_set_velocity(s->world, h, (kg_vec2){0.0f, 0.0f});
+        kg_body_set_velocity(s->world, h, type == KG_BODY_KINEMATIC ? s->platform_velocity : (kg_vec2){0.0f, 0.0f});
     }
     if (soak_chance(s, 4)) {
         if (s->applicator_count > 0 && soak_chance(s, 500)) {
@@ -526,6 +539,7 @@ static void run_round(soak_stats* stats, double deadline, double* next_sample)
     s.r.state = (uint64_t)stats->seed * 0x9E3779B97F4A7C15ull + (uint64_t)stats->rounds;
     s.stats = stats;
     s.config = &kConfigs[stats->rounds % CONFIG_COUNT];
+    s.platform_velocity = (kg_vec2){soak_range(&s, -1.0f, 1.0f), 0.0f};
     s.world = create_world(s.config);
     s.live = calloc((size_t)s.config->max_bodies + SOAK_ARENA_BODIES, sizeof *s.live);
     s.applicators = calloc((size_t)s.config->max_applicators + 1, sizeof *s.applicators);

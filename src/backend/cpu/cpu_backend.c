@@ -3,6 +3,7 @@
 #include "backend/backend.h"
 #include "collide/collide.h"
 #include "solve/forces.h"
+#include "solve/sleep.h"
 #include "solve/solver.h"
 
 #include <time.h>
@@ -35,10 +36,14 @@ static kg_result kg_cpu_step(kg_world* world, float dt)
     if (r != KG_OK) {
         return r;
     }
+    kg_stage_wake(world);
+    kg_time_stage(world, "wake", &t);
     kg_stage_solve(world, dt);
     kg_time_stage(world, "solve", &t);
     kg_stage_finalize(world);
     kg_time_stage(world, "finalize", &t);
+    kg_stage_sleep(world);
+    kg_time_stage(world, "sleep", &t);
     return KG_OK;
 }
 

@@ -1,0 +1,188 @@
+/* Sleeping: islands at rest stop costing integration and solving until something wakes
+ * them (docs/design.md, "Sleeping"). Two stages of the step:
+ *
+ *   wake  (after collide, before solve): a contact between a body in motion and a
+ *         sleeping one wakes the sleeping one's whole island, before the solver sees it;
+ *   sleep (last): bodies linked by contacts make islands; an island whose every body
+ *         has rested time_to_sleep (timers the solver advances, island.h) falls asleep.
+ *
+ * A sleeping body keeps its contacts (collide still finds them and carries their
+ * impulses, so a stack wakes warm) but is neither integrated nor solved: to the solver it
+ * is as immovable as a static body. Everything here is serial and in slot order, so the
+ * result does not depend on the thread count. */
+#include "solve/sleep.h"
+#include "collide/aabb.h"
+#include "collide/collide.h"
+#include "solve/island.h"
+#include "core/alloc.h"
+#include "core/error.h"
+
+struct kg_sleep {
+    kg_u32* parent; /* union-find of this step's islands */
+    float* least;   /* per island root: the shortest rest time of its bodies */
+    unsigned char* wake; /* per island name: to be woken this step */
+};
+
+kg_result kg_sleep_create(kg_world* world)
+{
+    struct kg_sleep* s = kg_alloc_zeroed(sizeof *s);
+    world->sleep = s;
+    size_t n = (size_t)world->def.max_bodies;
+    if (s) {
+        s->parent = kg_alloc_zeroed(n * sizeof *s->parent);
+        s->least = kg_alloc_zeroed(n * sizeof *s->least);
+        s->wake = kg_alloc_zeroed(n * sizeof *s->wake);
+    }
+    if (!s || !s->parent || !s->least || !s->wake) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the island scratch of %d bodies", world->def.max_bodies);
+    }
+    return KG_OK;
+}
+
+void kg_sleep_destroy(kg_world* world)
+{
+    struct kg_sleep* s = world->sleep;
+    if (s) {
+        kg_free(s->parent);
+        kg_free(s->least);
+        kg_free(s->wake);
+        kg_free(s);
+    }
+    world->sleep = NULL;
+}
+
+void kg_wake_slot(kg_body_pool* p, int i)
+{
+    p->flags[i] &= ~KG_FLAG_ASLEEP;
+    p->sleep_time[i] = 0.0f;
+}
+
+static void kg_sleep_slot(kg_body_pool* p, int i, kg_u32 island)
+{
+    p->flags[i] |= KG_FLAG_ASLEEP;
+    p->island[i] = island;
+    p->velocity[i] = kg_v2(0.0f, 0.0f);
+    p->omega[i] = 0.0f;
+    kg_body_update_transform(p, i); /* bounds no longer swept over a motion */
+}
+
+void kg_wake_touching(kg_body_pool* p, kg_aabb box, float margin)
+{
+    box = kg_aabb_fatten(box, margin);
+    for (int i = 0; i < p->high_water; ++i) {
+        if (kg_pool_collides(p, i) && kg_aabb_overlap(box, p->aabb[i])) {
+            kg_wake_slot(p, i);
+        }
+    }
+}
+
+int kg_pool_asleep_count(const kg_body_pool* p)
+{
+    int n = 0;
+    for (int i = 0; i < p->high_water; ++i) {
+        n += kg_pool_alive(p, i) && kg_pool_asleep(p, i);
+    }
+    return n;
+}
+
+/* A body whose contacts wake what they touch: awake and moving, or able to (a kinematic
+ * body only while it has a velocity). */
+static int kg_stirs(const kg_body_pool* p, kg_u32 i)
+{
+    if (i == KG_NULL_INDEX || !kg_pool_moves(p, (int)i)) {
+        return 0;
+    }
+    return kg_pool_type(p, (int)i) != KG_BODY_KINEMATIC || p->velocity[i].x != 0.0f || p->velocity[i].y != 0.0f ||
+           p->omega[i] != 0.0f;
+}
+
+static int kg_sleeping(const kg_body_pool* p, kg_u32 i) { return i != KG_NULL_INDEX && kg_pool_asleep(p, (int)i); }
+
+static int kg_islander(const kg_body_pool* p, kg_u32 i) { return i != KG_NULL_INDEX && kg_pool_collides(p, (int)i); }
+
+static int kg_stirring_kinematic(const kg_body_pool* p, kg_u32 i)
+{
+    return kg_stirs(p, i) && kg_pool_type(p, (int)i) == KG_BODY_KINEMATIC;
+}
+
+void kg_stage_wake(kg_world* world)
+{
+    if (!world->def.enable_sleep) {
+        return;
+    }
+    struct kg_sleep* s = world->sleep;
+    kg_body_pool* p = &world->bodies;
+    int count = 0, any = 0;
+    const kg_contact* contacts = kg_collision_contacts(world, &count);
+    for (int k = 0; k < count; ++k) {
+        kg_u32 a = contacts[k].a, b = contacts[k].b;
+        if (kg_stirs(p, a) && kg_sleeping(p, b)) {
+            s->wake[p->island[b]] = 1;
+            any = 1;
+        } else if (kg_stirs(p, b) && kg_sleeping(p, a)) {
+            s->wake[p->island[a]] = 1;
+            any = 1;
+        }
+    }
+    for (int i = 0; any && i < p->high_water; ++i) {
+        if (kg_pool_asleep(p, i) && s->wake[p->island[i]]) {
+            kg_wake_slot(p, i);
+        }
+    }
+    for (int i = 0; any && i < p->high_water; ++i) {
+        s->wake[i] = 0;
+    }
+}
+
+/* The islands of this step's contacts, and the least rest timer of each (the solver
+ * advanced the timers as it stored the bodies). */
+static void kg_build_islands(kg_world* world)
+{
+    struct kg_sleep* s = world->sleep;
+    const kg_body_pool* p = &world->bodies;
+    for (int i = 0; i < p->high_water; ++i) {
+        s->parent[i] = (kg_u32)i;
+        s->least[i] = KG_FLT_MAX;
+    }
+    int count = 0;
+    const kg_contact* contacts = kg_collision_contacts(world, &count);
+    for (int k = 0; k < count; ++k) {
+        kg_u32 a = contacts[k].a, b = contacts[k].b;
+        if (kg_islander(p, a) && kg_islander(p, b)) {
+            kg_island_link(s->parent, a, b);
+        }
+    }
+    for (int i = 0; i < p->high_water; ++i) {
+        if (kg_pool_collides(p, i)) {
+            kg_u32 r = kg_island_root(s->parent, (kg_u32)i);
+            s->least[r] = fminf(s->least[r], p->sleep_time[i]);
+        }
+    }
+    /* a moving kinematic body keeps what it touches awake without joining islands */
+    for (int k = 0; k < count; ++k) {
+        kg_u32 a = contacts[k].a, b = contacts[k].b;
+        if (kg_stirring_kinematic(p, a) && kg_islander(p, b)) {
+            s->least[kg_island_root(s->parent, b)] = 0.0f;
+        } else if (kg_stirring_kinematic(p, b) && kg_islander(p, a)) {
+            s->least[kg_island_root(s->parent, a)] = 0.0f;
+        }
+    }
+}
+
+void kg_stage_sleep(kg_world* world)
+{
+    if (!world->def.enable_sleep) {
+        return;
+    }
+    kg_build_islands(world);
+    kg_body_pool* p = &world->bodies;
+    struct kg_sleep* s = world->sleep;
+    for (int i = 0; i < p->high_water; ++i) {
+        if (kg_pool_is_simulated(p, i)) {
+            kg_u32 r = kg_island_root(s->parent, (kg_u32)i);
+            if (s->least[r] >= world->def.time_to_sleep) {
+                kg_sleep_slot(p, i, r);
+            }
+        }
+    }
+}
