@@ -19,7 +19,7 @@ typedef struct kg_loader {
     kg_scene* scene;
 } kg_loader;
 
-static const char* const kSceneFields[] = {"description", "gravity", "dt", "steps", "substeps",
+static const char* const kSceneFields[] = {"description", "gravity", "dt", "steps", "substeps", "sleep",
                                            "bodies", "forces", "generators", "tilemap", NULL};
 static const char* const kBodyFields[] = {"name", "type", "position", "angle", "velocity", "angular_velocity",
                                           "shape", "density", "mass", "friction", "restitution",
@@ -963,6 +963,7 @@ static kg_result kg_read_settings(kg_loader* loader, const cJSON* root)
     KG_TRY(kg_json_float(reader, root, &root_path, "dt", KG_JSON_POSITIVE, &dt));
     KG_TRY(kg_json_int(reader, root, &root_path, "steps", 0, 100000000, &steps));
     KG_TRY(kg_json_int(reader, root, &root_path, "substeps", 1, 64, &def->substeps));
+    KG_TRY(kg_json_bool(reader, root, &root_path, "sleep", &def->enable_sleep));
     KG_TRY(kg_scene_set_dt(loader->scene, dt));
     return kg_scene_set_steps(loader->scene, steps);
 }
