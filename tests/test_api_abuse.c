@@ -687,6 +687,22 @@ static void call_apply_angular_impulse(sequence* s)
     }
 }
 
+/* Sleeping: a woken body is awake, and no more bodies sleep than live. */
+static void call_wake(sequence* s)
+{
+    kg_world* w = pick_world(s);
+    kg_body h = pick_handle(s);
+    int found;
+    faults f = handle_faults(s, w, h, &found);
+    kg_result r = kg_body_wake(w, h);
+    check_result(s, "kg_body_wake", r, expected_results(f, KG_OK));
+    check_true(s, "kg_body_is_awake", kg_body_is_awake(w, h) == (r == KG_OK),
+               "a body is awake after kg_body_wake exactly when the call succeeded");
+    int asleep = kg_world_asleep_count(w);
+    check_true(s, "kg_world_asleep_count", asleep >= 0 && asleep <= (w ? kg_world_body_count(w) : 0),
+               "more bodies asleep than alive");
+}
+
 /* One of the per-body getters, maybe with a NULL output. */
 static void call_getter(sequence* s)
 {
@@ -981,7 +997,7 @@ static const weighted_call kCalls[] = {
     {call_apply_angular_impulse, 3}, {call_getter, 10},    {call_get_bodies, 3},
     {call_get_body_states, 3}, {call_add_applicator, 3},   {call_remove_applicator, 2},
     {call_step, 6},            {call_get_contact, 2},      {call_world_settings, 2},
-    {call_other_world, 2},
+    {call_other_world, 2},     {call_wake, 2},
 };
 
 static call_fn* pick_call(rng* r)
@@ -1017,7 +1033,7 @@ static kg_world_def sane_world_def(rng* r)
 static int spoil_world_def(rng* r, kg_world_def* d)
 {
     float bad = kHostileFloats[rng_below(r, 3)];
-    switch (rng_below(r, 16)) {
+    switch (rng_below(r, 18)) {
     case 0: d->gravity.x = bad; return 1;
     case 1: d->max_bodies = -rng_below(r, 3); return 1;
     case 2: d->max_contacts = -1; return 1;
@@ -1033,6 +1049,8 @@ static int spoil_world_def(rng* r, kg_world_def* d)
     case 12: d->backend = (kg_backend)(rng_chance(r, 50) ? -1 : 3 + rng_below(r, 50)); return 1;
     case 13: d->threads = -1; return 1;
     case 14: d->device_index = -1; return 1;
+    case 15: d->sleep_speed = rng_chance(r, 50) ? -0.01f : bad; return 1;
+    case 16: d->time_to_sleep = rng_chance(r, 50) ? 0.0f : bad; return 1;
     default: return 0;
     }
 }
