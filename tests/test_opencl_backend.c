@@ -2,8 +2,9 @@
  * KGYRO_BACKEND), lazy read-back of the state and the contacts kept on the device, partial
  * transform reads, C callbacks and setters between and inside steps, device force
  * applicators (build errors, parameters, removal), the collide stage on the device (tile
- * maps included), and per-kernel profiling. Worlds are compared with a CPU twin,
- * bitwise. Skips (exit 77) when no OpenCL device exists. */
+ * maps included), sleeping (callbacks given the awake bodies, a pile woken in a step whose
+ * collide stage ran on the host), and per-kernel profiling. Worlds are compared with a CPU
+ * twin, bitwise. Skips (exit 77) when no OpenCL device exists. */
 #include "kg_test.h"
 #include "kgyro/kgyro.h"
 #include "kgyro/opencl.h"
@@ -418,6 +419,36 @@ static void kg_pile(kg_world* world, int count)
     }
 }
 
+static void kg_count_targets(kg_world* world, const kg_body* bodies, int count, void* user_data)
+{
+    (void)world;
+    (void)bodies;
+    *(int*)user_data = count;
+}
+
+/* A C callback is given the awake bodies only, as the device flags them: it reads no state
+ * itself, so nothing but the backend brings the flags to the host. */
+static void test_callback_leaves_out_sleepers(void)
+{
+    kg_world* both[2] = {kg_make_world(KG_BACKEND_OPENCL), kg_make_world(KG_BACKEND_CPU)};
+    int targets[2] = {-1, -1}, mismatch = 0;
+    for (int w = 0; w < 2; ++w) {
+        kg_pile(both[w], 30);
+        kg_applicator a;
+        KG_CHECK_OK(kg_add_force_applicator(both[w], kg_count_targets, NULL, 0, &targets[w], &a));
+    }
+    for (int s = 0; s < 80; ++s) {
+        KG_CHECK_OK(kg_world_step(both[0], KG_DT));
+        KG_CHECK_OK(kg_world_step(both[1], KG_DT));
+        mismatch += targets[0] != targets[1];
+    }
+    KG_CHECK(mismatch == 0);
+    KG_CHECK(targets[1] < 31); /* of the ground and 30 boxes, the sleepers left out */
+    KG_CHECK(kg_world_backend(both[0]) == KG_BACKEND_OPENCL);
+    kg_destroy_world(both[0]);
+    kg_destroy_world(both[1]);
+}
+
 /* A step moves no contact across the bus: it reads back a few counters, whatever the
  * contact count. The contacts cross once, when asked for, and equal the CPU's. */
 static void test_contacts_stay_on_device(void)
@@ -500,6 +531,68 @@ static void test_tile_map_collides_on_device(void)
     kg_destroy_world(both[1]);
 }
 
+/* A pile asleep, and in one step as many boxes laid on it as it takes for the pairs to
+ * outgrow the contact pool: that step's collide stage runs on the host, which wakes the
+ * pile before it colours the contacts, as the device would. */
+static void test_wake_in_collide_on_host(void)
+{
+    kg_world* both[2] = {NULL, NULL};
+    for (int w = 0; w < 2; ++w) {
+        kg_world_def def = kg_default_world_def();
+        def.backend = w == 0 ? KG_BACKEND_OPENCL : KG_BACKEND_CPU;
+        def.max_bodies = 128;
+        def.max_contacts = 16;
+        KG_CHECK_OK(kg_create_world(&def, &both[w]));
+        kg_pile(both[w], 30);
+    }
+    int s = 0;
+    while (s < 200 && kg_world_asleep_count(both[1]) < 30) {
+        KG_CHECK_OK(kg_world_step(both[0], KG_DT));
+        KG_CHECK_OK(kg_world_step(both[1], KG_DT));
+        s++;
+    }
+    KG_CHECK(kg_world_asleep_count(both[0]) == 30 && kg_world_asleep_count(both[1]) == 30);
+    /* each box makes a pair at least (with its neighbour, the last with the pile), on top
+     * of the pile's own pairs, at least its contacts */
+    int room = kg_world_get_def(both[0])->max_contacts - kg_world_contact_count(both[0]);
+    int boxes = room + 1;
+    float width = 8.0f / (float)boxes;
+    printf("     pile asleep after %d steps; %d boxes laid on it to outgrow %d contacts\n", s, boxes,
+           kg_world_get_def(both[0])->max_contacts);
+    for (int w = 0; w < 2; ++w) {
+        for (int k = 0; k < boxes; ++k) { /* on top of three rows of 0.6 m boxes */
+            kg_body_def def = kg_default_body_def();
+            def.position = (kg_vec2){-4.0f + width * ((float)k + 0.5f), 1.801f + 0.5f * width};
+            def.shape = kg_box_shape(0.99f * width, width);
+            kg_body body;
+            KG_CHECK_OK(kg_create_body(both[w], &def, &body));
+        }
+    }
+    KG_CHECK_OK(kg_world_step(both[0], KG_DT));
+    KG_CHECK_OK(kg_world_step(both[1], KG_DT));
+    kg_stage_times t;
+    KG_CHECK_OK(kg_world_get_stage_times(both[0], &t));
+    KG_CHECK(kg_has_stage(&t, "collide (host)"));
+    int asleep = kg_world_asleep_count(both[0]);
+    printf("     after that step: %d asleep (CPU %d)\n", asleep, kg_world_asleep_count(both[1]));
+    KG_CHECK(asleep < 30 && asleep == kg_world_asleep_count(both[1]));
+    for (int k = 0; k < 60; ++k) {
+        KG_CHECK_OK(kg_world_step(both[0], KG_DT));
+        KG_CHECK_OK(kg_world_step(both[1], KG_DT));
+        KG_CHECK(kg_world_asleep_count(both[0]) == kg_world_asleep_count(both[1]));
+    }
+    kg_body bodies[128];
+    int count = 0;
+    kg_world_get_bodies(both[1], bodies, 128, &count);
+    for (int i = 0; i < count; ++i) {
+        KG_CHECK(kg_same_state(both[0], both[1], bodies[i]));
+    }
+    KG_CHECK(kg_same_contacts(both[0], both[1]));
+    KG_CHECK(kg_world_backend(both[0]) == KG_BACKEND_OPENCL);
+    kg_destroy_world(both[0]);
+    kg_destroy_world(both[1]);
+}
+
 /* With profiling on, the stage times are the kernels' device times, the collide stage's
  * by stage (kg_broadphase, kg_narrowphase, kg_color); no stage runs on the host. */
 static void test_profiling(void)
@@ -538,7 +631,8 @@ int main(void)
     static const kg_test_case tests[] = {
         KG_TEST(test_device_queries), KG_TEST(test_selection), KG_TEST(test_lazy_read_back),
         KG_TEST(test_partial_transform_read), KG_TEST(test_changes_between_steps), KG_TEST(test_callbacks_mid_step),
-        KG_TEST(test_device_force), KG_TEST(test_device_force_errors), KG_TEST(test_mixed_bodies_and_pool_growth),
-        KG_TEST(test_contacts_stay_on_device), KG_TEST(test_tile_map_collides_on_device), KG_TEST(test_profiling)};
+        KG_TEST(test_callback_leaves_out_sleepers), KG_TEST(test_device_force), KG_TEST(test_device_force_errors),
+        KG_TEST(test_mixed_bodies_and_pool_growth), KG_TEST(test_contacts_stay_on_device),
+        KG_TEST(test_tile_map_collides_on_device), KG_TEST(test_wake_in_collide_on_host), KG_TEST(test_profiling)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

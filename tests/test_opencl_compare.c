@@ -1,7 +1,8 @@
 /* The OpenCL backend against the CPU backend, scene by scene: the same scene built twice,
  * stepped 300 times on each, compared step by step (contact counts), every 50 steps (the
  * contact lists, impulses included: the device builds them from its own broadphase) and
- * at the end (every body's position, angle and velocities). The two are expected bitwise equal: the kernels
+ * at the end (every body's position, angle and velocities); piles falling asleep and
+ * woken, every step. The two are expected bitwise equal: the kernels
  * call the same per-element functions on the same layout, both sides are compiled without
  * contraction or fast-math, and the device divides and takes square roots correctly
  * rounded. A device that cannot round them correctly is held to the 1e-4 m tolerance.
@@ -370,6 +371,69 @@ static void kg_compare_scene(const char* name, kg_scene_fn* scene)
     kg_destroy_world(cl);
 }
 
+/* Two piles of 50 boxes apart on the ground, and a kinematic pusher sliding towards the
+ * right one: the piles fall asleep, a box dropped on the left one wakes that island
+ * alone, and the pusher later wakes the right one (a moving kinematic body also keeps
+ * awake what it touches). */
+static void kg_sleep_scene(kg_world* world)
+{
+    kg_ground(world, 60.0f);
+    for (int i = 0; i < 100; ++i) {
+        int k = i % 50, row = k / 10;
+        float x = (i < 50 ? -12.0f : 3.0f) + 0.95f * (float)(k % 10) + 0.3f * (float)(row % 2);
+        kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){x, 0.45f + 0.92f * (float)row}, 0.0f, kg_box_shape(0.9f, 0.9f));
+    }
+    kg_body_def pusher = kg_default_body_def();
+    pusher.type = KG_BODY_KINEMATIC;
+    pusher.position = (kg_vec2){14.5f, 1.0f};
+    pusher.velocity = (kg_vec2){-0.6f, 0.0f};
+    pusher.shape = kg_box_shape(1.0f, 2.0f);
+    kg_body body;
+    KG_CHECK_OK(kg_create_body(world, &pusher, &body));
+}
+
+/* Sleeping and waking, compared every step: the states bitwise (the timers, islands and
+ * wake-ups decide who moves, so any difference shows at once) and the bodies asleep. */
+static void test_sleep_and_wake(void)
+{
+    kg_world* both[2] = {kg_make_world(KG_BACKEND_CPU, kg_sleep_scene),
+                         kg_make_world(KG_BACKEND_OPENCL, kg_sleep_scene)};
+    if (!both[0] || !both[1]) {
+        kg_destroy_world(both[0]);
+        kg_destroy_world(both[1]);
+        return;
+    }
+    int dropped = -1, fewest_after_drop = 100, asleep_mismatch = 0, differing = 0;
+    double max_position = 0.0;
+    for (int s = 0; s < 240; ++s) {
+        int asleep = kg_world_asleep_count(both[0]);
+        for (int w = 0; dropped < 0 && asleep == 100 && w < 2; ++w) {
+            kg_add(both[w], KG_BODY_DYNAMIC, (kg_vec2){-7.5f, 4.5f}, 0.3f, kg_box_shape(0.6f, 0.6f));
+        }
+        dropped = dropped < 0 && asleep == 100 ? s : dropped;
+        fewest_after_drop = dropped >= 0 && asleep < fewest_after_drop ? asleep : fewest_after_drop;
+        KG_CHECK_OK(kg_world_step(both[0], KG_DT));
+        KG_CHECK_OK(kg_world_step(both[1], KG_DT));
+        asleep_mismatch += kg_world_asleep_count(both[0]) != kg_world_asleep_count(both[1]);
+        double position = 0.0;
+        differing += kg_compare_states(both[0], both[1], &position);
+        max_position = position > max_position ? position : max_position;
+    }
+    printf("     all 100 asleep at step %d, down to %d asleep after the drop, %d at the end; %d steps with other "
+           "counts asleep, %d floats not bitwise equal, positions within %.3g m\n",
+           dropped, fewest_after_drop, kg_world_asleep_count(both[0]), asleep_mismatch, differing, max_position);
+    KG_CHECK(dropped > 0);
+    KG_CHECK(fewest_after_drop < 100);
+    KG_CHECK_NEAR(max_position, 0.0, 1e-4);
+    if (g_bitwise_expected) {
+        KG_CHECK(asleep_mismatch == 0);
+        KG_CHECK(differing == 0);
+    }
+    KG_CHECK(kg_world_backend(both[1]) == KG_BACKEND_OPENCL);
+    kg_destroy_world(both[0]);
+    kg_destroy_world(both[1]);
+}
+
 static void test_projectile(void) { kg_compare_scene("projectile", kg_projectile_scene); }
 static void test_applicators(void) { kg_compare_scene("applicators", kg_applicator_scene); }
 static void test_stack(void) { kg_compare_scene("stack", kg_stack_scene); }
@@ -421,6 +485,7 @@ int main(void)
            g_bitwise_expected ? "required" : "not required (no correctly rounded divide/sqrt)");
     static const kg_test_case tests[] = {KG_TEST(test_projectile), KG_TEST(test_applicators), KG_TEST(test_stack),
                                          KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_sizes),
-                                         KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device)};
+                                         KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device),
+                                         KG_TEST(test_sleep_and_wake)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

@@ -7,7 +7,9 @@
  *  - a failed read for a getter between steps (the contacts' included): tried again, same
  *    result;
  *  - a lost device: the world goes on from the last state and contacts the host read back
- *    whole.
+ *    whole;
+ *  - bodies asleep, or woken in the step that fails: flags, rest timers and islands
+ *    carried over with the rest of the state.
  * Skips (exit 77) when no OpenCL device exists. */
 #include "kg_test.h"
 #include "kgyro/kgyro.h"
@@ -59,9 +61,8 @@ static void kg_lift_highest(kg_world* world, const kg_body* bodies, int count, v
     }
 }
 
-/* Bodies that fall, touch and stack, with a wind applicator and a callback: every stage
- * has work. */
-static kg_world* kg_make_world(kg_backend backend, const char* faults, kg_read_probe* probe)
+/* An empty world on backend, with the faults injected. */
+static kg_world* kg_make_empty_world(kg_backend backend, const char* faults)
 {
     if (faults) {
         setenv("KGYRO_CL_FAIL", faults, 1);
@@ -74,6 +75,14 @@ static kg_world* kg_make_world(kg_backend backend, const char* faults, kg_read_p
     kg_world* world = NULL;
     KG_CHECK_OK(kg_create_world(&def, &world));
     unsetenv("KGYRO_CL_FAIL");
+    return world;
+}
+
+/* Bodies that fall, touch and stack, with a wind applicator and a callback: every stage
+ * has work. */
+static kg_world* kg_make_world(kg_backend backend, const char* faults, kg_read_probe* probe)
+{
+    kg_world* world = kg_make_empty_world(backend, faults);
     if (!world) {
         return NULL;
     }
@@ -295,6 +304,59 @@ static void test_device_lost(void)
 
 static void test_bad_spec_is_ignored(void) { kg_expect_intact("nonsense,build", 1); }
 
+/* Two rows of boxes (ten islands of two) that fall asleep at about step 40, and a box
+ * falling from high up that wakes two of them at about step 80. */
+static kg_world* kg_make_sleeping_world(kg_backend backend, const char* faults)
+{
+    kg_world* world = kg_make_empty_world(backend, faults);
+    if (!world) {
+        return NULL;
+    }
+    kg_add_box(world, KG_BODY_STATIC, 0.0f, -0.5f, 20.0f, 1.0f);
+    for (int i = 0; i < 20; ++i) {
+        kg_add_box(world, KG_BODY_DYNAMIC, -4.5f + 0.9f * (float)(i % 10), 0.35f + 0.65f * (float)(i / 10), 0.8f, 0.6f);
+    }
+    kg_add_box(world, KG_BODY_DYNAMIC, 0.2f, 10.0f, 0.5f, 0.5f);
+    return world;
+}
+
+/* A fallback while bodies sleep, in the step that wakes them, or between steps (the read
+ * of kg_world_asleep_count's at step 60 failing: read:121, after two reads per step)
+ * carries the flags, rest timers and islands over: the world ends, and has as many bodies
+ * asleep on the way, as a CPU-only world. */
+static void test_sleep_state_carried_over(void)
+{
+    enum { STEPS = 150, PROBE = 60 };
+    static const char* const faults[] = {"finish:50", "finish:80", "finish:81", "read:121", "read:150", "enqueue:4000"};
+    kg_world* cpu = kg_make_sleeping_world(KG_BACKEND_CPU, NULL);
+    int cpu_asleep[STEPS + 1];
+    for (int s = 1; s <= STEPS; ++s) {
+        KG_CHECK_OK(kg_world_step(cpu, KG_DT));
+        cpu_asleep[s] = s == PROBE || s == STEPS ? kg_world_asleep_count(cpu) : 0;
+    }
+    uint64_t reference = kg_state_hash(cpu);
+    KG_CHECK(cpu_asleep[PROBE] == 20);
+    kg_destroy_world(cpu);
+    for (int f = 0; f < (int)(sizeof faults / sizeof faults[0]); ++f) {
+        kg_world* world = kg_make_sleeping_world(KG_BACKEND_OPENCL, faults[f]);
+        int fell_back_at = -1, same_asleep = 1;
+        for (int s = 1; s <= STEPS; ++s) {
+            KG_CHECK_OK(kg_world_step(world, KG_DT));
+            same_asleep &= s != PROBE || kg_world_asleep_count(world) == cpu_asleep[s];
+            fell_back_at = fell_back_at < 0 && kg_world_backend(world) == KG_BACKEND_CPU ? s : fell_back_at;
+        }
+        same_asleep &= kg_world_asleep_count(world) == cpu_asleep[STEPS];
+        uint64_t hash = kg_state_hash(world);
+        printf("     KGYRO_CL_FAIL=%-12s fell back in step %d, final state %s, bodies asleep %s\n", faults[f],
+               fell_back_at, hash == reference ? "bitwise equal to the CPU's" : "DIFFERENT",
+               same_asleep ? "the same" : "DIFFERENT");
+        KG_CHECK(fell_back_at > 0);
+        KG_CHECK(hash == reference);
+        KG_CHECK(same_asleep);
+        kg_destroy_world(world);
+    }
+}
+
 int main(void)
 {
     int devices = 0;
@@ -307,7 +369,6 @@ int main(void)
         KG_TEST(test_no_fault_no_fallback), KG_TEST(test_load_failure), KG_TEST(test_no_platform),
         KG_TEST(test_build_failure), KG_TEST(test_alloc_failure), KG_TEST(test_enqueue_failures),
         KG_TEST(test_kernel_failures), KG_TEST(test_read_failures), KG_TEST(test_contact_read_failure),
-        KG_TEST(test_device_lost),
-        KG_TEST(test_bad_spec_is_ignored)};
+        KG_TEST(test_device_lost), KG_TEST(test_bad_spec_is_ignored), KG_TEST(test_sleep_state_carried_over)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

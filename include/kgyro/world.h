@@ -62,11 +62,13 @@ KG_API kg_result kg_world_get_bodies(const kg_world* world, kg_body* out, int ca
 /* The backend actually running (never KG_BACKEND_AUTO). */
 KG_API kg_backend kg_world_backend(const kg_world* world);
 
+/* Room for the stages of a step, or with OpenCL profiling for its kernels. */
+#define KG_MAX_STAGE_TIMES 32
 /* Names of the stages of a step and their wall-clock time in the last step, in ms. */
 typedef struct kg_stage_times {
     int count;
-    const char* names[16];
-    double ms[16];
+    const char* names[KG_MAX_STAGE_TIMES];
+    double ms[KG_MAX_STAGE_TIMES];
 } kg_stage_times;
 KG_API kg_result kg_world_get_stage_times(const kg_world* world, kg_stage_times* out);
 

@@ -49,20 +49,27 @@ void kg_cl_warn_new_frozen(kg_world* world, kg_cl_backend* b)
     b->frozen_count = frozen;
 }
 
+kg_result kg_cl_flags_to_host(kg_world* world, kg_cl_backend* b)
+{
+    int stale = (b->w->host_stale & KG_CL_BIT(FLAGS)) != 0;
+    KG_TRY(kg_cl_to_host(b->w, &world->bodies, KG_CL_BIT(FLAGS)));
+    if (stale) {
+        kg_cl_warn_new_frozen(world, b);
+    }
+    return KG_OK;
+}
+
 /* Copies the state arrays (what a step changes) of slots [0, high_water) from one pool
  * to another. */
 static void kg_copy_state(kg_body_pool* to, const kg_body_pool* from)
 {
     size_t n = (size_t)from->high_water;
-    memcpy(to->center, from->center, n * sizeof *to->center);
-    memcpy(to->rot, from->rot, n * sizeof *to->rot);
-    memcpy(to->velocity, from->velocity, n * sizeof *to->velocity);
-    memcpy(to->omega, from->omega, n * sizeof *to->omega);
-    memcpy(to->force, from->force, n * sizeof *to->force);
-    memcpy(to->torque, from->torque, n * sizeof *to->torque);
-    memcpy(to->xf, from->xf, n * sizeof *to->xf);
-    memcpy(to->aabb, from->aabb, n * sizeof *to->aabb);
-    memcpy(to->flags, from->flags, n * sizeof *to->flags);
+#define KG_CL_COPY_STATE(name, member, is_state)                          \
+    if (is_state) {                                                       \
+        memcpy(to->member, from->member, n * sizeof *to->member);         \
+    }
+    KG_CL_BODY_ARRAYS(KG_CL_COPY_STATE)
+#undef KG_CL_COPY_STATE
 }
 
 /* Reads every state array into snapshot: from the checkpoint (the state at the start of

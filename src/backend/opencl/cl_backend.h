@@ -70,6 +70,20 @@ void kg_cl_release_device_force(kg_cl_backend* b, int slot);
 /* Warns, as the CPU backend does, of bodies the device froze (non-finite state) since the
  * host last read the flags back. */
 void kg_cl_warn_new_frozen(kg_world* world, kg_cl_backend* b);
+/* The flags into the host's pool when the device has them newer (for the host code that
+ * reads them: which bodies sleep, which froze), with that warning. */
+kg_result kg_cl_flags_to_host(kg_world* world, kg_cl_backend* b);
+
+/* Sleeping (cl_sleep.c), when the world's definition enables it. In the collide stage on
+ * the device, before the colouring: the sleeping islands that this step's touching pairs
+ * (pairs of them) reach from a body in motion wake. */
+kg_result kg_cl_wake_on_device(kg_world* world, kg_cl_backend* b, int pairs);
+/* The same on the host, from the host's contacts (the collide stage ran there), the woken
+ * flags uploaded. */
+kg_result kg_cl_wake_on_host(kg_world* world, kg_cl_backend* b);
+/* Last in the step: the islands of this step's count contacts that rested time_to_sleep
+ * fall asleep. */
+kg_result kg_cl_sleep_on_device(kg_world* world, kg_cl_backend* b, int count);
 
 /* Devices auto may choose: GPUs and accelerators (a CPU device through OpenCL is no
  * faster than the CPU backend, and compiling its kernels costs seconds). */

@@ -7,48 +7,22 @@
  *                sort each run                                     -> pairs sorted by (a, b)
  *   narrowphase  manifold per pair; prefix sum of the touching ones; contacts built in
  *                pair order with last step's impulses carried       -> contacts
- *   tiles        per moving body, its tile contacts counted; prefix sum; written after
+ *   tiles        per colliding body, its tile contacts counted; prefix sum; written after
  *                the body contacts, in (body, key) order, impulses carried   -> contacts
+ *   wake         the sleeping islands the touching pairs reach from a body in motion
+ *                woken (cl_sleep.c), so that the colouring sees them awake   -> flags
  *   colouring    greedy in contact order, by one work-item            -> order, color_start
  *   [read: contact count and colour ranges, for the solver's launches]
  *
  * Two small reads per step (the pair count, to grow the pool when it overflows, and the
  * counters at the end); no contact crosses the bus. Kernels are labelled by stage in the
- * profile (kg_broadphase, kg_narrowphase, kg_color), prefix sums included. */
+ * profile (kg_broadphase, kg_narrowphase, kg_color; the wake's kg_sleep), prefix sums included. */
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_backend.h"
 #include "collide/collide.h"
 #include "collide/tilemap.h"
 #include "core/alloc.h"
 #include "core/error.h"
-
-typedef struct kg_cl_kernel_arg {
-    size_t size;
-    const void* value;
-} kg_cl_kernel_arg;
-
-#define KG_MEM(buffer) {sizeof(cl_mem), &(buffer)}
-#define KG_INT(v) {sizeof(cl_int), &(cl_int){(v)}}
-#define KG_UINT(v) {sizeof(cl_uint), &(cl_uint){(v)}}
-#define KG_FLOAT(v) {sizeof(cl_float), &(cl_float){(v)}}
-
-static kg_result kg_launch(kg_cl_world* w, kg_cl_kernel_id id, int items, const char* label,
-                           const kg_cl_kernel_arg* args, int count)
-{
-    for (int k = 0; k < count; ++k) {
-        KG_TRY(kg_cl_arg(w, w->kernels[id], k, args[k].size, args[k].value));
-    }
-    return kg_cl_launch(w, w->kernels[id], w->group_size[id], items, label);
-}
-
-/* Sets every argument of kernel id, in order, and launches it over items work-items. */
-#define KG_LAUNCH(w, id, items, label, ...)                                                             \
-    do {                                                                                                \
-        const kg_cl_kernel_arg args_[] = {__VA_ARGS__};                                                 \
-        KG_TRY(kg_launch(w, KG_CL_K_##id, items, label, args_, (int)(sizeof args_ / sizeof args_[0]))); \
-    } while (0)
-
-#define KG_A(name) w->arrays[KG_CL_##name]
 
 /* ---- prefix sums ------------------------------------------------------------------ */
 
@@ -95,7 +69,8 @@ static kg_result kg_find_pairs(kg_world* world, kg_cl_world* w, int capacity)
               KG_MEM(c->plan), KG_MEM(c->counts));
     KG_LAUNCH(w, BP_PROXIES, slots, label, KG_INT(slots), KG_FLOAT(world->def.speculative_distance), KG_MEM(KG_A(FLAGS)),
               KG_MEM(KG_A(AABB)), KG_MEM(KG_A(CATEGORY)), KG_MEM(KG_A(MASK)), KG_MEM(c->proxies),
-              KG_MEM(c->histogram), KG_MEM(c->run), KG_MEM(c->run_fill), KG_MEM(c->colors_used));
+              KG_MEM(c->histogram), KG_MEM(c->run), KG_MEM(c->run_fill), KG_MEM(c->colors_used),
+              KG_MEM(w->wake_marks));
     KG_LAUNCH(w, BP_GRID, 1, label, KG_MEM(c->histogram), KG_MEM(c->grid));
     KG_LAUNCH(w, BP_INSERT, slots, label, KG_INT(slots), KG_UINT(table_mask), KG_UINT(row_stride), KG_MEM(c->grid),
               KG_MEM(c->proxies), KG_MEM(c->heads), KG_MEM(c->plan), KG_MEM(c->counts));
@@ -361,6 +336,7 @@ kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* count,
     KG_TRY(kg_order_pairs(world, w, pairs));
     KG_TRY(kg_build_contacts(world, b, pairs));
     KG_TRY(kg_collide_tiles(world, b, capacity));
+    KG_TRY(kg_cl_wake_on_device(world, b, pairs));
     KG_TRY(kg_color(w, w->contacts[w->current ^ 1]));
     KG_TRY(kg_read_counters(b, KG_CC_WORDS));
     *count = (int)b->counters[KG_CC_CONTACTS];

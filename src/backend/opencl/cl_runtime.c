@@ -30,13 +30,15 @@ static kg_cl_force_program_entry* g_force_programs;
 static void kg_cl_make_options(kg_cl_runtime* rt)
 {
     snprintf(rt->options, sizeof rt->options,
-             "-cl-std=CL1.2 %s -DKG_FLAG_ALIVE=%uu -DKG_FLAG_FROZEN=%uu -DKG_TYPE_SHIFT=%uu -DKG_TYPE_MASK=%uu "
-             "-DKG_BODY_STATIC=%uu -DKG_BODY_DYNAMIC=%uu -DKG_BODY_KINEMATIC=%uu -DKG_BODY_PARTICLE=%uu "
+             "-cl-std=CL1.2 %s -DKG_FLAG_ALIVE=%uu -DKG_FLAG_FROZEN=%uu -DKG_FLAG_ASLEEP=%uu -DKG_TYPE_SHIFT=%uu "
+             "-DKG_TYPE_MASK=%uu -DKG_BODY_STATIC=%uu -DKG_BODY_DYNAMIC=%uu -DKG_BODY_KINEMATIC=%uu "
+             "-DKG_BODY_PARTICLE=%uu "
              "-DKG_COLOR_COUNT=%d -DKG_PASS_WARM_START=%d -DKG_PASS_SOLVE=%d -DKG_PASS_RELAX=%d "
              "-DKG_PASS_RESTITUTION=%d -DKG_APPLICATOR_GRAVITY_KIND=%d -DKG_APPLICATOR_WIND_KIND=%d",
              rt->device->info.correctly_rounded_divide_sqrt ? "-cl-fp32-correctly-rounded-divide-sqrt" : "",
-             KG_FLAG_ALIVE, KG_FLAG_FROZEN, KG_TYPE_SHIFT, KG_TYPE_MASK, (unsigned)KG_BODY_STATIC,
-             (unsigned)KG_BODY_DYNAMIC, (unsigned)KG_BODY_KINEMATIC, (unsigned)KG_BODY_PARTICLE, KG_COLOR_COUNT,
+             KG_FLAG_ALIVE, KG_FLAG_FROZEN, KG_FLAG_ASLEEP, KG_TYPE_SHIFT, KG_TYPE_MASK,
+             (unsigned)KG_BODY_STATIC, (unsigned)KG_BODY_DYNAMIC, (unsigned)KG_BODY_KINEMATIC,
+             (unsigned)KG_BODY_PARTICLE, KG_COLOR_COUNT,
              KG_CL_PASS_WARM_START, KG_CL_PASS_SOLVE, KG_CL_PASS_RELAX, KG_CL_PASS_RESTITUTION, KG_CL_APPLICATOR_GRAVITY,
              KG_CL_APPLICATOR_WIND);
 }
@@ -65,19 +67,24 @@ static kg_result kg_cl_build(kg_cl_runtime* rt, const char** lines, int count, c
     return KG_OK;
 }
 
-/* The step program: kg_step.cl, then the collision stage's kg_collide.cl (their shared
- * headers, inlined in both, are kept once by their include guards). */
+/* The step program: kg_step.cl, then the collision stage's kg_collide.cl and the sleeping
+ * stages' kg_sleep.cl, which use its helpers (their shared headers, inlined in each, are
+ * kept once by their include guards). */
 static kg_result kg_cl_build_step_program(kg_cl_runtime* rt)
 {
-    const kg_cl_source* step = kg_cl_find_source("kg_step");
-    const kg_cl_source* collide = kg_cl_find_source("kg_collide");
-    int count = step->line_count + collide->line_count;
+    const kg_cl_source* parts[] = {kg_cl_find_source("kg_step"), kg_cl_find_source("kg_collide"),
+                                   kg_cl_find_source("kg_sleep")};
+    int part_count = (int)(sizeof parts / sizeof parts[0]), count = 0;
+    for (int k = 0; k < part_count; ++k) {
+        count += parts[k]->line_count;
+    }
     const char** lines = kg_alloc_zeroed((size_t)count * sizeof *lines);
     if (!lines) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the step program's source");
     }
-    memcpy(lines, step->lines, (size_t)step->line_count * sizeof *lines);
-    memcpy(lines + step->line_count, collide->lines, (size_t)collide->line_count * sizeof *lines);
+    for (int k = 0, at = 0; k < part_count; at += parts[k]->line_count, ++k) {
+        memcpy(lines + at, parts[k]->lines, (size_t)parts[k]->line_count * sizeof *lines);
+    }
     kg_result r = kg_cl_build(rt, lines, count, NULL, KG_ERROR_BACKEND, "step", &rt->step_program);
     kg_free(lines);
     return r;

@@ -2,18 +2,21 @@
  *
  *   upload what the host changed; checkpoint the state (on the device)
  *   forces     built-in and device force applicators as kernels; C callbacks on the host
- *   collide    on the device (cl_collide.c): broadphase, narrowphase, persistence and
- *              graph colouring, tile maps (their contacts after the body pairs), into
- *              the contact list not holding last step's contacts. On the host instead
- *              in the step that finds more pairs than the contact pool holds (the
- *              host's stage grows it): last step's contacts and one-way platform state
- *              read back, transforms, bounds, flags and velocities read back, contacts
- *              built by collide/collide.c, coloured, uploaded
+ *   collide    on the device (cl_collide.c): broadphase, narrowphase, persistence, tile
+ *              maps (their contacts after the body pairs), the wake of sleeping islands
+ *              touched (cl_sleep.c) and graph colouring, into the contact list not
+ *              holding last step's contacts. On the host instead in the step that finds
+ *              more pairs than the contact pool holds (the host's stage grows it): last
+ *              step's contacts and one-way platform state read back, transforms, bounds,
+ *              flags and velocities read back, contacts built by collide/collide.c,
+ *              sleeping islands woken by solve/sleep.c, contacts coloured, uploaded
  *   solve      on the device: solver bodies loaded, constraints prepared, sub-steps of
  *              warm start, solve and relax colour by colour (one launch per colour, or
  *              all colours in one single-group launch for small worlds), restitution,
  *              impulses and motion stored
- *   finalize   on the device; the queue drained, so errors surface inside the step
+ *   finalize   on the device
+ *   sleep      on the device (cl_sleep.c): islands at rest fall asleep; the queue
+ *              drained, so errors surface inside the step
  *
  * Only then does the step's contact list become the current one; the host's copy of it
  * is read back when asked for (kg_cl_read_contacts). Until then last step's contacts stay
@@ -52,7 +55,6 @@ static kg_result kg_bind(kg_cl_world* w, kg_cl_kernel_id id, int first, const cl
     return KG_OK;
 }
 
-#define KG_A(name) w->arrays[KG_CL_##name]
 #define KG_BIND(id, first, ...)                                                                   \
     do {                                                                                          \
         const cl_mem list_[] = {__VA_ARGS__};                                                     \
@@ -67,7 +69,8 @@ kg_result kg_cl_bind_buffers(kg_cl_world* w)
     KG_BIND(INTEGRATE_POSITIONS, 2, KG_A(FLAGS), w->solver_bodies);
     KG_BIND(LOAD_BODIES, 1, KG_A(FLAGS), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE), KG_A(TORQUE), KG_A(ROT),
             KG_A(CENTER), KG_A(XF), KG_A(LOCAL_CENTER), w->solver_bodies);
-    KG_BIND(STORE_BODIES, 1, KG_A(FLAGS), w->solver_bodies, KG_A(VELOCITY), KG_A(OMEGA), KG_A(CENTER), KG_A(ROT));
+    KG_BIND(STORE_BODIES, 4, KG_A(FLAGS), w->solver_bodies, KG_A(VELOCITY), KG_A(OMEGA), KG_A(CENTER), KG_A(ROT),
+            KG_A(SHAPE), KG_A(LOCAL_CENTER), KG_A(SLEEP_TIME));
     KG_BIND(PREPARE_CONTACTS, 1, w->solver_params);
     KG_BIND(PREPARE_CONTACTS, 3, w->constraints, w->solver_bodies, KG_A(INV_MASS), KG_A(INV_INERTIA), KG_A(XF),
             KG_A(CENTER));
@@ -108,7 +111,7 @@ static void kg_time_stage(kg_world* world, const char* name, int on_host, double
     const kg_backend_state* s = world->backend_state;
     double now = kg_now_ms();
     kg_stage_times* t = &world->times;
-    if ((!s->profiling || on_host) && t->count < 16) {
+    if ((!s->profiling || on_host) && t->count < KG_MAX_STAGE_TIMES) {
         t->names[t->count] = name;
         t->ms[t->count] = now - *start;
         t->count += 1;
@@ -120,7 +123,7 @@ static void kg_add_kernel_times(kg_world* world, kg_cl_world* w)
 {
     kg_cl_collect_timing(w);
     kg_stage_times* t = &world->times;
-    for (int k = 0; k < w->timing.count && t->count < 16; ++k) {
+    for (int k = 0; k < w->timing.count && t->count < KG_MAX_STAGE_TIMES; ++k) {
         t->names[t->count] = w->timing.names[k];
         t->ms[t->count] = (double)w->timing.ns[k] * 1e-6;
         t->count += 1;
@@ -247,6 +250,7 @@ static kg_result kg_run_device_force(kg_world* world, kg_cl_backend* b, int slot
  * changed (host_changed); what it changed is uploaded before the next kernel. */
 static kg_result kg_run_callback(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a)
 {
+    KG_TRY(kg_cl_flags_to_host(world, b)); /* the targets leave out the bodies asleep */
     int count = kg_applicator_targets(world, a);
     a->fn(world, world->handle_scratch, count, a->user_data);
     if (world->backend_state != NULL && ((kg_backend_state*)world->backend_state)->cl != b) {
@@ -296,17 +300,15 @@ static kg_result kg_upload_contacts(kg_world* world, kg_cl_backend* b, kg_contac
 /* collide/collide.c's stage, from last step's contacts and the state it reads. */
 static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b, int* count, int* body_count)
 {
-    int flags_stale = (b->w->host_stale & KG_CL_BIT(FLAGS)) != 0;
     /* what collide/collide.c reads of the state: poses, bounds, flags, the velocities that
      * size the speculative margins, and the centres tile contacts are anchored to */
-    unsigned reads = KG_CL_BIT(XF) | KG_CL_BIT(AABB) | KG_CL_BIT(FLAGS) | KG_CL_BIT(VELOCITY) | KG_CL_BIT(CENTER);
+    unsigned reads = KG_CL_BIT(XF) | KG_CL_BIT(AABB) | KG_CL_BIT(VELOCITY) | KG_CL_BIT(CENTER);
     KG_TRY(kg_cl_read_contacts(world, b));
     KG_TRY(kg_cl_tile_state_to_host(world, b));
+    KG_TRY(kg_cl_flags_to_host(world, b));
     KG_TRY(kg_cl_to_host(b->w, &world->bodies, reads));
-    if (flags_stale) {
-        kg_cl_warn_new_frozen(world, b);
-    }
     KG_TRY(kg_stage_collide(world));
+    KG_TRY(kg_cl_wake_on_host(world, b)); /* before the colouring, which must see the woken bodies */
     kg_contact* contacts = kg_collision_contacts(world, count);
     *body_count = kg_body_contacts(contacts, *count);
     return kg_upload_contacts(world, b, contacts, *count);
@@ -403,6 +405,15 @@ static kg_result kg_set_solver_scalars(kg_cl_world* w, int bodies, int contacts,
     return kg_arg_int(w, w->kernels[KG_CL_K_STORE_IMPULSES], 0, contacts);
 }
 
+/* What kg_store_bodies advances the rest timers with (solve/island.h): dt of the whole step. */
+static kg_result kg_set_rest_scalars(kg_cl_world* w, const kg_world_def* def, float dt)
+{
+    cl_kernel k = w->kernels[KG_CL_K_STORE_BODIES];
+    KG_TRY(kg_arg_int(w, k, 1, def->enable_sleep));
+    KG_TRY(kg_arg_float(w, k, 2, dt));
+    return kg_arg_float(w, k, 3, def->sleep_speed);
+}
+
 /* The host's contacts, coloured on the host, to the device list of this step. */
 static kg_result kg_upload_contacts(kg_world* world, kg_cl_backend* b, kg_contact* contacts, int count)
 {
@@ -423,6 +434,7 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     kg_integrate_params ip = {world->def.gravity, h, world->def.max_linear_speed};
     b->solver_params = kg_solver_params_of(&world->def, h);
     KG_TRY(kg_set_solver_scalars(w, bodies, count, &b->solver_params, ip));
+    KG_TRY(kg_set_rest_scalars(w, &world->def, dt));
     KG_TRY(kg_cl_run(w, KG_CL_K_LOAD_BODIES, bodies));
     KG_TRY(kg_cl_run(w, KG_CL_K_PREPARE_CONTACTS, count));
     KG_TRY(kg_cl_run(w, KG_CL_K_GATHER_COLORED, count));
@@ -445,7 +457,12 @@ static kg_result kg_stage_finalize_on_device(kg_world* world, kg_cl_backend* b, 
     kg_cl_world* w = b->w;
     KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_FINALIZE], 0, world->bodies.high_water));
     KG_TRY(kg_arg_float(w, w->kernels[KG_CL_K_FINALIZE], 1, dt));
-    KG_TRY(kg_cl_run(w, KG_CL_K_FINALIZE, world->bodies.high_water));
+    return kg_cl_run(w, KG_CL_K_FINALIZE, world->bodies.high_water);
+}
+
+/* The queue drained, so that errors surface inside the step; the state is the device's. */
+static kg_result kg_drain_step(kg_cl_world* w)
+{
     KG_TRY(kg_cl_finish(w));
     w->host_stale |= kg_cl_state_arrays();
     w->forces_cleared = 1;
@@ -516,6 +533,9 @@ static kg_result kg_cl_step_stages(kg_world* world, kg_cl_backend* b, float dt)
     kg_time_stage(world, "solve", 0, &t);
     KG_TRY(kg_stage_finalize_on_device(world, b, dt));
     kg_time_stage(world, "finalize", 0, &t);
+    KG_TRY(kg_cl_sleep_on_device(world, b, count));
+    KG_TRY(kg_drain_step(w));
+    kg_time_stage(world, "sleep", 0, &t);
     kg_commit_contacts(world, b, count, body_count, on_device);
     if (w->profiling) {
         kg_add_kernel_times(world, w);

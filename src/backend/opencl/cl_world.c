@@ -182,6 +182,15 @@ kg_result kg_cl_run(kg_cl_world* w, kg_cl_kernel_id id, int count)
     return kg_cl_launch(w, w->kernels[id], w->group_size[id], count, kKernelNames[id]);
 }
 
+kg_result kg_cl_launch_args(kg_cl_world* w, kg_cl_kernel_id id, int items, const char* label,
+                            const kg_cl_kernel_arg* args, int count)
+{
+    for (int k = 0; k < count; ++k) {
+        KG_TRY(kg_cl_arg(w, w->kernels[id], k, args[k].size, args[k].value));
+    }
+    return kg_cl_launch(w, w->kernels[id], w->group_size[id], items, label);
+}
+
 kg_result kg_cl_finish(kg_cl_world* w)
 {
     if (kg_cl_fault(&w->faults, KG_CL_FAULT_FINISH)) {
@@ -442,6 +451,9 @@ static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
         {&w->solver_params, sizeof(kg_solver_params)},
         {&w->color_start, (KG_COLOR_COUNT + 2) * sizeof(int)},
         {&w->targets, (size_t)pool->capacity * 2u * sizeof(cl_uint)},
+        {&w->wake_marks, (size_t)pool->capacity * sizeof(cl_uint)},
+        {&w->island_parent, (size_t)pool->capacity * sizeof(kg_u32)},
+        {&w->island_least, (size_t)pool->capacity * sizeof(float)},
     };
     if (r == KG_OK) {
         r = kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
@@ -555,6 +567,9 @@ void kg_cl_world_destroy(kg_cl_world* w)
     kg_cl_release(w, &w->solver_params);
     kg_cl_release(w, &w->color_start);
     kg_cl_release(w, &w->targets);
+    kg_cl_release(w, &w->wake_marks);
+    kg_cl_release(w, &w->island_parent);
+    kg_cl_release(w, &w->island_least);
     kg_cl_release_contact_buffers(w);
     kg_cl_collide_buffers* c = &w->collide;
     cl_mem* list[] = {&c->counts, &c->proxies, &c->heads, &c->histogram, &c->grid, &c->plan,

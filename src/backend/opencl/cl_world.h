@@ -19,7 +19,8 @@
 /* name, pool member, 1 if a step changes it (then it is checkpointed and read back) */
 #define KG_CL_BODY_ARRAYS(X)                                                   \
     X(CENTER, center, 1) X(ROT, rot, 1) X(VELOCITY, velocity, 1)               \
-    X(OMEGA, omega, 1) X(FORCE, force, 1) X(TORQUE, torque, 1) X(XF, xf, 1)     \
+    X(OMEGA, omega, 1) X(FORCE, force, 1) X(TORQUE, torque, 1)                 \
+    X(SLEEP_TIME, sleep_time, 1) X(ISLAND, island, 1) X(XF, xf, 1)              \
     X(AABB, aabb, 1) X(FLAGS, flags, 1) X(SHAPE, shape, 0)                      \
     X(LOCAL_CENTER, local_center, 0) X(MASS, mass, 0) X(INERTIA, inertia, 0)    \
     X(INV_MASS, inv_mass, 0) X(INV_INERTIA, inv_inertia, 0)                     \
@@ -51,7 +52,9 @@ typedef enum kg_cl_array {
     X(BP_FIND, kg_bp_find) X(BP_SCATTER, kg_bp_scatter)                                    \
     X(BP_SORT_RUNS, kg_bp_sort_runs) X(NARROWPHASE, kg_narrowphase)                        \
     X(BUILD_CONTACTS, kg_build_contacts) X(COLOR_CONTACTS, kg_color_contacts)            \
-    X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies) X(TILE_TOTAL, kg_tile_total)
+    X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies) X(TILE_TOTAL, kg_tile_total)            \
+    X(WAKE_TOUCHED, kg_wake_touched) X(WAKE_MARKED, kg_wake_marked)                        \
+    X(FIND_ISLANDS, kg_find_islands) X(FALL_ASLEEP, kg_fall_asleep)
 
 typedef enum kg_cl_kernel_id {
 #define KG_CL_KERNEL_ENUM(id, name) KG_CL_K_##id,
@@ -60,7 +63,7 @@ typedef enum kg_cl_kernel_id {
     KG_CL_KERNEL_COUNT
 } kg_cl_kernel_id;
 
-#define KG_CL_MAX_TIMED 16
+#define KG_CL_MAX_TIMED (KG_MAX_STAGE_TIMES - 8) /* leaves room for the host stages */
 
 /* sizeof(kg_solver_body) of solve/solver.c and kernels/kg_step.cl (asserted there) */
 #define KG_CL_SOLVER_BODY_SIZE 32u
@@ -125,6 +128,10 @@ typedef struct kg_cl_world {
     int contact_capacity;
     kg_cl_collide_buffers collide;
     cl_mem targets;                       /* applicator targets, (slot, multiplicity), max_bodies */
+    /* sleeping (kernels/kg_sleep.cl), per body slot */
+    cl_mem wake_marks;                    /* per island name: to be woken this step */
+    cl_mem island_parent;                 /* union-find of this step's islands */
+    cl_mem island_least;                  /* per island root: the shortest rest time of its bodies */
     unsigned host_stale;
     unsigned device_stale;
     int forces_cleared; /* the last step cleared force and torque of every live body */
@@ -178,6 +185,33 @@ kg_result kg_cl_arg(kg_cl_world* w, cl_kernel kernel, int index, size_t size, co
  * return early past count). name labels it in the profile. */
 kg_result kg_cl_launch(kg_cl_world* w, cl_kernel kernel, size_t group_size, int count, const char* name);
 kg_result kg_cl_run(kg_cl_world* w, kg_cl_kernel_id id, int count);
+
+/* Body array name of the kg_cl_world w in scope. */
+#define KG_A(name) w->arrays[KG_CL_##name]
+
+/* A kernel argument: its size and where its value is. */
+typedef struct kg_cl_kernel_arg {
+    size_t size;
+    const void* value;
+} kg_cl_kernel_arg;
+
+#define KG_MEM(buffer) {sizeof(cl_mem), &(buffer)}
+#define KG_INT(v) {sizeof(cl_int), &(cl_int){(v)}}
+#define KG_UINT(v) {sizeof(cl_uint), &(cl_uint){(v)}}
+#define KG_FLOAT(v) {sizeof(cl_float), &(cl_float){(v)}}
+
+/* Sets the first count arguments of kernel id and launches it over items work-items,
+ * labelled label in the profile. */
+kg_result kg_cl_launch_args(kg_cl_world* w, kg_cl_kernel_id id, int items, const char* label,
+                            const kg_cl_kernel_arg* args, int count);
+
+/* Sets every argument of kernel id, in order, and launches it. */
+#define KG_LAUNCH(w, id, items, label, ...)                                                                      \
+    do {                                                                                                         \
+        const kg_cl_kernel_arg args_[] = {__VA_ARGS__};                                                          \
+        KG_TRY(kg_cl_launch_args(w, KG_CL_K_##id, items, label, args_, (int)(sizeof args_ / sizeof args_[0]))); \
+    } while (0)
+
 /* Waits for the queue; errors of kernels that failed while running surface here. */
 kg_result kg_cl_finish(kg_cl_world* w);
 

@@ -1,6 +1,6 @@
 /* The collision stage's kernels: broadphase, narrowphase, persistent contacts and the
  * constraint graph colouring, with the prefix sums they share. Built in one program after
- * kg_step.cl, whose body flag helpers (kg_is_alive, kg_is_simulated) they use.
+ * kg_step.cl, whose body flag helpers (kg_is_alive, kg_collides, kg_is_simulated) they use.
  *
  * Each stage ends in the exact list the CPU backend builds, in the same order, although
  * the broadphase appends pairs with integer atomics in whatever order work-items run:
@@ -175,11 +175,11 @@ __kernel void kg_bp_clear(int table_size, __global uint* heads, __global uint* h
 }
 
 /* The proxy of slot i (kg_gather_proxies of collide/broadphase.c), its extent binned;
- * the slot's per-step counters zeroed for the stages after. */
+ * the slot's per-step counters and marks zeroed for the stages after. */
 __kernel void kg_bp_proxies(int count, float margin, __global const kg_u32* flags, __global const kg_aabb* aabb,
                             __global const kg_u32* category, __global const kg_u32* mask,
                             __global kg_bp_proxy* proxies, __global uint* histogram, __global uint* run_count,
-                            __global uint* run_fill, __global uint* colors_used)
+                            __global uint* run_fill, __global uint* colors_used, __global uint* wake_marks)
 {
     int i = (int)get_global_id(0);
     if (i >= count) {
@@ -188,6 +188,7 @@ __kernel void kg_bp_proxies(int count, float margin, __global const kg_u32* flag
     run_count[i] = 0u;
     run_fill[i] = 0u;
     colors_used[i] = 0u;
+    wake_marks[i] = 0u;
     kg_u32 f = flags[i];
     kg_bp_proxy p;
     p.box = kg_aabb_fatten(aabb[i], margin);
@@ -198,9 +199,10 @@ __kernel void kg_bp_proxies(int count, float margin, __global const kg_u32* flag
     p.level = 0u;
     p.next = KG_NULL_INDEX;
     p.pad = 0u;
-    /* a frozen body stays where it froze, as solid as a static one */
+    /* a frozen body stays where it froze, as solid as a static one; a sleeping one keeps
+     * its contacts, so that its stack wakes warm */
     int candidate = kg_is_alive(f) && kg_vec_is_finite(p.box.lower) && kg_vec_is_finite(p.box.upper);
-    p.flags = (candidate ? KG_BP_CANDIDATE : 0u) | (kg_is_simulated(f) ? KG_BP_MOVES : 0u);
+    p.flags = (candidate ? KG_BP_CANDIDATE : 0u) | (kg_collides(f) ? KG_BP_MOVES : 0u);
     proxies[i] = p;
     if (candidate) {
         atomic_inc(&histogram[kg_bp_extent_bin(p.box)]);
@@ -718,7 +720,7 @@ __kernel void kg_tile_collide_bodies(int count, int write, float speculative, fl
         return;
     }
     uint found = 0u;
-    if (kg_is_simulated(flags[i])) {
+    if (kg_collides(flags[i])) {
         kg_tile_body body;
         body.slot = (kg_u32)i;
         body.xf = xfs[i];

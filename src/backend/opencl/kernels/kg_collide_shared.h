@@ -33,7 +33,7 @@
 
 /* proxy flags */
 #define KG_BP_CANDIDATE 0x1u /* alive, not frozen, finite bounds */
-#define KG_BP_MOVES 0x2u     /* dynamic body or particle */
+#define KG_BP_MOVES 0x2u     /* dynamic body or particle, not frozen, asleep or awake */
 
 /* A body as the broadphase sees it, indexed by slot: its fattened box, the filter, and
  * where it is keyed in the hash grid. 48 bytes. */

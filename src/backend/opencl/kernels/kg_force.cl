@@ -23,10 +23,13 @@ KG_STATIC_ASSERT(sizeof(kg_force_body) == 56, force_body_size);
 
 void KG_USER_FORCE_FN(kg_force_body* body, const float* params);
 
+/* kg_pool_is_simulated of core/body_pool.h: a sleeping body rests under the forces it fell
+ * asleep with. */
 KG_FN int kg_force_target_simulated(uint f)
 {
     uint t = (f & KG_TYPE_MASK) >> KG_TYPE_SHIFT;
-    return (f & (KG_FLAG_ALIVE | KG_FLAG_FROZEN)) == KG_FLAG_ALIVE && (t == KG_BODY_DYNAMIC || t == KG_BODY_PARTICLE);
+    uint out = KG_FLAG_FROZEN | KG_FLAG_ASLEEP;
+    return (f & (KG_FLAG_ALIVE | out)) == KG_FLAG_ALIVE && (t == KG_BODY_DYNAMIC || t == KG_BODY_PARTICLE);
 }
 
 /* Targets as in kg_apply_builtin_force: every slot (all != 0) or (slot, multiplicity)

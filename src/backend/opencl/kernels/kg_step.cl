@@ -12,15 +12,37 @@
 #include "collide/aabb.h"
 #include "solve/integrate.h"
 #include "solve/contact_solver.h"
+#include "solve/island.h"
 
+/* The body predicates of core/body_pool.h, on a body's flags. */
 KG_FN int kg_is_alive(kg_u32 flags) { return (flags & KG_FLAG_ALIVE) != 0u; }
 KG_FN kg_u32 kg_type_of(kg_u32 flags) { return (flags & KG_TYPE_MASK) >> KG_TYPE_SHIFT; }
+KG_FN int kg_is_asleep(kg_u32 flags) { return (flags & KG_FLAG_ASLEEP) != 0u; }
 
-/* kg_pool_is_simulated of core/body_pool.h: dynamic bodies and particles, alive, not frozen. */
-KG_FN int kg_is_simulated(kg_u32 flags)
+/* kg_pool_collides: dynamic bodies and particles, alive, not frozen, asleep or awake. */
+KG_FN int kg_collides(kg_u32 flags)
 {
     kg_u32 t = kg_type_of(flags);
     return (flags & (KG_FLAG_ALIVE | KG_FLAG_FROZEN)) == KG_FLAG_ALIVE && (t == KG_BODY_DYNAMIC || t == KG_BODY_PARTICLE);
+}
+
+/* kg_pool_is_simulated: a colliding body that is awake. */
+KG_FN int kg_is_simulated(kg_u32 flags) { return kg_collides(flags) && !kg_is_asleep(flags); }
+
+/* kg_pool_moves: alive, not static, not frozen, not asleep (kinematic bodies move too). */
+KG_FN int kg_is_moving(kg_u32 flags)
+{
+    kg_u32 still = KG_FLAG_FROZEN | KG_FLAG_ASLEEP;
+    return (flags & (KG_FLAG_ALIVE | still)) == KG_FLAG_ALIVE && kg_type_of(flags) != KG_BODY_STATIC;
+}
+
+/* kg_body_update_transform of core/body_pool.c: the origin transform from the centre. */
+KG_FN kg_xf kg_origin_xf(kg_vec2 center, kg_rot q, kg_vec2 local_center)
+{
+    kg_xf t;
+    t.q = q;
+    t.p = kg_sub(center, kg_rotate(q, local_center));
+    return t;
 }
 
 /* ---- forces ---------------------------------------------------------------------- */
@@ -124,12 +146,6 @@ __kernel void kg_integrate_velocities(int count, float h, float gx, float gy, fl
     bodies[i].motion = m;
 }
 
-/* Moving bodies: alive, not static, not frozen (kinematic bodies move too). */
-KG_FN int kg_is_moving(kg_u32 f)
-{
-    return kg_is_alive(f) && kg_type_of(f) != KG_BODY_STATIC && (f & KG_FLAG_FROZEN) == 0u;
-}
-
 __kernel void kg_integrate_positions(int count, float h, __global const kg_u32* flags,
                                      __global kg_solver_body* bodies)
 {
@@ -142,10 +158,14 @@ __kernel void kg_integrate_positions(int count, float h, __global const kg_u32* 
     bodies[i].motion = m;
 }
 
-/* kg_store_bodies of solve/solver.c: velocities back to the pool, the motion applied. */
-__kernel void kg_store_bodies(int count, __global const kg_u32* flags, __global const kg_solver_body* bodies,
-                              __global kg_vec2* velocity, __global float* omega, __global kg_vec2* center,
-                              __global kg_rot* rot)
+/* kg_store_bodies of solve/solver.c: velocities back to the pool, the motion applied, and
+ * with sleeping on (sleep != 0) the rest timers advanced over the step's motion (dt: the
+ * whole step's). */
+__kernel void kg_store_bodies(int count, int sleep, float dt, float sleep_speed, __global const kg_u32* flags,
+                              __global const kg_solver_body* bodies, __global kg_vec2* velocity,
+                              __global float* omega, __global kg_vec2* center, __global kg_rot* rot,
+                              __global const kg_shape* shape, __global const kg_vec2* local_center,
+                              __global float* sleep_time)
 {
     int i = (int)get_global_id(0);
     if (i >= count || !kg_is_moving(flags[i])) {
@@ -156,6 +176,11 @@ __kernel void kg_store_bodies(int count, __global const kg_u32* flags, __global 
     omega[i] = m.w;
     center[i] = kg_add(center[i], m.dp);
     rot[i] = kg_rot_normalize(kg_rot_mul(m.dq, rot[i]));
+    if (sleep && bodies[i].moves) {
+        kg_shape s = shape[i];
+        float extent = kg_shape_extent(&s, local_center[i]);
+        sleep_time[i] = kg_rest_timer(sleep_time[i], m, extent, dt, sleep_speed);
+    }
 }
 
 KG_FN kg_body_motion kg_load_motion(__global const kg_solver_body* bodies, kg_u32 slot)
@@ -212,6 +237,9 @@ __kernel void kg_prepare_contacts(int count, __global const kg_solver_params* pa
     kg_vec2 center_a = ct.a != KG_NULL_INDEX ? center[ct.a] : origin_a;
     kg_vec2 center_b = ct.b != KG_NULL_INDEX ? center[ct.b] : origin_b;
     kg_contact_prepare(&c, &ct.manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w, prm);
+    if (!a_moves && !b_moves) {
+        c.point_count = 0; /* asleep or frozen on both sides: nothing to solve, impulses kept */
+    }
     constraints[k] = c;
 }
 
@@ -340,9 +368,7 @@ __kernel void kg_finalize(int count, float dt, __global kg_u32* flags, __global 
     if (kg_type_of(f) == KG_BODY_STATIC) {
         return;
     }
-    kg_xf t;
-    t.q = q;
-    t.p = kg_sub(c, kg_rotate(q, local_center[i]));
+    kg_xf t = kg_origin_xf(c, q, local_center[i]);
     kg_shape s = shape[i];
     xf[i] = t;
     aabb[i] = kg_aabb_sweep(kg_shape_aabb(&s, t), kg_scale(dt, velocity[i]));

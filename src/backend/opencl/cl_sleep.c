@@ -1,0 +1,64 @@
+/* Sleeping on the OpenCL backend: solve/sleep.c's two stages as kernels
+ * (kernels/kg_sleep.cl), with the CPU backend's results bit for bit:
+ *
+ *   wake   in the collide stage, after the contacts and before the colouring, which must
+ *          see the woken bodies as the CPU's does; on the host instead in the step whose
+ *          collide stage ran there (it colours on the host)
+ *   sleep  last in the step, after finalize
+ *
+ * Nothing crosses the bus: the flags, rest timers and islands stay on the device with the
+ * rest of the state until a getter asks. */
+#ifdef KG_HAVE_OPENCL
+#include "backend/opencl/cl_backend.h"
+#include "solve/sleep.h"
+
+/* Every sleeping kernel's label in the profile. */
+static const char* const kLabel = "kg_sleep";
+
+kg_result kg_cl_wake_on_device(kg_world* world, kg_cl_backend* b, int pairs)
+{
+    if (!world->def.enable_sleep) {
+        return KG_OK;
+    }
+    kg_cl_world* w = b->w;
+    kg_cl_collide_buffers* c = &w->collide;
+    int slots = world->bodies.high_water;
+    KG_LAUNCH(w, WAKE_TOUCHED, pairs, kLabel, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->touching),
+              KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(ISLAND)),
+              KG_MEM(w->wake_marks));
+    KG_LAUNCH(w, WAKE_MARKED, slots, kLabel, KG_INT(slots), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(ISLAND)),
+              KG_MEM(w->wake_marks), KG_MEM(KG_A(SLEEP_TIME)));
+    return KG_OK;
+}
+
+kg_result kg_cl_wake_on_host(kg_world* world, kg_cl_backend* b)
+{
+    if (!world->def.enable_sleep) {
+        return KG_OK;
+    }
+    unsigned reads = KG_CL_BIT(ISLAND) | KG_CL_BIT(VELOCITY) | KG_CL_BIT(OMEGA) | KG_CL_BIT(SLEEP_TIME);
+    KG_TRY(kg_cl_flags_to_host(world, b));
+    KG_TRY(kg_cl_to_host(b->w, &world->bodies, reads));
+    kg_stage_wake(world);
+    /* the solver's kernels read the woken flags and advance the restarted timers */
+    return kg_cl_upload(b->w, &world->bodies, KG_CL_BIT(FLAGS) | KG_CL_BIT(SLEEP_TIME));
+}
+
+kg_result kg_cl_sleep_on_device(kg_world* world, kg_cl_backend* b, int count)
+{
+    if (!world->def.enable_sleep) {
+        return KG_OK;
+    }
+    kg_cl_world* w = b->w;
+    int slots = world->bodies.high_water;
+    cl_mem contacts = w->contacts[w->current ^ 1];
+    KG_LAUNCH(w, FIND_ISLANDS, 1, kLabel, KG_INT(slots), KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+              KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(SLEEP_TIME)), KG_MEM(w->island_parent),
+              KG_MEM(w->island_least));
+    KG_LAUNCH(w, FALL_ASLEEP, slots, kLabel, KG_INT(slots), KG_FLOAT(world->def.time_to_sleep),
+              KG_MEM(w->island_parent), KG_MEM(w->island_least), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(ISLAND)),
+              KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)),
+              KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(AABB)));
+    return KG_OK;
+}
+#endif
