@@ -216,6 +216,9 @@ static void kg_constraint_range(void* context, int begin, int end)
     const kg_constraint_job* job = context;
     for (int k = begin; k < end; ++k) {
         kg_contact_constraint* c = &job->constraints[k];
+        if (c->point_count == 0) {
+            continue; /* between sleeping or frozen bodies: nothing moves */
+        }
         kg_body_motion a = kg_load_motion(job, c->a), b = kg_load_motion(job, c->b);
         switch (job->pass) {
         case KG_PASS_WARM_START: kg_contact_warm_start(c, &a, &b); break;
@@ -258,6 +261,10 @@ static void kg_prepare_range(void* context, int begin, int end)
         c->restitution = ct->restitution;
         int a_moves = ct->a != KG_NULL_INDEX && job->bodies[ct->a].moves;
         int b_moves = ct->b != KG_NULL_INDEX && job->bodies[ct->b].moves;
+        if (!a_moves && !b_moves) {
+            c->point_count = 0; /* asleep or frozen on both sides: nothing to solve, impulses kept */
+            continue;
+        }
         c->inv_mass_a = a_moves ? p->inv_mass[ct->a] : 0.0f;
         c->inv_i_a = a_moves ? p->inv_inertia[ct->a] : 0.0f;
         c->inv_mass_b = b_moves ? p->inv_mass[ct->b] : 0.0f;
@@ -268,9 +275,6 @@ static void kg_prepare_range(void* context, int begin, int end)
         kg_vec2 center_a = ct->a != KG_NULL_INDEX ? p->center[ct->a] : origin_a;
         kg_vec2 center_b = ct->b != KG_NULL_INDEX ? p->center[ct->b] : origin_b;
         kg_contact_prepare(c, &ct->manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w, job->prm);
-        if (!a_moves && !b_moves) {
-            c->point_count = 0; /* asleep or frozen on both sides: nothing to solve, impulses kept */
-        }
     }
 }
 

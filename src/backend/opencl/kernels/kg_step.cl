@@ -245,6 +245,9 @@ __kernel void kg_prepare_contacts(int count, __global const kg_solver_params* pa
 
 KG_FN void kg_solve_one(kg_contact_constraint* c, __global kg_solver_body* bodies, kg_solver_params prm, int pass)
 {
+    if (c->point_count == 0) {
+        return; /* between sleeping or frozen bodies: nothing moves */
+    }
     kg_body_motion a = kg_load_motion(bodies, c->a), b = kg_load_motion(bodies, c->b);
     if (pass == KG_PASS_WARM_START) {
         kg_contact_warm_start(c, &a, &b);
