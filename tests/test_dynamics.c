@@ -233,6 +233,35 @@ static void test_wind_drag_reaches_terminal_velocity(void)
     kg_destroy_world(w);
 }
 
+/* A 6 g body under three winds of drag 0.5 N s/m each: d h / m = 4 at dt = 1/60, where
+ * an explicit drag force reversed the velocity every step and grew it to the speed clamp
+ * (the soak's bug 19). It must rise to the terminal speed and never pass it. */
+static void test_light_body_under_strong_drag_stays_stable(void)
+{
+    kg_world* w = make_world((kg_vec2){0, 0}, 4);
+    kg_body b = add_body(w, KG_BODY_DYNAMIC, kg_box_shape(0.1f, 0.06f), (kg_vec2){0, 0}, (kg_vec2){0, 0});
+    kg_applicator wind;
+    for (int k = 0; k < 3; ++k) {
+        KG_CHECK_OK(kg_add_wind_applicator(w, (kg_vec2){1, 0}, 0.5f, 0.5f, NULL, 0, &wind));
+    }
+    double previous = 0.0, worst_overshoot = 0.0;
+    int decreasing = 0;
+    for (int s = 0; s < 120; ++s) {
+        KG_CHECK_OK(kg_world_step(w, 1.0f / 60.0f));
+        kg_vec2 v;
+        KG_CHECK_OK(kg_body_get_velocity(w, b, &v));
+        worst_overshoot = fmax(worst_overshoot, v.x - 1.0);
+        decreasing += v.x < previous;
+        previous = v.x;
+    }
+    measured("measured: 6 g body, three winds (terminal 1 m/s): speed after 2 s %.6f m/s, largest overshoot %.3g m/s, "
+             "steps slowing down %d\n", previous, worst_overshoot, decreasing);
+    KG_CHECK_NEAR(previous, 1.0, 1e-4);
+    KG_CHECK(worst_overshoot <= 1e-6);
+    KG_CHECK(decreasing == 0);
+    kg_destroy_world(w);
+}
+
 static void test_static_and_kinematic_bodies(void)
 {
     kg_world* w = make_world((kg_vec2){0, -10}, 4);
@@ -255,4 +284,5 @@ static void test_static_and_kinematic_bodies(void)
 KG_TEST_MAIN(KG_TEST(test_projectile_matches_discrete_trajectory), KG_TEST(test_force_at_point_gives_expected_torque),
              KG_TEST(test_impulse_at_point), KG_TEST(test_damping_is_implicit), KG_TEST(test_particles_never_rotate),
              KG_TEST(test_applicator_called_once_per_step_with_its_bodies), KG_TEST(test_builtin_gravity_and_wind),
-             KG_TEST(test_wind_drag_reaches_terminal_velocity), KG_TEST(test_static_and_kinematic_bodies))
+             KG_TEST(test_wind_drag_reaches_terminal_velocity),
+             KG_TEST(test_light_body_under_strong_drag_stays_stable), KG_TEST(test_static_and_kinematic_bodies))

@@ -22,7 +22,9 @@ KG_API kg_result kg_add_force_applicator(kg_world* world, kg_force_fn* fn, const
 /* Extra gravity (m/s^2, a force of mass * acceleration) on some bodies. */
 KG_API kg_result kg_add_gravity_applicator(kg_world* world, kg_vec2 acceleration, const kg_body* bodies,
                                            int count, kg_applicator* out);
-/* Wind: a force of strength newtons along direction, minus drag * velocity (N s/m). */
+/* Wind: a force of strength newtons along direction, minus drag * velocity (N s/m). The
+ * drag is integrated implicitly, at every sub-step, so however light the body and however
+ * many winds, the velocity tends to the terminal one (strength / drag) and never past it. */
 KG_API kg_result kg_add_wind_applicator(kg_world* world, kg_vec2 direction, float strength, float drag,
                                         const kg_body* bodies, int count, kg_applicator* out);
 KG_API kg_result kg_remove_applicator(kg_world* world, kg_applicator applicator);

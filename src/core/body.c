@@ -114,6 +114,7 @@ static void kg_body_write(kg_body_pool* p, int i, const kg_body_def* d, const kg
     p->omega[i] = (d->type == KG_BODY_STATIC || particle) ? 0.0f : d->angular_velocity;
     p->force[i] = kg_v2(0.0f, 0.0f);
     p->torque[i] = 0.0f;
+    p->drag[i] = 0.0f;
     p->sleep_time[i] = 0.0f;
     p->island[i] = 0u;
     p->mass[i] = md->mass;

@@ -29,6 +29,7 @@ typedef struct kg_body_pool {
     float* omega;
     kg_vec2* force;        /* accumulated until the end of the step */
     float* torque;
+    float* drag;           /* N s/m of drag accumulated until the end of the step (wind) */
     float* sleep_time;     /* s the body has been at rest (solve/sleep.h) */
     kg_u32* island;        /* while asleep: the island it fell asleep with */
     kg_xf* xf;             /* body origin transform, derived from center and rot */

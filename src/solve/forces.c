@@ -128,10 +128,9 @@ static void kg_apply_builtin(kg_body_pool* p, const kg_applicator_slot* a, const
         if (!kg_pool_is_simulated(p, i)) {
             continue;
         }
-        kg_vec2 f = a->kind == KG_APPLICATOR_GRAVITY
-                        ? kg_scale(p->mass[i], a->vector)
-                        : kg_sub(kg_scale(a->strength, a->vector), kg_scale(a->drag, p->velocity[i]));
-        p->force[i] = kg_add(p->force[i], f);
+        int gravity = a->kind == KG_APPLICATOR_GRAVITY;
+        p->force[i] = kg_add(p->force[i], kg_scale(gravity ? p->mass[i] : a->strength, a->vector));
+        p->drag[i] += gravity ? 0.0f : a->drag; /* integrated implicitly (solve/integrate.h) */
     }
 }
 

@@ -144,7 +144,7 @@ static void kg_integrate_velocities(void* context, int begin, int end)
     for (int i = begin; i < end; ++i) {
         kg_body_motion* m = &job->bodies[i].motion;
         if (job->bodies[i].moves) {
-            kg_integrate_velocity(&m->v, &m->w, p->force[i], p->torque[i], p->inv_mass[i], p->inv_inertia[i],
+            kg_integrate_velocity(&m->v, &m->w, p->force[i], p->torque[i], p->drag[i], p->inv_mass[i], p->inv_inertia[i],
                                   p->linear_damping[i], p->angular_damping[i], job->prm);
         }
     }
@@ -359,6 +359,7 @@ void kg_stage_finalize(kg_world* world)
         }
         p->force[i] = kg_v2(0.0f, 0.0f);
         p->torque[i] = 0.0f;
+        p->drag[i] = 0.0f;
         if ((p->flags[i] & KG_FLAG_FROZEN) == 0 && !kg_body_state_finite(p, i)) {
             kg_freeze(p, i);
             continue;

@@ -210,6 +210,12 @@ static kg_body_def random_body(soak* s)
     d.angle = d.type == KG_BODY_PARTICLE ? 0.0f : soak_range(s, -3.0f, 3.0f);
     float speed = SOAK_SPAWN_SPEED / 1.5f;
     d.velocity = (kg_vec2){soak_range(s, -speed, speed), soak_range(s, -speed, speed)};
+    d.angular_velocity = d.type == KG_BODY_PARTICLE ? 0.0f : soak_range(s, -2.0f, 2.0f);
+    d.density = soak_range(s, 0.5f, 5.0f); /* with the sizes: masses up to 200x apart */
+    d.friction = soak_range(s, 0.0f, 1.0f);
+    d.restitution = soak_chance(s, 200) ? soak_range(s, 0.0f, 0.8f) : 0.0f;
+    d.linear_damping = soak_chance(s, 300) ? soak_range(s, 0.0f, 0.5f) : 0.0f;
+    d.fixed_rotation = soak_chance(s, 50);
     if (d.type == KG_BODY_KINEMATIC) {
         /* A moving platform above the walls, all of a round's platforms at the same
          * velocity, not turning: an infinite mass driven into the ground, a wall or
@@ -219,12 +225,6 @@ static kg_body_def random_body(soak* s)
         d.velocity = s->platform_velocity;
         d.angular_velocity = 0.0f;
     }
-    d.angular_velocity = d.type == KG_BODY_PARTICLE ? 0.0f : soak_range(s, -2.0f, 2.0f);
-    d.density = soak_range(s, 0.5f, 5.0f); /* with the sizes: masses up to 200x apart */
-    d.friction = soak_range(s, 0.0f, 1.0f);
-    d.restitution = soak_chance(s, 200) ? soak_range(s, 0.0f, 0.8f) : 0.0f;
-    d.linear_damping = soak_chance(s, 300) ? soak_range(s, 0.0f, 0.5f) : 0.0f;
-    d.fixed_rotation = soak_chance(s, 50);
     return d;
 }
 

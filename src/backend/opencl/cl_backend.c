@@ -84,7 +84,8 @@ static kg_result kg_read_state(kg_cl_backend* b, int from_checkpoint, kg_body_po
 }
 
 /* The host's own copy when the device cannot be read: transforms and bounds recomputed
- * from the centres, and inside a step the forces as they were when it began. */
+ * from the centres, and inside a step the forces as they were when it began (drag only
+ * ever comes from the step's applicators: none). */
 static void kg_host_state(kg_world* world, kg_cl_backend* b, int in_step, kg_body_pool* snapshot)
 {
     kg_body_pool* p = &world->bodies;
@@ -98,6 +99,7 @@ static void kg_host_state(kg_world* world, kg_cl_backend* b, int in_step, kg_bod
         if (kg_pool_alive(snapshot, i) && in_step) {
             snapshot->force[i] = b->start_forces_saved ? b->start_force[i] : kg_v2(0.0f, 0.0f);
             snapshot->torque[i] = b->start_forces_saved ? b->start_torque[i] : 0.0f;
+            snapshot->drag[i] = 0.0f;
         }
     }
 }

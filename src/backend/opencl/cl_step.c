@@ -63,9 +63,9 @@ static kg_result kg_bind(kg_cl_world* w, kg_cl_kernel_id id, int first, const cl
 
 kg_result kg_cl_bind_buffers(kg_cl_world* w)
 {
-    KG_BIND(APPLY_BUILTIN_FORCE, 8, KG_A(FLAGS), KG_A(MASS), KG_A(VELOCITY), KG_A(FORCE));
-    KG_BIND(INTEGRATE_VELOCITIES, 5, w->solver_bodies, KG_A(FORCE), KG_A(TORQUE), KG_A(INV_MASS), KG_A(INV_INERTIA),
-            KG_A(LINEAR_DAMPING), KG_A(ANGULAR_DAMPING));
+    KG_BIND(APPLY_BUILTIN_FORCE, 8, KG_A(FLAGS), KG_A(MASS), KG_A(FORCE), KG_A(DRAG));
+    KG_BIND(INTEGRATE_VELOCITIES, 5, w->solver_bodies, KG_A(FORCE), KG_A(TORQUE), KG_A(DRAG), KG_A(INV_MASS),
+            KG_A(INV_INERTIA), KG_A(LINEAR_DAMPING), KG_A(ANGULAR_DAMPING));
     KG_BIND(INTEGRATE_POSITIONS, 2, KG_A(FLAGS), w->solver_bodies);
     KG_BIND(LOAD_BODIES, 1, KG_A(FLAGS), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE), KG_A(TORQUE), KG_A(ROT),
             KG_A(CENTER), KG_A(XF), KG_A(LOCAL_CENTER), w->solver_bodies);
@@ -79,7 +79,7 @@ kg_result kg_cl_bind_buffers(kg_cl_world* w)
     KG_BIND(SOLVE_COLORS_IN_GROUP, 1, w->color_start, w->solver_params, w->colored, w->solver_bodies);
     KG_BIND(STORE_IMPULSES, 1, w->colored);
     KG_BIND(FINALIZE, 2, KG_A(FLAGS), KG_A(CENTER), KG_A(ROT), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE),
-            KG_A(TORQUE), KG_A(XF), KG_A(AABB), KG_A(SHAPE), KG_A(LOCAL_CENTER));
+            KG_A(TORQUE), KG_A(DRAG), KG_A(XF), KG_A(AABB), KG_A(SHAPE), KG_A(LOCAL_CENTER));
     return KG_OK;
 }
 
@@ -270,7 +270,7 @@ static kg_result kg_stage_forces(kg_world* world, kg_cl_backend* b)
         }
         if (a->kind != KG_APPLICATOR_USER || f) {
             b->w->forces_cleared = 0;
-            b->w->host_stale |= KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE);
+            b->w->host_stale |= KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE) | KG_CL_BIT(DRAG);
         }
         if (f) {
             KG_TRY(kg_run_device_force(world, b, slot, f, &used));

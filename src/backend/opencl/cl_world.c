@@ -223,7 +223,7 @@ kg_result kg_cl_upload(kg_cl_world* w, const kg_body_pool* pool, unsigned arrays
     return KG_OK;
 }
 
-/* Force and torque after a step are zero for every live body: no need to read them. */
+/* Force, torque and drag after a step are zero for every live body: no need to read them. */
 static void kg_cl_clear_forces(kg_body_pool* pool)
 {
     for (int i = 0; i < pool->high_water; ++i) {
@@ -231,13 +231,14 @@ static void kg_cl_clear_forces(kg_body_pool* pool)
             pool->force[i].x = 0.0f;
             pool->force[i].y = 0.0f;
             pool->torque[i] = 0.0f;
+            pool->drag[i] = 0.0f;
         }
     }
 }
 
 kg_result kg_cl_download(kg_cl_world* w, kg_body_pool* pool, unsigned arrays)
 {
-    unsigned forces = KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE);
+    unsigned forces = KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE) | KG_CL_BIT(DRAG);
     if (w->forces_cleared && (arrays & forces)) {
         kg_cl_clear_forces(pool);
         w->host_stale &= ~forces;

@@ -19,7 +19,7 @@
 /* name, pool member, 1 if a step changes it (then it is checkpointed and read back) */
 #define KG_CL_BODY_ARRAYS(X)                                                   \
     X(CENTER, center, 1) X(ROT, rot, 1) X(VELOCITY, velocity, 1)               \
-    X(OMEGA, omega, 1) X(FORCE, force, 1) X(TORQUE, torque, 1)                 \
+    X(OMEGA, omega, 1) X(FORCE, force, 1) X(TORQUE, torque, 1) X(DRAG, drag, 1)                 \
     X(SLEEP_TIME, sleep_time, 1) X(ISLAND, island, 1) X(XF, xf, 1)              \
     X(AABB, aabb, 1) X(FLAGS, flags, 1) X(SHAPE, shape, 0)                      \
     X(LOCAL_CENTER, local_center, 0) X(MASS, mass, 0) X(INERTIA, inertia, 0)    \

@@ -51,9 +51,9 @@ KG_FN kg_xf kg_origin_xf(kg_vec2 center, kg_rot q, kg_vec2 local_center)
  * or on a list of (slot, multiplicity) pairs, each slot once: a body listed twice gets
  * the force added twice, in sequence, as the CPU backend's loop over the list does. */
 __kernel void kg_apply_builtin_force(int count, int all, __global const uint2* targets, int kind, float vx, float vy,
-                                     float strength, float drag, __global const kg_u32* flags,
-                                     __global const float* mass, __global const kg_vec2* velocity,
-                                     __global kg_vec2* force)
+                                     float strength, float wind_drag, __global const kg_u32* flags,
+                                     __global const float* mass, __global kg_vec2* force,
+                                     __global float* drag)
 {
     int k = (int)get_global_id(0);
     if (k >= count) {
@@ -64,14 +64,16 @@ __kernel void kg_apply_builtin_force(int count, int all, __global const uint2* t
     if (!kg_is_simulated(flags[i])) {
         return;
     }
-    kg_vec2 vector = kg_v2(vx, vy);
-    kg_vec2 f = kind == KG_APPLICATOR_GRAVITY_KIND ? kg_scale(mass[i], vector)
-                                                   : kg_sub(kg_scale(strength, vector), kg_scale(drag, velocity[i]));
+    int gravity = kind == KG_APPLICATOR_GRAVITY_KIND;
+    kg_vec2 f = kg_scale(gravity ? mass[i] : strength, kg_v2(vx, vy));
     kg_vec2 sum = force[i];
+    float drag_sum = drag[i];
     for (kg_u32 r = 0; r < repeat; ++r) {
         sum = kg_add(sum, f);
+        drag_sum += gravity ? 0.0f : wind_drag;
     }
     force[i] = sum;
+    drag[i] = drag_sum;
 }
 
 /* ---- solver ---------------------------------------------------------------------- */
@@ -128,7 +130,8 @@ __kernel void kg_load_bodies(int count, __global kg_u32* flags, __global kg_vec2
 
 __kernel void kg_integrate_velocities(int count, float h, float gx, float gy, float max_linear_speed,
                                       __global kg_solver_body* bodies, __global const kg_vec2* force,
-                                      __global const float* torque, __global const float* inv_mass,
+                                      __global const float* torque, __global const float* drag,
+                                      __global const float* inv_mass,
                                       __global const float* inv_inertia, __global const float* linear_damping,
                                       __global const float* angular_damping)
 {
@@ -141,7 +144,7 @@ __kernel void kg_integrate_velocities(int count, float h, float gx, float gy, fl
     prm.h = h;
     prm.max_linear_speed = max_linear_speed;
     kg_body_motion m = bodies[i].motion;
-    kg_integrate_velocity(&m.v, &m.w, force[i], torque[i], inv_mass[i], inv_inertia[i], linear_damping[i],
+    kg_integrate_velocity(&m.v, &m.w, force[i], torque[i], drag[i], inv_mass[i], inv_inertia[i], linear_damping[i],
                           angular_damping[i], prm);
     bodies[i].motion = m;
 }
@@ -349,7 +352,7 @@ KG_FN int kg_state_finite(kg_vec2 c, kg_rot q, kg_vec2 v, float w)
  * motion of the next step (dt of this one). */
 __kernel void kg_finalize(int count, float dt, __global kg_u32* flags, __global kg_vec2* center, __global kg_rot* rot,
                           __global kg_vec2* velocity, __global float* omega, __global kg_vec2* force,
-                          __global float* torque, __global kg_xf* xf, __global kg_aabb* aabb,
+                          __global float* torque, __global float* drag, __global kg_xf* xf, __global kg_aabb* aabb,
                           __global const kg_shape* shape, __global const kg_vec2* local_center)
 {
     int i = (int)get_global_id(0);
@@ -362,6 +365,7 @@ __kernel void kg_finalize(int count, float dt, __global kg_u32* flags, __global 
     }
     force[i] = kg_v2(0.0f, 0.0f);
     torque[i] = 0.0f;
+    drag[i] = 0.0f;
     kg_vec2 c = center[i];
     kg_rot q = rot[i];
     if ((f & KG_FLAG_FROZEN) == 0u && !kg_state_finite(c, q, velocity[i], omega[i])) {
