@@ -114,12 +114,21 @@ typedef struct kg_narrowphase_job {
     float dt;
 } kg_narrowphase_job;
 
+/* A manifold to be copied from last step's contact of the pair, not computed again. */
+#define KG_MANIFOLD_KEPT (-1)
+
+static int kg_rested(const kg_body_pool* p, kg_u32 i) { return (p->flags[i] & KG_FLAG_RESTED) != 0; }
+
 static void kg_narrowphase_range(void* context, int begin, int end)
 {
     const kg_narrowphase_job* job = context;
     const kg_body_pool* p = job->bodies;
     for (int k = begin; k < end; ++k) {
         kg_u32 a = job->pairs[k].a, b = job->pairs[k].b;
+        if (kg_rested(p, a) && kg_rested(p, b)) {
+            job->manifolds[k].point_count = KG_MANIFOLD_KEPT; /* same poses, same margin: same manifold */
+            continue;
+        }
         float speculative = kg_pair_speculative(job->speculative, p->velocity[a], p->velocity[b], job->dt);
         job->manifolds[k] = kg_collide_shapes(&p->shape[a], p->xf[a], &p->shape[b], p->xf[b], speculative);
     }
@@ -128,7 +137,10 @@ static void kg_narrowphase_range(void* context, int begin, int end)
 static int kg_pair_less(kg_u32 a0, kg_u32 b0, kg_u32 a1, kg_u32 b1) { return a0 < a1 || (a0 == a1 && b0 < b1); }
 
 /* Touching pairs become contacts; both lists are sorted by (a, b), so last step's
- * contact of the same pair is found by walking the two lists together. */
+ * contact of the same pair is found by walking the two lists together. A kept manifold
+ * takes last step's contact whole: nothing has moved or been solved since (two sleeping
+ * or static bodies), so it is what computing it again and carrying the impulses gives,
+ * bit for bit, and what the OpenCL backend, which does compute it, gets. */
 static void kg_build_contacts(kg_world* world, int pair_count)
 {
     struct kg_collision* c = world->collision;
@@ -144,8 +156,15 @@ static void kg_build_contacts(kg_world* world, int pair_count)
             old++;
         }
         const kg_contact* prev = &c->previous[old];
-        if (old < c->previous_count && prev->a == a && prev->b == b && prev->generation_a == p->generation[a] &&
-            prev->generation_b == p->generation[b]) {
+        int same = old < c->previous_count && prev->a == a && prev->b == b && prev->generation_a == p->generation[a] &&
+                   prev->generation_b == p->generation[b];
+        if (m->point_count == KG_MANIFOLD_KEPT) {
+            if (same) {
+                c->contacts[count++] = *prev;
+            }
+            continue; /* no contact last step: none now */
+        }
+        if (same) {
             kg_contact_carry_impulses(m, &c->previous[old].manifold);
         }
         kg_contact* ct = &c->contacts[count++];
@@ -160,6 +179,16 @@ static void kg_build_contacts(kg_world* world, int pair_count)
     }
     c->count = count;
     c->body_count = count;
+}
+
+void kg_collision_mark_rested(kg_world* world)
+{
+    kg_body_pool* p = &world->bodies;
+    for (int i = 0; i < p->high_water; ++i) {
+        if (kg_pool_alive(p, i) && (kg_pool_type(p, i) == KG_BODY_STATIC || kg_pool_asleep(p, i))) {
+            p->flags[i] |= KG_FLAG_RESTED;
+        }
+    }
 }
 
 kg_result kg_stage_collide(kg_world* world)

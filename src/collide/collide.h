@@ -10,6 +10,13 @@
 kg_result kg_collision_create(kg_world* world);
 void kg_collision_destroy(kg_world* world);
 kg_result kg_stage_collide(kg_world* world);
+/* After the stage, on the CPU backend: marks the static and sleeping bodies, which cannot
+ * move before the next collide stage unless woken or changed (that clears the mark,
+ * solve/sleep.c kg_wake_slot), so that the next stage keeps the manifolds between two of
+ * them instead of computing them again. The OpenCL backend computes them every step
+ * and leaves the marks alone (a mark it did not clear would keep a stale manifold after
+ * a fallback to the CPU). */
+void kg_collision_mark_rested(kg_world* world);
 
 /* For a backend that builds contacts itself (OpenCL): starts a step by making the
  * current list the previous one (returned with its count, body pairs first, then tile

@@ -15,6 +15,9 @@
 #define KG_FLAG_ASLEEP 0x8u /* its island is at rest: still, until something wakes it (solve/sleep.c) */
 #define KG_TYPE_SHIFT 4u
 #define KG_TYPE_MASK 0x30u
+/* static or asleep, and neither moved nor changed since the last collide stage: its
+ * manifolds with another such body are last step's (collide/collide.c) */
+#define KG_FLAG_RESTED 0x40u
 
 typedef struct kg_body_pool {
     int capacity;

@@ -53,13 +53,13 @@ void kg_sleep_destroy(kg_world* world)
 
 void kg_wake_slot(kg_body_pool* p, int i)
 {
-    p->flags[i] &= ~KG_FLAG_ASLEEP;
+    p->flags[i] &= ~(KG_FLAG_ASLEEP | KG_FLAG_RESTED);
     p->sleep_time[i] = 0.0f;
 }
 
 static void kg_sleep_slot(kg_body_pool* p, int i, kg_u32 island)
 {
-    p->flags[i] |= KG_FLAG_ASLEEP;
+    p->flags[i] = (p->flags[i] | KG_FLAG_ASLEEP) & ~KG_FLAG_RESTED; /* it moved since the collide stage */
     p->island[i] = island;
     p->velocity[i] = kg_v2(0.0f, 0.0f);
     p->omega[i] = 0.0f;

@@ -32,10 +32,11 @@ static kg_result kg_cpu_step(kg_world* world, float dt)
     kg_stage_apply_forces(world);
     kg_time_stage(world, "forces", &t);
     kg_result r = kg_stage_collide(world);
-    kg_time_stage(world, "collide", &t);
     if (r != KG_OK) {
         return r;
     }
+    kg_collision_mark_rested(world);
+    kg_time_stage(world, "collide", &t);
     kg_stage_wake(world);
     kg_time_stage(world, "wake", &t);
     kg_stage_solve(world, dt);
