@@ -51,11 +51,13 @@ if(CMAKE_SCRIPT_MODE_FILE)
       endif()
     endforeach()
   elseif(MODE STREQUAL "same")
-    # the same run twice gives the same bits
+    # the same run twice gives the same bits, the second with the options AGAIN added
+    # (a later option overrides an earlier one: another thread count, say)
     if(NOT code EQUAL 0)
       message(FATAL_ERROR "exit code ${code}: ${err}")
     endif()
-    execute_process(COMMAND "${KGYRO}" ${run_args} --csv "${CSV}.again"
+    string(REPLACE "|" ";" again_args "${AGAIN}")
+    execute_process(COMMAND "${KGYRO}" ${run_args} ${again_args} --csv "${CSV}.again"
                     WORKING_DIRECTORY "${WORKDIR}" RESULT_VARIABLE code ERROR_VARIABLE err OUTPUT_QUIET)
     execute_process(COMMAND "${CMAKE_COMMAND}" -E compare_files "${CSV}" "${CSV}.again" RESULT_VARIABLE differ)
     if(NOT code EQUAL 0 OR differ)
@@ -128,3 +130,7 @@ kg_cli_run_test(csv_file csv "run|good_full.json|--steps=5|--every=5|--csv=${kg_
                 "CSV=${kg_cli_out}/full.csv" "HEADER=step,id,name,x,y,angle,vx,vy,omega" ROWS=12)
 kg_cli_run_test(deterministic same "run|rain_50|--steps|30|--backend|cpu|--csv|${kg_cli_out}/rain_50.csv"
                 "CSV=${kg_cli_out}/rain_50.csv")
+# issue 4: the same scene with 1 and with 4 threads, every body every step: the same CSV
+kg_cli_run_test(threads_same_csv same
+                "run|rain_1000|--steps|240|--every|1|--backend|cpu|--threads|1|--csv|${kg_cli_out}/rain_1000.csv"
+                "CSV=${kg_cli_out}/rain_1000.csv" "AGAIN=--threads|4")
