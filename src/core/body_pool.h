@@ -5,19 +5,10 @@
 #ifndef KG_BODY_POOL_H
 #define KG_BODY_POOL_H
 
+#include "core/body_flags.h"
 #include "core/kg_layout.h"
 #include "kgyro/body.h"
 
-/* flags */
-#define KG_FLAG_ALIVE 0x1u
-#define KG_FLAG_FIXED_ROTATION 0x2u
-#define KG_FLAG_FROZEN 0x4u /* its state became non-finite: kept out of the simulation */
-#define KG_FLAG_ASLEEP 0x8u /* its island is at rest: still, until something wakes it (solve/sleep.c) */
-#define KG_TYPE_SHIFT 4u
-#define KG_TYPE_MASK 0x30u
-/* static or asleep, and neither moved nor changed since the last collide stage: its
- * manifolds with another such body are last step's (collide/collide.c) */
-#define KG_FLAG_RESTED 0x40u
 
 typedef struct kg_body_pool {
     int capacity;
@@ -56,36 +47,12 @@ typedef struct kg_body_pool {
     void** user_data;
 } kg_body_pool;
 
-static inline kg_body_type kg_pool_type(const kg_body_pool* p, int i)
-{
-    return (kg_body_type)((p->flags[i] & KG_TYPE_MASK) >> KG_TYPE_SHIFT);
-}
-
-static inline int kg_pool_alive(const kg_body_pool* p, int i) { return (p->flags[i] & KG_FLAG_ALIVE) != 0; }
-
-/* Takes part in collisions as a body that can move: dynamic bodies and particles, asleep
- * or awake, unless frozen. */
-static inline int kg_pool_collides(const kg_body_pool* p, int i)
-{
-    kg_u32 f = p->flags[i];
-    kg_body_type t = (kg_body_type)((f & KG_TYPE_MASK) >> KG_TYPE_SHIFT);
-    return (f & (KG_FLAG_ALIVE | KG_FLAG_FROZEN)) == KG_FLAG_ALIVE && (t == KG_BODY_DYNAMIC || t == KG_BODY_PARTICLE);
-}
-
-static inline int kg_pool_asleep(const kg_body_pool* p, int i) { return (p->flags[i] & KG_FLAG_ASLEEP) != 0; }
-
-/* Moves under forces and contacts: a colliding body that is awake. */
-static inline int kg_pool_is_simulated(const kg_body_pool* p, int i)
-{
-    return kg_pool_collides(p, i) && !kg_pool_asleep(p, i);
-}
-
-/* Its pose changes in a step: awake, not static, not frozen (kinematic bodies move too). */
-static inline int kg_pool_moves(const kg_body_pool* p, int i)
-{
-    kg_u32 f = p->flags[i];
-    return (f & (KG_FLAG_ALIVE | KG_FLAG_FROZEN | KG_FLAG_ASLEEP)) == KG_FLAG_ALIVE && kg_pool_type(p, i) != KG_BODY_STATIC;
-}
+static inline kg_body_type kg_pool_type(const kg_body_pool* p, int i) { return (kg_body_type)kg_flags_type(p->flags[i]); }
+static inline int kg_pool_alive(const kg_body_pool* p, int i) { return kg_flags_alive(p->flags[i]); }
+static inline int kg_pool_asleep(const kg_body_pool* p, int i) { return kg_flags_asleep(p->flags[i]); }
+static inline int kg_pool_collides(const kg_body_pool* p, int i) { return kg_flags_collide(p->flags[i]); }
+static inline int kg_pool_is_simulated(const kg_body_pool* p, int i) { return kg_flags_simulated(p->flags[i]); }
+static inline int kg_pool_moves(const kg_body_pool* p, int i) { return kg_flags_move(p->flags[i]); }
 
 kg_result kg_body_pool_init(kg_body_pool* pool, int capacity);
 void kg_body_pool_free(kg_body_pool* pool);

@@ -1,9 +1,11 @@
-/* Islands and rest, the pieces of sleeping shared by the CPU backend (solve/sleep.c) and
- * the kernels: when a body counts as at rest, and the union-find that groups bodies into
- * islands (bodies linked by contacts). docs/design.md, "Sleeping", tells the whole. */
+/* Islands and rest: sleeping's rules, shared by the CPU backend (solve/sleep.c) and the
+ * kernels (backend/opencl/kernels/kg_sleep.cl): when a body counts as at rest, which
+ * contacts wake a sleeping island, and the union-find that groups bodies into islands
+ * (bodies linked by contacts). docs/design.md, "Sleeping", tells the whole. */
 #ifndef KG_ISLAND_H
 #define KG_ISLAND_H
 
+#include "core/body_flags.h"
 #include "core/kg_layout.h"
 #include "solve/contact_solver.h"
 
@@ -51,6 +53,82 @@ KG_FN void kg_island_link(KG_GLOBAL kg_u32* parent, kg_u32 a, kg_u32 b)
     } else if (rb < ra) {
         parent[ra] = rb;
     }
+}
+
+/* A body whose contacts wake what they touch: awake and moving, or able to (a kinematic
+ * body only while it has a velocity). */
+KG_FN int kg_flags_stir(kg_u32 f, kg_vec2 v, float w)
+{
+    return kg_flags_move(f) && (kg_flags_type(f) != (kg_u32)KG_BODY_KINEMATIC || v.x != 0.0f || v.y != 0.0f || w != 0.0f);
+}
+
+/* Contact (a, b) marks the island of its sleeping body when the other stirs (marks is
+ * indexed by island name; marks are only ever set, so the order contacts come in does
+ * not matter). A tile contact (b null) wakes nothing: a tile never stirs. */
+KG_FN void kg_mark_woken(kg_u32 a, kg_u32 b, KG_GLOBAL const kg_u32* flags, KG_GLOBAL const kg_vec2* velocity,
+                         KG_GLOBAL const float* omega, KG_GLOBAL const kg_u32* island, KG_GLOBAL kg_u32* marks)
+{
+    if (b == KG_NULL_INDEX) {
+        return;
+    }
+    if (kg_flags_stir(flags[a], velocity[a], omega[a]) && kg_flags_asleep(flags[b])) {
+        marks[island[b]] = 1u;
+    } else if (kg_flags_stir(flags[b], velocity[b], omega[b]) && kg_flags_asleep(flags[a])) {
+        marks[island[a]] = 1u;
+    }
+}
+
+KG_FN int kg_islander(KG_GLOBAL const kg_u32* flags, kg_u32 slot)
+{
+    return slot != KG_NULL_INDEX && kg_flags_collide(flags[slot]);
+}
+
+KG_FN int kg_stirring_kinematic(KG_GLOBAL const kg_u32* flags, KG_GLOBAL const kg_vec2* velocity,
+                                KG_GLOBAL const float* omega, kg_u32 slot)
+{
+    return slot != KG_NULL_INDEX && kg_flags_type(flags[slot]) == (kg_u32)KG_BODY_KINEMATIC &&
+           kg_flags_stir(flags[slot], velocity[slot], omega[slot]);
+}
+
+/* The islands of a step's contacts, serially, in contact and slot order: every colliding
+ * body's parent becomes its island's root (the lowest slot), and least[root] the
+ * shortest rest time of the island's bodies; a moving kinematic body keeps what it
+ * touches awake without joining islands. */
+KG_FN void kg_link_islands(int bodies, int count, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                           KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
+                           KG_GLOBAL const float* sleep_time, KG_GLOBAL kg_u32* parent, KG_GLOBAL float* least)
+{
+    for (int i = 0; i < bodies; ++i) {
+        parent[i] = (kg_u32)i;
+        least[i] = KG_FLT_MAX;
+    }
+    for (int k = 0; k < count; ++k) {
+        kg_u32 a = contacts[k].a, b = contacts[k].b;
+        if (kg_islander(flags, a) && kg_islander(flags, b)) {
+            kg_island_link(parent, a, b);
+        }
+    }
+    for (int i = 0; i < bodies; ++i) {
+        if (kg_flags_collide(flags[i])) {
+            kg_u32 r = kg_island_root(parent, (kg_u32)i);
+            parent[i] = r;
+            least[r] = fminf(least[r], sleep_time[i]);
+        }
+    }
+    for (int k = 0; k < count; ++k) {
+        kg_u32 a = contacts[k].a, b = contacts[k].b;
+        if (kg_stirring_kinematic(flags, velocity, omega, a) && kg_islander(flags, b)) {
+            least[kg_island_root(parent, b)] = 0.0f;
+        } else if (kg_stirring_kinematic(flags, velocity, omega, b) && kg_islander(flags, a)) {
+            least[kg_island_root(parent, a)] = 0.0f;
+        }
+    }
+}
+
+/* After kg_link_islands: an awake body whose whole island rested time_to_sleep. */
+KG_FN int kg_falls_asleep(kg_u32 f, kg_u32 root, KG_GLOBAL const float* least, float time_to_sleep)
+{
+    return kg_flags_simulated(f) && least[root] >= time_to_sleep;
 }
 
 #endif

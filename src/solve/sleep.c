@@ -20,7 +20,7 @@
 struct kg_sleep {
     kg_u32* parent; /* union-find of this step's islands */
     float* least;   /* per island root: the shortest rest time of its bodies */
-    unsigned char* wake; /* per island name: to be woken this step */
+    kg_u32* wake;   /* per island name: to be woken this step */
 };
 
 kg_result kg_sleep_create(kg_world* world)
@@ -85,26 +85,6 @@ int kg_pool_asleep_count(const kg_body_pool* p)
     return n;
 }
 
-/* A body whose contacts wake what they touch: awake and moving, or able to (a kinematic
- * body only while it has a velocity). */
-static int kg_stirs(const kg_body_pool* p, kg_u32 i)
-{
-    if (i == KG_NULL_INDEX || !kg_pool_moves(p, (int)i)) {
-        return 0;
-    }
-    return kg_pool_type(p, (int)i) != KG_BODY_KINEMATIC || p->velocity[i].x != 0.0f || p->velocity[i].y != 0.0f ||
-           p->omega[i] != 0.0f;
-}
-
-static int kg_sleeping(const kg_body_pool* p, kg_u32 i) { return i != KG_NULL_INDEX && kg_pool_asleep(p, (int)i); }
-
-static int kg_islander(const kg_body_pool* p, kg_u32 i) { return i != KG_NULL_INDEX && kg_pool_collides(p, (int)i); }
-
-static int kg_stirring_kinematic(const kg_body_pool* p, kg_u32 i)
-{
-    return kg_stirs(p, i) && kg_pool_type(p, (int)i) == KG_BODY_KINEMATIC;
-}
-
 void kg_stage_wake(kg_world* world)
 {
     if (!world->def.enable_sleep) {
@@ -112,60 +92,18 @@ void kg_stage_wake(kg_world* world)
     }
     struct kg_sleep* s = world->sleep;
     kg_body_pool* p = &world->bodies;
-    int count = 0, any = 0;
+    int count = 0;
     const kg_contact* contacts = kg_collision_contacts(world, &count);
     for (int k = 0; k < count; ++k) {
-        kg_u32 a = contacts[k].a, b = contacts[k].b;
-        if (kg_stirs(p, a) && kg_sleeping(p, b)) {
-            s->wake[p->island[b]] = 1;
-            any = 1;
-        } else if (kg_stirs(p, b) && kg_sleeping(p, a)) {
-            s->wake[p->island[a]] = 1;
-            any = 1;
-        }
+        kg_mark_woken(contacts[k].a, contacts[k].b, p->flags, p->velocity, p->omega, p->island, s->wake);
     }
-    for (int i = 0; any && i < p->high_water; ++i) {
+    for (int i = 0; i < p->high_water; ++i) {
         if (kg_pool_asleep(p, i) && s->wake[p->island[i]]) {
             kg_wake_slot(p, i);
         }
     }
-    for (int i = 0; any && i < p->high_water; ++i) {
-        s->wake[i] = 0;
-    }
-}
-
-/* The islands of this step's contacts, and the least rest timer of each (the solver
- * advanced the timers as it stored the bodies). */
-static void kg_build_islands(kg_world* world)
-{
-    struct kg_sleep* s = world->sleep;
-    const kg_body_pool* p = &world->bodies;
     for (int i = 0; i < p->high_water; ++i) {
-        s->parent[i] = (kg_u32)i;
-        s->least[i] = KG_FLT_MAX;
-    }
-    int count = 0;
-    const kg_contact* contacts = kg_collision_contacts(world, &count);
-    for (int k = 0; k < count; ++k) {
-        kg_u32 a = contacts[k].a, b = contacts[k].b;
-        if (kg_islander(p, a) && kg_islander(p, b)) {
-            kg_island_link(s->parent, a, b);
-        }
-    }
-    for (int i = 0; i < p->high_water; ++i) {
-        if (kg_pool_collides(p, i)) {
-            kg_u32 r = kg_island_root(s->parent, (kg_u32)i);
-            s->least[r] = fminf(s->least[r], p->sleep_time[i]);
-        }
-    }
-    /* a moving kinematic body keeps what it touches awake without joining islands */
-    for (int k = 0; k < count; ++k) {
-        kg_u32 a = contacts[k].a, b = contacts[k].b;
-        if (kg_stirring_kinematic(p, a) && kg_islander(p, b)) {
-            s->least[kg_island_root(s->parent, b)] = 0.0f;
-        } else if (kg_stirring_kinematic(p, b) && kg_islander(p, a)) {
-            s->least[kg_island_root(s->parent, a)] = 0.0f;
-        }
+        s->wake[i] = 0u;
     }
 }
 
@@ -174,15 +112,15 @@ void kg_stage_sleep(kg_world* world)
     if (!world->def.enable_sleep) {
         return;
     }
-    kg_build_islands(world);
-    kg_body_pool* p = &world->bodies;
     struct kg_sleep* s = world->sleep;
+    kg_body_pool* p = &world->bodies;
+    int count = 0;
+    const kg_contact* contacts = kg_collision_contacts(world, &count);
+    kg_link_islands(p->high_water, count, contacts, p->flags, p->velocity, p->omega, p->sleep_time, s->parent,
+                    s->least);
     for (int i = 0; i < p->high_water; ++i) {
-        if (kg_pool_is_simulated(p, i)) {
-            kg_u32 r = kg_island_root(s->parent, (kg_u32)i);
-            if (s->least[r] >= world->def.time_to_sleep) {
-                kg_sleep_slot(p, i, r);
-            }
+        if (kg_falls_asleep(p->flags[i], s->parent[i], s->least, world->def.time_to_sleep)) {
+            kg_sleep_slot(p, i, s->parent[i]);
         }
     }
 }

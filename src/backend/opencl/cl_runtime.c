@@ -25,18 +25,17 @@ static kg_cl_runtime* g_runtimes[KG_CL_MAX_RUNTIMES];
 static kg_cl_force_program_entry* g_force_programs;
 
 /* Determinism: no fast-math or mad options, and correctly rounded division and square root
- * where the device offers them, so kernels compute what the C code computes. The body flag
- * constants and the colour count are passed from their C definitions. */
+ * where the device offers them, so kernels compute what the C code computes. The body types
+ * and the colour count are passed from their C definitions (the flags are shared in
+ * core/body_flags.h). */
 static void kg_cl_make_options(kg_cl_runtime* rt)
 {
     snprintf(rt->options, sizeof rt->options,
-             "-cl-std=CL1.2 %s -DKG_FLAG_ALIVE=%uu -DKG_FLAG_FROZEN=%uu -DKG_FLAG_ASLEEP=%uu -DKG_TYPE_SHIFT=%uu "
-             "-DKG_TYPE_MASK=%uu -DKG_BODY_STATIC=%uu -DKG_BODY_DYNAMIC=%uu -DKG_BODY_KINEMATIC=%uu "
+             "-cl-std=CL1.2 %s -DKG_BODY_STATIC=%uu -DKG_BODY_DYNAMIC=%uu -DKG_BODY_KINEMATIC=%uu "
              "-DKG_BODY_PARTICLE=%uu "
              "-DKG_COLOR_COUNT=%d -DKG_PASS_WARM_START=%d -DKG_PASS_SOLVE=%d -DKG_PASS_RELAX=%d "
              "-DKG_PASS_RESTITUTION=%d -DKG_APPLICATOR_GRAVITY_KIND=%d -DKG_APPLICATOR_WIND_KIND=%d",
              rt->device->info.correctly_rounded_divide_sqrt ? "-cl-fp32-correctly-rounded-divide-sqrt" : "",
-             KG_FLAG_ALIVE, KG_FLAG_FROZEN, KG_FLAG_ASLEEP, KG_TYPE_SHIFT, KG_TYPE_MASK,
              (unsigned)KG_BODY_STATIC, (unsigned)KG_BODY_DYNAMIC, (unsigned)KG_BODY_KINEMATIC,
              (unsigned)KG_BODY_PARTICLE, KG_COLOR_COUNT,
              KG_CL_PASS_WARM_START, KG_CL_PASS_SOLVE, KG_CL_PASS_RELAX, KG_CL_PASS_RESTITUTION, KG_CL_APPLICATOR_GRAVITY,

@@ -1,6 +1,6 @@
 /* The collision stage's kernels: broadphase, narrowphase, persistent contacts and the
  * constraint graph colouring, with the prefix sums they share. Built in one program after
- * kg_step.cl, whose body flag helpers (kg_is_alive, kg_collides, kg_is_simulated) they use.
+ * kg_step.cl, whose body flag helpers (kg_flags_alive, kg_flags_collide, kg_flags_simulated) they use.
  *
  * Each stage ends in the exact list the CPU backend builds, in the same order, although
  * the broadphase appends pairs with integer atomics in whatever order work-items run:
@@ -201,8 +201,8 @@ __kernel void kg_bp_proxies(int count, float margin, __global const kg_u32* flag
     p.pad = 0u;
     /* a frozen body stays where it froze, as solid as a static one; a sleeping one keeps
      * its contacts, so that its stack wakes warm */
-    int candidate = kg_is_alive(f) && kg_vec_is_finite(p.box.lower) && kg_vec_is_finite(p.box.upper);
-    p.flags = (candidate ? KG_BP_CANDIDATE : 0u) | (kg_collides(f) ? KG_BP_MOVES : 0u);
+    int candidate = kg_flags_alive(f) && kg_vec_is_finite(p.box.lower) && kg_vec_is_finite(p.box.upper);
+    p.flags = (candidate ? KG_BP_CANDIDATE : 0u) | (kg_flags_collide(f) ? KG_BP_MOVES : 0u);
     proxies[i] = p;
     if (candidate) {
         atomic_inc(&histogram[kg_bp_extent_bin(p.box)]);
@@ -720,7 +720,7 @@ __kernel void kg_tile_collide_bodies(int count, int write, float speculative, fl
         return;
     }
     uint found = 0u;
-    if (kg_collides(flags[i])) {
+    if (kg_flags_collide(flags[i])) {
         kg_tile_body body;
         body.slot = (kg_u32)i;
         body.xf = xfs[i];
@@ -786,7 +786,7 @@ __kernel void kg_tile_total(int capacity, __global uint* counts)
 
 KG_FN int kg_slot_moves(__global const kg_u32* flags, kg_u32 slot)
 {
-    return slot != KG_NULL_INDEX && kg_is_simulated(flags[slot]);
+    return slot != KG_NULL_INDEX && kg_flags_simulated(flags[slot]);
 }
 
 /* The lowest colour free in used, or the overflow when all KG_COLOR_COUNT are taken. */

@@ -2,6 +2,7 @@
  * defines KG_USER_FORCE_FN (a build option naming the user's function). The kernel gives
  * each target body to the function as kg_force_body (kgyro/opencl.h), the way the CPU
  * backend's loop does, and keeps only the force and torque it returns. */
+#include "core/body_flags.h"
 #include "core/kg_math.h"
 
 typedef struct kg_force_body {
@@ -23,14 +24,6 @@ KG_STATIC_ASSERT(sizeof(kg_force_body) == 56, force_body_size);
 
 void KG_USER_FORCE_FN(kg_force_body* body, const float* params);
 
-/* kg_pool_is_simulated of core/body_pool.h: a sleeping body rests under the forces it fell
- * asleep with. */
-KG_FN int kg_force_target_simulated(uint f)
-{
-    uint t = (f & KG_TYPE_MASK) >> KG_TYPE_SHIFT;
-    uint out = KG_FLAG_FROZEN | KG_FLAG_ASLEEP;
-    return (f & (KG_FLAG_ALIVE | out)) == KG_FLAG_ALIVE && (t == KG_BODY_DYNAMIC || t == KG_BODY_PARTICLE);
-}
 
 /* Targets as in kg_apply_builtin_force: every slot (all != 0) or (slot, multiplicity)
  * pairs, each slot once, the function called multiplicity times in sequence. */
@@ -46,7 +39,7 @@ __kernel void kg_device_force(int count, int all, __global const uint2* targets,
     }
     uint i = all ? (uint)k : targets[k].x;
     uint repeat = all ? 1u : targets[k].y;
-    if (!kg_force_target_simulated(flags[i])) {
+    if (!kg_flags_simulated(flags[i])) {
         return;
     }
     float params[KG_DEVICE_FORCE_MAX_PARAMS];

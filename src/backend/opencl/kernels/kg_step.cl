@@ -5,36 +5,15 @@
  * Work-items copy what they need from global memory into private variables, call the
  * shared function, and write back only the element they own (gather, never scatter).
  * Every kernel takes its element count and returns for the padding work-items.
- * The body flag constants (KG_FLAG_*, KG_TYPE_*, KG_BODY_*), KG_COLOR_COUNT, the pass and
+ * The body types (KG_BODY_*), KG_COLOR_COUNT, the pass and
  * applicator numbers (KG_PASS_*, KG_APPLICATOR_*_KIND) come as build options from the
  * host's definitions, so the two sides cannot disagree. */
+#include "core/body_flags.h"
 #include "core/kg_layout.h"
 #include "collide/aabb.h"
 #include "solve/integrate.h"
 #include "solve/contact_solver.h"
 #include "solve/island.h"
-
-/* The body predicates of core/body_pool.h, on a body's flags. */
-KG_FN int kg_is_alive(kg_u32 flags) { return (flags & KG_FLAG_ALIVE) != 0u; }
-KG_FN kg_u32 kg_type_of(kg_u32 flags) { return (flags & KG_TYPE_MASK) >> KG_TYPE_SHIFT; }
-KG_FN int kg_is_asleep(kg_u32 flags) { return (flags & KG_FLAG_ASLEEP) != 0u; }
-
-/* kg_pool_collides: dynamic bodies and particles, alive, not frozen, asleep or awake. */
-KG_FN int kg_collides(kg_u32 flags)
-{
-    kg_u32 t = kg_type_of(flags);
-    return (flags & (KG_FLAG_ALIVE | KG_FLAG_FROZEN)) == KG_FLAG_ALIVE && (t == KG_BODY_DYNAMIC || t == KG_BODY_PARTICLE);
-}
-
-/* kg_pool_is_simulated: a colliding body that is awake. */
-KG_FN int kg_is_simulated(kg_u32 flags) { return kg_collides(flags) && !kg_is_asleep(flags); }
-
-/* kg_pool_moves: alive, not static, not frozen, not asleep (kinematic bodies move too). */
-KG_FN int kg_is_moving(kg_u32 flags)
-{
-    kg_u32 still = KG_FLAG_FROZEN | KG_FLAG_ASLEEP;
-    return (flags & (KG_FLAG_ALIVE | still)) == KG_FLAG_ALIVE && kg_type_of(flags) != KG_BODY_STATIC;
-}
 
 /* kg_body_update_transform of core/body_pool.c: the origin transform from the centre. */
 KG_FN kg_xf kg_origin_xf(kg_vec2 center, kg_rot q, kg_vec2 local_center)
@@ -61,7 +40,7 @@ __kernel void kg_apply_builtin_force(int count, int all, __global const uint2* t
     }
     kg_u32 i = all ? (kg_u32)k : targets[k].x;
     kg_u32 repeat = all ? 1u : targets[k].y;
-    if (!kg_is_simulated(flags[i])) {
+    if (!kg_flags_simulated(flags[i])) {
         return;
     }
     int gravity = kind == KG_APPLICATOR_GRAVITY_KIND;
@@ -116,7 +95,7 @@ __kernel void kg_load_bodies(int count, __global kg_u32* flags, __global kg_vec2
     }
     int inputs_finite = kg_vec_is_finite(velocity[i]) && kg_is_finite(omega[i]) && kg_vec_is_finite(force[i]) &&
                         kg_is_finite(torque[i]);
-    if (kg_is_simulated(flags[i]) && !inputs_finite) {
+    if (kg_flags_simulated(flags[i]) && !inputs_finite) {
         kg_freeze_body(i, flags, velocity, omega, force, torque, rot, center, xf, local_center);
     }
     kg_solver_body sb;
@@ -124,7 +103,7 @@ __kernel void kg_load_bodies(int count, __global kg_u32* flags, __global kg_vec2
     sb.motion.w = omega[i];
     sb.motion.dp = kg_v2(0.0f, 0.0f);
     sb.motion.dq = kg_rot_identity();
-    sb.moves = (kg_u32)kg_is_simulated(flags[i]);
+    sb.moves = (kg_u32)kg_flags_simulated(flags[i]);
     bodies[i] = sb;
 }
 
@@ -153,7 +132,7 @@ __kernel void kg_integrate_positions(int count, float h, __global const kg_u32* 
                                      __global kg_solver_body* bodies)
 {
     int i = (int)get_global_id(0);
-    if (i >= count || !kg_is_moving(flags[i])) {
+    if (i >= count || !kg_flags_move(flags[i])) {
         return;
     }
     kg_body_motion m = bodies[i].motion;
@@ -171,7 +150,7 @@ __kernel void kg_store_bodies(int count, int sleep, float dt, float sleep_speed,
                               __global float* sleep_time)
 {
     int i = (int)get_global_id(0);
-    if (i >= count || !kg_is_moving(flags[i])) {
+    if (i >= count || !kg_flags_move(flags[i])) {
         return;
     }
     kg_body_motion m = bodies[i].motion;
@@ -360,7 +339,7 @@ __kernel void kg_finalize(int count, float dt, __global kg_u32* flags, __global 
         return;
     }
     kg_u32 f = flags[i];
-    if (!kg_is_alive(f)) {
+    if (!kg_flags_alive(f)) {
         return;
     }
     force[i] = kg_v2(0.0f, 0.0f);
@@ -372,7 +351,7 @@ __kernel void kg_finalize(int count, float dt, __global kg_u32* flags, __global 
         kg_freeze_body(i, flags, velocity, omega, force, torque, rot, center, xf, local_center);
         return;
     }
-    if (kg_type_of(f) == KG_BODY_STATIC) {
+    if (kg_flags_type(f) == KG_BODY_STATIC) {
         return;
     }
     kg_xf t = kg_origin_xf(c, q, local_center[i]);

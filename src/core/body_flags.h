@@ -1,0 +1,45 @@
+/* A body's flags word and what it says, shared by the pool (core/body_pool.h) and the
+ * kernels, so both backends ask the same questions of it. The body types (KG_BODY_*)
+ * come from kgyro/body.h in C and as build options in the kernels. */
+#ifndef KG_BODY_FLAGS_H
+#define KG_BODY_FLAGS_H
+
+#include "core/kg_shared.h"
+#ifndef __OPENCL_VERSION__
+#include "kgyro/body.h"
+#endif
+
+#define KG_FLAG_ALIVE 0x1u
+#define KG_FLAG_FIXED_ROTATION 0x2u
+#define KG_FLAG_FROZEN 0x4u /* its state became non-finite: kept out of the simulation */
+#define KG_FLAG_ASLEEP 0x8u /* its island is at rest: still, until something wakes it (solve/sleep.c) */
+#define KG_TYPE_SHIFT 4u
+#define KG_TYPE_MASK 0x30u
+/* static or asleep, and neither moved nor changed since the last collide stage: its
+ * manifolds with another such body are last step's (collide/collide.c) */
+#define KG_FLAG_RESTED 0x40u
+
+KG_FN kg_u32 kg_flags_type(kg_u32 f) { return (f & KG_TYPE_MASK) >> KG_TYPE_SHIFT; }
+KG_FN int kg_flags_alive(kg_u32 f) { return (f & KG_FLAG_ALIVE) != 0u; }
+KG_FN int kg_flags_asleep(kg_u32 f) { return (f & KG_FLAG_ASLEEP) != 0u; }
+
+/* Takes part in collisions as a body that can move: dynamic bodies and particles, asleep
+ * or awake, unless frozen. */
+KG_FN int kg_flags_collide(kg_u32 f)
+{
+    kg_u32 t = kg_flags_type(f);
+    return (f & (KG_FLAG_ALIVE | KG_FLAG_FROZEN)) == KG_FLAG_ALIVE &&
+           (t == (kg_u32)KG_BODY_DYNAMIC || t == (kg_u32)KG_BODY_PARTICLE);
+}
+
+/* Moves under forces and contacts: a colliding body that is awake. */
+KG_FN int kg_flags_simulated(kg_u32 f) { return kg_flags_collide(f) && !kg_flags_asleep(f); }
+
+/* Its pose changes in a step: awake, not static, not frozen (kinematic bodies move too). */
+KG_FN int kg_flags_move(kg_u32 f)
+{
+    return (f & (KG_FLAG_ALIVE | KG_FLAG_FROZEN | KG_FLAG_ASLEEP)) == KG_FLAG_ALIVE &&
+           kg_flags_type(f) != (kg_u32)KG_BODY_STATIC;
+}
+
+#endif
