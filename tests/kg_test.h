@@ -8,6 +8,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 static int kg_test_failures;
 
@@ -79,11 +80,44 @@ static inline int kg_run_tests(const kg_test_case* tests, int count)
     return failed == 0 ? 0 : 1;
 }
 
-#define KG_TEST_MAIN(...)                                                               \
-    int main(void)                                                                      \
-    {                                                                                   \
-        static const kg_test_case tests[] = {__VA_ARGS__};                              \
-        return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));              \
+#define KG_MAX_CHOSEN_TESTS 64
+
+/* With no argument, the first `quick` tests; else the tests named on the command line
+ * ("all": every one), in the order named. An unknown name lists the tests, exit 2. */
+static inline int kg_run_chosen_tests(const kg_test_case* tests, int count, int quick, int argc, char** argv)
+{
+    if (argc < 2) {
+        return kg_run_tests(tests, quick);
+    }
+    kg_test_case chosen[KG_MAX_CHOSEN_TESTS];
+    int n = 0;
+    for (int a = 1; a < argc; ++a) {
+        int all = strcmp(argv[a], "all") == 0, found = 0;
+        for (int i = 0; i < count; ++i) {
+            if (all || strcmp(argv[a], tests[i].name) == 0) {
+                found = 1;
+                if (n < KG_MAX_CHOSEN_TESTS) {
+                    chosen[n++] = tests[i];
+                }
+            }
+        }
+        if (!found) {
+            fprintf(stderr, "unknown test %s; the tests are:\n", argv[a]);
+            for (int i = 0; i < count; ++i) {
+                fprintf(stderr, "  %s\n", tests[i].name);
+            }
+            return 2;
+        }
+    }
+    return kg_run_tests(chosen, n);
+}
+
+#define KG_TEST_MAIN(...)                                                                           \
+    int main(int argc, char** argv)                                                                 \
+    {                                                                                               \
+        static const kg_test_case tests[] = {__VA_ARGS__};                                          \
+        int count = (int)(sizeof tests / sizeof tests[0]);                                          \
+        return kg_run_chosen_tests(tests, count, count, argc, argv);                                \
     }
 
 #endif

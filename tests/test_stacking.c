@@ -339,30 +339,4 @@ static const kg_test_case all_tests[] = {
 };
 enum { QUICK_TESTS = 2, ALL_TESTS = (int)(sizeof all_tests / sizeof all_tests[0]) };
 
-int main(int argc, char** argv)
-{
-    if (argc < 2) {
-        return kg_run_tests(all_tests, QUICK_TESTS);
-    }
-    kg_test_case chosen[ALL_TESTS];
-    int n = 0;
-    for (int a = 1; a < argc; ++a) {
-        int all = strcmp(argv[a], "all") == 0, found = 0;
-        for (int i = 0; i < ALL_TESTS; ++i) {
-            if (all || strcmp(argv[a], all_tests[i].name) == 0) {
-                found = 1;
-                if (n < ALL_TESTS) {
-                    chosen[n++] = all_tests[i];
-                }
-            }
-        }
-        if (!found) {
-            fprintf(stderr, "unknown test %s; the tests are:\n", argv[a]);
-            for (int i = 0; i < ALL_TESTS; ++i) {
-                fprintf(stderr, "  %s\n", all_tests[i].name);
-            }
-            return 2;
-        }
-    }
-    return kg_run_tests(chosen, n);
-}
+int main(int argc, char** argv) { return kg_run_chosen_tests(all_tests, ALL_TESTS, QUICK_TESTS, argc, argv); }
