@@ -244,7 +244,6 @@ static kg_result kg_run_device_force(kg_world* world, kg_cl_backend* b, int slot
     return kg_cl_launch(w, k, b->force_group_sizes[slot], items, f->function_name);
 }
 
-
 /* A C callback runs on the host. It reads and writes through the body API, whose getters
  * read back what the device changed (sync_to_host) and whose setters mark the host copy
  * changed (host_changed); what it changed is uploaded before the next kernel. */
