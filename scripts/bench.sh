@@ -2,10 +2,12 @@
 # make bench: the Box2D benchmark scenes and the scaling series (rain_N, particles_N) in
 # kgyro (every backend that works here) and the peer engines, Box2D 2.4 and Chipmunk 7.
 # Writes out/bench/results.csv, results_stages.csv, report.txt and the charts
-# (scaling.png: step time vs bodies, log-log; scenes.png; stages.png).
+# (scaling.png: step time vs bodies, log-log; scenes.png; stages.png), then the
+# instruction counts of large_pyramid's step under callgrind (scripts/callgrind.sh:
+# out/bench/callgrind.csv).
 #
 #   bash scripts/bench.sh [BUILD_DIR] [more `kgyro bench` options, e.g. --threads 2]
-#   BENCH_QUICK=1 bash scripts/bench.sh build    # about a minute: short runs, N <= 20,000
+#   BENCH_QUICK=1 bash scripts/bench.sh build    # about a minute and a half: short runs, N <= 20,000
 #
 # The full run stays under about 15 minutes on a 2-core machine: one run per scene and
 # engine (the median and 95th percentile are then over the run's steps), the benchmark
@@ -56,4 +58,11 @@ fi
 if [ "$status" -ne 0 ]; then
   echo "bench: some runs failed or crashed; see the status column of $out/results.csv" >&2
 fi
-echo "bench: $out/results.csv, $out/report.txt and the charts in $out"
+
+# The step's instruction counts under callgrind (large_pyramid, 1 thread): deterministic,
+# where the times above move with the machine's load. Same in BENCH_QUICK (about 30 s).
+if ! bash scripts/callgrind.sh "$build" | tee -a "$out/report.txt"; then
+  echo "bench: scripts/callgrind.sh failed; see out/bench/callgrind/" >&2
+  exit 1
+fi
+echo "bench: $out/results.csv, $out/callgrind.csv, $out/report.txt and the charts in $out"

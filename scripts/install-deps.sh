@@ -7,13 +7,15 @@ set -euo pipefail
 core="cmake make gcc clang pkg-config libcjson-dev"
 test_extra="ocl-icd-opencl-dev opencl-headers pocl-opencl-icd libclang-rt-14-dev libstb-dev xvfb libsdl2-dev"
 bench_extra="libbox2d-dev libchipmunk-dev gnuplot-nox g++"
+# Only `make bench` needs valgrind (scripts/callgrind.sh: the step's instruction counts).
+bench_only="valgrind"
 
 case "${1:-all}" in
   core)  wanted="$core" ;;
   test)  wanted="$core $test_extra $bench_extra" ;;
   demo)  wanted="$core $test_extra" ;;
-  bench) wanted="$core $test_extra $bench_extra" ;;
-  all)   wanted="$core $test_extra $bench_extra" ;;
+  bench) wanted="$core $test_extra $bench_extra $bench_only" ;;
+  all)   wanted="$core $test_extra $bench_extra $bench_only" ;;
   *) echo "usage: $0 [core|test|demo|bench|all]" >&2; exit 2 ;;
 esac
 

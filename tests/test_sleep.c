@@ -5,7 +5,7 @@
  * gravity); a moving kinematic platform wakes what sleeps on it; enable_sleep = 0 never
  * sleeps; and a scene of 400 sleeping boxes still answers a falling body.
  *
- * CPU backend, world defaults (gravity -10, 8 sub-steps) unless a test says otherwise,
+ * CPU backend, world defaults (gravity -10, 4 sub-steps) unless a test says otherwise,
  * dt = 1/60. Every test prints its measured numbers ("measured: ..."). */
 #include "kg_test.h"
 #include "kgyro/kgyro.h"

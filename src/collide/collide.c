@@ -161,11 +161,12 @@ static void kg_build_contacts(kg_world* world, int pair_count)
         if (m->point_count == KG_MANIFOLD_KEPT) {
             if (same) {
                 c->contacts[count++] = *prev;
+                kg_count_warm_starts(world, prev->manifold.point_count, prev->manifold.point_count);
             }
             continue; /* no contact last step: none now */
         }
         if (same) {
-            kg_contact_carry_impulses(m, &c->previous[old].manifold);
+            kg_count_warm_starts(world, m->point_count, kg_contact_carry_impulses(m, &prev->manifold));
         }
         kg_contact* ct = &c->contacts[count++];
         ct->manifold = *m;
@@ -191,12 +192,20 @@ void kg_collision_mark_rested(kg_world* world)
     }
 }
 
+void kg_count_warm_starts(kg_world* world, int points, int carried)
+{
+    world->times.warm_starts_carried += carried;
+    world->times.warm_starts_missed += points - carried;
+}
+
 kg_result kg_stage_collide(kg_world* world)
 {
     struct kg_collision* c = world->collision;
     kg_contact* previous;
     int previous_count;
     kg_collision_begin_step(world, &previous, &previous_count);
+    world->times.warm_starts_carried = 0;
+    world->times.warm_starts_missed = 0;
     int pair_count = 0;
     kg_result r = kg_find_pairs(world, &pair_count);
     if (r != KG_OK) {

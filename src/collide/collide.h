@@ -26,6 +26,10 @@ kg_contact* kg_collision_begin_step(kg_world* world, kg_contact** previous, int*
 void kg_collision_set_count(kg_world* world, int count, int body_count);
 int kg_collision_capacity(const kg_world* world);
 
+/* Adds a persisting contact's points to the step's warm-start counts (kg_stage_times):
+ * carried of its points found last step's impulses, the rest started cold. */
+void kg_count_warm_starts(kg_world* world, int points, int carried);
+
 /* The contacts of the current step: body pairs sorted by (a, b), then tile contacts. */
 kg_contact* kg_collision_contacts(kg_world* world, int* count);
 

@@ -11,11 +11,13 @@
 
 #include "core/kg_layout.h"
 
-/* Marks the byte of a feature id that names the reference edge of a polygon-polygon contact;
- * the other byte names the incident vertex. Without it both bytes name vertices (corner
- * against corner). Circle contacts always have id 0: a round shape's closest feature moves
- * continuously, and so does its impulse, which warm starting should keep. */
-#define KG_FEATURE_FACE 0x80u
+/* Feature ids name a point by a vertex of a and a vertex of b, in (a, b) byte order, never
+ * by which shape holds the reference face: a clipped point is named by the end of the
+ * reference face on its side and the incident vertex on the same side, a pair that names
+ * the same point when the reference passes to the other shape (loaded boxes that tilt
+ * past the tolerance below flip it, and their warm starts would be lost). Circle contacts
+ * always have id 0: a round shape's closest feature moves continuously, and so does its
+ * impulse, which warm starting should keep. */
 
 /* a's face stays the reference unless b's separation is larger by more than this (a tenth
  * of the 0.005 m linear slop), so float noise on nearly parallel faces cannot flip the
@@ -217,9 +219,9 @@ KG_FN kg_face_contact kg_face_contact_of(const kg_shape* ref, int edge, const kg
 }
 
 /* A feature id with the reference's byte on the side of the shape that owns it. */
-KG_FN kg_u32 kg_face_id(const kg_face_contact* fc, kg_u32 ref_feature, kg_u32 inc_feature)
+KG_FN kg_u32 kg_face_id(const kg_face_contact* fc, int ref_vertex, int inc_vertex)
 {
-    return fc->flip ? KG_FEATURE_ID(inc_feature, ref_feature) : KG_FEATURE_ID(ref_feature, inc_feature);
+    return fc->flip ? KG_FEATURE_ID(inc_vertex, ref_vertex) : KG_FEATURE_ID(ref_vertex, inc_vertex);
 }
 
 KG_FN kg_vec2 kg_face_manifold_normal(const kg_face_contact* fc, kg_vec2 ref_to_inc)
@@ -228,18 +230,19 @@ KG_FN kg_vec2 kg_face_manifold_normal(const kg_face_contact* fc, kg_vec2 ref_to_
 }
 
 /* One incident point v against the reference face: its separation along the face normal and
- * the point midway between v and the face. */
-KG_FN void kg_push_face_point(kg_manifold* m, const kg_face_contact* fc, kg_vec2 v, kg_u32 inc_vertex)
+ * the point midway between v and the face, named by the face's end and the incident vertex
+ * on its side. */
+KG_FN void kg_push_face_point(kg_manifold* m, const kg_face_contact* fc, kg_vec2 v, int ref_vertex, int inc_vertex)
 {
     float separation = kg_dot(kg_sub(v, fc->v11), fc->normal);
     kg_vec2 mid = kg_mul_sub(v, 0.5f * separation, fc->normal);
-    kg_push_point(m, mid, separation, kg_face_id(fc, KG_FEATURE_FACE | (kg_u32)fc->i11, inc_vertex));
+    kg_push_point(m, mid, separation, kg_face_id(fc, ref_vertex, inc_vertex));
 }
 
 /* Clips the incident edge to the side planes of the reference face (Sutherland-Hodgman on two
  * points) and keeps both clipped ends; none when the edge lies wholly beside the face. Each
- * point is named by the incident vertex it comes from, which stays the same whether or not
- * it was clipped, so ids hold while an edge slides. */
+ * point is named by the incident vertex it comes from and the face's end on the same side,
+ * which stay the same whether or not it was clipped, so ids hold while an edge slides. */
 KG_FN kg_manifold kg_clip_to_face(const kg_face_contact* fc)
 {
     kg_manifold m = kg_empty_manifold();
@@ -253,8 +256,8 @@ KG_FN kg_manifold kg_clip_to_face(const kg_face_contact* fc)
         t_upper = fminf((fc->face_length - fc->lower) / span, 1.0f);
     }
     if (t_lower <= t_upper) {
-        kg_push_face_point(&m, fc, kg_lerp(fc->v22, fc->v21, t_lower), (kg_u32)fc->i22);
-        kg_push_face_point(&m, fc, kg_lerp(fc->v22, fc->v21, t_upper), (kg_u32)fc->i21);
+        kg_push_face_point(&m, fc, kg_lerp(fc->v22, fc->v21, t_lower), fc->i11, fc->i22);
+        kg_push_face_point(&m, fc, kg_lerp(fc->v22, fc->v21, t_upper), fc->i12, fc->i21);
     }
     return m;
 }
@@ -267,7 +270,11 @@ KG_FN kg_manifold kg_nearest_end_to_face(const kg_face_contact* fc)
     kg_manifold m = kg_empty_manifold();
     m.normal = kg_face_manifold_normal(fc, fc->normal);
     int beyond_upper = fc->lower > fc->face_length;
-    kg_push_face_point(&m, fc, beyond_upper ? fc->v22 : fc->v21, (kg_u32)(beyond_upper ? fc->i22 : fc->i21));
+    if (beyond_upper) {
+        kg_push_face_point(&m, fc, fc->v22, fc->i12, fc->i22);
+    } else {
+        kg_push_face_point(&m, fc, fc->v21, fc->i11, fc->i21);
+    }
     return m;
 }
 
@@ -284,7 +291,7 @@ KG_FN float kg_min_separation(const kg_manifold* m)
 typedef struct kg_corner {
     kg_vec2 on_ref, on_inc;
     float distance;
-    kg_u32 ref_vertex, inc_vertex;
+    int ref_vertex, inc_vertex;
 } kg_corner;
 
 /* Keeps in *best the closer of itself and the pair (corner, nearest point of inc's edge i). */
@@ -299,8 +306,8 @@ KG_FN void kg_closer_corner(kg_corner* best, const kg_shape* inc, int i, kg_vec2
         best->on_ref = corner;
         best->on_inc = on_inc;
         best->distance = distance;
-        best->ref_vertex = (kg_u32)corner_index;
-        best->inc_vertex = (kg_u32)(t < 0.5f ? i : j);
+        best->ref_vertex = corner_index;
+        best->inc_vertex = t < 0.5f ? i : j;
     }
 }
 
@@ -326,8 +333,8 @@ KG_FN kg_manifold kg_polygon_manifold(const kg_face_contact* fc, const kg_shape*
     c.on_ref = fc->v11;
     c.on_inc = fc->v11;
     c.distance = KG_FLT_MAX;
-    c.ref_vertex = 0u;
-    c.inc_vertex = 0u;
+    c.ref_vertex = 0;
+    c.inc_vertex = 0;
     for (int i = 0; i < inc->count; ++i) {
         kg_closer_corner(&c, inc, i, fc->v11, fc->i11);
         kg_closer_corner(&c, inc, i, fc->v12, fc->i12);

@@ -305,9 +305,8 @@ KG_FN kg_tile_hit kg_segment_reference(const kg_tile_segment* s, const kg_shape*
     hit.manifold = kg_empty_manifold();
     hit.manifold.normal = s->normal;
     hit.separation = separation;
-    kg_u32 face = KG_FEATURE_FACE | s->edge;
     kg_clip_edge(&hit.manifold, s->p1, s->p2, s->normal, body->vertices[b_index], body->vertices[next],
-                 KG_FEATURE_ID((kg_u32)b_index, face), KG_FEATURE_ID((kg_u32)next, face), speculative);
+                 KG_FEATURE_ID((kg_u32)b_index, s->vertex2), KG_FEATURE_ID((kg_u32)next, s->vertex1), speculative);
     return hit;
 }
 
@@ -322,9 +321,8 @@ KG_FN kg_tile_hit kg_body_face_reference(const kg_tile_segment* s, const kg_shap
     hit.manifold = kg_empty_manifold();
     hit.manifold.normal = kg_neg(n);
     hit.separation = separation;
-    kg_u32 face = KG_FEATURE_FACE | (kg_u32)k;
     kg_clip_edge(&hit.manifold, body->vertices[k], body->vertices[next], n, s->p1, s->p2,
-                 KG_FEATURE_ID(face, s->vertex1), KG_FEATURE_ID(face, s->vertex2), speculative);
+                 KG_FEATURE_ID((kg_u32)next, s->vertex1), KG_FEATURE_ID((kg_u32)k, s->vertex2), speculative);
     return hit;
 }
 

@@ -612,7 +612,7 @@ static void kg_emit_contact(kg_tile_pass* pass, int body, const kg_map* m, kg_u3
         memset(ct, 0, sizeof *ct);
         ct->manifold = *manifold;
         if (old) {
-            kg_contact_carry_impulses(&ct->manifold, &old->manifold);
+            kg_count_warm_starts(pass->world, manifold->point_count, kg_contact_carry_impulses(&ct->manifold, &old->manifold));
         }
         ct->a = (kg_u32)body;
         ct->b = KG_NULL_INDEX;

@@ -59,18 +59,21 @@ typedef struct kg_contact {
 } kg_contact;
 
 /* Carries last step's accumulated impulses over to m, point by point, where the feature
- * ids match: the warm start of a persistent contact. */
-KG_FN void kg_contact_carry_impulses(kg_manifold* m, const kg_manifold* old)
+ * ids match: the warm start of a persistent contact. Returns how many points matched. */
+KG_FN int kg_contact_carry_impulses(kg_manifold* m, const kg_manifold* old)
 {
+    int matched = 0;
     for (int i = 0; i < m->point_count; ++i) {
         for (int j = 0; j < old->point_count; ++j) {
             if (m->points[i].id == old->points[j].id) {
                 m->points[i].normal_impulse = old->points[j].normal_impulse;
                 m->points[i].tangent_impulse = old->points[j].tangent_impulse;
+                matched += 1;
                 break;
             }
         }
     }
+    return matched;
 }
 
 KG_STATIC_ASSERT(sizeof(kg_vec2) == 8, vec2_size);

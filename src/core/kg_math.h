@@ -39,6 +39,10 @@ KG_FN kg_vec2 kg_lerp(kg_vec2 a, kg_vec2 b, float t) { return kg_v2(a.x + t * (b
 KG_FN kg_vec2 kg_vmin(kg_vec2 a, kg_vec2 b) { return kg_v2(fminf(a.x, b.x), fminf(a.y, b.y)); }
 KG_FN kg_vec2 kg_vmax(kg_vec2 a, kg_vec2 b) { return kg_v2(fmaxf(a.x, b.x), fmaxf(a.y, b.y)); }
 KG_FN float kg_clampf(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
+/* Compare-and-select: with strict float flags (no fast math) gcc calls fmaxf and fminf in
+ * libm instead of inlining them, which cost about 3% of a step in the solver's rows. */
+KG_FN float kg_maxf(float a, float b) { return a > b ? a : b; }
+KG_FN float kg_minf(float a, float b) { return a < b ? a : b; }
 
 KG_FN kg_vec2 kg_normalize(kg_vec2 v)
 {

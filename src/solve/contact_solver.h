@@ -45,7 +45,7 @@ typedef struct kg_contact_constraint {
     kg_softness softness;
     kg_i32 point_count;
     kg_u32 contact;             /* index of the contact it came from */
-    kg_i32 pad;
+    float share_b;              /* b's share of the inverse mass: where the anchors meet */
 } kg_contact_constraint;
 
 KG_STATIC_ASSERT(sizeof(kg_softness) == 12, softness_size);
@@ -102,6 +102,7 @@ KG_FN void kg_contact_prepare(kg_contact_constraint* c, const kg_manifold* m, kg
 {
     float ma = c->inv_mass_a, ia = c->inv_i_a, mb = c->inv_mass_b, ib = c->inv_i_b;
     int against_static = (ma == 0.0f && ia == 0.0f) || (mb == 0.0f && ib == 0.0f);
+    c->share_b = ma + mb > 0.0f ? mb / (ma + mb) : 0.5f;
     c->softness = against_static ? prm.static_softness : prm.contact_softness;
     c->normal = m->normal;
     c->point_count = m->point_count;
@@ -150,10 +151,8 @@ KG_FN void kg_current_anchors(const kg_contact_constraint* c, const kg_constrain
                               const kg_body_motion* b, kg_vec2* ra, kg_vec2* rb)
 {
     kg_vec2 gap = kg_sub(b->dp, a->dp); /* how far b's anchor point moved from a's */
-    float inv_sum = c->inv_mass_a + c->inv_mass_b;
-    float share_b = inv_sum > 0.0f ? c->inv_mass_b / inv_sum : 0.5f;
-    *ra = kg_mul_add(cp->anchor_a, share_b, gap);
-    *rb = kg_mul_sub(cp->anchor_b, 1.0f - share_b, gap);
+    *ra = kg_mul_add(cp->anchor_a, c->share_b, gap);
+    *rb = kg_mul_sub(cp->anchor_b, 1.0f - c->share_b, gap);
 }
 
 KG_FN float kg_normal_velocity_at(const kg_contact_constraint* c, const kg_body_motion* a, const kg_body_motion* b,
@@ -209,7 +208,7 @@ KG_FN kg_point_bias kg_point_bias_of(const kg_contact_constraint* c, float s, kg
     if (s > 0.0f) {
         pb.bias = s * prm.inv_h;
     } else if (use_bias) {
-        pb.bias = fmaxf(c->softness.bias_rate * s, -prm.max_push_out_speed);
+        pb.bias = kg_maxf(c->softness.bias_rate * s, -prm.max_push_out_speed);
         pb.mass_scale = c->softness.mass_scale;
         pb.impulse_scale = c->softness.impulse_scale;
     }
@@ -227,7 +226,7 @@ KG_FN void kg_apply_normal_impulse(kg_contact_constraint* c, int j, kg_body_moti
         cp->relative_velocity = vn;
     }
     cp->normal_impulse += impulse;
-    cp->max_normal_impulse = fmaxf(cp->max_normal_impulse, impulse);
+    cp->max_normal_impulse = kg_maxf(cp->max_normal_impulse, impulse);
     kg_apply_impulse_pair(c, a, b, ra, rb, kg_scale(impulse, c->normal));
 }
 
@@ -300,7 +299,7 @@ KG_FN void kg_contact_solve(kg_contact_constraint* c, kg_body_motion* a, kg_body
             kg_constraint_point* cp = &c->points[j];
             float vn = kg_normal_velocity_at(c, a, b, ra[j], rb[j]);
             float impulse = -cp->normal_mass * pb.mass_scale * (vn + pb.bias) - pb.impulse_scale * cp->normal_impulse;
-            float applied = fmaxf(cp->normal_impulse + impulse, 0.0f) - cp->normal_impulse;
+            float applied = kg_maxf(cp->normal_impulse + impulse, 0.0f) - cp->normal_impulse;
             kg_apply_normal_impulse(c, j, a, b, ra[j], rb[j], applied, vn);
         }
     }
@@ -371,7 +370,7 @@ KG_FN void kg_contact_restitution(kg_contact_constraint* c, kg_body_motion* a, k
         }
         float vn = kg_normal_velocity_at(c, a, b, ra[j], rb[j]);
         float impulse = -kg_normal_mass_at(c, ra[j], rb[j]) * (vn + c->restitution * cp->relative_velocity);
-        float accumulated = fmaxf(cp->normal_impulse + impulse, 0.0f);
+        float accumulated = kg_maxf(cp->normal_impulse + impulse, 0.0f);
         impulse = accumulated - cp->normal_impulse;
         cp->normal_impulse = accumulated;
         kg_apply_impulse_pair(c, a, b, ra[j], rb[j], kg_scale(impulse, c->normal));

@@ -54,13 +54,13 @@ static int kg_pick_color(kg_graph_coloring* g, kg_u32 a, kg_u32 b, int a_moves, 
     return KG_COLOR_COUNT;
 }
 
-void kg_graph_color(kg_graph_coloring* g, const kg_contact_constraint* constraints, int count,
-                    const kg_body_pool* bodies, int* scratch_colors)
+void kg_graph_color(kg_graph_coloring* g, const kg_contact* contacts, int count, const kg_body_pool* bodies,
+                    int* scratch_colors)
 {
     int sizes[KG_COLOR_COUNT + 1];
     memset(sizes, 0, sizeof sizes);
     for (int k = 0; k < count; ++k) {
-        kg_u32 a = constraints[k].a, b = constraints[k].b;
+        kg_u32 a = contacts[k].a, b = contacts[k].b;
         int color = kg_pick_color(g, a, b, kg_takes_impulses(bodies, a), kg_takes_impulses(bodies, b));
         scratch_colors[k] = color;
         sizes[color] += 1;
@@ -85,11 +85,11 @@ void kg_graph_color(kg_graph_coloring* g, const kg_contact_constraint* constrain
             continue;
         }
         kg_u32* words = g->bits + (size_t)c * (size_t)g->words_per_color;
-        if (kg_takes_impulses(bodies, constraints[k].a)) {
-            kg_clear_bit(words, constraints[k].a);
+        if (kg_takes_impulses(bodies, contacts[k].a)) {
+            kg_clear_bit(words, contacts[k].a);
         }
-        if (kg_takes_impulses(bodies, constraints[k].b)) {
-            kg_clear_bit(words, constraints[k].b);
+        if (kg_takes_impulses(bodies, contacts[k].b)) {
+            kg_clear_bit(words, contacts[k].b);
         }
     }
 }

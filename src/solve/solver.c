@@ -1,6 +1,6 @@
 /* The solve stage (Box2D v3's soft step, see contact_solver.h and docs/design.md):
  *
- *   prepare constraints from the contacts; colour the constraint graph
+ *   colour the constraint graph; prepare constraints from the contacts, in colour order
  *   for each sub-step:
  *       integrate velocities; warm start; solve (soft push-out);
  *       integrate positions; relax (no push-out)
@@ -19,6 +19,7 @@
 #include "solve/integrate.h"
 #include "solve/island.h"
 
+#include <stdatomic.h>
 #include <string.h>
 
 #define KG_BODY_GRAIN 256
@@ -35,8 +36,7 @@ typedef struct kg_solver_body {
 KG_STATIC_ASSERT(sizeof(kg_solver_body) == 32, solver_body_size);
 
 struct kg_solver {
-    kg_contact_constraint* constraints; /* in contact order, as prepared */
-    kg_contact_constraint* colored;     /* the same, grouped by colour: what the passes run over */
+    kg_contact_constraint* colored; /* grouped by colour: what the passes run over */
     int* scratch_colors;
     int capacity;
     kg_graph_coloring coloring;
@@ -45,16 +45,14 @@ struct kg_solver {
 
 static kg_result kg_solver_reserve(struct kg_solver* s, int body_capacity, int capacity)
 {
-    kg_free(s->constraints);
     kg_free(s->colored);
     kg_free(s->scratch_colors);
     kg_graph_coloring_free(&s->coloring);
-    s->constraints = kg_alloc_zeroed((size_t)capacity * sizeof *s->constraints);
     s->colored = kg_alloc_zeroed((size_t)capacity * sizeof *s->colored);
     s->scratch_colors = kg_alloc_zeroed((size_t)capacity * sizeof *s->scratch_colors);
     s->capacity = capacity;
     kg_result r = kg_graph_coloring_init(&s->coloring, body_capacity, capacity);
-    if (r == KG_OK && (!s->constraints || !s->colored || !s->scratch_colors)) {
+    if (r == KG_OK && (!s->colored || !s->scratch_colors)) {
         r = kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d contact constraints", capacity);
     }
     return r;
@@ -80,7 +78,6 @@ void kg_solver_destroy(kg_world* world)
     if (!s) {
         return;
     }
-    kg_free(s->constraints);
     kg_free(s->colored);
     kg_free(s->scratch_colors);
     kg_graph_coloring_free(&s->coloring);
@@ -192,6 +189,8 @@ typedef struct kg_constraint_job {
     kg_solver_body* bodies;
     kg_contact* contacts;
     kg_contact_constraint* constraints; /* the run being processed */
+    const int* order;                   /* the contact of each constraint (prepare) */
+    atomic_int* bounces;                /* set by prepare when a constraint has restitution */
     kg_solver_params prm;
     kg_constraint_pass pass;
 } kg_constraint_job;
@@ -247,16 +246,17 @@ static void kg_constraint_pass_run(kg_world* world, kg_constraint_job* job, kg_c
     kg_constraint_range(job, 0, g->color_start[KG_COLOR_COUNT + 1] - g->color_start[KG_COLOR_COUNT]);
 }
 
+/* Constraint k of the colour order, from its contact. */
 static void kg_prepare_range(void* context, int begin, int end)
 {
     const kg_constraint_job* job = context;
     const kg_body_pool* p = job->pool;
     for (int k = begin; k < end; ++k) {
-        const kg_contact* ct = &job->contacts[k];
+        const kg_contact* ct = &job->contacts[job->order[k]];
         kg_contact_constraint* c = &job->constraints[k];
         c->a = ct->a;
         c->b = ct->b;
-        c->contact = (kg_u32)k;
+        c->contact = (kg_u32)job->order[k];
         c->friction = ct->friction;
         c->restitution = ct->restitution;
         int a_moves = ct->a != KG_NULL_INDEX && job->bodies[ct->a].moves;
@@ -275,6 +275,9 @@ static void kg_prepare_range(void* context, int begin, int end)
         kg_vec2 center_a = ct->a != KG_NULL_INDEX ? p->center[ct->a] : origin_a;
         kg_vec2 center_b = ct->b != KG_NULL_INDEX ? p->center[ct->b] : origin_b;
         kg_contact_prepare(c, &ct->manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w, job->prm);
+        if (c->restitution != 0.0f) {
+            atomic_store_explicit(job->bounces, 1, memory_order_relaxed);
+        }
     }
 }
 
@@ -323,14 +326,13 @@ void kg_stage_solve(kg_world* world, float dt)
     kg_body_pool* p = &world->bodies;
     kg_body_job bjob = {p, s->bodies, {world->def.gravity, h, world->def.max_linear_speed}, dt,
                         world->def.enable_sleep, world->def.sleep_speed};
-    kg_constraint_job cjob = {p, s->bodies, contacts, s->constraints, kg_solver_params_of(&world->def, h), KG_PASS_SOLVE};
+    atomic_int bounces = 0;
+    kg_constraint_job cjob = {p, s->bodies, contacts, s->colored, s->coloring.order, &bounces,
+                              kg_solver_params_of(&world->def, h), KG_PASS_SOLVE};
 
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_load_bodies, &bjob);
+    kg_graph_color(&s->coloring, contacts, count, p, s->scratch_colors);
     kg_parallel_for(world->threads, count, KG_CONSTRAINT_GRAIN, kg_prepare_range, &cjob);
-    kg_graph_color(&s->coloring, s->constraints, count, p, s->scratch_colors);
-    for (int k = 0; k < count; ++k) {
-        s->colored[k] = s->constraints[s->coloring.order[k]];
-    }
     for (int step = 0; step < n; ++step) {
         kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_integrate_velocities, &bjob);
         kg_constraint_pass_run(world, &cjob, KG_PASS_WARM_START);
@@ -338,7 +340,9 @@ void kg_stage_solve(kg_world* world, float dt)
         kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_integrate_positions, &bjob);
         kg_constraint_pass_run(world, &cjob, KG_PASS_RELAX);
     }
-    kg_constraint_pass_run(world, &cjob, KG_PASS_RESTITUTION);
+    if (atomic_load(&bounces)) { /* else the pass, a loop per colour, would change nothing */
+        kg_constraint_pass_run(world, &cjob, KG_PASS_RESTITUTION);
+    }
     cjob.constraints = s->colored;
     kg_parallel_for(world->threads, count, KG_CONSTRAINT_GRAIN, kg_store_impulses_range, &cjob);
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_store_bodies, &bjob);

@@ -14,7 +14,6 @@ typedef struct kg_cl_backend {
     /* host scratch, grown (never in a steady state) when a step needs more */
     cl_uint* target_pairs;           /* (slot, multiplicity) lists of this step's applicators */
     int target_pair_capacity;
-    kg_contact_constraint* color_input; /* only .a and .b: what the colouring reads */
     int* color_scratch;
     int color_capacity;
     kg_graph_coloring coloring;

@@ -329,13 +329,11 @@ static kg_result kg_reserve_coloring(kg_world* world, kg_cl_backend* b, int coun
         return KG_OK;
     }
     int capacity = count > world->def.max_contacts ? count : world->def.max_contacts;
-    kg_free(b->color_input);
     kg_free(b->color_scratch);
     kg_graph_coloring_free(&b->coloring);
     b->color_capacity = 0;
-    b->color_input = kg_alloc_zeroed((size_t)capacity * sizeof *b->color_input);
     b->color_scratch = kg_alloc_zeroed((size_t)capacity * sizeof *b->color_scratch);
-    if (!b->color_input || !b->color_scratch) {
+    if (!b->color_scratch) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the colouring of %d contacts", capacity);
     }
     KG_TRY(kg_graph_coloring_init(&b->coloring, world->def.max_bodies, capacity));
@@ -347,11 +345,7 @@ static kg_result kg_reserve_coloring(kg_world* world, kg_cl_backend* b, int coun
  * from the contacts' bodies: the colours must be the same for the passes to be. */
 static void kg_color_contacts(kg_world* world, kg_cl_backend* b, const kg_contact* contacts, int count)
 {
-    for (int k = 0; k < count; ++k) {
-        b->color_input[k].a = contacts[k].a;
-        b->color_input[k].b = contacts[k].b;
-    }
-    kg_graph_color(&b->coloring, b->color_input, count, &world->bodies, b->color_scratch);
+    kg_graph_color(&b->coloring, contacts, count, &world->bodies, b->color_scratch);
 }
 
 /* One pass over all constraints: the colours one launch each, then the overflow by one
@@ -515,6 +509,8 @@ static kg_result kg_cl_step_stages(kg_world* world, kg_cl_backend* b, float dt)
 {
     kg_cl_world* w = b->w;
     world->times.count = 0;
+    world->times.warm_starts_carried = -1; /* contacts are built on the device, uncounted */
+    world->times.warm_starts_missed = -1;
     w->profiling = ((kg_backend_state*)world->backend_state)->profiling;
     b->checkpoint_valid = 0;
     double t = kg_now_ms();

@@ -206,7 +206,6 @@ __kernel void kg_prepare_contacts(int count, __global const kg_solver_params* pa
     c.contact = (kg_u32)k;
     c.friction = ct.friction;
     c.restitution = ct.restitution;
-    c.pad = 0;
     int a_moves = kg_takes_impulses(bodies, ct.a);
     int b_moves = kg_takes_impulses(bodies, ct.b);
     c.inv_mass_a = a_moves ? inv_mass[ct.a] : 0.0f;
