@@ -26,18 +26,13 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* substeps 0 keeps the world's defaults; otherwise the contact stiffness rises with it,
- * to a quarter of the sub-step rate (the solver's stability limit). Stacks are tested
- * with sleeping off, so that the solver alone holds them up. */
-static kg_world* make_world_with(int max_bodies, int substeps, int sleep)
+/* The world's defaults, CPU backend. Stacks are tested with sleeping off, so that the
+ * solver alone holds them up. */
+static kg_world* make_world_with(int max_bodies, int sleep)
 {
     kg_world_def def = kg_default_world_def();
     def.backend = KG_BACKEND_CPU;
     def.enable_sleep = sleep;
-    if (substeps > 0) {
-        def.substeps = substeps;
-        def.contact_hertz = 0.25f * 60.0f * (float)substeps;
-    }
     if (max_bodies > def.max_bodies) {
         def.max_bodies = max_bodies;
     }
@@ -46,7 +41,7 @@ static kg_world* make_world_with(int max_bodies, int substeps, int sleep)
     return w;
 }
 
-static kg_world* make_world(int max_bodies) { return make_world_with(max_bodies, 0, 0); }
+static kg_world* make_world(int max_bodies) { return make_world_with(max_bodies, 0); }
 
 static kg_body add(kg_world* w, kg_body_type type, kg_shape_def shape, kg_vec2 pos, float angle)
 {
@@ -75,9 +70,9 @@ typedef struct stand_run {
     double wall_s;
 } stand_run;
 
-/* Steps the world for seconds, following bodies[top] every step and every body at 1 s
- * (the settling) and at the end. */
-static stand_run run_standing(kg_world* w, const kg_body* bodies, int count, int top, double seconds)
+/* Steps the world for seconds, following bodies[top] every step and every body at
+ * settle_s (the settling) and at the end. */
+static stand_run run_standing(kg_world* w, const kg_body* bodies, int count, int top, double settle_s, double seconds)
 {
     stand_run r;
     memset(&r, 0, sizeof r);
@@ -95,7 +90,7 @@ static stand_run run_standing(kg_world* w, const kg_body* bodies, int count, int
     for (int i = 0; i < count; ++i) {
         start[i] = states[i].position;
     }
-    int settle_steps = 60, steps = (int)lround(seconds / DT);
+    int settle_steps = (int)lround(settle_s / DT), steps = (int)lround(seconds / DT);
     double t0 = now_s();
     for (int step = 1; step <= steps; ++step) {
         KG_CHECK_OK(kg_world_step(w, DT));
@@ -130,15 +125,15 @@ static stand_run run_standing(kg_world* w, const kg_body* bodies, int count, int
     return r;
 }
 
-static void print_stand(const char* label, double seconds, const stand_run* r)
+static void print_stand(const char* label, double settle_s, double seconds, const stand_run* r)
 {
     measured(
-        "measured: %s for %.0f s: top box from its place at 1 s: max %.3f mm, end %.3f mm; from its initial "
-        "placement: max %.3f mm, end %.3f mm; top angle at the end %.3g rad; any box at the end: %.3f mm from 1 s, "
-        "%.3f mm from placement; %.1f s wall\n",
-        label, seconds, r->top_from_settled_max * 1e3, r->top_from_settled_end * 1e3, r->top_from_start_max * 1e3,
-        r->top_from_start_end * 1e3, r->top_angle_end, r->any_from_settled_end * 1e3, r->any_from_start_end * 1e3,
-        r->wall_s);
+        "measured: %s for %.1f s: top box from its place at %.1f s: max %.3f mm, end %.3f mm; from its initial "
+        "placement: max %.3f mm, end %.3f mm; top angle at the end %.3g rad; any box at the end: %.3f mm from "
+        "%.1f s, %.3f mm from placement; %.1f s wall\n",
+        label, seconds, settle_s, r->top_from_settled_max * 1e3, r->top_from_settled_end * 1e3,
+        r->top_from_start_max * 1e3, r->top_from_start_end * 1e3, r->top_angle_end, settle_s,
+        r->any_from_settled_end * 1e3, r->any_from_start_end * 1e3, r->wall_s);
 }
 
 /* Static ground: a box 240 m wide, 1 m thick, its top face at y = 0. */
@@ -156,8 +151,8 @@ static void stack_of_20(double seconds)
     for (int i = 0; i < 20; ++i) {
         boxes[i] = add(w, KG_BODY_DYNAMIC, kg_box_shape(1.0f, 1.0f), (kg_vec2){0.0f, 0.5f + (float)i}, 0.0f);
     }
-    stand_run r = run_standing(w, boxes, 20, 19, seconds);
-    print_stand("stack of 20", seconds, &r);
+    stand_run r = run_standing(w, boxes, 20, 19, 1.0, seconds);
+    print_stand("stack of 20", 1.0, seconds, &r);
     KG_CHECK(r.top_from_settled_max < 0.01);
     kg_destroy_world(w);
 }
@@ -178,10 +173,13 @@ static int pyramid(kg_world* w, int base, kg_body* out)
     return n;
 }
 
-static void pyramid_run(int base, double seconds, double top_limit, int substeps)
+/* A pyramid of the given base at the world's defaults, its top box followed from
+ * settle_s: with check_end, its drift is the distance between where it is at settle_s
+ * and at the end (the issue's measure), else the largest distance from there. */
+static void pyramid_run(int base, double settle_s, double seconds, double top_limit, int check_end)
 {
     int count = base * (base + 1) / 2;
-    kg_world* w = make_world_with(count + 16, substeps, 0);
+    kg_world* w = make_world(count + 16);
     add_ground(w);
     kg_body* boxes = malloc((size_t)count * sizeof *boxes);
     KG_CHECK(boxes != NULL);
@@ -190,24 +188,25 @@ static void pyramid_run(int base, double seconds, double top_limit, int substeps
         return;
     }
     KG_CHECK(pyramid(w, base, boxes) == count);
-    stand_run r = run_standing(w, boxes, count, count - 1, seconds);
+    stand_run r = run_standing(w, boxes, count, count - 1, settle_s, seconds);
     char label[64];
     snprintf(label, sizeof label, "pyramid base %d (%d boxes, %d sub-steps)", base, count,
-             substeps > 0 ? substeps : kg_default_world_def().substeps);
-    print_stand(label, seconds, &r);
-    KG_CHECK(r.top_from_settled_max < top_limit);
+             kg_default_world_def().substeps);
+    print_stand(label, settle_s, seconds, &r);
+    KG_CHECK((check_end ? r.top_from_settled_end : r.top_from_settled_max) < top_limit);
     free(boxes);
     kg_destroy_world(w);
 }
 
 static void test_stack_of_20_stands_10_s(void) { stack_of_20(10.0); }
 static void test_stack_of_20_stands_60_s(void) { stack_of_20(60.0); }
-/* Base 20: the stack's limit, 1 cm. Base 100: the issue's 5 cm, which the default 8
- * sub-steps miss narrowly (52 mm measured): its bottom rows carry 50 boxes, and soft
- * contacts sag by load / (m omega^2), so this one runs 16 sub-steps at 240 Hz. */
-static void test_pyramid_20_stands_4_s(void) { pyramid_run(20, 4.0, 0.01, 0); }
-static void test_pyramid_20_stands_60_s(void) { pyramid_run(20, 60.0, 0.01, 0); }
-static void test_pyramid_100_stands_10_s(void) { pyramid_run(100, 10.0, 0.05, 16); }
+/* Base 20: the stack's limit, 1 cm, from 1 s on. Base 100 (Box2D's large pyramid): its
+ * bottom rows carry 50 boxes and soft contacts sag by load / (m omega^2), 0.5 m at the
+ * defaults, by 2.5 s; from there to 8.3 s the top box must drift less than 1.5 cm
+ * (issue 13; the best engine measured did 1.2 cm). */
+static void test_pyramid_20_stands_4_s(void) { pyramid_run(20, 1.0, 4.0, 0.01, 0); }
+static void test_pyramid_20_stands_60_s(void) { pyramid_run(20, 1.0, 60.0, 0.01, 0); }
+static void test_pyramid_100_holds_from_2_5_to_8_3_s(void) { pyramid_run(100, 2.5, 8.33, 0.015, 1); }
 
 /* A loaded pyramid tilts its boxes past the narrowphase's reference tolerance, which
  * passes the reference face from one box to the other; with feature ids that named the
@@ -303,7 +302,7 @@ static void test_pile_of_1000_comes_to_rest(void)
 {
     enum { COUNT = 1000, COLS = 40, STEPS = 1800 };
     const float cell = 1.2f, width = COLS * cell;
-    kg_world* w = make_world_with(COUNT + 16, 0, 1);
+    kg_world* w = make_world_with(COUNT + 16, 1);
     add(w, KG_BODY_STATIC, kg_box_shape(width + 2.0f, 1.0f), (kg_vec2){0.0f, -0.5f}, 0.0f);
     add(w, KG_BODY_STATIC, kg_box_shape(1.0f, 80.0f), (kg_vec2){-0.5f * width - 0.5f, 39.0f}, 0.0f);
     add(w, KG_BODY_STATIC, kg_box_shape(1.0f, 80.0f), (kg_vec2){0.5f * width + 0.5f, 39.0f}, 0.0f);
@@ -366,7 +365,7 @@ static void test_pile_of_1000_comes_to_rest(void)
 static const kg_test_case all_tests[] = {
     KG_TEST(test_stack_of_20_stands_10_s), KG_TEST(test_pyramid_20_stands_4_s),
     KG_TEST(test_pyramid_keeps_its_warm_starts), KG_TEST(test_stack_of_20_stands_60_s), KG_TEST(test_pyramid_20_stands_60_s),
-    KG_TEST(test_pyramid_100_stands_10_s), KG_TEST(test_pile_of_1000_comes_to_rest),
+    KG_TEST(test_pyramid_100_holds_from_2_5_to_8_3_s), KG_TEST(test_pile_of_1000_comes_to_rest),
 };
 enum { QUICK_TESTS = 3, ALL_TESTS = (int)(sizeof all_tests / sizeof all_tests[0]) };
 

@@ -1,0 +1,297 @@
+/* The contact constraint's passes, written once over a lane type and instantiated per
+ * width (no include guard: included once per width).
+ *
+ *   KG_W 1   a lane is a float: kg_contact_constraint is one constraint. The OpenCL
+ *            kernels (one work-item a constraint), and the CPU where it has no SIMD.
+ *   KG_W 4/8 a lane is a GCC/Clang vector of W floats: kg_contact_constraint_wW holds W
+ *            constraints of one colour (no two share a moving body), each field a vector
+ *            of their W values (structure of arrays); bodies are gathered into lanes
+ *            before a pass and scattered back after it (solver.c).
+ *
+ * Every lane runs the same IEEE operations in the same order whatever the width: there
+ * is no branch on a lane's data, only selects, so a constraint computes the same bits in
+ * a kernel, a scalar loop or any lane of any width (no contraction into FMA: the build
+ * says -ffp-contract=off and the kernels FP_CONTRACT OFF). A second point that a contact
+ * does not have, or a padding lane, has zero masses and impulses and changes nothing.
+ *
+ * Before including: KG_W; kg_lane, kg_lmask, kg_lindex and kg_lint (the float,
+ * comparison, slot and count types); KG_SEL(mask, a, b) and KG_LZERO. */
+
+#if KG_W == 1
+#define KG_L(name) name
+#else
+#define KG_L3(name, w) name##_w##w
+#define KG_L2(name, w) KG_L3(name, w)
+#define KG_L(name) KG_L2(name, KG_W)
+#endif
+
+#if KG_W == 1
+#define kg_lv2 kg_vec2
+#define kg_lq kg_rot
+#else
+typedef struct KG_L(kg_lvec2) {
+    kg_lane x, y;
+} KG_L(kg_lvec2);
+
+typedef struct KG_L(kg_lrot) {
+    kg_lane c, s;
+} KG_L(kg_lrot);
+
+#define kg_lv2 KG_L(kg_lvec2)
+#define kg_lq KG_L(kg_lrot)
+#endif
+
+typedef struct KG_L(kg_constraint_point) {
+    kg_lv2 anchor_a, anchor_b; /* from each body's centre of mass, world axes, at step start */
+    kg_lane base_separation;   /* separation minus the anchors' offset along the normal */
+    kg_lane normal_impulse;
+    kg_lane tangent_impulse;
+    kg_lane max_normal_impulse; /* largest over the sub-steps: a point that never pushed does not bounce */
+    kg_lane normal_mass;
+    kg_lane tangent_mass;
+    kg_lane relative_velocity; /* approach speed before solving, for restitution */
+    kg_lane pad;
+} KG_L(kg_constraint_point);
+
+typedef struct KG_L(kg_contact_constraint) {
+    KG_L(kg_constraint_point) points[2];
+    kg_lv2 normal;
+    kg_lane inv_mass_a, inv_i_a, inv_mass_b, inv_i_b;
+    kg_lane friction, restitution;
+    kg_lane bias_rate, mass_scale, impulse_scale; /* the contact's softness */
+    kg_lane share_b;                              /* b's share of the inverse mass: where the anchors meet */
+    /* the inverse of the two normal rows' 2x2 mass (the block solve), made at prepare;
+     * block 0 when the contact has one point or the rows are too nearly redundant */
+    kg_lane inv_k11, inv_k12, inv_k22, block;
+    kg_lindex a, b;    /* body slots; KG_NULL_INDEX = the static world (or a padding lane) */
+    kg_lindex contact; /* index of the contact it came from */
+    kg_lint point_count;
+} KG_L(kg_contact_constraint);
+
+/* A body's motion seen by the solver: velocity, and how far it moved and turned since
+ * the step began (to update separations without recomputing the manifold). */
+typedef struct KG_L(kg_body_motion) {
+    kg_lv2 v;
+    kg_lane w;
+    kg_lv2 dp;
+    kg_lq dq;
+} KG_L(kg_body_motion);
+
+#define kg_lmotion KG_L(kg_body_motion)
+#define kg_lrow KG_L(kg_contact_constraint)
+#define kg_lpoint KG_L(kg_constraint_point)
+
+KG_FN kg_lv2 KG_L(kg_lmake)(kg_lane x, kg_lane y)
+{
+    kg_lv2 r;
+    r.x = x;
+    r.y = y;
+    return r;
+}
+KG_FN kg_lv2 KG_L(kg_ladd)(kg_lv2 a, kg_lv2 b) { return KG_L(kg_lmake)(a.x + b.x, a.y + b.y); }
+KG_FN kg_lv2 KG_L(kg_lsub)(kg_lv2 a, kg_lv2 b) { return KG_L(kg_lmake)(a.x - b.x, a.y - b.y); }
+KG_FN kg_lv2 KG_L(kg_lscale)(kg_lane s, kg_lv2 v) { return KG_L(kg_lmake)(s * v.x, s * v.y); }
+KG_FN kg_lane KG_L(kg_ldot)(kg_lv2 a, kg_lv2 b) { return a.x * b.x + a.y * b.y; }
+KG_FN kg_lane KG_L(kg_lcross)(kg_lv2 a, kg_lv2 b) { return a.x * b.y - a.y * b.x; }
+KG_FN kg_lv2 KG_L(kg_lright_perp)(kg_lv2 v) { return KG_L(kg_lmake)(v.y, -v.x); }
+KG_FN kg_lv2 KG_L(kg_lrotate)(kg_lq q, kg_lv2 v)
+{
+    return KG_L(kg_lmake)(q.c * v.x - q.s * v.y, q.s * v.x + q.c * v.y);
+}
+/* v + w x r: the velocity of the point r of a body */
+KG_FN kg_lv2 KG_L(kg_lpoint_velocity)(kg_lv2 v, kg_lane w, kg_lv2 r)
+{
+    return KG_L(kg_lmake)(v.x - w * r.y, v.y + w * r.x);
+}
+KG_FN kg_lane KG_L(kg_lmax)(kg_lane a, kg_lane b) { return KG_SEL(a > b, a, b); }
+KG_FN kg_lane KG_L(kg_lmin)(kg_lane a, kg_lane b) { return KG_SEL(a < b, a, b); }
+
+KG_FN void KG_L(kg_apply_impulse_pair)(const kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_lv2 ra, kg_lv2 rb, kg_lv2 p)
+{
+    a->v = KG_L(kg_lsub)(a->v, KG_L(kg_lscale)(c->inv_mass_a, p));
+    a->w = a->w - c->inv_i_a * KG_L(kg_lcross)(ra, p);
+    b->v = KG_L(kg_ladd)(b->v, KG_L(kg_lscale)(c->inv_mass_b, p));
+    b->w = b->w + c->inv_i_b * KG_L(kg_lcross)(rb, p);
+}
+
+/* The anchors an impulse acts at. Box2D keeps each body's anchor fixed relative to its
+ * centre during the step; but the bodies move apart, so the equal and opposite impulses
+ * (normal and friction) then act at two points and add a torque to the pair (angular
+ * momentum drifted by 1e-3 in an off-centre hit). Both anchors are moved to one point,
+ * weighted by inverse mass: against an immovable body it stays with the moving body
+ * (exactly Box2D's anchor, so a sliding circle feels no lever arm), between equal bodies
+ * it is halfway. Anchors do not turn with the bodies: a spinning circle's anchor must
+ * stay at its bottom. */
+KG_FN void KG_L(kg_current_anchors)(const kg_lrow* c, const kg_lpoint* cp, const kg_lmotion* a, const kg_lmotion* b,
+                                    kg_lv2* ra, kg_lv2* rb)
+{
+    kg_lv2 gap = KG_L(kg_lsub)(b->dp, a->dp); /* how far b's anchor point moved from a's */
+    *ra = KG_L(kg_ladd)(cp->anchor_a, KG_L(kg_lscale)(c->share_b, gap));
+    *rb = KG_L(kg_lsub)(cp->anchor_b, KG_L(kg_lscale)(1.0f - c->share_b, gap));
+}
+
+KG_FN kg_lane KG_L(kg_normal_velocity_at)(const kg_lrow* c, const kg_lmotion* a, const kg_lmotion* b, kg_lv2 ra,
+                                          kg_lv2 rb)
+{
+    kg_lv2 dv = KG_L(kg_lsub)(KG_L(kg_lpoint_velocity)(b->v, b->w, rb), KG_L(kg_lpoint_velocity)(a->v, a->w, ra));
+    return KG_L(kg_ldot)(dv, c->normal);
+}
+
+/* Applies last step's impulses at the start of a sub-step. */
+KG_FN void KG_L(kg_contact_warm_start)(const kg_lrow* c, kg_lmotion* a, kg_lmotion* b)
+{
+    kg_lv2 t = KG_L(kg_lright_perp)(c->normal);
+    for (int j = 0; j < 2; ++j) {
+        const kg_lpoint* cp = &c->points[j];
+        kg_lv2 ra, rb;
+        KG_L(kg_current_anchors)(c, cp, a, b, &ra, &rb);
+        kg_lv2 p = KG_L(kg_ladd)(KG_L(kg_lscale)(cp->normal_impulse, c->normal), KG_L(kg_lscale)(cp->tangent_impulse, t));
+        KG_L(kg_apply_impulse_pair)(c, a, b, ra, rb, p);
+    }
+}
+
+/* Separation of point j now, from how far the bodies moved since the manifold. */
+KG_FN kg_lane KG_L(kg_current_separation)(const kg_lrow* c, const kg_lpoint* cp, const kg_lmotion* a,
+                                          const kg_lmotion* b)
+{
+    kg_lv2 d = KG_L(kg_ladd)(KG_L(kg_lsub)(b->dp, a->dp),
+                             KG_L(kg_lsub)(KG_L(kg_lrotate)(b->dq, cp->anchor_b), KG_L(kg_lrotate)(a->dq, cp->anchor_a)));
+    return KG_L(kg_ldot)(d, c->normal) + cp->base_separation;
+}
+
+/* The velocity target of a point: a speculative gap (s > 0) may close within the
+ * sub-step; a penetration is pushed out softly (use_bias) at a bounded speed. */
+typedef struct KG_L(kg_point_bias) {
+    kg_lane bias, mass_scale, impulse_scale;
+} KG_L(kg_point_bias);
+
+KG_FN KG_L(kg_point_bias) KG_L(kg_point_bias_of)(const kg_lrow* c, kg_lane s, kg_solver_params prm, int use_bias)
+{
+    KG_L(kg_point_bias) pb;
+    kg_lmask apart = s > KG_LZERO;
+    kg_lane zero = KG_LZERO;
+    kg_lane push = use_bias ? KG_L(kg_lmax)(c->bias_rate * s, zero - prm.max_push_out_speed) : zero;
+    pb.bias = KG_SEL(apart, s * prm.inv_h, push);
+    pb.mass_scale = use_bias ? KG_SEL(apart, zero + 1.0f, c->mass_scale) : zero + 1.0f;
+    pb.impulse_scale = use_bias ? KG_SEL(apart, zero, c->impulse_scale) : zero;
+    return pb;
+}
+
+/* Adds an impulse (already clamped so that the total stays >= 0) to point cp's
+ * accumulated normal impulse, where vn is the normal velocity it answers. The first push of the step records vn as the approach
+ * speed for restitution: sampled at the start of the step it would miss the speed
+ * gained (up to g dt) before the bodies actually met. */
+KG_FN void KG_L(kg_accumulate_normal)(kg_lpoint* cp, kg_lane applied, kg_lane vn)
+{
+    kg_lmask first = (cp->max_normal_impulse == KG_LZERO) & (applied > KG_LZERO);
+    cp->relative_velocity = KG_SEL(first, vn, cp->relative_velocity);
+    cp->normal_impulse = cp->normal_impulse + applied;
+    cp->max_normal_impulse = KG_L(kg_lmax)(cp->max_normal_impulse, applied);
+}
+
+/* One Gauss-Seidel pass over the constraint: normal impulses (soft when use_bias), then
+ * friction bounded by the new normal impulses.
+ *
+ * A two-point contact's normal impulses are solved together as a 2x2 problem (Box2D
+ * v2's block solver) where both points stay pushing and in the same regime: solving
+ * them one after the other leaves a small torque each time, which a 20-box stack
+ * amplifies until it topples (measured at 4 sub-steps, where it leans 1.5 m in 10 s).
+ * Elsewhere the points go one after the other. Both are computed, and a select keeps
+ * one, so every lane runs the same operations. */
+KG_FN void KG_L(kg_contact_solve)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_solver_params prm, int use_bias)
+{
+    kg_lv2 ra[2], rb[2];
+    KG_L(kg_point_bias) pb[2];
+    kg_lane vn[2];
+    for (int j = 0; j < 2; ++j) {
+        KG_L(kg_current_anchors)(c, &c->points[j], a, b, &ra[j], &rb[j]);
+        pb[j] = KG_L(kg_point_bias_of)(c, KG_L(kg_current_separation)(c, &c->points[j], a, b), prm, use_bias);
+        vn[j] = KG_L(kg_normal_velocity_at)(c, a, b, ra[j], rb[j]);
+    }
+    kg_lane zero = KG_LZERO;
+    /* the block candidate, from the velocities before either point */
+    kg_lane rhs0 = pb[0].mass_scale * (vn[0] + pb[0].bias), rhs1 = pb[1].mass_scale * (vn[1] + pb[1].bias);
+    kg_lane acc0 = c->points[0].normal_impulse, acc1 = c->points[1].normal_impulse;
+    kg_lane x0 = -(c->inv_k11 * rhs0 + c->inv_k12 * rhs1) - pb[0].impulse_scale * acc0;
+    kg_lane x1 = -(c->inv_k12 * rhs0 + c->inv_k22 * rhs1) - pb[1].impulse_scale * acc1;
+    kg_lmask use_block = (c->block > zero) & (pb[0].mass_scale == pb[1].mass_scale) & (acc0 + x0 >= zero) &
+                         (acc1 + x1 >= zero);
+    /* one point after the other, each seeing the other's impulse */
+    kg_lmotion sa = *a, sb = *b;
+    kg_lane seq[2];
+    for (int j = 0; j < 2; ++j) {
+        kg_lpoint* cp = &c->points[j];
+        kg_lane v = KG_L(kg_normal_velocity_at)(c, &sa, &sb, ra[j], rb[j]);
+        kg_lane impulse = -cp->normal_mass * pb[j].mass_scale * (v + pb[j].bias) - pb[j].impulse_scale * cp->normal_impulse;
+        seq[j] = KG_L(kg_lmax)(cp->normal_impulse + impulse, zero) - cp->normal_impulse;
+        vn[j] = KG_SEL(use_block, vn[j], v);
+        KG_L(kg_apply_impulse_pair)(c, &sa, &sb, ra[j], rb[j], KG_L(kg_lscale)(KG_SEL(use_block, zero, seq[j]), c->normal));
+    }
+    kg_lane block_x[2] = {x0, x1};
+    for (int j = 0; j < 2; ++j) {
+        KG_L(kg_accumulate_normal)(&c->points[j], KG_SEL(use_block, block_x[j], seq[j]), vn[j]);
+        KG_L(kg_apply_impulse_pair)(c, a, b, ra[j], rb[j], KG_L(kg_lscale)(KG_SEL(use_block, block_x[j], zero), c->normal));
+    }
+    a->v = KG_L(kg_lmake)(KG_SEL(use_block, a->v.x, sa.v.x), KG_SEL(use_block, a->v.y, sa.v.y));
+    a->w = KG_SEL(use_block, a->w, sa.w);
+    b->v = KG_L(kg_lmake)(KG_SEL(use_block, b->v.x, sb.v.x), KG_SEL(use_block, b->v.y, sb.v.y));
+    b->w = KG_SEL(use_block, b->w, sb.w);
+
+    kg_lv2 t = KG_L(kg_lright_perp)(c->normal);
+    for (int j = 0; j < 2; ++j) {
+        kg_lpoint* cp = &c->points[j];
+        kg_lv2 dv = KG_L(kg_lsub)(KG_L(kg_lpoint_velocity)(b->v, b->w, rb[j]), KG_L(kg_lpoint_velocity)(a->v, a->w, ra[j]));
+        kg_lane vt = KG_L(kg_ldot)(dv, t);
+        kg_lane max_friction = c->friction * cp->normal_impulse;
+        kg_lane accumulated = KG_L(kg_lmin)(KG_L(kg_lmax)(cp->tangent_impulse - cp->tangent_mass * vt, -max_friction),
+                                            max_friction);
+        kg_lane impulse = accumulated - cp->tangent_impulse;
+        cp->tangent_impulse = accumulated;
+        KG_L(kg_apply_impulse_pair)(c, a, b, ra[j], rb[j], KG_L(kg_lscale)(impulse, t));
+    }
+}
+
+/* The restitution pass: where a point was approaching faster than the threshold and
+ * did push, the rebound speed becomes restitution times the approach speed. Both
+ * points of a bouncing two-point contact at once where the block solution pushes, so
+ * two equal boxes meeting face to face exchange their velocities instead of starting
+ * to spin; else one after the other. */
+KG_FN void KG_L(kg_contact_restitution)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_solver_params prm)
+{
+    kg_lv2 ra[2], rb[2];
+    kg_lmask bounces[2];
+    kg_lane rhs[2];
+    kg_lane zero = KG_LZERO;
+    for (int j = 0; j < 2; ++j) {
+        const kg_lpoint* cp = &c->points[j];
+        KG_L(kg_current_anchors)(c, cp, a, b, &ra[j], &rb[j]);
+        bounces[j] = (cp->relative_velocity < zero - prm.restitution_threshold) & (cp->max_normal_impulse > zero) &
+                     (c->restitution != zero);
+        rhs[j] = KG_L(kg_normal_velocity_at)(c, a, b, ra[j], rb[j]) + c->restitution * cp->relative_velocity;
+    }
+    kg_lane x0 = -(c->inv_k11 * rhs[0] + c->inv_k12 * rhs[1]);
+    kg_lane x1 = -(c->inv_k12 * rhs[0] + c->inv_k22 * rhs[1]);
+    kg_lmask use_block = bounces[0] & bounces[1] & (c->block > zero) & (c->points[0].normal_impulse + x0 >= zero) &
+                         (c->points[1].normal_impulse + x1 >= zero);
+    kg_lane block_x[2] = {x0, x1};
+    for (int j = 0; j < 2; ++j) {
+        kg_lpoint* cp = &c->points[j];
+        kg_lane vn = KG_L(kg_normal_velocity_at)(c, a, b, ra[j], rb[j]);
+        kg_lane impulse = -cp->normal_mass * (vn + c->restitution * cp->relative_velocity);
+        kg_lane applied = KG_L(kg_lmax)(cp->normal_impulse + impulse, zero) - cp->normal_impulse;
+        applied = KG_SEL(use_block, block_x[j], KG_SEL(bounces[j], applied, zero));
+        cp->normal_impulse = cp->normal_impulse + applied;
+        KG_L(kg_apply_impulse_pair)(c, a, b, ra[j], rb[j], KG_L(kg_lscale)(applied, c->normal));
+    }
+}
+
+#undef kg_lv2
+#undef kg_lq
+#undef kg_lmotion
+#undef kg_lrow
+#undef kg_lpoint
+#undef KG_L
+#ifdef KG_L2
+#undef KG_L2
+#undef KG_L3
+#endif
