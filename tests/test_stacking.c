@@ -132,8 +132,8 @@ static void print_stand(const char* label, double settle_s, double seconds, cons
         "placement: max %.3f mm, end %.3f mm; top angle at the end %.3g rad; any box at the end: %.3f mm from "
         "%.1f s, %.3f mm from placement; %.1f s wall\n",
         label, seconds, settle_s, r->top_from_settled_max * 1e3, r->top_from_settled_end * 1e3,
-        r->top_from_start_max * 1e3, r->top_from_start_end * 1e3, r->top_angle_end, settle_s,
-        r->any_from_settled_end * 1e3, r->any_from_start_end * 1e3, r->wall_s);
+        r->top_from_start_max * 1e3, r->top_from_start_end * 1e3, r->top_angle_end, r->any_from_settled_end * 1e3,
+        settle_s, r->any_from_start_end * 1e3, r->wall_s);
 }
 
 /* Static ground: a box 240 m wide, 1 m thick, its top face at y = 0. */
