@@ -3,7 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define KG_ALIGNMENT 16
+#define KG_ALIGNMENT 64
 
 void* kg_alloc_zeroed(size_t size)
 {

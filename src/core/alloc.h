@@ -1,4 +1,5 @@
-/* All engine memory goes through here: 16-byte aligned (SIMD- and device-friendly),
+/* All engine memory goes through here: 64-byte aligned (a cache line: SIMD rows of any
+ * width, device buffers),
  * zeroed, and only ever called outside a step. */
 #ifndef KG_ALLOC_H
 #define KG_ALLOC_H

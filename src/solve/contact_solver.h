@@ -40,19 +40,33 @@ typedef struct kg_solver_params {
 /* The passes over one constraint, a float a lane (contact_row.h; the CPU's SIMD widths
  * are instantiated in solve/contact_wide.c). */
 #define KG_W 1
-typedef float kg_lane;
-typedef int kg_lmask;
-typedef kg_u32 kg_lindex;
-typedef kg_i32 kg_lint;
+#define kg_lane float
+#define kg_lmask int
+#define kg_lindex kg_u32
+#define kg_lint kg_i32
 #define KG_SEL(mask, a, b) ((mask) ? (a) : (b))
 #define KG_LZERO 0.0f
 #include "solve/contact_row.h"
+#undef kg_lane
+#undef kg_lmask
+#undef kg_lindex
+#undef kg_lint
 #undef KG_SEL
 #undef KG_LZERO
 #undef KG_W
 
 KG_STATIC_ASSERT(sizeof(kg_constraint_point) == 48, constraint_point_size);
 KG_STATIC_ASSERT(sizeof(kg_contact_constraint) == 176, contact_constraint_size);
+
+/* What the solver reads and writes of a body, packed in 32 bytes so a constraint
+ * touches two cache-line halves instead of six scattered arrays. The pool's poses stay
+ * put during the solve: dp and dq accumulate and are applied at the end. */
+typedef struct kg_solver_body {
+    kg_body_motion motion;
+    kg_u32 moves; /* takes impulses: dynamic body or particle */
+} kg_solver_body;
+
+KG_STATIC_ASSERT(sizeof(kg_solver_body) == 32, solver_body_size);
 
 KG_FN kg_softness kg_make_softness(float hertz, float damping_ratio, float h)
 {

@@ -14,7 +14,7 @@
 #include "collide/collide.h"
 #include "core/alloc.h"
 #include "core/error.h"
-#include "solve/contact_solver.h"
+#include "solve/contact_wide.h"
 #include "solve/graph_color.h"
 #include "solve/integrate.h"
 #include "solve/island.h"
@@ -25,37 +25,38 @@
 #define KG_BODY_GRAIN 256
 #define KG_CONSTRAINT_GRAIN 64
 
-/* What the solver reads and writes of a body, packed in 32 bytes so a constraint
- * touches two cache-line halves instead of six scattered arrays. Positions are not
- * moved during the step: dp and dq accumulate and are applied at the end. */
-typedef struct kg_solver_body {
-    kg_body_motion motion;
-    kg_u32 moves; /* takes impulses: dynamic body or particle */
-} kg_solver_body;
-
-KG_STATIC_ASSERT(sizeof(kg_solver_body) == 32, solver_body_size);
-
 struct kg_solver {
-    kg_contact_constraint* colored; /* grouped by colour: what the passes run over */
+    const kg_contact_rows* rows; /* the SIMD width's row code */
+    void* blocks;                /* rows of width lanes, colour by colour: what the passes run over */
+    int block_capacity;
+    int block_start[KG_COLOR_COUNT + 2]; /* colour c's blocks are [block_start[c], block_start[c+1]) */
     int* scratch_colors;
     int capacity;
     kg_graph_coloring coloring;
     kg_solver_body* bodies;
 };
 
+static kg_result kg_reserve_blocks(struct kg_solver* s, int blocks)
+{
+    kg_free(s->blocks);
+    s->blocks = kg_alloc_zeroed((size_t)blocks * s->rows->block_size);
+    s->block_capacity = s->blocks ? blocks : 0;
+    return s->blocks ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d constraint blocks", blocks);
+}
+
 static kg_result kg_solver_reserve(struct kg_solver* s, int body_capacity, int capacity)
 {
-    kg_free(s->colored);
     kg_free(s->scratch_colors);
     kg_graph_coloring_free(&s->coloring);
-    s->colored = kg_alloc_zeroed((size_t)capacity * sizeof *s->colored);
     s->scratch_colors = kg_alloc_zeroed((size_t)capacity * sizeof *s->scratch_colors);
     s->capacity = capacity;
     kg_result r = kg_graph_coloring_init(&s->coloring, body_capacity, capacity);
-    if (r == KG_OK && (!s->colored || !s->scratch_colors)) {
+    if (r == KG_OK && !s->scratch_colors) {
         r = kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d contact constraints", capacity);
     }
-    return r;
+    /* every colour's last block part empty, and a little overflow */
+    int width = s->rows->width;
+    return r == KG_OK ? kg_reserve_blocks(s, (capacity + width - 1) / width + 2 * KG_COLOR_COUNT) : r;
 }
 
 kg_result kg_solver_create(kg_world* world)
@@ -65,6 +66,11 @@ kg_result kg_solver_create(kg_world* world)
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the solver");
     }
     world->solver = s;
+    s->rows = kg_contact_rows_of(0);
+    if (!s->rows) {
+        kg_warn_once("simd-width", "KGYRO_SIMD_WIDTH names a width this build or CPU cannot run: using 1");
+        s->rows = kg_contact_rows_of(1);
+    }
     s->bodies = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->bodies);
     if (!s->bodies) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the solver");
@@ -78,7 +84,7 @@ void kg_solver_destroy(kg_world* world)
     if (!s) {
         return;
     }
-    kg_free(s->colored);
+    kg_free(s->blocks);
     kg_free(s->scratch_colors);
     kg_graph_coloring_free(&s->coloring);
     kg_free(s->bodies);
@@ -182,18 +188,41 @@ static void kg_store_bodies(void* context, int begin, int end)
 
 /* ---- per-constraint loops ---------------------------------------------------------- */
 
-typedef enum kg_constraint_pass { KG_PASS_WARM_START, KG_PASS_SOLVE, KG_PASS_RELAX, KG_PASS_RESTITUTION } kg_constraint_pass;
-
 typedef struct kg_constraint_job {
     kg_body_pool* pool;
     kg_solver_body* bodies;
     kg_contact* contacts;
-    kg_contact_constraint* constraints; /* the run being processed */
-    const int* order;                   /* the contact of each constraint (prepare) */
-    atomic_int* bounces;                /* set by prepare when a constraint has restitution */
+    const struct kg_solver* solver;
+    int first_block; /* of the colour a pass runs over */
+    atomic_int* bounces; /* set by prepare when a constraint has restitution */
     kg_solver_params prm;
     kg_constraint_pass pass;
 } kg_constraint_job;
+
+static void kg_pass_range(void* context, int begin, int end)
+{
+    const kg_constraint_job* job = context;
+    int first = job->first_block;
+    job->solver->rows->run(job->solver->blocks, first + begin, first + end, job->bodies, job->prm, job->pass);
+}
+
+/* One pass over all constraints: the colours' blocks in parallel one colour after
+ * another, then the overflow serially in order. */
+static void kg_constraint_pass_run(kg_world* world, kg_constraint_job* job, kg_constraint_pass pass)
+{
+    const struct kg_solver* s = world->solver;
+    int grain = KG_CONSTRAINT_GRAIN / s->rows->width;
+    job->pass = pass;
+    for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
+        job->first_block = s->block_start[c];
+        int blocks = s->block_start[c + 1] - s->block_start[c];
+        if (c < KG_COLOR_COUNT) {
+            kg_parallel_for(world->threads, blocks, grain, kg_pass_range, job);
+        } else {
+            kg_pass_range(job, 0, blocks);
+        }
+    }
+}
 
 static const kg_body_motion kg_still_motion = {{0.0f, 0.0f}, 0.0f, {0.0f, 0.0f}, {1.0f, 0.0f}};
 
@@ -202,81 +231,64 @@ static kg_body_motion kg_load_motion(const kg_constraint_job* job, kg_u32 slot)
     return slot == KG_NULL_INDEX ? kg_still_motion : job->bodies[slot].motion;
 }
 
-static void kg_store_motion(const kg_constraint_job* job, kg_u32 slot, const kg_body_motion* m)
+/* The constraint of contact k; 0 when it has nothing to solve (both bodies asleep or
+ * frozen: impulses kept as they are). */
+static int kg_prepare_one(const kg_constraint_job* job, int k, kg_contact_constraint* c)
 {
-    if (slot != KG_NULL_INDEX && job->bodies[slot].moves) {
-        job->bodies[slot].motion.v = m->v;
-        job->bodies[slot].motion.w = m->w;
+    const kg_body_pool* p = job->pool;
+    const kg_contact* ct = &job->contacts[k];
+    int a_moves = ct->a != KG_NULL_INDEX && job->bodies[ct->a].moves;
+    int b_moves = ct->b != KG_NULL_INDEX && job->bodies[ct->b].moves;
+    if (!a_moves && !b_moves) {
+        return 0;
     }
+    c->a = ct->a;
+    c->b = ct->b;
+    c->contact = (kg_u32)k;
+    c->friction = ct->friction;
+    c->restitution = ct->restitution;
+    c->inv_mass_a = a_moves ? p->inv_mass[ct->a] : 0.0f;
+    c->inv_i_a = a_moves ? p->inv_inertia[ct->a] : 0.0f;
+    c->inv_mass_b = b_moves ? p->inv_mass[ct->b] : 0.0f;
+    c->inv_i_b = b_moves ? p->inv_inertia[ct->b] : 0.0f;
+    kg_body_motion ma = kg_load_motion(job, ct->a), mb = kg_load_motion(job, ct->b);
+    kg_vec2 origin_a = ct->a != KG_NULL_INDEX ? p->xf[ct->a].p : kg_v2(0.0f, 0.0f);
+    kg_vec2 origin_b = ct->b != KG_NULL_INDEX ? p->xf[ct->b].p : kg_v2(0.0f, 0.0f);
+    kg_vec2 center_a = ct->a != KG_NULL_INDEX ? p->center[ct->a] : origin_a;
+    kg_vec2 center_b = ct->b != KG_NULL_INDEX ? p->center[ct->b] : origin_b;
+    kg_contact_prepare(c, &ct->manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w, job->prm);
+    if (c->restitution != 0.0f) {
+        atomic_store_explicit(job->bounces, 1, memory_order_relaxed);
+    }
+    return 1;
 }
 
-static void kg_constraint_range(void* context, int begin, int end)
+/* The colour a block belongs to. */
+static int kg_color_of_block(const struct kg_solver* s, int block)
 {
-    const kg_constraint_job* job = context;
-    for (int k = begin; k < end; ++k) {
-        kg_contact_constraint* c = &job->constraints[k];
-        if (c->point_count == 0) {
-            continue; /* between sleeping or frozen bodies: nothing moves */
-        }
-        kg_body_motion a = kg_load_motion(job, c->a), b = kg_load_motion(job, c->b);
-        switch (job->pass) {
-        case KG_PASS_WARM_START: kg_contact_warm_start(c, &a, &b); break;
-        case KG_PASS_SOLVE: kg_contact_solve(c, &a, &b, job->prm, 1); break;
-        case KG_PASS_RELAX: kg_contact_solve(c, &a, &b, job->prm, 0); break;
-        case KG_PASS_RESTITUTION: kg_contact_restitution(c, &a, &b, job->prm); break;
-        }
-        kg_store_motion(job, c->a, &a);
-        kg_store_motion(job, c->b, &b);
+    int c = 0;
+    while (block >= s->block_start[c + 1]) {
+        ++c;
     }
+    return c;
 }
 
-/* One pass over all constraints: the colours in parallel one after another, then the
- * overflow serially in order. */
-static void kg_constraint_pass_run(kg_world* world, kg_constraint_job* job, kg_constraint_pass pass)
-{
-    const kg_graph_coloring* g = &world->solver->coloring;
-    kg_contact_constraint* colored = world->solver->colored;
-    job->pass = pass;
-    for (int c = 0; c < g->color_count; ++c) {
-        job->constraints = colored + g->color_start[c];
-        kg_parallel_for(world->threads, g->color_start[c + 1] - g->color_start[c], KG_CONSTRAINT_GRAIN,
-                        kg_constraint_range, job);
-    }
-    job->constraints = colored + g->color_start[KG_COLOR_COUNT];
-    kg_constraint_range(job, 0, g->color_start[KG_COLOR_COUNT + 1] - g->color_start[KG_COLOR_COUNT]);
-}
-
-/* Constraint k of the colour order, from its contact. */
+/* Blocks [begin, end), lane by lane, from the contacts in colour order; lanes past the
+ * colour's end and constraints with nothing to solve are empty. */
 static void kg_prepare_range(void* context, int begin, int end)
 {
     const kg_constraint_job* job = context;
-    const kg_body_pool* p = job->pool;
-    for (int k = begin; k < end; ++k) {
-        const kg_contact* ct = &job->contacts[job->order[k]];
-        kg_contact_constraint* c = &job->constraints[k];
-        c->a = ct->a;
-        c->b = ct->b;
-        c->contact = (kg_u32)job->order[k];
-        c->friction = ct->friction;
-        c->restitution = ct->restitution;
-        int a_moves = ct->a != KG_NULL_INDEX && job->bodies[ct->a].moves;
-        int b_moves = ct->b != KG_NULL_INDEX && job->bodies[ct->b].moves;
-        if (!a_moves && !b_moves) {
-            c->point_count = 0; /* asleep or frozen on both sides: nothing to solve, impulses kept */
-            continue;
-        }
-        c->inv_mass_a = a_moves ? p->inv_mass[ct->a] : 0.0f;
-        c->inv_i_a = a_moves ? p->inv_inertia[ct->a] : 0.0f;
-        c->inv_mass_b = b_moves ? p->inv_mass[ct->b] : 0.0f;
-        c->inv_i_b = b_moves ? p->inv_inertia[ct->b] : 0.0f;
-        kg_body_motion ma = kg_load_motion(job, ct->a), mb = kg_load_motion(job, ct->b);
-        kg_vec2 origin_a = ct->a != KG_NULL_INDEX ? p->xf[ct->a].p : kg_v2(0.0f, 0.0f);
-        kg_vec2 origin_b = ct->b != KG_NULL_INDEX ? p->xf[ct->b].p : kg_v2(0.0f, 0.0f);
-        kg_vec2 center_a = ct->a != KG_NULL_INDEX ? p->center[ct->a] : origin_a;
-        kg_vec2 center_b = ct->b != KG_NULL_INDEX ? p->center[ct->b] : origin_b;
-        kg_contact_prepare(c, &ct->manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w, job->prm);
-        if (c->restitution != 0.0f) {
-            atomic_store_explicit(job->bounces, 1, memory_order_relaxed);
+    const struct kg_solver* s = job->solver;
+    const kg_graph_coloring* g = &s->coloring;
+    for (int block = begin; block < end; ++block) {
+        int c = kg_color_of_block(s, block);
+        int lanes = c == KG_COLOR_COUNT ? 1 : s->rows->width;
+        int first = g->color_start[c] + (block - s->block_start[c]) * lanes;
+        for (int lane = 0; lane < s->rows->width; ++lane) {
+            int k = first + lane;
+            kg_contact_constraint constraint;
+            int live = lane < lanes && k < g->color_start[c + 1] && kg_prepare_one(job, g->order[k], &constraint);
+            s->rows->pack(s->blocks, block, lane, live ? &constraint : NULL);
         }
     }
 }
@@ -284,15 +296,42 @@ static void kg_prepare_range(void* context, int begin, int end)
 static void kg_store_impulses_range(void* context, int begin, int end)
 {
     const kg_constraint_job* job = context;
-    for (int k = begin; k < end; ++k) {
-        const kg_contact_constraint* c = &job->constraints[k];
-        kg_manifold* m = &job->contacts[c->contact].manifold;
-        for (int j = 0; j < c->point_count; ++j) {
-            m->points[j].normal_impulse = c->points[j].normal_impulse;
-            m->points[j].tangent_impulse = c->points[j].tangent_impulse;
-            m->points[j].normal_velocity = c->points[j].relative_velocity;
+    const struct kg_solver* s = job->solver;
+    for (int block = begin; block < end; ++block) {
+        for (int lane = 0; lane < s->rows->width; ++lane) {
+            kg_contact_constraint c;
+            s->rows->unpack(s->blocks, block, lane, &c);
+            kg_manifold* m = &job->contacts[c.contact].manifold;
+            for (int j = 0; j < c.point_count; ++j) {
+                m->points[j].normal_impulse = c.points[j].normal_impulse;
+                m->points[j].tangent_impulse = c.points[j].tangent_impulse;
+                m->points[j].normal_velocity = c.points[j].relative_velocity;
+            }
         }
     }
+}
+
+/* The colours' block ranges, from the colouring; grows the blocks (with a warning) when
+ * an unusual colouring needs more than were reserved. */
+static kg_result kg_plan_blocks(struct kg_solver* s)
+{
+    const kg_graph_coloring* g = &s->coloring;
+    int width = s->rows->width;
+    s->block_start[0] = 0;
+    for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
+        int n = g->color_start[c + 1] - g->color_start[c];
+        s->block_start[c + 1] = s->block_start[c] + (c == KG_COLOR_COUNT ? n : (n + width - 1) / width);
+    }
+    int needed = s->block_start[KG_COLOR_COUNT + 1];
+    if (needed <= s->block_capacity) {
+        return KG_OK;
+    }
+    kg_warn_once("solver-blocks", "constraint blocks grown to %d (a large overflow colour)", 2 * needed);
+    kg_result r = kg_reserve_blocks(s, 2 * needed);
+    if (r != KG_OK) {
+        memset(s->block_start, 0, sizeof s->block_start); /* nothing solved this step */
+    }
+    return r;
 }
 
 kg_solver_params kg_solver_params_of(const kg_world_def* def, float h)
@@ -327,12 +366,16 @@ void kg_stage_solve(kg_world* world, float dt)
     kg_body_job bjob = {p, s->bodies, {world->def.gravity, h, world->def.max_linear_speed}, dt,
                         world->def.enable_sleep, world->def.sleep_speed};
     atomic_int bounces = 0;
-    kg_constraint_job cjob = {p, s->bodies, contacts, s->colored, s->coloring.order, &bounces,
-                              kg_solver_params_of(&world->def, h), KG_PASS_SOLVE};
+    kg_constraint_job cjob = {p, s->bodies, contacts, s, 0, &bounces, kg_solver_params_of(&world->def, h), KG_PASS_SOLVE};
 
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_load_bodies, &bjob);
     kg_graph_color(&s->coloring, contacts, count, p, s->scratch_colors);
-    kg_parallel_for(world->threads, count, KG_CONSTRAINT_GRAIN, kg_prepare_range, &cjob);
+    if (kg_plan_blocks(s) != KG_OK) {
+        kg_warn_once("solver-grow", "out of memory for contact constraints: contacts ignored this step");
+    }
+    int blocks = s->block_start[KG_COLOR_COUNT + 1];
+    int grain = KG_CONSTRAINT_GRAIN / s->rows->width;
+    kg_parallel_for(world->threads, blocks, grain, kg_prepare_range, &cjob);
     for (int step = 0; step < n; ++step) {
         kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_integrate_velocities, &bjob);
         kg_constraint_pass_run(world, &cjob, KG_PASS_WARM_START);
@@ -343,8 +386,7 @@ void kg_stage_solve(kg_world* world, float dt)
     if (atomic_load(&bounces)) { /* else the pass, a loop per colour, would change nothing */
         kg_constraint_pass_run(world, &cjob, KG_PASS_RESTITUTION);
     }
-    cjob.constraints = s->colored;
-    kg_parallel_for(world->threads, count, KG_CONSTRAINT_GRAIN, kg_store_impulses_range, &cjob);
+    kg_parallel_for(world->threads, blocks, grain, kg_store_impulses_range, &cjob);
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_store_bodies, &bjob);
 }
 

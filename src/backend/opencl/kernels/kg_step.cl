@@ -57,15 +57,6 @@ __kernel void kg_apply_builtin_force(int count, int all, __global const uint2* t
 
 /* ---- solver ---------------------------------------------------------------------- */
 
-/* kg_solver_body of solve/solver.c: what the solver reads and writes of a body. The pool's
- * poses stay put during the solve; dp and dq accumulate and are applied at the end. */
-typedef struct kg_solver_body {
-    kg_body_motion motion;
-    kg_u32 moves; /* takes impulses: dynamic body or particle */
-} kg_solver_body;
-
-KG_STATIC_ASSERT(sizeof(kg_solver_body) == 32, solver_body_size);
-
 /* kg_freeze of solve/solver.c: out of the simulation, back at its last finite pose (the
  * host warns when it next reads the flags back). */
 KG_FN void kg_freeze_body(int i, __global kg_u32* flags, __global kg_vec2* velocity, __global float* omega,

@@ -1,0 +1,37 @@
+/* The contact passes on the CPU, W constraints at a time (contact_row.h instantiated
+ * over SIMD lanes): constraint rows in blocks of W lanes, all from one colour, so no two
+ * lanes share a moving body; a colour's tail is padded with empty lanes (no body). The
+ * width is chosen once, at run time: 8 (AVX2) where the CPU has it, else 4 (SSE2 on
+ * x86-64, NEON on ARM, GCC's generic vectors elsewhere); 1 runs the scalar rows. Every
+ * width gives the same bits (tests/test_determinism.c). */
+#ifndef KG_CONTACT_WIDE_H
+#define KG_CONTACT_WIDE_H
+
+#include "solve/contact_solver.h"
+
+#include <stddef.h>
+
+typedef enum kg_constraint_pass {
+    KG_PASS_WARM_START,
+    KG_PASS_SOLVE,
+    KG_PASS_RELAX,
+    KG_PASS_RESTITUTION
+} kg_constraint_pass;
+
+typedef struct kg_contact_rows {
+    int width;
+    size_t block_size; /* bytes of a block of width rows */
+    /* Writes constraint c into lane `lane` of block `block`; NULL makes it an empty lane. */
+    void (*pack)(void* blocks, int block, int lane, const kg_contact_constraint* c);
+    /* The impulses and approach speeds of lane `lane` of block `block`, into c. */
+    void (*unpack)(const void* blocks, int block, int lane, kg_contact_constraint* c);
+    /* One pass over blocks [begin, end): gathers the lanes' bodies, runs the pass, scatters. */
+    void (*run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm, kg_constraint_pass pass);
+} kg_contact_rows;
+
+/* The rows of width 1, 4 or 8, or 0 for the widest this CPU runs (KGYRO_SIMD_WIDTH in
+ * the environment, 1, 4 or 8, overrides it, for tests and measurements); NULL for a
+ * width this build or CPU cannot run. */
+const kg_contact_rows* kg_contact_rows_of(int width);
+
+#endif
