@@ -16,4 +16,6 @@ static inline kg_f4 kg_blend4(kg_i4 mask, kg_f4 a, kg_f4 b) { return (kg_f4)(((k
 #define KG_SEL(mask, a, b) kg_blend4((mask), (a), (b))
 #define KG_LZERO ((kg_f4){0.0f, 0.0f, 0.0f, 0.0f})
 #define KG_LANE_OF(v, lane) ((v)[lane])
+#include "solve/contact_row.h"
+
 #include "solve/contact_wide_impl.h"

@@ -1,10 +1,7 @@
 /* The gather, scatter and pass loop of contact_wide.h for one width (no include guard:
  * included once per width, C only, each width in a file of its own). Before including:
- * what contact_row.h needs, and KG_LANE_OF(v, lane), one lane of a lane value as an
- * lvalue. Width 1 uses the rows contact_solver.h already made. */
-#if KG_W != 1
-#include "solve/contact_row.h"
-#endif
+ * contact_row.h for the width (contact_solver.h has made width 1), and KG_LANE_OF(v,
+ * lane), one lane of a lane value as an lvalue. */
 
 #define KG_WIDE3(name, w) name##_w##w
 #define KG_WIDE2(name, w) KG_WIDE3(name, w)
@@ -85,7 +82,9 @@ static void KG_WIDE(kg_unpack)(const void* blocks, int block, int lane, kg_conta
 
 static const kg_body_motion KG_WIDE(kg_still) = {{0.0f, 0.0f}, 0.0f, {0.0f, 0.0f}, {1.0f, 0.0f}};
 
-/* The motions of the bodies slot[lane] into lanes; a lane without a body is still. */
+#ifndef KG_GATHER_TRANSPOSED
+/* The motions of the bodies slot[lane] into lanes; a lane without a body is still. (A
+ * width may bring its own, a transpose of whole solver bodies: KG_GATHER_TRANSPOSED.) */
 static kg_wmotion KG_WIDE(kg_gather)(const kg_solver_body* bodies, const kg_wrow* r, int is_b)
 {
     kg_wmotion m;
@@ -115,6 +114,7 @@ static void KG_WIDE(kg_scatter)(kg_solver_body* bodies, const kg_wrow* r, int is
         }
     }
 }
+#endif
 
 static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm,
                             kg_constraint_pass pass)
