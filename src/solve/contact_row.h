@@ -106,6 +106,73 @@ KG_FN kg_lv2 KG_L(kg_lpoint_velocity)(kg_lv2 v, kg_lane w, kg_lv2 r)
 KG_FN kg_lane KG_L(kg_lmax)(kg_lane a, kg_lane b) { return KG_SEL(a > b, a, b); }
 KG_FN kg_lane KG_L(kg_lmin)(kg_lane a, kg_lane b) { return KG_SEL(a < b, a, b); }
 
+/* What prepare reads of a contact besides the masses: its manifold (anchors relative to
+ * the body origins; has_point 1 or 0 for each point) and the bodies' state. */
+typedef struct KG_L(kg_prepare_input) {
+    kg_lv2 anchor_a[2], anchor_b[2];
+    kg_lane separation[2], normal_impulse[2], tangent_impulse[2], has_point[2];
+    kg_lv2 normal;
+    kg_lv2 origin_a, center_a, origin_b, center_b;
+    kg_lv2 va, vb;
+    kg_lane wa, wb;
+} KG_L(kg_prepare_input);
+
+/* Above this condition number the two normal rows are nearly redundant and the 2x2
+ * solve is unreliable (Box2D v2's limit). */
+#define KG_MAX_BLOCK_CONDITION 1000.0f
+
+/* Builds the constraint from a contact, its masses already set. A point the manifold
+ * does not have is all zeros, so the passes, which always run both points, leave it at
+ * zero. The inverse of a two-point contact's 2x2 normal mass is made here, from the
+ * anchors at prepare, for the block solve; block 0 (one point at a time) when there is
+ * one point or the rows are too nearly redundant. */
+KG_FN void KG_L(kg_contact_prepare_lanes)(kg_lrow* c, const KG_L(kg_prepare_input)* in, kg_solver_params prm)
+{
+    kg_lane zero = KG_LZERO, ma = c->inv_mass_a, ia = c->inv_i_a, mb = c->inv_mass_b, ib = c->inv_i_b;
+    kg_lmask against_static = ((ma == zero) & (ia == zero)) | ((mb == zero) & (ib == zero));
+    c->bias_rate = KG_SEL(against_static, zero + prm.static_softness.bias_rate, zero + prm.contact_softness.bias_rate);
+    c->mass_scale = KG_SEL(against_static, zero + prm.static_softness.mass_scale, zero + prm.contact_softness.mass_scale);
+    c->impulse_scale =
+        KG_SEL(against_static, zero + prm.static_softness.impulse_scale, zero + prm.contact_softness.impulse_scale);
+    c->share_b = KG_SEL(ma + mb > zero, mb / (ma + mb), zero + 0.5f);
+    c->normal = in->normal;
+    kg_lv2 n = in->normal, t = KG_L(kg_lright_perp)(in->normal);
+    kg_lane rn[2][2]; /* cross(r, n) of each point, on a and on b */
+    for (int j = 0; j < 2; ++j) {
+        kg_lpoint* cp = &c->points[j];
+        kg_lmask has = in->has_point[j] > zero;
+        kg_lv2 ra = KG_L(kg_lsub)(KG_L(kg_ladd)(in->anchor_a[j], in->origin_a), in->center_a);
+        kg_lv2 rb = KG_L(kg_lsub)(KG_L(kg_ladd)(in->anchor_b[j], in->origin_b), in->center_b);
+        rn[j][0] = KG_SEL(has, KG_L(kg_lcross)(ra, n), zero);
+        rn[j][1] = KG_SEL(has, KG_L(kg_lcross)(rb, n), zero);
+        kg_lane kn = ma + mb + ia * rn[j][0] * rn[j][0] + ib * rn[j][1] * rn[j][1];
+        kg_lane rta = KG_L(kg_lcross)(ra, t), rtb = KG_L(kg_lcross)(rb, t);
+        kg_lane kt = ma + mb + ia * rta * rta + ib * rtb * rtb;
+        kg_lv2 dv = KG_L(kg_lsub)(KG_L(kg_lpoint_velocity)(in->vb, in->wb, rb), KG_L(kg_lpoint_velocity)(in->va, in->wa, ra));
+        cp->anchor_a = KG_L(kg_lmake)(KG_SEL(has, ra.x, zero), KG_SEL(has, ra.y, zero));
+        cp->anchor_b = KG_L(kg_lmake)(KG_SEL(has, rb.x, zero), KG_SEL(has, rb.y, zero));
+        cp->base_separation = KG_SEL(has, in->separation[j] - KG_L(kg_ldot)(KG_L(kg_lsub)(rb, ra), n), zero);
+        cp->normal_impulse = KG_SEL(has, in->normal_impulse[j], zero);
+        cp->tangent_impulse = KG_SEL(has, in->tangent_impulse[j], zero);
+        cp->max_normal_impulse = zero;
+        cp->normal_mass = KG_SEL(has & (kn > zero), 1.0f / kn, zero);
+        cp->tangent_mass = KG_SEL(has & (kt > zero), 1.0f / kt, zero);
+        cp->relative_velocity = KG_SEL(has, KG_L(kg_ldot)(n, dv), zero);
+        cp->pad = zero;
+    }
+    kg_lane m = ma + mb;
+    kg_lane k11 = m + ia * rn[0][0] * rn[0][0] + ib * rn[0][1] * rn[0][1];
+    kg_lane k22 = m + ia * rn[1][0] * rn[1][0] + ib * rn[1][1] * rn[1][1];
+    kg_lane k12 = m + ia * rn[0][0] * rn[1][0] + ib * rn[0][1] * rn[1][1];
+    kg_lane det = k11 * k22 - k12 * k12;
+    kg_lmask ok = (in->has_point[1] > zero) & (k11 * k11 < KG_MAX_BLOCK_CONDITION * det);
+    kg_lane inv_det = KG_SEL(ok, 1.0f / det, zero);
+    c->inv_k11 = inv_det * k22;
+    c->inv_k12 = -inv_det * k12;
+    c->inv_k22 = inv_det * k11;
+    c->block = KG_SEL(ok, zero + 1.0f, zero);
+}
+
 KG_FN void KG_L(kg_apply_impulse_pair)(const kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_lv2 ra, kg_lv2 rb, kg_lv2 p)
 {
     a->v = KG_L(kg_lsub)(a->v, KG_L(kg_lscale)(c->inv_mass_a, p));
@@ -290,6 +357,7 @@ KG_FN void KG_L(kg_contact_restitution)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b
 #undef kg_lmotion
 #undef kg_lrow
 #undef kg_lpoint
+#undef KG_MAX_BLOCK_CONDITION
 #undef KG_L
 #ifdef KG_L2
 #undef KG_L2

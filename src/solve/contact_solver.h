@@ -87,76 +87,34 @@ KG_FN kg_softness kg_make_softness(float hertz, float damping_ratio, float h)
     return s;
 }
 
-/* Above this condition number the two normal rows are nearly redundant and the 2x2
- * solve is unreliable (Box2D v2's limit). */
-#define KG_MAX_BLOCK_CONDITION 1000.0f
-
-/* The inverse of a two-point contact's 2x2 normal mass, from the anchors at prepare,
- * for the block solve; block 0 (one point at a time) when there is one point or the
- * rows are too nearly redundant. */
-KG_FN void kg_prepare_block(kg_contact_constraint* c)
-{
-    kg_vec2 n = c->normal;
-    float ra0 = kg_cross(c->points[0].anchor_a, n), rb0 = kg_cross(c->points[0].anchor_b, n);
-    float ra1 = kg_cross(c->points[1].anchor_a, n), rb1 = kg_cross(c->points[1].anchor_b, n);
-    float m = c->inv_mass_a + c->inv_mass_b;
-    float k11 = m + c->inv_i_a * ra0 * ra0 + c->inv_i_b * rb0 * rb0;
-    float k22 = m + c->inv_i_a * ra1 * ra1 + c->inv_i_b * rb1 * rb1;
-    float k12 = m + c->inv_i_a * ra0 * ra1 + c->inv_i_b * rb0 * rb1;
-    float det = k11 * k22 - k12 * k12;
-    int ok = c->point_count == 2 && k11 * k11 < KG_MAX_BLOCK_CONDITION * det;
-    float inv_det = ok ? 1.0f / det : 0.0f;
-    c->inv_k11 = inv_det * k22;
-    c->inv_k12 = -inv_det * k12;
-    c->inv_k22 = inv_det * k11;
-    c->block = ok ? 1.0f : 0.0f;
-}
-
-/* Builds the constraint of one contact from its manifold and the bodies' current state.
- * center_* are the centres of mass, origin_* the body origins (the manifold's anchors
- * are relative to the origins). A point the manifold does not have is all zeros, so the
- * passes, which always run both points, leave it at zero. */
+/* Builds the constraint of one contact from its manifold and the bodies' current state,
+ * its masses already set: contact_row.h's prepare, for one constraint. center_* are the
+ * centres of mass, origin_* the body origins (the manifold's anchors are relative to the
+ * origins). */
 KG_FN void kg_contact_prepare(kg_contact_constraint* c, const kg_manifold* m, kg_vec2 origin_a, kg_vec2 center_a,
                               kg_vec2 origin_b, kg_vec2 center_b, kg_vec2 va, float wa, kg_vec2 vb, float wb,
                               kg_solver_params prm)
 {
-    float ma = c->inv_mass_a, ia = c->inv_i_a, mb = c->inv_mass_b, ib = c->inv_i_b;
-    int against_static = (ma == 0.0f && ia == 0.0f) || (mb == 0.0f && ib == 0.0f);
-    kg_softness soft = against_static ? prm.static_softness : prm.contact_softness;
-    c->bias_rate = soft.bias_rate;
-    c->mass_scale = soft.mass_scale;
-    c->impulse_scale = soft.impulse_scale;
-    c->share_b = ma + mb > 0.0f ? mb / (ma + mb) : 0.5f;
-    c->normal = m->normal;
-    c->point_count = m->point_count;
-    kg_vec2 n = m->normal, t = kg_right_perp(m->normal);
+    kg_prepare_input in;
     for (int j = 0; j < 2; ++j) {
-        kg_constraint_point* cp = &c->points[j];
-        if (j >= m->point_count) {
-            kg_constraint_point none = {{0.0f, 0.0f}, {0.0f, 0.0f}, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-            *cp = none;
-            continue;
-        }
-        const kg_manifold_point* mp = &m->points[j];
-        kg_vec2 ra = kg_sub(kg_add(mp->anchor_a, origin_a), center_a);
-        kg_vec2 rb = kg_sub(kg_add(mp->anchor_b, origin_b), center_b);
-        cp->anchor_a = ra;
-        cp->anchor_b = rb;
-        cp->base_separation = mp->separation - kg_dot(kg_sub(rb, ra), n);
-        cp->normal_impulse = mp->normal_impulse;
-        cp->tangent_impulse = mp->tangent_impulse;
-        cp->max_normal_impulse = 0.0f;
-        float rna = kg_cross(ra, n), rnb = kg_cross(rb, n);
-        float kn = ma + mb + ia * rna * rna + ib * rnb * rnb;
-        cp->normal_mass = kn > 0.0f ? 1.0f / kn : 0.0f;
-        float rta = kg_cross(ra, t), rtb = kg_cross(rb, t);
-        float kt = ma + mb + ia * rta * rta + ib * rtb * rtb;
-        cp->tangent_mass = kt > 0.0f ? 1.0f / kt : 0.0f;
-        kg_vec2 dv = kg_sub(kg_lpoint_velocity(vb, wb, rb), kg_lpoint_velocity(va, wa, ra));
-        cp->relative_velocity = kg_dot(n, dv);
-        cp->pad = 0.0f;
+        in.anchor_a[j] = m->points[j].anchor_a;
+        in.anchor_b[j] = m->points[j].anchor_b;
+        in.separation[j] = m->points[j].separation;
+        in.normal_impulse[j] = m->points[j].normal_impulse;
+        in.tangent_impulse[j] = m->points[j].tangent_impulse;
+        in.has_point[j] = j < m->point_count ? 1.0f : 0.0f;
     }
-    kg_prepare_block(c);
+    in.normal = m->normal;
+    in.origin_a = origin_a;
+    in.center_a = center_a;
+    in.origin_b = origin_b;
+    in.center_b = center_b;
+    in.va = va;
+    in.vb = vb;
+    in.wa = wa;
+    in.wb = wb;
+    c->point_count = m->point_count;
+    kg_contact_prepare_lanes(c, &in, prm);
 }
 
 #endif

@@ -11,6 +11,8 @@
 
 #include <stddef.h>
 
+#define KG_MAX_LANES 8
+
 typedef enum kg_constraint_pass {
     KG_PASS_WARM_START,
     KG_PASS_SOLVE,
@@ -21,8 +23,10 @@ typedef enum kg_constraint_pass {
 typedef struct kg_contact_rows {
     int width;
     size_t block_size; /* bytes of a block of width rows */
-    /* Writes constraint c into lane `lane` of block `block`; NULL makes it an empty lane. */
-    void (*pack)(void* blocks, int block, int lane, const kg_contact_constraint* c);
+    /* Prepares block `block` from width heads (a, b, contact, point_count, friction,
+     * restitution and the inverse masses of each lane's constraint) and inputs. */
+    void (*prepare)(void* blocks, int block, const kg_contact_constraint* heads, const kg_prepare_input* inputs,
+                    kg_solver_params prm);
     /* The impulses and approach speeds of lane `lane` of block `block`, into c. */
     void (*unpack)(const void* blocks, int block, int lane, kg_contact_constraint* c);
     /* One pass over blocks [begin, end): gathers the lanes' bodies, runs the pass, scatters. */

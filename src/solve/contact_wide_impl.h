@@ -16,56 +16,54 @@
 #define kg_wmotion KG_WIDE(kg_body_motion)
 #endif
 
-static void KG_WIDE(kg_pack_point)(kg_wrow* r, int j, int lane, const kg_constraint_point* p)
+/* Block `block` from the heads (bodies, contact, masses and material of each lane) and
+ * inputs of its width constraints. */
+static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_contact_constraint* heads,
+                                const kg_prepare_input* inputs, kg_solver_params prm)
 {
-    KG_LANE_OF(r->points[j].anchor_a.x, lane) = p->anchor_a.x;
-    KG_LANE_OF(r->points[j].anchor_a.y, lane) = p->anchor_a.y;
-    KG_LANE_OF(r->points[j].anchor_b.x, lane) = p->anchor_b.x;
-    KG_LANE_OF(r->points[j].anchor_b.y, lane) = p->anchor_b.y;
-    KG_LANE_OF(r->points[j].base_separation, lane) = p->base_separation;
-    KG_LANE_OF(r->points[j].normal_impulse, lane) = p->normal_impulse;
-    KG_LANE_OF(r->points[j].tangent_impulse, lane) = p->tangent_impulse;
-    KG_LANE_OF(r->points[j].max_normal_impulse, lane) = p->max_normal_impulse;
-    KG_LANE_OF(r->points[j].normal_mass, lane) = p->normal_mass;
-    KG_LANE_OF(r->points[j].tangent_mass, lane) = p->tangent_mass;
-    KG_LANE_OF(r->points[j].relative_velocity, lane) = p->relative_velocity;
-    KG_LANE_OF(r->points[j].pad, lane) = p->pad;
-}
-
-static void KG_WIDE(kg_pack)(void* blocks, int block, int lane, const kg_contact_constraint* c)
-{
-    static const kg_contact_constraint empty = {{{{0.0f, 0.0f}, {0.0f, 0.0f}, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f},
-                                                 {{0.0f, 0.0f}, {0.0f, 0.0f}, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f}},
-                                                {0.0f, 0.0f},
-                                                0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.5f, 0.0f, 0.0f, 0.0f, 0.0f,
-                                                KG_NULL_INDEX, KG_NULL_INDEX, 0u, 0};
     kg_wrow* r = (kg_wrow*)blocks + block;
-    if (!c) {
-        c = &empty;
+    KG_ROWFN(kg_prepare_input) in;
+    for (int lane = 0; lane < KG_W; ++lane) {
+        const kg_contact_constraint* h = &heads[lane];
+        const kg_prepare_input* p = &inputs[lane];
+        KG_LANE_OF(r->a, lane) = h->a;
+        KG_LANE_OF(r->b, lane) = h->b;
+        KG_LANE_OF(r->contact, lane) = h->contact;
+        KG_LANE_OF(r->point_count, lane) = h->point_count;
+        KG_LANE_OF(r->friction, lane) = h->friction;
+        KG_LANE_OF(r->restitution, lane) = h->restitution;
+        KG_LANE_OF(r->inv_mass_a, lane) = h->inv_mass_a;
+        KG_LANE_OF(r->inv_i_a, lane) = h->inv_i_a;
+        KG_LANE_OF(r->inv_mass_b, lane) = h->inv_mass_b;
+        KG_LANE_OF(r->inv_i_b, lane) = h->inv_i_b;
+        for (int j = 0; j < 2; ++j) {
+            KG_LANE_OF(in.anchor_a[j].x, lane) = p->anchor_a[j].x;
+            KG_LANE_OF(in.anchor_a[j].y, lane) = p->anchor_a[j].y;
+            KG_LANE_OF(in.anchor_b[j].x, lane) = p->anchor_b[j].x;
+            KG_LANE_OF(in.anchor_b[j].y, lane) = p->anchor_b[j].y;
+            KG_LANE_OF(in.separation[j], lane) = p->separation[j];
+            KG_LANE_OF(in.normal_impulse[j], lane) = p->normal_impulse[j];
+            KG_LANE_OF(in.tangent_impulse[j], lane) = p->tangent_impulse[j];
+            KG_LANE_OF(in.has_point[j], lane) = p->has_point[j];
+        }
+        KG_LANE_OF(in.normal.x, lane) = p->normal.x;
+        KG_LANE_OF(in.normal.y, lane) = p->normal.y;
+        KG_LANE_OF(in.origin_a.x, lane) = p->origin_a.x;
+        KG_LANE_OF(in.origin_a.y, lane) = p->origin_a.y;
+        KG_LANE_OF(in.center_a.x, lane) = p->center_a.x;
+        KG_LANE_OF(in.center_a.y, lane) = p->center_a.y;
+        KG_LANE_OF(in.origin_b.x, lane) = p->origin_b.x;
+        KG_LANE_OF(in.origin_b.y, lane) = p->origin_b.y;
+        KG_LANE_OF(in.center_b.x, lane) = p->center_b.x;
+        KG_LANE_OF(in.center_b.y, lane) = p->center_b.y;
+        KG_LANE_OF(in.va.x, lane) = p->va.x;
+        KG_LANE_OF(in.va.y, lane) = p->va.y;
+        KG_LANE_OF(in.vb.x, lane) = p->vb.x;
+        KG_LANE_OF(in.vb.y, lane) = p->vb.y;
+        KG_LANE_OF(in.wa, lane) = p->wa;
+        KG_LANE_OF(in.wb, lane) = p->wb;
     }
-    for (int j = 0; j < 2; ++j) {
-        KG_WIDE(kg_pack_point)(r, j, lane, &c->points[j]);
-    }
-    KG_LANE_OF(r->normal.x, lane) = c->normal.x;
-    KG_LANE_OF(r->normal.y, lane) = c->normal.y;
-    KG_LANE_OF(r->inv_mass_a, lane) = c->inv_mass_a;
-    KG_LANE_OF(r->inv_i_a, lane) = c->inv_i_a;
-    KG_LANE_OF(r->inv_mass_b, lane) = c->inv_mass_b;
-    KG_LANE_OF(r->inv_i_b, lane) = c->inv_i_b;
-    KG_LANE_OF(r->friction, lane) = c->friction;
-    KG_LANE_OF(r->restitution, lane) = c->restitution;
-    KG_LANE_OF(r->bias_rate, lane) = c->bias_rate;
-    KG_LANE_OF(r->mass_scale, lane) = c->mass_scale;
-    KG_LANE_OF(r->impulse_scale, lane) = c->impulse_scale;
-    KG_LANE_OF(r->share_b, lane) = c->share_b;
-    KG_LANE_OF(r->inv_k11, lane) = c->inv_k11;
-    KG_LANE_OF(r->inv_k12, lane) = c->inv_k12;
-    KG_LANE_OF(r->inv_k22, lane) = c->inv_k22;
-    KG_LANE_OF(r->block, lane) = c->block;
-    KG_LANE_OF(r->a, lane) = c->a;
-    KG_LANE_OF(r->b, lane) = c->b;
-    KG_LANE_OF(r->contact, lane) = c->contact;
-    KG_LANE_OF(r->point_count, lane) = c->point_count;
+    KG_ROWFN(kg_contact_prepare_lanes)(r, &in, prm);
 }
 
 static void KG_WIDE(kg_unpack)(const void* blocks, int block, int lane, kg_contact_constraint* c)
@@ -133,5 +131,5 @@ static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bo
     }
 }
 
-const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_pack), KG_WIDE(kg_unpack),
+const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_prepare), KG_WIDE(kg_unpack),
                                                   KG_WIDE(kg_run)};

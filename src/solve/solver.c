@@ -231,36 +231,57 @@ static kg_body_motion kg_load_motion(const kg_constraint_job* job, kg_u32 slot)
     return slot == KG_NULL_INDEX ? kg_still_motion : job->bodies[slot].motion;
 }
 
-/* The constraint of contact k; 0 when it has nothing to solve (both bodies asleep or
- * frozen: impulses kept as they are). */
-static int kg_prepare_one(const kg_constraint_job* job, int k, kg_contact_constraint* c)
+/* The head and prepare input of contact k's constraint; an empty lane (no bodies) for
+ * k < 0 (padding) and when there is nothing to solve: both bodies asleep or frozen,
+ * impulses kept as they are. */
+static void kg_prepare_lane(const kg_constraint_job* job, int k, kg_contact_constraint* head, kg_prepare_input* in)
 {
+    memset(head, 0, sizeof *head);
+    memset(in, 0, sizeof *in);
+    head->a = KG_NULL_INDEX;
+    head->b = KG_NULL_INDEX;
+    if (k < 0) {
+        return;
+    }
     const kg_body_pool* p = job->pool;
     const kg_contact* ct = &job->contacts[k];
     int a_moves = ct->a != KG_NULL_INDEX && job->bodies[ct->a].moves;
     int b_moves = ct->b != KG_NULL_INDEX && job->bodies[ct->b].moves;
     if (!a_moves && !b_moves) {
-        return 0;
+        return;
     }
-    c->a = ct->a;
-    c->b = ct->b;
-    c->contact = (kg_u32)k;
-    c->friction = ct->friction;
-    c->restitution = ct->restitution;
-    c->inv_mass_a = a_moves ? p->inv_mass[ct->a] : 0.0f;
-    c->inv_i_a = a_moves ? p->inv_inertia[ct->a] : 0.0f;
-    c->inv_mass_b = b_moves ? p->inv_mass[ct->b] : 0.0f;
-    c->inv_i_b = b_moves ? p->inv_inertia[ct->b] : 0.0f;
+    head->a = ct->a;
+    head->b = ct->b;
+    head->contact = (kg_u32)k;
+    head->point_count = ct->manifold.point_count;
+    head->friction = ct->friction;
+    head->restitution = ct->restitution;
+    head->inv_mass_a = a_moves ? p->inv_mass[ct->a] : 0.0f;
+    head->inv_i_a = a_moves ? p->inv_inertia[ct->a] : 0.0f;
+    head->inv_mass_b = b_moves ? p->inv_mass[ct->b] : 0.0f;
+    head->inv_i_b = b_moves ? p->inv_inertia[ct->b] : 0.0f;
+    const kg_manifold* m = &ct->manifold;
+    for (int j = 0; j < m->point_count; ++j) {
+        in->anchor_a[j] = m->points[j].anchor_a;
+        in->anchor_b[j] = m->points[j].anchor_b;
+        in->separation[j] = m->points[j].separation;
+        in->normal_impulse[j] = m->points[j].normal_impulse;
+        in->tangent_impulse[j] = m->points[j].tangent_impulse;
+        in->has_point[j] = 1.0f;
+    }
+    in->normal = m->normal;
     kg_body_motion ma = kg_load_motion(job, ct->a), mb = kg_load_motion(job, ct->b);
-    kg_vec2 origin_a = ct->a != KG_NULL_INDEX ? p->xf[ct->a].p : kg_v2(0.0f, 0.0f);
-    kg_vec2 origin_b = ct->b != KG_NULL_INDEX ? p->xf[ct->b].p : kg_v2(0.0f, 0.0f);
-    kg_vec2 center_a = ct->a != KG_NULL_INDEX ? p->center[ct->a] : origin_a;
-    kg_vec2 center_b = ct->b != KG_NULL_INDEX ? p->center[ct->b] : origin_b;
-    kg_contact_prepare(c, &ct->manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w, job->prm);
-    if (c->restitution != 0.0f) {
+    in->origin_a = ct->a != KG_NULL_INDEX ? p->xf[ct->a].p : kg_v2(0.0f, 0.0f);
+    in->origin_b = ct->b != KG_NULL_INDEX ? p->xf[ct->b].p : kg_v2(0.0f, 0.0f);
+    in->center_a = ct->a != KG_NULL_INDEX ? p->center[ct->a] : in->origin_a;
+    in->center_b = ct->b != KG_NULL_INDEX ? p->center[ct->b] : in->origin_b;
+    in->va = ma.v;
+    in->wa = ma.w;
+    in->vb = mb.v;
+    in->wb = mb.w;
+    if (ct->restitution != 0.0f) {
         atomic_store_explicit(job->bounces, 1, memory_order_relaxed);
     }
-    return 1;
 }
 
 /* The colour a block belongs to. */
@@ -274,22 +295,24 @@ static int kg_color_of_block(const struct kg_solver* s, int block)
 }
 
 /* Blocks [begin, end), lane by lane, from the contacts in colour order; lanes past the
- * colour's end and constraints with nothing to solve are empty. */
+ * colour's end are empty. */
 static void kg_prepare_range(void* context, int begin, int end)
 {
     const kg_constraint_job* job = context;
     const struct kg_solver* s = job->solver;
     const kg_graph_coloring* g = &s->coloring;
+    kg_contact_constraint heads[KG_MAX_LANES];
+    kg_prepare_input inputs[KG_MAX_LANES];
     for (int block = begin; block < end; ++block) {
         int c = kg_color_of_block(s, block);
         int lanes = c == KG_COLOR_COUNT ? 1 : s->rows->width;
         int first = g->color_start[c] + (block - s->block_start[c]) * lanes;
         for (int lane = 0; lane < s->rows->width; ++lane) {
             int k = first + lane;
-            kg_contact_constraint constraint;
-            int live = lane < lanes && k < g->color_start[c + 1] && kg_prepare_one(job, g->order[k], &constraint);
-            s->rows->pack(s->blocks, block, lane, live ? &constraint : NULL);
+            int live = lane < lanes && k < g->color_start[c + 1];
+            kg_prepare_lane(job, live ? g->order[k] : -1, &heads[lane], &inputs[lane]);
         }
+        s->rows->prepare(s->blocks, block, heads, inputs, job->prm);
     }
 }
 
