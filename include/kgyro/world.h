@@ -20,7 +20,14 @@ typedef enum kg_backend {
 typedef struct kg_world_def {
     kg_vec2 gravity;          /* m/s^2, applied to every dynamic body and particle */
     int max_bodies;           /* pool capacity: bodies and particles together */
-    int max_contacts;         /* pool capacity: touching or nearly touching pairs */
+    int max_contacts;         /* touching or nearly touching pairs the world may hold before
+                               * it warns; 0 = 4 per body. Memory follows need, not this:
+                               * the contact pool starts at one slot per body (at most this
+                               * many) and grows to half again what a step needs, silently up
+                               * to this value, with a warning (once) past it. While a tile
+                               * map is live the pool holds this many (tile contacts past it
+                               * are dropped, with a warning). After creation
+                               * kg_world_get_def reports the pool's current capacity. */
     int max_applicators;      /* force applicators */
     int substeps;             /* solver sub-steps per step (>= 1) */
     float contact_hertz;      /* stiffness of the soft contact constraint */

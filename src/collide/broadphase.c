@@ -30,10 +30,6 @@
 #define KG_MAX_AXIS_BITS 24
 #define KG_MAX_KEY_BITS 32
 
-/* The pairs found are kept, so they need not be searched for a second time to be put in
- * order, while they fit this many per body (physical scenes have 1 to 4). */
-#define KG_STORED_PAIRS_PER_BODY 4
-
 /* Runs of pairs up to this length are insertion sorted; longer ones radix sorted. */
 #define KG_SHORT_RUN 32
 
@@ -55,8 +51,9 @@ typedef struct kg_grid {
 } kg_grid;
 
 typedef enum kg_emit_mode {
-    KG_EMIT_COUNT, /* count the pairs of each lower slot */
-    KG_EMIT_FILL   /* write them at their place in the output (pairs did not fit the store) */
+    KG_EMIT_COUNT, /* count the pairs of each lower slot, and write them in discovery order
+                    * while they fit the output */
+    KG_EMIT_FILL   /* write them at their place in the output (they did not all fit) */
 } kg_emit_mode;
 
 struct kg_broadphase {
@@ -73,10 +70,10 @@ struct kg_broadphase {
     kg_u32* large_items;   /* proxy index of each large key */
     kg_u32* key_scratch;
     kg_u32* item_scratch;
-    kg_u32* partners;      /* one slot's partners, when its run must be sorted apart */
+    /* One slot's partners, when its run must be sorted apart: the two scratch buffers
+     * above, free once the proxies are sorted (not allocated apart). */
+    kg_u32* partners;
     kg_u32* partner_scratch;
-    kg_pair* stored;       /* the pairs in discovery order, while they fit */
-    int store_capacity;
     int* run_count;        /* per lower slot: how many pairs */
     int* run_start;        /* per lower slot: first output index, saturated at INT_MAX */
     int* run_next;         /* per lower slot: next output index while filling */
@@ -111,17 +108,11 @@ kg_result kg_broadphase_create(int capacity, kg_broadphase** out)
     bp->large_items = kg_alloc_zeroed(n * sizeof *bp->large_items);
     bp->key_scratch = kg_alloc_zeroed(n * sizeof *bp->key_scratch);
     bp->item_scratch = kg_alloc_zeroed(n * sizeof *bp->item_scratch);
-    bp->partners = kg_alloc_zeroed(n * sizeof *bp->partners);
-    bp->partner_scratch = kg_alloc_zeroed(n * sizeof *bp->partner_scratch);
-    int64_t store_capacity = (int64_t)KG_STORED_PAIRS_PER_BODY * capacity;
-    bp->store_capacity = store_capacity < INT_MAX ? (int)store_capacity : INT_MAX;
-    bp->stored = kg_alloc_zeroed((size_t)bp->store_capacity * sizeof *bp->stored);
     bp->run_count = kg_alloc_zeroed(n * sizeof *bp->run_count);
     bp->run_start = kg_alloc_zeroed(n * sizeof *bp->run_start);
     bp->run_next = kg_alloc_zeroed(n * sizeof *bp->run_next);
     if (!bp->proxies || !bp->sorted || !bp->keys || !bp->items || !bp->large_keys || !bp->large_items ||
-        !bp->key_scratch || !bp->item_scratch || !bp->partners || !bp->partner_scratch || !bp->stored ||
-        !bp->run_count || !bp->run_start || !bp->run_next) {
+        !bp->key_scratch || !bp->item_scratch || !bp->run_count || !bp->run_start || !bp->run_next) {
         kg_broadphase_destroy(bp);
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate a broadphase for %d bodies", capacity);
     }
@@ -142,9 +133,6 @@ void kg_broadphase_destroy(kg_broadphase* bp)
     kg_free(bp->large_items);
     kg_free(bp->key_scratch);
     kg_free(bp->item_scratch);
-    kg_free(bp->partners);
-    kg_free(bp->partner_scratch);
-    kg_free(bp->stored);
     kg_free(bp->run_count);
     kg_free(bp->run_start);
     kg_free(bp->run_next);
@@ -411,9 +399,9 @@ static void kg_emit(kg_broadphase* bp, kg_u32 p, kg_u32 q)
         kg_place_pair(bp, a, b);
         return;
     }
-    if (bp->total < bp->store_capacity) {
-        bp->stored[bp->total].a = a;
-        bp->stored[bp->total].b = b;
+    if (bp->total < bp->out_capacity) {
+        bp->out[bp->total].a = a;
+        bp->out[bp->total].b = b;
     }
     bp->run_count[a] += 1;
     bp->total += 1;
@@ -548,13 +536,63 @@ static void kg_plan_output(kg_broadphase* bp, int slot_count)
     bp->partner_count = 0;
 }
 
-/* Scatters the stored pairs to their runs, or searches them again when they overflowed
- * the store. */
-static void kg_fill_output(kg_broadphase* bp)
+/* Moves the pairs, written to the output in discovery order, into their runs in place:
+ * each pair is swapped straight to the next free place of its run (a bucket permutation,
+ * every pair moved once). Only the order inside a run depends on the moves, and the runs
+ * are sorted next. Slower than a scatter (each move waits for the last one's load): for
+ * more pairs than the scatter's scratch holds. */
+static void kg_permute_into_runs(kg_broadphase* bp, int slot_count)
 {
-    if (bp->total <= bp->store_capacity) {
-        for (int k = 0; k < (int)bp->total; ++k) {
-            kg_place_pair(bp, bp->stored[k].a, bp->stored[k].b);
+    kg_pair* out = bp->out;
+    for (int a = 0; a < slot_count; ++a) {
+        int end = bp->run_start[a] + bp->run_count[a];
+        while (bp->run_next[a] < end) {
+            kg_pair p = out[bp->run_next[a]];
+            while (p.a != (kg_u32)a) {
+                int place = bp->run_next[p.a]++;
+                kg_pair displaced = out[place];
+                out[place] = p;
+                p = displaced;
+            }
+            out[bp->run_next[a]++] = p;
+        }
+    }
+}
+
+/* Scatters the pairs, written to the output in discovery order, into their runs through
+ * the proxy arrays, free once the search is done: they hold 8 pairs per body of capacity
+ * (physical scenes have 1 to 5). Every scratch access is a memcpy, as the memory is
+ * typed as proxies elsewhere. 0 when the pairs do not fit. */
+static int kg_scatter_into_runs(kg_broadphase* bp)
+{
+    size_t room = (size_t)bp->capacity * sizeof(kg_proxy) / sizeof(kg_pair); /* per array */
+    size_t total = (size_t)bp->total;
+    if (total > 2 * room) {
+        return 0;
+    }
+    unsigned char* chunk[2] = {(unsigned char*)bp->proxies, (unsigned char*)bp->sorted};
+    size_t count[2] = {total < room ? total : room, 0};
+    count[1] = total - count[0];
+    memcpy(chunk[0], bp->out, count[0] * sizeof(kg_pair));
+    memcpy(chunk[1], bp->out + count[0], count[1] * sizeof(kg_pair));
+    for (int c = 0; c < 2; ++c) {
+        for (size_t k = 0; k < count[c]; ++k) {
+            kg_pair p;
+            memcpy(&p, chunk[c] + k * sizeof p, sizeof p);
+            kg_place_pair(bp, p.a, p.b);
+        }
+    }
+    return 1;
+}
+
+/* Puts the pairs in their runs: from the discovery order when the search could write them
+ * all, else by searching them again, each written at its place while that is within the
+ * capacity. */
+static void kg_fill_output(kg_broadphase* bp, int slot_count)
+{
+    if (bp->total <= bp->out_capacity) {
+        if (!kg_scatter_into_runs(bp)) {
+            kg_permute_into_runs(bp, slot_count);
         }
         return;
     }
@@ -618,19 +656,19 @@ static void kg_write_split_run(kg_broadphase* bp, int slot_bits)
     }
 }
 
-/* Puts the pairs found into out in (a, b) order, as many as fit. */
-static void kg_write_output(kg_broadphase* bp, int slot_count, kg_pair* out, int capacity)
+/* Puts the pairs found into bp->out in (a, b) order, as many as fit. */
+static void kg_write_output(kg_broadphase* bp, int slot_count)
 {
-    bp->out = out;
-    bp->out_capacity = out && capacity > 0 ? capacity : 0;
     if (bp->total > 0 && bp->out_capacity > 0) {
         int slot_bits = (int)kg_bits_for((kg_u32)slot_count);
+        /* the sort scratch is free now: it holds the partners of a run sorted apart */
+        bp->partners = bp->key_scratch;
+        bp->partner_scratch = bp->item_scratch;
         kg_plan_output(bp, slot_count);
-        kg_fill_output(bp);
+        kg_fill_output(bp, slot_count);
         kg_write_split_run(bp, slot_bits);
         kg_sort_runs(bp, slot_count, slot_bits);
     }
-    bp->out = NULL;
 }
 
 int kg_broadphase_find_pairs(kg_broadphase* bp, const kg_body_pool* bodies, float margin, kg_pair* out,
@@ -649,10 +687,13 @@ int kg_broadphase_find_pairs(kg_broadphase* bp, const kg_body_pool* bodies, floa
     kg_classify_proxies(bp);
     kg_sort_proxies(bp);
 
+    bp->out = out;
+    bp->out_capacity = out && capacity > 0 ? capacity : 0;
     bp->mode = KG_EMIT_COUNT;
     bp->total = 0;
     kg_find_all_pairs(bp);
 
-    kg_write_output(bp, slot_count, out, capacity);
+    kg_write_output(bp, slot_count);
+    bp->out = NULL;
     return bp->total < INT_MAX ? (int)bp->total : INT_MAX;
 }

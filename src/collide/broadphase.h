@@ -10,12 +10,15 @@
  *    sorted keys row by row over its own footprint, and large boxes meet each other in a
  *    sort-and-sweep along x. A few huge static walls therefore cost their footprint, never
  *    n per small body.
- *  - The pairs are counted per lower slot, prefix summed and scattered into place, then each
- *    slot's short run is sorted by the upper slot: the output is sorted by (a, b) without a
- *    global sort of the pairs. Up to 4 pairs per body are kept from the search for the
- *    scatter; beyond that the search runs a second time to place them (no allocation).
- * Everything is integer keyed and stable, so the output depends only on the input.
- * Memory: about 140 bytes per body of capacity, all allocated by kg_broadphase_create. */
+ *  - The pairs are counted per lower slot and written to the caller's buffer in discovery
+ *    order, then moved in place into their slot's run (prefix-summed offsets), and each
+ *    slot's short run is sorted by the upper slot: the output is sorted by (a, b) without
+ *    a global sort of the pairs, and without a second pair buffer. When the pairs do not
+ *    all fit the caller's buffer, the search runs a second time to place those that fit
+ *    (no allocation).
+ * Everything is integer keyed, so the output depends only on the input.
+ * Memory: 100 bytes per body of capacity (proxies twice, 32 each; six sort buffers and
+ * three run arrays, 4 each), all allocated by kg_broadphase_create. */
 #ifndef KG_BROADPHASE_H
 #define KG_BROADPHASE_H
 

@@ -11,8 +11,17 @@
 #include "core/alloc.h"
 #include "core/error.h"
 
+#include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
+
+/* The contact pool is sized from what the world needs, not from max_contacts: it starts at
+ * this many slots per body of max_bodies (a body resting on another), at least
+ * KG_MIN_CONTACT_SLOTS, never more than max_contacts, and grows when the pairs outgrow it
+ * (docs/design.md, "Pools and handles"). */
+#define KG_INITIAL_CONTACTS_PER_BODY 1
+#define KG_MIN_CONTACT_SLOTS 64
 
 struct kg_collision {
     kg_broadphase* broadphase;
@@ -24,7 +33,10 @@ struct kg_collision {
     int previous_count;
     int body_count;          /* contacts [0, body_count) are body pairs, the rest tiles */
     int previous_body_count;
-    int capacity;           /* of pairs, manifolds and both contact arrays */
+    int capacity;           /* of pairs, manifolds and both contact arrays; world->def.max_contacts
+                             * is kept equal to it (the solver and the OpenCL backend size from it) */
+    int budget;             /* pairs the pool may grow to without a warning: max_contacts as
+                             * given, or as raised by a growth past it */
 };
 
 static void kg_free_buffers(struct kg_collision* c)
@@ -35,32 +47,42 @@ static void kg_free_buffers(struct kg_collision* c)
     kg_free(c->previous);
 }
 
-/* Sizes the pair and contact buffers; contents of the contact arrays are kept. */
-static kg_result kg_reserve(struct kg_collision* c, int capacity)
+/* Replaces *buffer by a zeroed one of size bytes holding its first keep bytes; on failure
+ * *buffer is left as it was. */
+static int kg_regrow(void** buffer, size_t keep, size_t size)
 {
-    kg_pair* pairs = kg_alloc_zeroed((size_t)capacity * sizeof *pairs);
-    kg_manifold* manifolds = kg_alloc_zeroed((size_t)capacity * sizeof *manifolds);
-    kg_contact* contacts = kg_alloc_zeroed((size_t)capacity * sizeof *contacts);
-    kg_contact* previous = kg_alloc_zeroed((size_t)capacity * sizeof *previous);
-    if (!pairs || !manifolds || !contacts || !previous) {
-        kg_free(pairs);
-        kg_free(manifolds);
-        kg_free(contacts);
-        kg_free(previous);
+    void* grown = kg_alloc_zeroed(size);
+    if (!grown) {
+        return 0;
+    }
+    if (keep > 0) {
+        memcpy(grown, *buffer, keep);
+    }
+    kg_free(*buffer);
+    *buffer = grown;
+    return 1;
+}
+
+/* Sizes the pair and contact buffers; contents of the contact arrays are kept. One buffer
+ * is replaced at a time, each old one freed as soon as its replacement is made, so that a
+ * growth never holds two whole pools; a buffer larger than the capacity (left by a failure
+ * part way) is harmless. */
+static kg_result kg_reserve(kg_world* world, int capacity)
+{
+    struct kg_collision* c = world->collision;
+    size_t n = (size_t)(capacity > 0 ? capacity : 1);
+    if (!kg_regrow((void**)&c->pairs, 0, n * sizeof *c->pairs) ||
+        !kg_regrow((void**)&c->manifolds, 0, n * sizeof *c->manifolds) ||
+        !kg_regrow((void**)&c->contacts, (size_t)c->count * sizeof *c->contacts, n * sizeof *c->contacts) ||
+        !kg_regrow((void**)&c->previous, (size_t)c->previous_count * sizeof *c->previous, n * sizeof *c->previous)) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate room for %d contacts", capacity);
     }
-    if (c->contacts) {
-        memcpy(contacts, c->contacts, (size_t)c->count * sizeof *contacts);
-        memcpy(previous, c->previous, (size_t)c->previous_count * sizeof *previous);
-    }
-    kg_free_buffers(c);
-    c->pairs = pairs;
-    c->manifolds = manifolds;
-    c->contacts = contacts;
-    c->previous = previous;
     c->capacity = capacity;
+    world->def.max_contacts = capacity;
     return KG_OK;
 }
+
+static int kg_min_int(int a, int b) { return a < b ? a : b; }
 
 kg_result kg_collision_create(kg_world* world)
 {
@@ -69,8 +91,23 @@ kg_result kg_collision_create(kg_world* world)
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the collision state");
     }
     world->collision = c;
+    c->budget = world->def.max_contacts;
+    int64_t initial = (int64_t)KG_INITIAL_CONTACTS_PER_BODY * world->def.max_bodies;
+    initial = initial > KG_MIN_CONTACT_SLOTS ? initial : KG_MIN_CONTACT_SLOTS;
     kg_result r = kg_broadphase_create(world->def.max_bodies, &c->broadphase);
-    return r == KG_OK ? kg_reserve(c, world->def.max_contacts) : r;
+    return r == KG_OK ? kg_reserve(world, (int)(initial < c->budget ? initial : c->budget)) : r;
+}
+
+/* Tile contacts cannot grow the pool in the middle of the stage (the tile pass is not run
+ * twice: it remembers where bodies were, for one-way platforms), so while a tile map is
+ * live the pool is kept at the budget, the room tile contacts always had. */
+static kg_result kg_reserve_tile_room(kg_world* world)
+{
+    struct kg_collision* c = world->collision;
+    if (c->capacity >= c->budget || kg_tilemaps_live_count(world) == 0) {
+        return KG_OK;
+    }
+    return kg_reserve(world, c->budget);
 }
 
 void kg_collision_destroy(kg_world* world)
@@ -84,22 +121,29 @@ void kg_collision_destroy(kg_world* world)
     }
 }
 
-/* Pairs into c->pairs. A full buffer is the one case where a step allocates: it grows
- * (with a warning) and the broadphase runs again, because dropping contacts would let
- * bodies fall through each other. */
+/* Pairs into c->pairs. A full buffer is the one case where a step allocates: it grows to
+ * half again the pairs found, and the broadphase runs again, because dropping contacts
+ * would let bodies fall through each other. Up to max_contacts this is the pool finding
+ * its size, silently; past it, it warns (once). */
 static kg_result kg_find_pairs(kg_world* world, int* pair_count)
 {
     struct kg_collision* c = world->collision;
     float margin = world->def.speculative_distance;
     int n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->pairs, c->capacity);
     if (n > c->capacity) {
-        kg_warn_once("contacts-grow", "more touching pairs (%d) than max_contacts (%d): growing the contact pool; "
-                     "raise kg_world_def.max_contacts to avoid this", n, c->capacity);
-        kg_result r = kg_reserve(c, n + n / 2);
+        int64_t want = (int64_t)n + n / 2;
+        int grown = want < INT_MAX ? (int)want : INT_MAX;
+        if (n > c->budget) {
+            kg_warn_once("contacts-grow", "more touching pairs (%d) than max_contacts (%d): growing the contact pool; "
+                         "raise kg_world_def.max_contacts to avoid this", n, c->budget);
+            c->budget = grown;
+        } else {
+            grown = kg_min_int(grown, c->budget);
+        }
+        kg_result r = kg_reserve(world, grown);
         if (r != KG_OK) {
             return r;
         }
-        world->def.max_contacts = c->capacity;
         n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->pairs, c->capacity);
     }
     *pair_count = n;
@@ -207,7 +251,10 @@ kg_result kg_stage_collide(kg_world* world)
     world->times.warm_starts_carried = 0;
     world->times.warm_starts_missed = 0;
     int pair_count = 0;
-    kg_result r = kg_find_pairs(world, &pair_count);
+    kg_result r = kg_reserve_tile_room(world);
+    if (r == KG_OK) {
+        r = kg_find_pairs(world, &pair_count);
+    }
     if (r != KG_OK) {
         return r;
     }
@@ -274,7 +321,15 @@ void kg_collision_set_count(kg_world* world, int count, int body_count)
     world->collision->body_count = body_count;
 }
 
-int kg_collision_capacity(const kg_world* world) { return world->collision->capacity; }
+int kg_collision_capacity(kg_world* world)
+{
+    if (kg_reserve_tile_room(world) != KG_OK) {
+        kg_warn_once("tile-room", "out of memory for the tile contacts' room: some may be dropped");
+    }
+    return world->collision->capacity;
+}
+
+int kg_collision_budget(const kg_world* world) { return world->collision->budget; }
 
 /* The handle the body had when the contact was made: stale if it died since. */
 static kg_body kg_handle_of(kg_u32 slot, kg_u32 generation)

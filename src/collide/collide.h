@@ -24,7 +24,16 @@ void kg_collision_mark_rested(kg_world* world);
  * kg_collision_set_count says how many it holds and how many are body pairs. */
 kg_contact* kg_collision_begin_step(kg_world* world, kg_contact** previous, int* previous_count);
 void kg_collision_set_count(kg_world* world, int count, int body_count);
-int kg_collision_capacity(const kg_world* world);
+/* The contact pool's capacity for this step's contacts (world->def.max_contacts follows
+ * it). It is sized from need (docs/design.md, "Pools and handles"); while a tile map is
+ * live this first grows it to the budget, the room tile contacts get (they cannot grow
+ * it in the middle of a stage). */
+int kg_collision_capacity(kg_world* world);
+/* How far the pool may grow without a warning: kg_world_def.max_contacts as the world was
+ * created with (0 made 4 per body), or as raised when the pairs outgrew it. The OpenCL
+ * backend reserves its device buffers for this many, so that the pool's growth on the
+ * host never leaves the device short. */
+int kg_collision_budget(const kg_world* world);
 
 /* Adds a persisting contact's points to the step's warm-start counts (kg_stage_times):
  * carried of its points found last step's impulses, the rest started cold. */

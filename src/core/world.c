@@ -17,7 +17,7 @@ kg_world_def kg_default_world_def(void)
     memset(&def, 0, sizeof def);
     def.gravity = kg_v2(0.0f, -10.0f);
     def.max_bodies = 4096;
-    def.max_contacts = 0; /* 0 = 4 per body */
+    def.max_contacts = 0; /* 0 = 4 per body: how far the contact pool grows before it warns */
     def.max_applicators = 32;
     /* Soft contacts sag by load / (mass * (2 pi hertz)^2) and hertz must stay under a
      * quarter of the sub-step rate. 4 sub-steps at 45 Hz, damping ratio 20 (static
@@ -87,6 +87,9 @@ kg_result kg_create_world(const kg_world_def* def, kg_world** out_world)
     if (w->def.max_contacts == 0) {
         w->def.max_contacts = 4 * def->max_bodies;
     }
+    /* From here max_contacts is the contact pool's budget: kg_collision_create sizes the
+     * pool from the body count instead and keeps def.max_contacts at its capacity, which
+     * the solver (created after it) and the OpenCL backend size their arrays from. */
     if (w->def.threads == 0) {
         w->def.threads = 1;
     }

@@ -1,6 +1,7 @@
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_world.h"
 #include "backend/opencl/kernels/kg_collide_shared.h"
+#include "collide/collide.h"
 #include "core/alloc.h"
 #include "core/error.h"
 #include "solve/contact_solver.h"
@@ -463,7 +464,11 @@ static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
         r = kg_cl_create_collide_buffers(w, pool->capacity);
     }
     if (r == KG_OK) {
-        r = kg_cl_reserve_contacts(w, world->def.max_contacts); /* last: it binds every buffer */
+        /* For the budget, not the host's pool (sized from need): the device grows its
+         * contact buffers only when the contacts outgrow its colouring, so pairs that
+         * outgrew a smaller device pool would send every step to the host. Last: it
+         * binds every buffer. */
+        r = kg_cl_reserve_contacts(w, kg_collision_budget(world));
     }
     return r;
 }
