@@ -7,6 +7,7 @@
 #include "collide/aabb.h"
 #include "collide/broadphase.h"
 #include "collide/manifold.h"
+#include "collide/recycle.h"
 #include "collide/tilemap.h"
 #include "core/alloc.h"
 #include "core/error.h"
@@ -27,6 +28,8 @@ struct kg_collision {
     kg_broadphase* broadphase;
     kg_pair* pairs;
     kg_manifold* manifolds; /* one per pair */
+    kg_contact_base* bases; /* one per pair: the manifold as computed (collide/recycle.h) */
+    int* previous_of;       /* one per pair: last step's contact of the pair, or -1 */
     kg_contact* contacts;
     kg_contact* previous;
     int count;
@@ -43,6 +46,8 @@ static void kg_free_buffers(struct kg_collision* c)
 {
     kg_free(c->pairs);
     kg_free(c->manifolds);
+    kg_free(c->bases);
+    kg_free(c->previous_of);
     kg_free(c->contacts);
     kg_free(c->previous);
 }
@@ -73,6 +78,8 @@ static kg_result kg_reserve(kg_world* world, int capacity)
     size_t n = (size_t)(capacity > 0 ? capacity : 1);
     if (!kg_regrow((void**)&c->pairs, 0, n * sizeof *c->pairs) ||
         !kg_regrow((void**)&c->manifolds, 0, n * sizeof *c->manifolds) ||
+        !kg_regrow((void**)&c->bases, 0, n * sizeof *c->bases) ||
+        !kg_regrow((void**)&c->previous_of, 0, n * sizeof *c->previous_of) ||
         !kg_regrow((void**)&c->contacts, (size_t)c->count * sizeof *c->contacts, n * sizeof *c->contacts) ||
         !kg_regrow((void**)&c->previous, (size_t)c->previous_count * sizeof *c->previous, n * sizeof *c->previous)) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate room for %d contacts", capacity);
@@ -153,7 +160,10 @@ static kg_result kg_find_pairs(kg_world* world, int* pair_count)
 typedef struct kg_narrowphase_job {
     const kg_body_pool* bodies;
     const kg_pair* pairs;
+    const int* previous_of;
+    const kg_contact* previous;
     kg_manifold* manifolds;
+    kg_contact_base* bases;
     float speculative;
     float dt;
 } kg_narrowphase_job;
@@ -174,27 +184,22 @@ static void kg_narrowphase_range(void* context, int begin, int end)
             continue;
         }
         float speculative = kg_pair_speculative(job->speculative, p->velocity[a], p->velocity[b], job->dt);
-        job->manifolds[k] = kg_collide_shapes(&p->shape[a], p->xf[a], &p->shape[b], p->xf[b], speculative);
+        int old = job->previous_of[k];
+        kg_collide_or_recycle(&p->shape[a], p->xf[a], &p->shape[b], p->xf[b], speculative,
+                              old >= 0 ? &job->previous[old] : NULL, &job->manifolds[k], &job->bases[k]);
     }
 }
 
 static int kg_pair_less(kg_u32 a0, kg_u32 b0, kg_u32 a1, kg_u32 b1) { return a0 < a1 || (a0 == a1 && b0 < b1); }
 
-/* Touching pairs become contacts; both lists are sorted by (a, b), so last step's
- * contact of the same pair is found by walking the two lists together. A kept manifold
- * takes last step's contact whole: nothing has moved or been solved since (two sleeping
- * or static bodies), so it is what computing it again and carrying the impulses gives,
- * bit for bit, and what the OpenCL backend, which does compute it, gets. */
-static void kg_build_contacts(kg_world* world, int pair_count)
+/* Last step's contact of each pair (the same two bodies, not others that took over their
+ * slots), or -1: both lists are sorted by (a, b), so they are walked together. */
+static void kg_match_previous(kg_world* world, int pair_count)
 {
     struct kg_collision* c = world->collision;
     const kg_body_pool* p = &world->bodies;
-    int count = 0, old = 0;
+    int old = 0;
     for (int k = 0; k < pair_count; ++k) {
-        kg_manifold* m = &c->manifolds[k];
-        if (m->point_count == 0) {
-            continue;
-        }
         kg_u32 a = c->pairs[k].a, b = c->pairs[k].b;
         while (old < c->previous_count && kg_pair_less(c->previous[old].a, c->previous[old].b, a, b)) {
             old++;
@@ -202,6 +207,27 @@ static void kg_build_contacts(kg_world* world, int pair_count)
         const kg_contact* prev = &c->previous[old];
         int same = old < c->previous_count && prev->a == a && prev->b == b && prev->generation_a == p->generation[a] &&
                    prev->generation_b == p->generation[b];
+        c->previous_of[k] = same ? old : -1;
+    }
+}
+
+/* Touching pairs become contacts, with last step's impulses carried over. A kept manifold
+ * takes last step's contact whole: nothing has moved or been solved since (two sleeping
+ * or static bodies), so it is what computing it again and carrying the impulses gives,
+ * bit for bit, and what the OpenCL backend, which does compute it, gets. */
+static void kg_build_contacts(kg_world* world, int pair_count)
+{
+    struct kg_collision* c = world->collision;
+    const kg_body_pool* p = &world->bodies;
+    int count = 0;
+    for (int k = 0; k < pair_count; ++k) {
+        kg_manifold* m = &c->manifolds[k];
+        if (m->point_count == 0) {
+            continue;
+        }
+        kg_u32 a = c->pairs[k].a, b = c->pairs[k].b;
+        int same = c->previous_of[k] >= 0;
+        const kg_contact* prev = same ? &c->previous[c->previous_of[k]] : NULL;
         if (m->point_count == KG_MANIFOLD_KEPT) {
             if (same) {
                 c->contacts[count++] = *prev;
@@ -221,6 +247,8 @@ static void kg_build_contacts(kg_world* world, int pair_count)
         ct->generation_b = p->generation[b];
         ct->friction = sqrtf(p->friction[a] * p->friction[b]);
         ct->restitution = fmaxf(p->restitution[a], p->restitution[b]);
+        ct->pad = 0u;
+        ct->base = c->bases[k];
     }
     c->count = count;
     c->body_count = count;
@@ -258,7 +286,9 @@ kg_result kg_stage_collide(kg_world* world)
     if (r != KG_OK) {
         return r;
     }
-    kg_narrowphase_job job = {&world->bodies, c->pairs, c->manifolds, world->def.speculative_distance, world->last_dt};
+    kg_match_previous(world, pair_count);
+    kg_narrowphase_job job = {&world->bodies, c->pairs, c->previous_of, c->previous, c->manifolds, c->bases,
+                              world->def.speculative_distance, world->last_dt};
     kg_parallel_for(world->threads, pair_count, 64, kg_narrowphase_range, &job);
     kg_build_contacts(world, pair_count);
     int room = c->capacity - c->count;

@@ -45,6 +45,17 @@ typedef struct kg_manifold {
     kg_i32 pad;
 } kg_manifold;
 
+/* A body pair's manifold as it was computed, in the bodies' own frames, so that it can
+ * be kept while the pair's relative pose barely moves (collide/recycle.h). Zeros for tile
+ * contacts, which are computed every step. */
+typedef struct kg_contact_base {
+    kg_vec2 point_a[2]; /* each point in a's frame */
+    kg_vec2 point_b[2]; /* the same point in b's frame */
+    float separation[2];
+    kg_vec2 normal;     /* in a's frame */
+    kg_xf pose;         /* b's pose in a's frame */
+} kg_contact_base;
+
 /* A persistent contact: between two bodies (slots a < b, tile == KG_NULL_INDEX), or
  * between body a and a tile of a tile map (b == KG_NULL_INDEX, tile = its key). */
 typedef struct kg_contact {
@@ -56,6 +67,7 @@ typedef struct kg_contact {
     kg_u32 generation_a, generation_b; /* of the bodies when the contact was made: a slot
                                         * reused by a new body is not mistaken for the old */
     kg_u32 pad;         /* a multiple of 16 bytes, as device buffers prefer */
+    kg_contact_base base;
 } kg_contact;
 
 /* Carries last step's accumulated impulses over to m, point by point, where the feature
@@ -80,6 +92,7 @@ KG_STATIC_ASSERT(sizeof(kg_vec2) == 8, vec2_size);
 KG_STATIC_ASSERT(sizeof(kg_shape) == 144, shape_size);
 KG_STATIC_ASSERT(sizeof(kg_manifold_point) == 48, manifold_point_size);
 KG_STATIC_ASSERT(sizeof(kg_manifold) == 112, manifold_size);
-KG_STATIC_ASSERT(sizeof(kg_contact) == 144, contact_size);
+KG_STATIC_ASSERT(sizeof(kg_contact_base) == 64, contact_base_size);
+KG_STATIC_ASSERT(sizeof(kg_contact) == 208, contact_size);
 
 #endif

@@ -107,10 +107,11 @@ static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
     cl_mem previous = w->contacts[w->current], next = w->contacts[w->current ^ 1];
     KG_LAUNCH(w, NARROWPHASE, pairs, label, KG_INT(pairs), KG_FLOAT(world->def.speculative_distance),
               KG_FLOAT(world->last_dt), KG_MEM(c->pairs), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)),
-              KG_MEM(c->manifolds), KG_MEM(c->touching));
+              KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)), KG_MEM(c->manifolds),
+              KG_MEM(c->bases), KG_MEM(c->touching));
     KG_TRY(kg_scan(w, c->touching, c->touching, pairs, KG_CC_CONTACTS, label));
     KG_LAUNCH(w, BUILD_CONTACTS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->manifolds),
-              KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)),
+              KG_MEM(c->bases), KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)),
               KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)), KG_MEM(next));
     return KG_OK;
 }

@@ -477,7 +477,7 @@ static void kg_cl_release_contact_buffers(kg_cl_world* w)
 {
     kg_cl_collide_buffers* c = &w->collide;
     cl_mem* list[] = {&w->contacts[0], &w->contacts[1], &w->constraints, &w->colored, &w->order,
-                      &c->raw_pairs, &c->pairs, &c->manifolds, &c->touching, &c->colors};
+                      &c->raw_pairs, &c->pairs, &c->manifolds, &c->bases, &c->touching, &c->colors};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
         kg_cl_release(w, list[k]);
     }
@@ -503,6 +503,7 @@ kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
         {&c->raw_pairs, n * 2u * words},
         {&c->pairs, n * 2u * words},
         {&c->manifolds, n * sizeof(kg_manifold)},
+        {&c->bases, n * sizeof(kg_contact_base)},
         {&c->touching, (n + 1) * words},
         {&c->colors, n * words},
     };

@@ -106,6 +106,7 @@ typedef struct kg_cl_collide_buffers {
     cl_mem raw_pairs;      /* pairs as found */
     cl_mem pairs;          /* pairs sorted by (a, b) */
     cl_mem manifolds;      /* one per pair */
+    cl_mem bases;          /* one per pair: the manifold as computed (collide/recycle.h) */
     cl_mem touching;       /* per pair, then its prefix sum: the contact index (pairs + 1) */
     cl_mem colors;         /* colour per contact */
 } kg_cl_collide_buffers;

@@ -10,6 +10,7 @@
 #include "core/kg_layout.h"
 #include "collide/aabb.h"
 #include "collide/manifold.h"
+#include "collide/recycle.h"
 #include "collide/tile_collide.h"
 #include "kg_collide_shared.h"
 
@@ -513,23 +514,6 @@ __kernel void kg_bp_sort_runs(int count, __global const uint* run_start, __globa
 
 /* kg_narrowphase_range of collide/collide.c: the manifold of pair k, and whether it
  * touches (within its speculative distance). */
-__kernel void kg_narrowphase(int count, float speculative_distance, float dt, __global const uint2* pairs,
-                             __global const kg_shape* shape, __global const kg_xf* xf,
-                             __global const kg_vec2* velocity, __global kg_manifold* manifolds,
-                             __global uint* touching)
-{
-    int k = (int)get_global_id(0);
-    if (k >= count) {
-        return;
-    }
-    uint2 p = pairs[k];
-    kg_shape a = shape[p.x], b = shape[p.y];
-    float speculative = kg_pair_speculative(speculative_distance, velocity[p.x], velocity[p.y], dt);
-    kg_manifold m = kg_collide_shapes(&a, xf[p.x], &b, xf[p.y], speculative);
-    manifolds[k] = m;
-    touching[k] = m.point_count > 0 ? 1u : 0u;
-}
-
 /* Last step's contact of pair (a, b) among its body contacts (sorted by (a, b)), or -1;
  * only a contact between the same two bodies, not others that took over their slots. */
 KG_FN int kg_find_previous(__global const kg_contact* previous, int count, kg_u32 a, kg_u32 b,
@@ -550,10 +534,39 @@ KG_FN int kg_find_previous(__global const kg_contact* previous, int count, kg_u3
     return same ? lo : -1;
 }
 
+/* kg_narrowphase_range of collide/collide.c: pair k's manifold, kept from last step's
+ * contact of the pair (collide/recycle.h) or computed, and its base. */
+__kernel void kg_narrowphase(int count, float speculative_distance, float dt, __global const uint2* pairs,
+                             __global const kg_shape* shape, __global const kg_xf* xf,
+                             __global const kg_vec2* velocity, __global const kg_contact* previous,
+                             int previous_count, __global const kg_u32* generation, __global kg_manifold* manifolds,
+                             __global kg_contact_base* bases, __global uint* touching)
+{
+    int k = (int)get_global_id(0);
+    if (k >= count) {
+        return;
+    }
+    uint2 p = pairs[k];
+    kg_shape a = shape[p.x], b = shape[p.y];
+    float speculative = kg_pair_speculative(speculative_distance, velocity[p.x], velocity[p.y], dt);
+    int old = kg_find_previous(previous, previous_count, p.x, p.y, generation);
+    kg_contact last;
+    if (old >= 0) {
+        last = previous[old];
+    }
+    kg_manifold m;
+    kg_contact_base base;
+    kg_collide_or_recycle(&a, xf[p.x], &b, xf[p.y], speculative, old >= 0 ? &last : 0, &m, &base);
+    manifolds[k] = m;
+    bases[k] = base;
+    touching[k] = m.point_count > 0 ? 1u : 0u;
+}
+
 /* kg_build_contacts of collide/collide.c: touching pair k becomes contact index[k] (the
  * prefix sum of touching keeps the pairs' order), with last step's impulses carried. */
 __kernel void kg_build_contacts(int count, __global const uint2* pairs, __global const kg_manifold* manifolds,
-                                __global const uint* index, __global const kg_contact* previous,
+                                __global const kg_contact_base* bases, __global const uint* index,
+                                __global const kg_contact* previous,
                                 int previous_count, __global const kg_u32* generation,
                                 __global const float* friction, __global const float* restitution,
                                 __global kg_contact* contacts)
@@ -578,6 +591,7 @@ __kernel void kg_build_contacts(int count, __global const uint2* pairs, __global
     c.generation_a = generation[p.x];
     c.generation_b = generation[p.y];
     c.pad = 0u;
+    c.base = bases[k];
     contacts[index[k]] = c;
 }
 
@@ -684,6 +698,7 @@ KG_FN int kg_tile_cell_contact(const kg_tile_body* body, const kg_tile_map_info*
     c.generation_a = 0u; /* stamped by the caller */
     c.generation_b = 0u;
     c.pad = 0u;
+    c.base = kg_no_contact_base();
     *out = c;
     return 1;
 }

@@ -1,0 +1,113 @@
+/* Contact recycling, shared by the CPU backend and the kernels: a body pair that touched
+ * last step keeps its manifold while its relative pose has moved less than a tolerance
+ * since the manifold was computed; only the points' positions and separations follow the
+ * bodies, as the solver's sub-steps already do within a step. The narrowphase (a few
+ * hundred operations a pair) then runs only for pairs that really moved: in a resting
+ * pile almost none. The manifold kept in the contact is always the one rebuilt from its
+ * base (kg_contact_base) at the current poses, whether the base is new or kept, so a
+ * contact kept whole between two resting bodies is the same bits as one rebuilt. */
+#ifndef KG_RECYCLE_H
+#define KG_RECYCLE_H
+
+#include "core/kg_layout.h"
+
+/* Within these a pair's relative pose counts as unchanged: a millimetre, and a turn of
+ * 2 mrad (2 mm at the corner of a 2 m box), far below the 5 mm linear slop. */
+#define KG_RECYCLE_DISTANCE 0.001f
+#define KG_RECYCLE_SINE 0.002f
+
+/* The base of a contact that is not recycled (a tile contact): zeros. */
+KG_FN kg_contact_base kg_no_contact_base(void)
+{
+    kg_contact_base base;
+    for (int i = 0; i < 2; ++i) {
+        base.point_a[i] = kg_v2(0.0f, 0.0f);
+        base.point_b[i] = kg_v2(0.0f, 0.0f);
+        base.separation[i] = 0.0f;
+    }
+    base.normal = kg_v2(0.0f, 0.0f);
+    base.pose.p = kg_v2(0.0f, 0.0f);
+    base.pose.q.c = 0.0f;
+    base.pose.q.s = 0.0f;
+    return base;
+}
+
+KG_FN kg_contact_base kg_contact_base_of(const kg_manifold* m, kg_xf xfa, kg_xf xfb)
+{
+    kg_contact_base base;
+    base.pose = kg_xf_inv_mul(xfa, xfb);
+    base.normal = kg_inv_rotate(xfa.q, m->normal);
+    for (int i = 0; i < 2; ++i) {
+        int has = i < m->point_count;
+        base.point_a[i] = has ? kg_inv_rotate(xfa.q, m->points[i].anchor_a) : kg_v2(0.0f, 0.0f);
+        base.point_b[i] = has ? kg_inv_rotate(xfb.q, m->points[i].anchor_b) : kg_v2(0.0f, 0.0f);
+        base.separation[i] = has ? m->points[i].separation : 0.0f;
+    }
+    return base;
+}
+
+/* The manifold of base at the poses xfa and xfb, with the ids and point count of like:
+ * each point moves with both bodies; the separation grows by how far its two copies
+ * moved apart along the normal, and the point sits midway between them. */
+KG_FN kg_manifold kg_manifold_of_base(const kg_contact_base* base, const kg_manifold* like, kg_xf xfa, kg_xf xfb)
+{
+    kg_manifold m = kg_empty_manifold();
+    m.normal = kg_rotate(xfa.q, base->normal);
+    m.point_count = like->point_count;
+    kg_vec2 a_to_b = kg_sub(xfa.p, xfb.p);
+    for (int i = 0; i < like->point_count && i < 2; ++i) {
+        kg_vec2 ra = kg_rotate(xfa.q, base->point_a[i]);
+        kg_vec2 rb = kg_rotate(xfb.q, base->point_b[i]);
+        kg_vec2 apart = kg_sub(kg_sub(rb, ra), a_to_b); /* (pb + rb) - (pa + ra) */
+        kg_manifold_point* mp = &m.points[i];
+        mp->separation = base->separation[i] + kg_dot(apart, m.normal);
+        mp->anchor_a = kg_mul_add(ra, 0.5f, apart);
+        mp->anchor_b = kg_add(mp->anchor_a, a_to_b);
+        mp->point = kg_add(xfa.p, mp->anchor_a);
+        mp->id = like->points[i].id;
+    }
+    return m;
+}
+
+/* Whether b's pose in a's frame is still within the tolerances of the base's. */
+KG_FN int kg_pose_kept(const kg_contact_base* base, kg_xf xfa, kg_xf xfb)
+{
+    kg_xf now = kg_xf_inv_mul(xfa, xfb);
+    kg_vec2 moved = kg_sub(now.p, base->pose.p);
+    float sine = base->pose.q.c * now.q.s - base->pose.q.s * now.q.c;
+    float cosine = base->pose.q.c * now.q.c + base->pose.q.s * now.q.s;
+    return kg_dot(moved, moved) <= KG_RECYCLE_DISTANCE * KG_RECYCLE_DISTANCE && fabsf(sine) <= KG_RECYCLE_SINE &&
+           cosine > 0.0f;
+}
+
+/* The manifold of a body pair and its base: last step's kept (old, may be NULL) when the
+ * pair has barely moved since it was computed and every point stays within the
+ * speculative distance, else computed anew. Returns 1 when kept.
+ *
+ * Only between two polygons: a kept point turns with its bodies, which is right for a
+ * corner but not for a round shape, whose contact stays below its centre however it
+ * turns. A rolling ball's point, carried round with it, gave the ball a lever arm that
+ * drove the roll (a pile of boxes and balls crept and never fell asleep), and its
+ * manifold costs little to compute anyway. */
+KG_FN int kg_collide_or_recycle(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative,
+                                const kg_contact* old, kg_manifold* m, kg_contact_base* base)
+{
+    if (old && a->count >= 3 && b->count >= 3 && kg_pose_kept(&old->base, xfa, xfb)) {
+        kg_manifold kept = kg_manifold_of_base(&old->base, &old->manifold, xfa, xfb);
+        int within = 1;
+        for (int i = 0; i < kept.point_count; ++i) {
+            within &= kept.points[i].separation <= speculative;
+        }
+        if (within) {
+            *m = kept;
+            *base = old->base;
+            return 1;
+        }
+    }
+    kg_manifold fresh = kg_collide_shapes(a, xfa, b, xfb, speculative);
+    *base = kg_contact_base_of(&fresh, xfa, xfb);
+    *m = kg_manifold_of_base(base, &fresh, xfa, xfb);
+    return 0;
+}
+
+#endif
