@@ -13,6 +13,7 @@
 #include "core/error.h"
 
 #include <limits.h>
+#include <stdatomic.h>
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
@@ -30,6 +31,7 @@ struct kg_collision {
     kg_manifold* manifolds; /* one per pair */
     kg_contact_base* bases; /* one per pair: the manifold as computed (collide/recycle.h) */
     int* previous_of;       /* one per pair: last step's contact of the pair, or -1 */
+    int* contact_of;        /* one per pair: its contact this step, or -1 */
     kg_contact* contacts;
     kg_contact* previous;
     int count;
@@ -48,6 +50,7 @@ static void kg_free_buffers(struct kg_collision* c)
     kg_free(c->manifolds);
     kg_free(c->bases);
     kg_free(c->previous_of);
+    kg_free(c->contact_of);
     kg_free(c->contacts);
     kg_free(c->previous);
 }
@@ -80,6 +83,7 @@ static kg_result kg_reserve(kg_world* world, int capacity)
         !kg_regrow((void**)&c->manifolds, 0, n * sizeof *c->manifolds) ||
         !kg_regrow((void**)&c->bases, 0, n * sizeof *c->bases) ||
         !kg_regrow((void**)&c->previous_of, 0, n * sizeof *c->previous_of) ||
+        !kg_regrow((void**)&c->contact_of, 0, n * sizeof *c->contact_of) ||
         !kg_regrow((void**)&c->contacts, (size_t)c->count * sizeof *c->contacts, n * sizeof *c->contacts) ||
         !kg_regrow((void**)&c->previous, (size_t)c->previous_count * sizeof *c->previous, n * sizeof *c->previous)) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate room for %d contacts", capacity);
@@ -211,34 +215,41 @@ static void kg_match_previous(kg_world* world, int pair_count)
     }
 }
 
-/* Touching pairs become contacts, with last step's impulses carried over. A kept manifold
- * takes last step's contact whole: nothing has moved or been solved since (two sleeping
- * or static bodies), so it is what computing it again and carrying the impulses gives,
- * bit for bit, and what the OpenCL backend, which does compute it, gets. */
-static void kg_build_contacts(kg_world* world, int pair_count)
+typedef struct kg_build_job {
+    kg_world* world;
+    atomic_int carried, missed; /* warm starts, summed over the ranges */
+} kg_build_job;
+
+/* Pair k's contact, at the index the prefix sum gave it, with last step's impulses
+ * carried over. A kept manifold takes last step's contact whole: nothing has moved or
+ * been solved since (two sleeping or static bodies), so it is what computing it again
+ * and carrying the impulses gives, bit for bit, and what the OpenCL backend, which does
+ * compute it, gets. */
+static void kg_build_range(void* context, int begin, int end)
 {
-    struct kg_collision* c = world->collision;
-    const kg_body_pool* p = &world->bodies;
-    int count = 0;
-    for (int k = 0; k < pair_count; ++k) {
-        kg_manifold* m = &c->manifolds[k];
-        if (m->point_count == 0) {
+    kg_build_job* job = context;
+    struct kg_collision* c = job->world->collision;
+    const kg_body_pool* p = &job->world->bodies;
+    int carried = 0, missed = 0;
+    for (int k = begin; k < end; ++k) {
+        int index = c->contact_of[k];
+        if (index < 0) {
             continue;
         }
-        kg_u32 a = c->pairs[k].a, b = c->pairs[k].b;
-        int same = c->previous_of[k] >= 0;
-        const kg_contact* prev = same ? &c->previous[c->previous_of[k]] : NULL;
+        kg_manifold* m = &c->manifolds[k];
+        const kg_contact* prev = c->previous_of[k] >= 0 ? &c->previous[c->previous_of[k]] : NULL;
+        kg_contact* ct = &c->contacts[index];
         if (m->point_count == KG_MANIFOLD_KEPT) {
-            if (same) {
-                c->contacts[count++] = *prev;
-                kg_count_warm_starts(world, prev->manifold.point_count, prev->manifold.point_count);
-            }
-            continue; /* no contact last step: none now */
+            *ct = *prev;
+            carried += prev->manifold.point_count;
+            continue;
         }
-        if (same) {
-            kg_count_warm_starts(world, m->point_count, kg_contact_carry_impulses(m, &prev->manifold));
+        if (prev) {
+            int matched = kg_contact_carry_impulses(m, &prev->manifold);
+            carried += matched;
+            missed += m->point_count - matched;
         }
-        kg_contact* ct = &c->contacts[count++];
+        kg_u32 a = c->pairs[k].a, b = c->pairs[k].b;
         ct->manifold = *m;
         ct->a = a;
         ct->b = b;
@@ -250,6 +261,24 @@ static void kg_build_contacts(kg_world* world, int pair_count)
         ct->pad = 0u;
         ct->base = c->bases[k];
     }
+    atomic_fetch_add(&job->carried, carried);
+    atomic_fetch_add(&job->missed, missed);
+}
+
+/* Touching pairs become contacts, in pair order (a prefix sum gives each its index), in
+ * parallel; a kept manifold with no contact last step makes none now. */
+static void kg_build_contacts(kg_world* world, int pair_count)
+{
+    struct kg_collision* c = world->collision;
+    int count = 0;
+    for (int k = 0; k < pair_count; ++k) {
+        int points = c->manifolds[k].point_count;
+        int touching = points == KG_MANIFOLD_KEPT ? c->previous_of[k] >= 0 : points > 0;
+        c->contact_of[k] = touching ? count++ : -1;
+    }
+    kg_build_job job = {world, 0, 0};
+    kg_parallel_for(world->threads, pair_count, 256, kg_build_range, &job);
+    kg_count_warm_starts(world, atomic_load(&job.carried) + atomic_load(&job.missed), atomic_load(&job.carried));
     c->count = count;
     c->body_count = count;
 }

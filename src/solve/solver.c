@@ -419,10 +419,16 @@ static int kg_body_state_finite(const kg_body_pool* p, int i)
            kg_is_finite(p->rot[i].c) && kg_is_finite(p->rot[i].s);
 }
 
-void kg_stage_finalize(kg_world* world)
+typedef struct kg_finalize_job {
+    kg_body_pool* pool;
+    float dt;
+} kg_finalize_job;
+
+static void kg_finalize_range(void* context, int begin, int end)
 {
-    kg_body_pool* p = &world->bodies;
-    for (int i = 0; i < p->high_water; ++i) {
+    const kg_finalize_job* job = context;
+    kg_body_pool* p = job->pool;
+    for (int i = begin; i < end; ++i) {
         if (!kg_pool_alive(p, i)) {
             continue;
         }
@@ -435,7 +441,13 @@ void kg_stage_finalize(kg_world* world)
         }
         if (kg_pool_type(p, i) != KG_BODY_STATIC) {
             kg_body_update_transform(p, i);
-            p->aabb[i] = kg_aabb_sweep(p->aabb[i], kg_scale(world->last_dt, p->velocity[i]));
+            p->aabb[i] = kg_aabb_sweep(p->aabb[i], kg_scale(job->dt, p->velocity[i]));
         }
     }
+}
+
+void kg_stage_finalize(kg_world* world)
+{
+    kg_finalize_job job = {&world->bodies, world->last_dt};
+    kg_parallel_for(world->threads, world->bodies.high_water, KG_BODY_GRAIN, kg_finalize_range, &job);
 }
