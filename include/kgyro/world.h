@@ -29,8 +29,9 @@ typedef struct kg_world_def {
                                * are dropped, with a warning). After creation
                                * kg_world_get_def reports the pool's current capacity. */
     int max_applicators;      /* force applicators */
-    int substeps;             /* solver sub-steps per step (>= 1) */
-    float contact_hertz;      /* stiffness of the soft contact constraint */
+    int substeps;             /* solver sub-steps per step (>= 1; default 4) */
+    float contact_hertz;      /* stiffness of the soft contact constraint (default 45; capped at a
+                               * quarter of the sub-step rate, docs/design.md) */
     float contact_damping_ratio;
     float max_push_out_speed; /* m/s: penetration is resolved no faster than this */
     float restitution_threshold; /* m/s: slower impacts do not bounce */
