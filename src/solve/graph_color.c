@@ -8,10 +8,9 @@ kg_result kg_graph_coloring_init(kg_graph_coloring* g, int body_capacity, int co
 {
     memset(g, 0, sizeof *g);
     g->body_capacity = body_capacity;
-    g->words_per_color = (body_capacity + 31) / 32;
-    g->bits = kg_alloc_zeroed((size_t)KG_COLOR_COUNT * (size_t)g->words_per_color * sizeof *g->bits);
+    g->used = kg_alloc_zeroed((size_t)body_capacity * sizeof *g->used);
     g->order = kg_alloc_zeroed((size_t)constraint_capacity * sizeof *g->order);
-    if (!g->bits || !g->order) {
+    if (!g->used || !g->order) {
         kg_graph_coloring_free(g);
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the constraint graph colouring");
     }
@@ -20,9 +19,9 @@ kg_result kg_graph_coloring_init(kg_graph_coloring* g, int body_capacity, int co
 
 void kg_graph_coloring_free(kg_graph_coloring* g)
 {
-    kg_free(g->bits);
+    kg_free(g->used);
     kg_free(g->order);
-    g->bits = NULL;
+    g->used = NULL;
     g->order = NULL;
 }
 
@@ -32,26 +31,24 @@ static int kg_takes_impulses(const kg_body_pool* bodies, kg_u32 slot)
     return slot != KG_NULL_INDEX && kg_pool_is_simulated(bodies, (int)slot);
 }
 
-static int kg_bit(const kg_u32* words, kg_u32 i) { return (words[i >> 5] >> (i & 31u)) & 1u; }
-static void kg_set_bit(kg_u32* words, kg_u32 i) { words[i >> 5] |= 1u << (i & 31u); }
-static void kg_clear_bit(kg_u32* words, kg_u32 i) { words[i >> 5] &= ~(1u << (i & 31u)); }
+#define KG_ALL_COLORS ((1u << KG_COLOR_COUNT) - 1u)
 
+/* The lowest colour neither moving body has taken yet, or KG_COLOR_COUNT (the overflow). */
 static int kg_pick_color(kg_graph_coloring* g, kg_u32 a, kg_u32 b, int a_moves, int b_moves)
 {
-    for (int c = 0; c < KG_COLOR_COUNT; ++c) {
-        kg_u32* words = g->bits + (size_t)c * (size_t)g->words_per_color;
-        if ((a_moves && kg_bit(words, a)) || (b_moves && kg_bit(words, b))) {
-            continue;
-        }
-        if (a_moves) {
-            kg_set_bit(words, a);
-        }
-        if (b_moves) {
-            kg_set_bit(words, b);
-        }
-        return c;
+    kg_u32 taken = (a_moves ? g->used[a] : 0u) | (b_moves ? g->used[b] : 0u);
+    kg_u32 free = ~taken & KG_ALL_COLORS;
+    if (free == 0u) {
+        return KG_COLOR_COUNT;
     }
-    return KG_COLOR_COUNT;
+    int c = __builtin_ctz(free);
+    if (a_moves) {
+        g->used[a] |= 1u << c;
+    }
+    if (b_moves) {
+        g->used[b] |= 1u << c;
+    }
+    return c;
 }
 
 void kg_graph_color(kg_graph_coloring* g, const kg_contact* contacts, int count, const kg_body_pool* bodies,
@@ -78,18 +75,13 @@ void kg_graph_color(kg_graph_coloring* g, const kg_contact* contacts, int count,
     for (int k = 0; k < count; ++k) {
         g->order[fill[scratch_colors[k]]++] = k;
     }
-    /* clear only the bits set, so the cost follows the constraints, not the capacity */
+    /* clear only the bodies marked, so the cost follows the constraints, not the capacity */
     for (int k = 0; k < count; ++k) {
-        int c = scratch_colors[k];
-        if (c == KG_COLOR_COUNT) {
-            continue;
+        if (contacts[k].a != KG_NULL_INDEX) {
+            g->used[contacts[k].a] = 0u;
         }
-        kg_u32* words = g->bits + (size_t)c * (size_t)g->words_per_color;
-        if (kg_takes_impulses(bodies, contacts[k].a)) {
-            kg_clear_bit(words, contacts[k].a);
-        }
-        if (kg_takes_impulses(bodies, contacts[k].b)) {
-            kg_clear_bit(words, contacts[k].b);
+        if (contacts[k].b != KG_NULL_INDEX) {
+            g->used[contacts[k].b] = 0u;
         }
     }
 }

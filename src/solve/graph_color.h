@@ -13,8 +13,7 @@
 
 typedef struct kg_graph_coloring {
     int body_capacity;
-    int words_per_color;
-    kg_u32* bits;           /* per colour, one bit per body: already used in this colour */
+    kg_u32* used;           /* per body, one bit per colour: the colours its constraints took */
     int* order;             /* constraint indices grouped by colour, overflow last */
     int color_start[KG_COLOR_COUNT + 2]; /* colour c is order[color_start[c], color_start[c+1]); */
                                          /* index KG_COLOR_COUNT is the overflow */
