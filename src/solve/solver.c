@@ -231,23 +231,27 @@ static kg_body_motion kg_load_motion(const kg_constraint_job* job, kg_u32 slot)
     return slot == KG_NULL_INDEX ? kg_still_motion : job->bodies[slot].motion;
 }
 
-/* The head and prepare input of contact k's constraint; an empty lane (no bodies) for
- * k < 0 (padding) and when there is nothing to solve: both bodies asleep or frozen,
- * impulses kept as they are. */
+/* The head (what prepare does not compute) and prepare input of contact k's
+ * constraint; an empty lane (no bodies, zero masses) for k < 0 (padding) and when there
+ * is nothing to solve: both bodies asleep or frozen, impulses kept as they are. */
 static void kg_prepare_lane(const kg_constraint_job* job, int k, kg_contact_constraint* head, kg_prepare_input* in)
 {
-    memset(head, 0, sizeof *head);
-    memset(in, 0, sizeof *in);
-    head->a = KG_NULL_INDEX;
-    head->b = KG_NULL_INDEX;
-    if (k < 0) {
-        return;
-    }
+    static const kg_prepare_input none = {{{0.0f, 0.0f}, {0.0f, 0.0f}}, {{0.0f, 0.0f}, {0.0f, 0.0f}}, {0.0f, 0.0f},
+                                          {0.0f, 0.0f},  {0.0f, 0.0f},  {0.0f, 0.0f}, {0.0f, 0.0f}, {0.0f, 0.0f},
+                                          {0.0f, 0.0f},  {0.0f, 0.0f},  {0.0f, 0.0f}, {0.0f, 0.0f}, {0.0f, 0.0f},
+                                          0.0f,          0.0f};
     const kg_body_pool* p = job->pool;
-    const kg_contact* ct = &job->contacts[k];
-    int a_moves = ct->a != KG_NULL_INDEX && job->bodies[ct->a].moves;
-    int b_moves = ct->b != KG_NULL_INDEX && job->bodies[ct->b].moves;
+    const kg_contact* ct = k >= 0 ? &job->contacts[k] : NULL;
+    int a_moves = ct && ct->a != KG_NULL_INDEX && job->bodies[ct->a].moves;
+    int b_moves = ct && ct->b != KG_NULL_INDEX && job->bodies[ct->b].moves;
     if (!a_moves && !b_moves) {
+        head->a = KG_NULL_INDEX;
+        head->b = KG_NULL_INDEX;
+        head->contact = 0u;
+        head->point_count = 0;
+        head->friction = head->restitution = 0.0f;
+        head->inv_mass_a = head->inv_i_a = head->inv_mass_b = head->inv_i_b = 0.0f;
+        *in = none;
         return;
     }
     head->a = ct->a;
@@ -261,13 +265,15 @@ static void kg_prepare_lane(const kg_constraint_job* job, int k, kg_contact_cons
     head->inv_mass_b = b_moves ? p->inv_mass[ct->b] : 0.0f;
     head->inv_i_b = b_moves ? p->inv_inertia[ct->b] : 0.0f;
     const kg_manifold* m = &ct->manifold;
-    for (int j = 0; j < m->point_count; ++j) {
-        in->anchor_a[j] = m->points[j].anchor_a;
-        in->anchor_b[j] = m->points[j].anchor_b;
-        in->separation[j] = m->points[j].separation;
-        in->normal_impulse[j] = m->points[j].normal_impulse;
-        in->tangent_impulse[j] = m->points[j].tangent_impulse;
-        in->has_point[j] = 1.0f;
+    for (int j = 0; j < 2; ++j) {
+        int has = j < m->point_count;
+        const kg_manifold_point* mp = &m->points[j];
+        in->anchor_a[j] = has ? mp->anchor_a : kg_v2(0.0f, 0.0f);
+        in->anchor_b[j] = has ? mp->anchor_b : kg_v2(0.0f, 0.0f);
+        in->separation[j] = has ? mp->separation : 0.0f;
+        in->normal_impulse[j] = has ? mp->normal_impulse : 0.0f;
+        in->tangent_impulse[j] = has ? mp->tangent_impulse : 0.0f;
+        in->has_point[j] = has ? 1.0f : 0.0f;
     }
     in->normal = m->normal;
     kg_body_motion ma = kg_load_motion(job, ct->a), mb = kg_load_motion(job, ct->b);
