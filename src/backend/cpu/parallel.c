@@ -5,37 +5,78 @@
 #include <sched.h>
 #include <stdatomic.h>
 #include <stdint.h>
+#include <time.h>
 
-#define KG_SPINS_BEFORE_SLEEP 20000
+/* How long an idle worker spins before sleeping. Most of a step's loops come less than
+ * a microsecond apart, but a step also has serial parts between them (measured on
+ * many_pyramids: 0.3 to 4 ms), and a worker that sleeps through one joins the next loops
+ * late: spinning 1 ms instead of 5 made that scene 6% slower on 2 threads. Past this a
+ * world that is not being stepped lets the core go (and the spin yields all along). */
+#define KG_SPIN_NS 5000000
+/* Pauses (1 to 10 us, by the CPU) between two looks at the clock while spinning:
+ * reading it costs more than a pause, but is no system call. */
+#define KG_PAUSES_PER_CLOCK 256
+/* How long the caller spins waiting for the workers' last chunks before it starts
+ * yielding: a chunk takes microseconds, so only a worker preempted in the middle of
+ * one takes that long, and then the caller may be the one holding its core. */
+#define KG_CALLER_SPIN_NS 50000
+
+/* Fields that threads write at different rates are kept on different cache lines, so a
+ * worker claiming a chunk does not take the line the caller spins on, and so on. The
+ * pads are plain bytes (no _Alignas: the pool comes from an allocator that only promises
+ * KG_ALIGNMENT, and the sanitizers check alignment). */
+#define KG_CACHE_LINE 64
 
 struct kg_thread_pool {
     int threads;
     pthread_t* workers;
     pthread_mutex_t mutex;
     pthread_cond_t wake;
-    atomic_int job;          /* incremented for every new loop */
+    char pad0[KG_CACHE_LINE];
+    /* Written once per loop by the caller, read by spinning workers. */
+    atomic_uint job;     /* incremented for every new loop (unsigned: it may wrap) */
     atomic_int stop;
-    /* The current loop. work packs (job id, chunk count, next chunk) in one word so a
-     * late worker still holding an old job id can never claim a chunk of a newer loop;
-     * the plain fields below are written before work is published and read only after
-     * a successful claim. */
-    _Atomic uint64_t work;
-    atomic_int chunks_done;
+    atomic_int sleepers; /* workers waiting (or about to wait) on wake */
     kg_range_fn* fn;
     void* context;
     int count;
     int chunk;
+    char pad1[KG_CACHE_LINE];
+    /* The current loop. work packs (job id, chunk count, next chunk) in one word so a
+     * late worker still holding an old job id can never claim a chunk of a newer loop;
+     * the plain fields above are written before work is published and read only after
+     * a successful claim. */
+    _Atomic uint64_t work;
+    char pad2[KG_CACHE_LINE];
+    atomic_int chunks_done; /* the caller spins on this one */
+    char pad3[KG_CACHE_LINE];
 };
 
-#define KG_WORK(job, total, next) (((uint64_t)((job) & 0xFFFF) << 48) | ((uint64_t)(total) << 24) | (uint64_t)(next))
+#define KG_WORK(job, total, next) (((uint64_t)((job) & 0xFFFFu) << 48) | ((uint64_t)(total) << 24) | (uint64_t)(next))
+
+/* Tells the core this is a spin-wait: it saves power and lets the sibling
+ * hyper-thread run. */
+static void kg_cpu_pause(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
+
+static int64_t kg_now_ns(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (int64_t)t.tv_sec * 1000000000 + t.tv_nsec;
+}
 
 /* The next chunk of loop job, or -1 when that loop has no chunk left (or is over). */
-static int kg_claim_chunk(kg_thread_pool* p, int job)
+static int kg_claim_chunk(kg_thread_pool* p, unsigned job)
 {
     uint64_t w = atomic_load(&p->work);
     for (;;) {
         uint64_t total = (w >> 24) & 0xFFFFFFu, next = w & 0xFFFFFFu;
-        if ((int)(w >> 48) != (job & 0xFFFF) || next >= total) {
+        if ((w >> 48) != (job & 0xFFFFu) || next >= total) {
             return -1;
         }
         if (atomic_compare_exchange_weak(&p->work, &w, w + 1u)) {
@@ -44,7 +85,7 @@ static int kg_claim_chunk(kg_thread_pool* p, int job)
     }
 }
 
-static void kg_run_chunks(kg_thread_pool* p, int job)
+static void kg_run_chunks(kg_thread_pool* p, unsigned job)
 {
     for (int c = kg_claim_chunk(p, job); c >= 0; c = kg_claim_chunk(p, job)) {
         int begin = c * p->chunk;
@@ -54,31 +95,57 @@ static void kg_run_chunks(kg_thread_pool* p, int job)
     }
 }
 
-/* Waits for a job newer than seen: spins first (loops in a step come microseconds
- * apart), then sleeps on the condition variable. */
-static int kg_wait_for_job(kg_thread_pool* p, int seen)
+static int kg_job_changed(kg_thread_pool* p, unsigned seen)
 {
-    for (int spin = 0; spin < KG_SPINS_BEFORE_SLEEP; ++spin) {
-        int job = atomic_load(&p->job);
-        if (job != seen || atomic_load(&p->stop)) {
-            return job;
+    return atomic_load(&p->job) != seen || atomic_load(&p->stop);
+}
+
+/* Spins up to KG_SPIN_NS for a job newer than seen; 1 if one came (or stop). It yields
+ * at each look at the clock: on an idle machine that returns at once, but on a loaded
+ * one a worker that spun through its time slice would be preempted in the middle of its
+ * next chunk, and the caller would wait for it (measured with another process busy on
+ * one of 2 cores: 2 threads then ran a loop 1.3 to 2.7 times slower than 1 thread;
+ * yielding keeps them at about 1 thread's pace). */
+static int kg_spin_for_job(kg_thread_pool* p, unsigned seen)
+{
+    int64_t give_up = kg_now_ns() + KG_SPIN_NS;
+    for (;;) {
+        for (int i = 0; i < KG_PAUSES_PER_CLOCK; ++i) {
+            if (kg_job_changed(p, seen)) {
+                return 1;
+            }
+            kg_cpu_pause();
         }
-        if (spin > 100) {
-            sched_yield();
+        if (kg_now_ns() > give_up) {
+            return 0;
         }
+        sched_yield();
     }
-    pthread_mutex_lock(&p->mutex);
-    while (atomic_load(&p->job) == seen && !atomic_load(&p->stop)) {
-        pthread_cond_wait(&p->wake, &p->mutex);
+}
+
+/* Waits for a job newer than seen: spins first, then sleeps on the condition variable.
+ * The sleeper is counted before the job is checked again, and the publisher stores the
+ * job before it reads the count (both sequentially consistent), so either this thread
+ * sees the new job or the publisher sees the sleeper and broadcasts; the mutex, held
+ * from the count to the wait, keeps that broadcast from landing before the wait. */
+static unsigned kg_wait_for_job(kg_thread_pool* p, unsigned seen)
+{
+    if (!kg_spin_for_job(p, seen)) {
+        pthread_mutex_lock(&p->mutex);
+        atomic_fetch_add(&p->sleepers, 1);
+        while (!kg_job_changed(p, seen)) {
+            pthread_cond_wait(&p->wake, &p->mutex);
+        }
+        atomic_fetch_sub(&p->sleepers, 1);
+        pthread_mutex_unlock(&p->mutex);
     }
-    pthread_mutex_unlock(&p->mutex);
     return atomic_load(&p->job);
 }
 
 static void* kg_worker_main(void* arg)
 {
     kg_thread_pool* p = arg;
-    int seen = 0;
+    unsigned seen = 0;
     for (;;) {
         seen = kg_wait_for_job(p, seen);
         if (atomic_load(&p->stop)) {
@@ -94,16 +161,18 @@ kg_thread_pool* kg_thread_pool_create(int threads)
     if (!p) {
         return NULL;
     }
-    p->threads = threads < 1 ? 1 : threads;
+    p->threads = 1;
     pthread_mutex_init(&p->mutex, NULL);
     pthread_cond_init(&p->wake, NULL);
-    if (p->threads > 1) {
-        p->workers = kg_alloc_zeroed((size_t)(p->threads - 1) * sizeof *p->workers);
-        for (int i = 0; p->workers && i < p->threads - 1; ++i) {
+    if (threads > 1) {
+        p->workers = kg_alloc_zeroed((size_t)(threads - 1) * sizeof *p->workers);
+        /* threads counts only the workers started, so destroy joins no more than that
+         * (and without the worker array the caller runs every loop alone) */
+        for (int i = 0; p->workers && i < threads - 1; ++i) {
             if (pthread_create(&p->workers[i], NULL, kg_worker_main, p) != 0) {
-                p->threads = i + 1; /* run with the workers we got */
                 break;
             }
+            p->threads = i + 2;
         }
     }
     return p;
@@ -127,6 +196,36 @@ void kg_thread_pool_destroy(kg_thread_pool* p)
     kg_free(p);
 }
 
+/* Makes loop job visible to the workers: no lock and no system call while they spin;
+ * the mutex and the broadcast only when one has gone to sleep (see kg_wait_for_job). */
+static void kg_publish(kg_thread_pool* p, unsigned job)
+{
+    atomic_store(&p->job, job);
+    if (atomic_load(&p->sleepers) > 0) {
+        pthread_mutex_lock(&p->mutex);
+        pthread_cond_broadcast(&p->wake);
+        pthread_mutex_unlock(&p->mutex);
+    }
+}
+
+/* Waits for the chunks other threads claimed. They are short and their threads are
+ * running, so spinning beats a system call per look; yielding only after a long spin
+ * lets a preempted worker have the core back on a loaded machine. */
+static void kg_wait_for_chunks(kg_thread_pool* p, int chunk_count)
+{
+    int64_t yield_after = 0; /* read the clock only once the wait is no longer short */
+    for (int spin = 1; atomic_load(&p->chunks_done) < chunk_count; ++spin) {
+        kg_cpu_pause();
+        if (spin % KG_PAUSES_PER_CLOCK == 0) {
+            int64_t now = kg_now_ns();
+            yield_after = yield_after ? yield_after : now + KG_CALLER_SPIN_NS;
+            if (now > yield_after) {
+                sched_yield();
+            }
+        }
+    }
+}
+
 void kg_parallel_for(kg_thread_pool* p, int count, int grain, kg_range_fn* fn, void* context)
 {
     if (count <= 0) {
@@ -137,20 +236,20 @@ void kg_parallel_for(kg_thread_pool* p, int count, int grain, kg_range_fn* fn, v
         return;
     }
     int chunk = (count + 4 * p->threads - 1) / (4 * p->threads);
-    p->chunk = chunk < grain ? grain : chunk;
+    chunk = chunk < grain ? grain : chunk;
+    int chunk_count = (count + chunk - 1) / chunk;
+    if (chunk_count == 1) {
+        fn(context, 0, count); /* nothing to share: waking a worker would only cost */
+        return;
+    }
+    p->chunk = chunk;
     p->fn = fn;
     p->context = context;
     p->count = count;
-    int chunk_count = (count + p->chunk - 1) / p->chunk;
-    int job = atomic_load(&p->job) + 1;
+    unsigned job = atomic_load(&p->job) + 1u;
     atomic_store(&p->chunks_done, 0);
     atomic_store(&p->work, KG_WORK(job, chunk_count, 0));
-    pthread_mutex_lock(&p->mutex);
-    atomic_store(&p->job, job);
-    pthread_cond_broadcast(&p->wake);
-    pthread_mutex_unlock(&p->mutex);
+    kg_publish(p, job);
     kg_run_chunks(p, job);
-    while (atomic_load(&p->chunks_done) < chunk_count) {
-        sched_yield();
-    }
+    kg_wait_for_chunks(p, chunk_count);
 }
