@@ -13,7 +13,7 @@
  * late: spinning 1 ms instead of 5 made that scene 6% slower on 2 threads. Past this a
  * world that is not being stepped lets the core go (and the spin yields all along). */
 #define KG_SPIN_NS 5000000
-/* Pauses (1 to 10 us, by the CPU) between two looks at the clock while spinning:
+/* Pauses (about 6 us on a current x86) between two looks at the clock while spinning:
  * reading it costs more than a pause, but is no system call. */
 #define KG_PAUSES_PER_CLOCK 256
 /* How long the caller spins waiting for the workers' last chunks before it starts
@@ -26,6 +26,23 @@
  * pads are plain bytes (no _Alignas: the pool comes from an allocator that only promises
  * KG_ALIGNMENT, and the sanitizers check alignment). */
 #define KG_CACHE_LINE 64
+
+/* The chunks of the current loop that one thread owns: work packs (job id, end, next
+ * chunk) in one word so a late worker still holding an old job id can never claim a
+ * chunk of a newer loop; the pool's plain fields are written before the words are
+ * published and read only after a successful claim. Each thread takes its own range
+ * first, then what is left of the others': a loop's thread t gets the same range every
+ * time, so consecutive colours, passes and sub-steps find the bodies they share (the
+ * contacts are in body order) in that thread's cache instead of the other core's. */
+typedef struct kg_claims {
+    _Atomic uint64_t work;
+    char pad[KG_CACHE_LINE - sizeof(uint64_t)];
+} kg_claims;
+
+typedef struct kg_worker {
+    struct kg_thread_pool* pool;
+    int self;
+} kg_worker;
 
 struct kg_thread_pool {
     int threads;
@@ -41,18 +58,14 @@ struct kg_thread_pool {
     void* context;
     int count;
     int chunk;
+    kg_claims* claims;   /* one a thread, the caller's first */
+    kg_worker* selves;   /* what each worker is started with */
     char pad1[KG_CACHE_LINE];
-    /* The current loop. work packs (job id, chunk count, next chunk) in one word so a
-     * late worker still holding an old job id can never claim a chunk of a newer loop;
-     * the plain fields above are written before work is published and read only after
-     * a successful claim. */
-    _Atomic uint64_t work;
-    char pad2[KG_CACHE_LINE];
     atomic_int chunks_done; /* the caller spins on this one */
-    char pad3[KG_CACHE_LINE];
+    char pad2[KG_CACHE_LINE];
 };
 
-#define KG_WORK(job, total, next) (((uint64_t)((job) & 0xFFFFu) << 48) | ((uint64_t)(total) << 24) | (uint64_t)(next))
+#define KG_WORK(job, end, next) (((uint64_t)((job) & 0xFFFFu) << 48) | ((uint64_t)(end) << 24) | (uint64_t)(next))
 
 /* Tells the core this is a spin-wait: it saves power and lets the sibling
  * hyper-thread run. */
@@ -70,28 +83,34 @@ static int64_t kg_now_ns(void)
     return (int64_t)t.tv_sec * 1000000000 + t.tv_nsec;
 }
 
-/* The next chunk of loop job, or -1 when that loop has no chunk left (or is over). */
-static int kg_claim_chunk(kg_thread_pool* p, unsigned job)
+/* The next chunk of loop job in thread t's range, or -1 when none is left there (or the
+ * loop is over). */
+static int kg_claim_chunk(kg_thread_pool* p, int t, unsigned job)
 {
-    uint64_t w = atomic_load(&p->work);
+    _Atomic uint64_t* work = &p->claims[t].work;
+    uint64_t w = atomic_load(work);
     for (;;) {
-        uint64_t total = (w >> 24) & 0xFFFFFFu, next = w & 0xFFFFFFu;
-        if ((w >> 48) != (job & 0xFFFFu) || next >= total) {
+        uint64_t end = (w >> 24) & 0xFFFFFFu, next = w & 0xFFFFFFu;
+        if ((w >> 48) != (job & 0xFFFFu) || next >= end) {
             return -1;
         }
-        if (atomic_compare_exchange_weak(&p->work, &w, w + 1u)) {
+        if (atomic_compare_exchange_weak(work, &w, w + 1u)) {
             return (int)next;
         }
     }
 }
 
-static void kg_run_chunks(kg_thread_pool* p, unsigned job)
+/* Thread self's own chunks, then the others' that are left. */
+static void kg_run_chunks(kg_thread_pool* p, int self, unsigned job)
 {
-    for (int c = kg_claim_chunk(p, job); c >= 0; c = kg_claim_chunk(p, job)) {
-        int begin = c * p->chunk;
-        int end = begin + p->chunk < p->count ? begin + p->chunk : p->count;
-        p->fn(p->context, begin, end);
-        atomic_fetch_add(&p->chunks_done, 1);
+    for (int i = 0; i < p->threads; ++i) {
+        int t = (self + i) % p->threads;
+        for (int c = kg_claim_chunk(p, t, job); c >= 0; c = kg_claim_chunk(p, t, job)) {
+            int begin = c * p->chunk;
+            int end = begin + p->chunk < p->count ? begin + p->chunk : p->count;
+            p->fn(p->context, begin, end);
+            atomic_fetch_add(&p->chunks_done, 1);
+        }
     }
 }
 
@@ -103,9 +122,8 @@ static int kg_job_changed(kg_thread_pool* p, unsigned seen)
 /* Spins up to KG_SPIN_NS for a job newer than seen; 1 if one came (or stop). It yields
  * at each look at the clock: on an idle machine that returns at once, but on a loaded
  * one a worker that spun through its time slice would be preempted in the middle of its
- * next chunk, and the caller would wait for it (measured with another process busy on
- * one of 2 cores: 2 threads then ran a loop 1.3 to 2.7 times slower than 1 thread;
- * yielding keeps them at about 1 thread's pace). */
+ * next chunk, and the caller would wait for it (measured: 2 threads then ran a loop
+ * 1.3 to 2.7 times slower than 1 thread; yielding keeps them at about 1 thread's pace). */
 static int kg_spin_for_job(kg_thread_pool* p, unsigned seen)
 {
     int64_t give_up = kg_now_ns() + KG_SPIN_NS;
@@ -144,14 +162,15 @@ static unsigned kg_wait_for_job(kg_thread_pool* p, unsigned seen)
 
 static void* kg_worker_main(void* arg)
 {
-    kg_thread_pool* p = arg;
+    const kg_worker* me = arg;
+    kg_thread_pool* p = me->pool;
     unsigned seen = 0;
     for (;;) {
         seen = kg_wait_for_job(p, seen);
         if (atomic_load(&p->stop)) {
             return NULL;
         }
-        kg_run_chunks(p, seen);
+        kg_run_chunks(p, me->self, seen);
     }
 }
 
@@ -166,10 +185,14 @@ kg_thread_pool* kg_thread_pool_create(int threads)
     pthread_cond_init(&p->wake, NULL);
     if (threads > 1) {
         p->workers = kg_alloc_zeroed((size_t)(threads - 1) * sizeof *p->workers);
+        p->selves = kg_alloc_zeroed((size_t)(threads - 1) * sizeof *p->selves);
+        p->claims = kg_alloc_zeroed((size_t)threads * sizeof *p->claims);
         /* threads counts only the workers started, so destroy joins no more than that
-         * (and without the worker array the caller runs every loop alone) */
-        for (int i = 0; p->workers && i < threads - 1; ++i) {
-            if (pthread_create(&p->workers[i], NULL, kg_worker_main, p) != 0) {
+         * (and without the worker arrays the caller runs every loop alone) */
+        for (int i = 0; p->workers && p->selves && p->claims && i < threads - 1; ++i) {
+            p->selves[i].pool = p;
+            p->selves[i].self = i + 1;
+            if (pthread_create(&p->workers[i], NULL, kg_worker_main, &p->selves[i]) != 0) {
                 break;
             }
             p->threads = i + 2;
@@ -193,6 +216,8 @@ void kg_thread_pool_destroy(kg_thread_pool* p)
     pthread_mutex_destroy(&p->mutex);
     pthread_cond_destroy(&p->wake);
     kg_free(p->workers);
+    kg_free(p->selves);
+    kg_free(p->claims);
     kg_free(p);
 }
 
@@ -248,8 +273,12 @@ void kg_parallel_for(kg_thread_pool* p, int count, int grain, kg_range_fn* fn, v
     p->count = count;
     unsigned job = atomic_load(&p->job) + 1u;
     atomic_store(&p->chunks_done, 0);
-    atomic_store(&p->work, KG_WORK(job, chunk_count, 0));
+    for (int t = 0; t < p->threads; ++t) {
+        int first = (int)((int64_t)chunk_count * t / p->threads);
+        int end = (int)((int64_t)chunk_count * (t + 1) / p->threads);
+        atomic_store(&p->claims[t].work, KG_WORK(job, end, first));
+    }
     kg_publish(p, job);
-    kg_run_chunks(p, job);
+    kg_run_chunks(p, 0, job);
     kg_wait_for_chunks(p, chunk_count);
 }
