@@ -2,22 +2,8 @@
  * used only where the CPU reports AVX2, contact_wide.c). */
 #include "solve/contact_wide.h"
 
-typedef float kg_f8 __attribute__((vector_size(32)));
-typedef int kg_i8 __attribute__((vector_size(32)));
-typedef unsigned kg_u8 __attribute__((vector_size(32)));
-
-/* the lanes of a where mask is set, else of b: bitwise, so the lanes are exact copies */
-static inline kg_f8 kg_blend8(kg_i8 mask, kg_f8 a, kg_f8 b) { return (kg_f8)(((kg_i8)a & mask) | ((kg_i8)b & ~mask)); }
-
 #define KG_W 8
-#define kg_lane kg_f8
-#define kg_lmask kg_i8
-#define kg_lindex kg_u8
-#define kg_lint kg_i8
-#define KG_SEL(mask, a, b) kg_blend8((mask), (a), (b))
-#define KG_LZERO ((kg_f8){0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f})
-#define KG_LANE_OF(v, lane) ((v)[lane])
-
+#include "solve/contact_vector_lanes.h"
 #include "solve/contact_row.h"
 
 #include <immintrin.h>
@@ -60,13 +46,13 @@ static kg_body_motion_w8 kg_gather_w8(const kg_solver_body* bodies, const kg_con
     }
     kg_transpose8(rows);
     kg_body_motion_w8 m;
-    m.v.x = (kg_f8)rows[0];
-    m.v.y = (kg_f8)rows[1];
-    m.w = (kg_f8)rows[2];
-    m.dp.x = (kg_f8)rows[3];
-    m.dp.y = (kg_f8)rows[4];
-    m.dq.c = (kg_f8)rows[5];
-    m.dq.s = (kg_f8)rows[6];
+    m.v.x = (kg_vf)rows[0];
+    m.v.y = (kg_vf)rows[1];
+    m.w = (kg_vf)rows[2];
+    m.dp.x = (kg_vf)rows[3];
+    m.dp.y = (kg_vf)rows[4];
+    m.dq.c = (kg_vf)rows[5];
+    m.dq.s = (kg_vf)rows[6];
     return m;
 }
 

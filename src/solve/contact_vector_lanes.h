@@ -1,0 +1,23 @@
+/* The lane types of contact_row.h for the CPU's SIMD widths: GCC/Clang vectors of KG_W
+ * floats, masks of KG_W ints (what a comparison of two float vectors gives), and a
+ * select that copies lanes bitwise. Define KG_W (4 or 8), then include this, then
+ * contact_row.h and contact_wide_impl.h; once per file. */
+#ifndef KG_CONTACT_VECTOR_LANES_H
+#define KG_CONTACT_VECTOR_LANES_H
+
+typedef float kg_vf __attribute__((vector_size(4 * KG_W)));
+typedef int kg_vi __attribute__((vector_size(4 * KG_W)));
+typedef unsigned kg_vu __attribute__((vector_size(4 * KG_W)));
+
+/* the lanes of a where mask is set, else of b: bitwise, so the lanes are exact copies */
+static inline kg_vf kg_blend(kg_vi mask, kg_vf a, kg_vf b) { return (kg_vf)(((kg_vi)a & mask) | ((kg_vi)b & ~mask)); }
+
+#define kg_lane kg_vf
+#define kg_lmask kg_vi
+#define kg_lindex kg_vu
+#define kg_lint kg_vi
+#define KG_SEL(mask, a, b) kg_blend((mask), (a), (b))
+#define KG_LZERO ((kg_vf){0.0f}) /* the other lanes are zeroed too */
+#define KG_LANE_OF(v, lane) ((v)[lane])
+
+#endif
