@@ -48,7 +48,8 @@ typedef struct kg_world_def {
 
 KG_API kg_world_def kg_default_world_def(void);
 
-/* Creates a world; all memory it will ever use in a step is allocated here. */
+/* Creates a world; its memory is allocated here, except the contact pool, which starts
+ * at one slot a body and grows inside a step when the touching pairs outgrow it. */
 KG_API kg_result kg_create_world(const kg_world_def* def, kg_world** out_world);
 KG_API void kg_destroy_world(kg_world* world);
 
