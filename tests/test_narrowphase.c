@@ -12,6 +12,7 @@
  * or when one polygon swallows much of the other. */
 #include "kg_test.h"
 #include "collide/manifold.h"
+#include "collide/recycle.h"
 #include "collide/shape.h"
 
 #include <string.h>
@@ -1027,6 +1028,66 @@ static void test_far_from_origin(void)
     KG_CHECK_NEAR(mp->separation, -0.01, 1e-3);
 }
 
+/* Contact recycling (collide/recycle.h): a manifold kept while the pair moves within the
+ * tolerance must stay close to the one computed anew at the new poses (same ids, normal
+ * within the turn allowed, separations within the millimetre allowed, points where the
+ * fresh ones are), and past the tolerance the pair is computed anew. A box resting on a
+ * box, as in a pyramid (tilted by up to 0.5 mrad), nudged at random by up to the
+ * tolerance, 1000 times. */
+static kg_xf xf_mul(kg_xf a, kg_xf b) /* b's pose given in a's frame, in the world */
+{
+    kg_xf r;
+    r.q = kg_rot_mul(a.q, b.q);
+    r.p = kg_add(a.p, kg_rotate(a.q, b.p));
+    return r;
+}
+
+static void test_recycled_manifold_matches_a_fresh_one(void)
+{
+    g_rng = 0x5EED0010u;
+    kg_shape a = box(1.0f, 1.0f), b = box(1.0f, 1.0f);
+    double worst_normal = 0.0, worst_separation = 0.0, worst_point = 0.0;
+    int kept = 0, recomputed = 0;
+    for (int k = 0; k < 1000; ++k) {
+        kg_xf xfa = make_xf(rng_uniform(-50.0, 50.0), rng_uniform(-50.0, 50.0), rng_uniform(-0.01, 0.01));
+        kg_xf xfb0 = xf_mul(xfa, make_xf(rng_uniform(-0.5, 0.5), 0.99, rng_uniform(-0.0005, 0.0005)));
+        kg_contact old;
+        memset(&old, 0, sizeof old);
+        KG_CHECK(kg_collide_or_recycle(&a, xfa, &b, xfb0, 0.02f, NULL, &old.manifold, &old.base) == 0);
+        KG_CHECK(old.manifold.point_count == 2);
+        /* b moved in a's frame by up to 0.8 mm and 1.6 mrad: within the tolerance */
+        double d = 0.0008 / sqrt(2.0);
+        kg_xf nudge = make_xf(rng_uniform(-d, d), rng_uniform(-d, d), rng_uniform(-0.0016, 0.0016));
+        kg_xf xfb = xf_mul(xfb0, nudge);
+        kg_manifold m, fresh = collide(&a, xfa, &b, xfb, 0.02f);
+        kg_contact_base base;
+        int was_kept = kg_collide_or_recycle(&a, xfa, &b, xfb, 0.02f, &old, &m, &base);
+        kept += was_kept;
+        KG_CHECK(was_kept && m.point_count == fresh.point_count);
+        if (!was_kept || m.point_count != fresh.point_count) {
+            continue;
+        }
+        worst_normal = fmax(worst_normal, 1.0 - (double)kg_dot(m.normal, fresh.normal));
+        for (int i = 0; i < m.point_count; ++i) {
+            const kg_manifold_point* f = fresh.points[0].id == m.points[i].id ? &fresh.points[0] : &fresh.points[1];
+            KG_CHECK(f->id == m.points[i].id);
+            worst_separation = fmax(worst_separation, fabs((double)m.points[i].separation - f->separation));
+            worst_point = fmax(worst_point, (double)kg_length(kg_sub(m.points[i].anchor_a, f->anchor_a)));
+        }
+        /* moved 3 mm: computed anew */
+        kg_xf far = xf_mul(xfb0, make_xf(0.003, 0.0, 0.0));
+        recomputed += !kg_collide_or_recycle(&a, xfa, &b, far, 0.02f, &old, &m, &base);
+    }
+    printf("  kept %d of 1000 nudged pairs, recomputed %d of 1000 moved 3 mm; against fresh manifolds: normal "
+           "1 - cos %.2g, separation %.2g m, point %.2g m\n",
+           kept, recomputed, worst_normal, worst_separation, worst_point);
+    KG_CHECK(kept == 1000 && recomputed == 1000);
+    /* the turn allowed, and the pair's own tilt: the fresh normal is a's face's or b's */
+    KG_CHECK(worst_normal < 1.0 - cos(0.002 + 0.0005));
+    KG_CHECK(worst_separation < 0.002);
+    KG_CHECK(worst_point < 0.002);
+}
+
 int main(void)
 {
     static const kg_test_case tests[] = {
@@ -1043,6 +1104,7 @@ int main(void)
         KG_TEST(test_exactly_touching),
         KG_TEST(test_nearly_parallel_faces_do_not_flicker),
         KG_TEST(test_ids_survive_reference_flip),
+        KG_TEST(test_recycled_manifold_matches_a_fresh_one),
         KG_TEST(test_particles),
         KG_TEST(test_speculative_margin),
         KG_TEST(test_far_from_origin),
