@@ -322,9 +322,12 @@ KG_FN void KG_L(kg_contact_solve)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_s
  * did push, the rebound speed becomes restitution times the approach speed. Both
  * points of a bouncing two-point contact at once where the block solution pushes, so
  * two equal boxes meeting face to face exchange their velocities instead of starting
- * to spin; else one after the other. */
+ * to spin; else one after the other. A constraint with no bouncing point is left
+ * exactly as it was (a zero impulse could still turn a -0 velocity into +0), so the CPU
+ * may skip the pass when nothing bounces and stay bitwise equal to the kernels. */
 KG_FN void KG_L(kg_contact_restitution)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_solver_params prm)
 {
+    kg_lmotion a0 = *a, b0 = *b;
     kg_lv2 ra[2], rb[2];
     kg_lmask bounces[2];
     kg_lane rhs[2];
@@ -347,9 +350,14 @@ KG_FN void KG_L(kg_contact_restitution)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b
         kg_lane impulse = -cp->normal_mass * (vn + c->restitution * cp->relative_velocity);
         kg_lane applied = KG_L(kg_lmax)(cp->normal_impulse + impulse, zero) - cp->normal_impulse;
         applied = KG_SEL(use_block, block_x[j], KG_SEL(bounces[j], applied, zero));
-        cp->normal_impulse = cp->normal_impulse + applied;
+        cp->normal_impulse = KG_SEL(bounces[j], cp->normal_impulse + applied, cp->normal_impulse);
         KG_L(kg_apply_impulse_pair)(c, a, b, ra[j], rb[j], KG_L(kg_lscale)(applied, c->normal));
     }
+    kg_lmask touched = bounces[0] | bounces[1];
+    a->v = KG_L(kg_lmake)(KG_SEL(touched, a->v.x, a0.v.x), KG_SEL(touched, a->v.y, a0.v.y));
+    a->w = KG_SEL(touched, a->w, a0.w);
+    b->v = KG_L(kg_lmake)(KG_SEL(touched, b->v.x, b0.v.x), KG_SEL(touched, b->v.y, b0.v.y));
+    b->w = KG_SEL(touched, b->w, b0.w);
 }
 
 #undef kg_lv2

@@ -49,11 +49,11 @@ static kg_result kg_solver_reserve(struct kg_solver* s, int body_capacity, int c
     kg_free(s->scratch_colors);
     kg_graph_coloring_free(&s->coloring);
     s->scratch_colors = kg_alloc_zeroed((size_t)capacity * sizeof *s->scratch_colors);
-    s->capacity = capacity;
     kg_result r = kg_graph_coloring_init(&s->coloring, body_capacity, capacity);
     if (r == KG_OK && !s->scratch_colors) {
         r = kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d contact constraints", capacity);
     }
+    s->capacity = r == KG_OK ? capacity : 0; /* a failed reserve is tried again next step */
     /* every colour's last block part empty, and a little overflow */
     int width = s->rows->width;
     return r == KG_OK ? kg_reserve_blocks(s, (capacity + width - 1) / width + 2 * KG_COLOR_COUNT) : r;
