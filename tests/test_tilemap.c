@@ -509,6 +509,50 @@ static void test_no_contact_comes_from_an_interior_edge(void)
     kg_destroy_world(w);
 }
 
+/* A box resting on a tile tilts a little either way, and the reference passes between
+ * the tile's edge and the box's face: the points' feature ids must not change with it
+ * (they name a vertex of each, on the point's side), or the contact starts cold (the
+ * same rule as between two bodies, test_narrowphase). */
+static void test_tile_contact_ids_survive_a_reference_switch(void)
+{
+    kg_world* w = make_world((kg_vec2){0.0f, 0.0f});
+    /* one tile, and a box wider than it, so that the box's face can be the better axis */
+    kg_tilemap map = make_map(w, 1, 1, (kg_vec2){0.0f, -1.0f});
+    build_run(w, map, FLAT, 1);
+    kg_body box = add_body(w, KG_BODY_DYNAMIC, kg_box_shape(1.6f, 0.6f), (kg_vec2){0.5f, 0.299f}, 0.0f,
+                           (kg_vec2){0.0f, 0.0f}, 0.6f);
+    uint32_t rng = 0x7E57u, first[2] = {0u, 0u};
+    int steady = 1, by_tile = 0, by_box = 0, trials = 0;
+    for (int k = 0; k < 400; ++k) {
+        KG_CHECK_OK(kg_body_set_transform(w, box, (kg_vec2){0.5f, 0.299f}, random_range(&rng, -0.004f, 0.004f)));
+        KG_CHECK_OK(kg_body_set_velocity(w, box, (kg_vec2){0.0f, 0.0f}));
+        KG_CHECK_OK(kg_body_set_angular_velocity(w, box, 0.0f));
+        KG_CHECK_OK(kg_world_step(w, DT));
+        KG_CHECK(kg_world_contact_count(w) == 1);
+        kg_contact_info info;
+        KG_CHECK_OK(kg_world_get_contact(w, 0, &info));
+        KG_CHECK(info.point_count == 2);
+        if (info.point_count != 2) {
+            continue;
+        }
+        int tile_face = fabsf(info.normal.x) < 1e-7f;
+        by_tile += tile_face;
+        by_box += !tile_face;
+        int left = info.points[0].x < info.points[1].x ? 0 : 1;
+        uint32_t ids[2] = {info.feature_ids[left], info.feature_ids[1 - left]};
+        if (trials++ == 0) {
+            first[0] = ids[0];
+            first[1] = ids[1];
+        }
+        steady &= ids[0] == first[0] && ids[1] == first[1];
+    }
+    printf("measured: box on a tile tilted at random: the tile's edge the reference %d times, the box's face %d times; "
+           "ids steady: %s\n", by_tile, by_box, steady ? "yes" : "no");
+    KG_CHECK(by_tile > 20 && by_box > 20);
+    KG_CHECK(steady);
+    kg_destroy_world(w);
+}
+
 /* A wall of stacked tiles stops a box: the exposed side faces do make contacts. (A
  * frictionless box keeps the small speed the push-out of its impact gave it, as it would
  * against static bodies.) */
@@ -653,5 +697,6 @@ KG_TEST_MAIN(KG_TEST(test_box_and_circle_slide_across_200_flat_tiles),
              KG_TEST(test_one_way_platform_lets_a_jump_through_and_holds_a_fall),
              KG_TEST(test_resting_box_falls_when_its_tile_is_dug_out),
              KG_TEST(test_tile_built_over_a_body_lifts_it_out),
-             KG_TEST(test_no_contact_comes_from_an_interior_edge), KG_TEST(test_exposed_wall_stops_a_sliding_box),
+             KG_TEST(test_no_contact_comes_from_an_interior_edge),
+             KG_TEST(test_tile_contact_ids_survive_a_reference_switch), KG_TEST(test_exposed_wall_stops_a_sliding_box),
              KG_TEST(test_several_maps_and_layers), KG_TEST(test_bad_definitions_and_cells_are_refused))
