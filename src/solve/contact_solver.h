@@ -87,22 +87,40 @@ KG_FN kg_softness kg_make_softness(float hertz, float damping_ratio, float h)
     return s;
 }
 
-/* Builds the constraint of one contact from its manifold and the bodies' current state,
- * its masses already set: contact_row.h's prepare, for one constraint. center_* are the
- * centres of mass, origin_* the body origins (the manifold's anchors are relative to the
- * origins). */
-KG_FN void kg_contact_prepare(kg_contact_constraint* c, const kg_manifold* m, kg_vec2 origin_a, kg_vec2 center_a,
-                              kg_vec2 origin_b, kg_vec2 center_b, kg_vec2 va, float wa, kg_vec2 vb, float wb,
-                              kg_solver_params prm)
+/* The parts of contact ct's constraint that prepare does not compute: its bodies, its
+ * index, point count and material, and the inverse masses of the bodies that take
+ * impulses (the caller passes zero for the others). */
+KG_FN void kg_constraint_head(kg_contact_constraint* c, const kg_contact* ct, kg_u32 index, float inv_mass_a,
+                              float inv_i_a, float inv_mass_b, float inv_i_b)
+{
+    c->a = ct->a;
+    c->b = ct->b;
+    c->contact = index;
+    c->point_count = ct->manifold.point_count;
+    c->friction = ct->friction;
+    c->restitution = ct->restitution;
+    c->inv_mass_a = inv_mass_a;
+    c->inv_i_a = inv_i_a;
+    c->inv_mass_b = inv_mass_b;
+    c->inv_i_b = inv_i_b;
+}
+
+/* What prepare reads of a contact's manifold (a point it does not have reads zeros) and
+ * of its bodies: origins (the manifold's anchors are relative to them), centres of mass
+ * and velocities. */
+KG_FN kg_prepare_input kg_prepare_input_of(const kg_manifold* m, kg_vec2 origin_a, kg_vec2 center_a, kg_vec2 origin_b,
+                                           kg_vec2 center_b, kg_vec2 va, float wa, kg_vec2 vb, float wb)
 {
     kg_prepare_input in;
     for (int j = 0; j < 2; ++j) {
-        in.anchor_a[j] = m->points[j].anchor_a;
-        in.anchor_b[j] = m->points[j].anchor_b;
-        in.separation[j] = m->points[j].separation;
-        in.normal_impulse[j] = m->points[j].normal_impulse;
-        in.tangent_impulse[j] = m->points[j].tangent_impulse;
-        in.has_point[j] = j < m->point_count ? 1.0f : 0.0f;
+        int has = j < m->point_count;
+        const kg_manifold_point* mp = &m->points[j];
+        in.anchor_a[j] = has ? mp->anchor_a : kg_v2(0.0f, 0.0f);
+        in.anchor_b[j] = has ? mp->anchor_b : kg_v2(0.0f, 0.0f);
+        in.separation[j] = has ? mp->separation : 0.0f;
+        in.normal_impulse[j] = has ? mp->normal_impulse : 0.0f;
+        in.tangent_impulse[j] = has ? mp->tangent_impulse : 0.0f;
+        in.has_point[j] = has ? 1.0f : 0.0f;
     }
     in.normal = m->normal;
     in.origin_a = origin_a;
@@ -110,11 +128,10 @@ KG_FN void kg_contact_prepare(kg_contact_constraint* c, const kg_manifold* m, kg
     in.origin_b = origin_b;
     in.center_b = center_b;
     in.va = va;
-    in.vb = vb;
     in.wa = wa;
+    in.vb = vb;
     in.wb = wb;
-    c->point_count = m->point_count;
-    kg_contact_prepare_lanes(c, &in, prm);
+    return in;
 }
 
 #endif

@@ -254,37 +254,14 @@ static void kg_prepare_lane(const kg_constraint_job* job, int k, kg_contact_cons
         *in = none;
         return;
     }
-    head->a = ct->a;
-    head->b = ct->b;
-    head->contact = (kg_u32)k;
-    head->point_count = ct->manifold.point_count;
-    head->friction = ct->friction;
-    head->restitution = ct->restitution;
-    head->inv_mass_a = a_moves ? p->inv_mass[ct->a] : 0.0f;
-    head->inv_i_a = a_moves ? p->inv_inertia[ct->a] : 0.0f;
-    head->inv_mass_b = b_moves ? p->inv_mass[ct->b] : 0.0f;
-    head->inv_i_b = b_moves ? p->inv_inertia[ct->b] : 0.0f;
-    const kg_manifold* m = &ct->manifold;
-    for (int j = 0; j < 2; ++j) {
-        int has = j < m->point_count;
-        const kg_manifold_point* mp = &m->points[j];
-        in->anchor_a[j] = has ? mp->anchor_a : kg_v2(0.0f, 0.0f);
-        in->anchor_b[j] = has ? mp->anchor_b : kg_v2(0.0f, 0.0f);
-        in->separation[j] = has ? mp->separation : 0.0f;
-        in->normal_impulse[j] = has ? mp->normal_impulse : 0.0f;
-        in->tangent_impulse[j] = has ? mp->tangent_impulse : 0.0f;
-        in->has_point[j] = has ? 1.0f : 0.0f;
-    }
-    in->normal = m->normal;
+    kg_constraint_head(head, ct, (kg_u32)k, a_moves ? p->inv_mass[ct->a] : 0.0f, a_moves ? p->inv_inertia[ct->a] : 0.0f,
+                       b_moves ? p->inv_mass[ct->b] : 0.0f, b_moves ? p->inv_inertia[ct->b] : 0.0f);
     kg_body_motion ma = kg_load_motion(job, ct->a), mb = kg_load_motion(job, ct->b);
-    in->origin_a = ct->a != KG_NULL_INDEX ? p->xf[ct->a].p : kg_v2(0.0f, 0.0f);
-    in->origin_b = ct->b != KG_NULL_INDEX ? p->xf[ct->b].p : kg_v2(0.0f, 0.0f);
-    in->center_a = ct->a != KG_NULL_INDEX ? p->center[ct->a] : in->origin_a;
-    in->center_b = ct->b != KG_NULL_INDEX ? p->center[ct->b] : in->origin_b;
-    in->va = ma.v;
-    in->wa = ma.w;
-    in->vb = mb.v;
-    in->wb = mb.w;
+    kg_vec2 origin_a = ct->a != KG_NULL_INDEX ? p->xf[ct->a].p : kg_v2(0.0f, 0.0f);
+    kg_vec2 origin_b = ct->b != KG_NULL_INDEX ? p->xf[ct->b].p : kg_v2(0.0f, 0.0f);
+    kg_vec2 center_a = ct->a != KG_NULL_INDEX ? p->center[ct->a] : origin_a;
+    kg_vec2 center_b = ct->b != KG_NULL_INDEX ? p->center[ct->b] : origin_b;
+    *in = kg_prepare_input_of(&ct->manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w);
     if (ct->restitution != 0.0f) {
         atomic_store_explicit(job->bounces, 1, memory_order_relaxed);
     }

@@ -179,7 +179,7 @@ KG_FN int kg_takes_impulses(__global const kg_solver_body* bodies, kg_u32 slot)
     return slot != KG_NULL_INDEX && bodies[slot].moves;
 }
 
-/* kg_prepare_range of solve/solver.c: constraint k from contact k. */
+/* Constraint k from contact k: its head, prepare input and prepare are the shared ones. */
 __kernel void kg_prepare_contacts(int count, __global const kg_solver_params* params, __global const kg_contact* contacts,
                                   __global kg_contact_constraint* constraints, __global const kg_solver_body* bodies,
                                   __global const float* inv_mass, __global const float* inv_inertia,
@@ -192,23 +192,17 @@ __kernel void kg_prepare_contacts(int count, __global const kg_solver_params* pa
     kg_solver_params prm = *params;
     kg_contact ct = contacts[k];
     kg_contact_constraint c;
-    c.a = ct.a;
-    c.b = ct.b;
-    c.contact = (kg_u32)k;
-    c.friction = ct.friction;
-    c.restitution = ct.restitution;
     int a_moves = kg_takes_impulses(bodies, ct.a);
     int b_moves = kg_takes_impulses(bodies, ct.b);
-    c.inv_mass_a = a_moves ? inv_mass[ct.a] : 0.0f;
-    c.inv_i_a = a_moves ? inv_inertia[ct.a] : 0.0f;
-    c.inv_mass_b = b_moves ? inv_mass[ct.b] : 0.0f;
-    c.inv_i_b = b_moves ? inv_inertia[ct.b] : 0.0f;
+    kg_constraint_head(&c, &ct, (kg_u32)k, a_moves ? inv_mass[ct.a] : 0.0f, a_moves ? inv_inertia[ct.a] : 0.0f,
+                       b_moves ? inv_mass[ct.b] : 0.0f, b_moves ? inv_inertia[ct.b] : 0.0f);
     kg_body_motion ma = kg_load_motion(bodies, ct.a), mb = kg_load_motion(bodies, ct.b);
     kg_vec2 origin_a = ct.a != KG_NULL_INDEX ? xf[ct.a].p : kg_v2(0.0f, 0.0f);
     kg_vec2 origin_b = ct.b != KG_NULL_INDEX ? xf[ct.b].p : kg_v2(0.0f, 0.0f);
     kg_vec2 center_a = ct.a != KG_NULL_INDEX ? center[ct.a] : origin_a;
     kg_vec2 center_b = ct.b != KG_NULL_INDEX ? center[ct.b] : origin_b;
-    kg_contact_prepare(&c, &ct.manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w, prm);
+    kg_prepare_input in = kg_prepare_input_of(&ct.manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w);
+    kg_contact_prepare_lanes(&c, &in, prm);
     if (!a_moves && !b_moves) {
         c.point_count = 0; /* asleep or frozen on both sides: nothing to solve, impulses kept */
     }
