@@ -33,6 +33,24 @@ typedef struct kg_contact_rows {
     void (*run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm, kg_constraint_pass pass);
 } kg_contact_rows;
 
+/* A solver body read as floats: v.x, v.y, w, dp.x, dp.y, dq.c, dq.s (then moves). */
+#define KG_MOTION_FLOATS 7
+
+/* Where a pass gathers body slot's floats from: a still body for KG_NULL_INDEX. */
+static inline const float* kg_gather_source(const kg_solver_body* bodies, kg_u32 slot)
+{
+    static const kg_solver_body still = {{{0.0f, 0.0f}, 0.0f, {0.0f, 0.0f}, {1.0f, 0.0f}}, 0u};
+    return (const float*)(slot == KG_NULL_INDEX ? &still : &bodies[slot]);
+}
+
+/* Where a pass scatters body slot's first four floats (the velocities, and dp.x as it was
+ * gathered): NULL for a body that takes no impulses. A moving body is in one lane of a
+ * colour at most, so no other lane or thread writes it meanwhile. */
+static inline float* kg_scatter_target(kg_solver_body* bodies, kg_u32 slot)
+{
+    return slot != KG_NULL_INDEX && bodies[slot].moves ? (float*)&bodies[slot] : NULL;
+}
+
 /* The rows of width 1, 4 or 8, or 0 for the widest this CPU runs (KGYRO_SIMD_WIDTH in
  * the environment, 1, 4 or 8, overrides it, for tests and measurements); NULL for a
  * width this build or CPU cannot run. */

@@ -8,51 +8,39 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 
-KG_STATIC_ASSERT(sizeof(kg_solver_body) == 8 * sizeof(float), solver_body_is_eight_floats);
-
-static const kg_solver_body kg_still_body = {{{0.0f, 0.0f}, 0.0f, {0.0f, 0.0f}, {1.0f, 0.0f}}, 0u};
-
-/* The bodies of a block's lanes, each a whole solver body (two halves of four floats),
- * transposed into fields: data movement only, so the lanes get exactly the floats the
- * scalar gather would give them. */
-static kg_body_motion_w4 kg_gather_w4(const kg_solver_body* bodies, const kg_contact_constraint_w4* r, int is_b)
+/* The solver bodies of slots (two halves of four floats each) into the columns of their
+ * motions: data movement only. */
+static inline void kg_rows_to_columns_w4(const kg_solver_body* bodies, kg_vu slots, kg_vf columns[7])
 {
     __m128 low[4], high[4];
     for (int lane = 0; lane < 4; ++lane) {
-        kg_u32 slot = is_b ? r->b[lane] : r->a[lane];
-        const float* body = (const float*)(slot == KG_NULL_INDEX ? &kg_still_body : &bodies[slot]);
-        low[lane] = _mm_loadu_ps(body);
-        high[lane] = _mm_loadu_ps(body + 4);
+        const float* row = kg_gather_source(bodies, slots[lane]);
+        low[lane] = _mm_loadu_ps(row);
+        high[lane] = _mm_loadu_ps(row + 4);
     }
     _MM_TRANSPOSE4_PS(low[0], low[1], low[2], low[3]);
     _MM_TRANSPOSE4_PS(high[0], high[1], high[2], high[3]);
-    kg_body_motion_w4 m;
-    m.v.x = (kg_vf)low[0];
-    m.v.y = (kg_vf)low[1];
-    m.w = (kg_vf)low[2];
-    m.dp.x = (kg_vf)low[3];
-    m.dp.y = (kg_vf)high[0];
-    m.dq.c = (kg_vf)high[1];
-    m.dq.s = (kg_vf)high[2];
-    return m;
+    for (int k = 0; k < 4; ++k) {
+        columns[k] = (kg_vf)low[k];
+    }
+    for (int k = 4; k < 7; ++k) {
+        columns[k] = (kg_vf)high[k - 4];
+    }
 }
 
-/* Back to the bodies that take impulses: their first four floats, the velocities and
- * dp.x, which is what was gathered. */
-static void kg_scatter_w4(kg_solver_body* bodies, const kg_contact_constraint_w4* r, int is_b,
-                          const kg_body_motion_w4* m)
+static inline void kg_columns_to_rows_w4(kg_solver_body* bodies, kg_vu slots, const kg_vf columns[4])
 {
-    __m128 rows[4] = {(__m128)m->v.x, (__m128)m->v.y, (__m128)m->w, (__m128)m->dp.x};
-    _MM_TRANSPOSE4_PS(rows[0], rows[1], rows[2], rows[3]);
+    __m128 r[4] = {(__m128)columns[0], (__m128)columns[1], (__m128)columns[2], (__m128)columns[3]};
+    _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
     for (int lane = 0; lane < 4; ++lane) {
-        kg_u32 slot = is_b ? r->b[lane] : r->a[lane];
-        if (slot != KG_NULL_INDEX && bodies[slot].moves) {
-            _mm_storeu_ps((float*)&bodies[slot], rows[lane]);
+        float* row = kg_scatter_target(bodies, slots[lane]);
+        if (row) {
+            _mm_storeu_ps(row, r[lane]);
         }
     }
 }
 
-#define KG_GATHER_TRANSPOSED
+#define KG_TRANSPOSES
 #endif
 
 #include "solve/contact_wide_impl.h"

@@ -31,46 +31,33 @@ static inline void kg_transpose8(__m256 r[8])
     r[7] = _mm256_permute2f128_ps(s3, s7, 0x31);
 }
 
-KG_STATIC_ASSERT(sizeof(kg_solver_body) == 8 * sizeof(float), solver_body_is_eight_floats);
-
-static const kg_solver_body kg_still_body = {{{0.0f, 0.0f}, 0.0f, {0.0f, 0.0f}, {1.0f, 0.0f}}, 0u};
-
-/* The bodies of a block's lanes, each a whole solver body, transposed into fields. */
-static kg_body_motion_w8 kg_gather_w8(const kg_solver_body* bodies, const kg_contact_constraint_w8* r, int is_b)
+/* The solver bodies of slots (eight floats each) into the columns of their motions. */
+static inline void kg_rows_to_columns_w8(const kg_solver_body* bodies, kg_vu slots, kg_vf columns[7])
 {
-    __m256 rows[8];
+    __m256 r[8];
     for (int lane = 0; lane < 8; ++lane) {
-        kg_u32 slot = is_b ? r->b[lane] : r->a[lane];
-        const kg_solver_body* body = slot == KG_NULL_INDEX ? &kg_still_body : &bodies[slot];
-        rows[lane] = _mm256_loadu_ps((const float*)body);
+        r[lane] = _mm256_loadu_ps(kg_gather_source(bodies, slots[lane]));
     }
-    kg_transpose8(rows);
-    kg_body_motion_w8 m;
-    m.v.x = (kg_vf)rows[0];
-    m.v.y = (kg_vf)rows[1];
-    m.w = (kg_vf)rows[2];
-    m.dp.x = (kg_vf)rows[3];
-    m.dp.y = (kg_vf)rows[4];
-    m.dq.c = (kg_vf)rows[5];
-    m.dq.s = (kg_vf)rows[6];
-    return m;
+    kg_transpose8(r);
+    for (int k = 0; k < 7; ++k) {
+        columns[k] = (kg_vf)r[k];
+    }
 }
 
-/* Back to the bodies that take impulses: their first four floats, the velocities and
- * dp.x, which is what was gathered. */
-static void kg_scatter_w8(kg_solver_body* bodies, const kg_contact_constraint_w8* r, int is_b,
-                          const kg_body_motion_w8* m)
+static inline void kg_columns_to_rows_w8(kg_solver_body* bodies, kg_vu slots, const kg_vf columns[4])
 {
-    __m256 rows[8] = {(__m256)m->v.x, (__m256)m->v.y, (__m256)m->w,  (__m256)m->dp.x,
-                      (__m256)m->dp.y, (__m256)m->dq.c, (__m256)m->dq.s, _mm256_setzero_ps()};
-    kg_transpose8(rows);
+    __m256 r[8] = {(__m256)columns[0], (__m256)columns[1], (__m256)columns[2], (__m256)columns[3]};
+    for (int k = 4; k < 8; ++k) {
+        r[k] = _mm256_setzero_ps();
+    }
+    kg_transpose8(r);
     for (int lane = 0; lane < 8; ++lane) {
-        kg_u32 slot = is_b ? r->b[lane] : r->a[lane];
-        if (slot != KG_NULL_INDEX && bodies[slot].moves) {
-            _mm_storeu_ps((float*)&bodies[slot], _mm256_castps256_ps128(rows[lane]));
+        float* row = kg_scatter_target(bodies, slots[lane]);
+        if (row) {
+            _mm_storeu_ps(row, _mm256_castps256_ps128(r[lane]));
         }
     }
 }
 
-#define KG_GATHER_TRANSPOSED
+#define KG_TRANSPOSES
 #include "solve/contact_wide_impl.h"

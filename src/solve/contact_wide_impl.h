@@ -78,41 +78,57 @@ static void KG_WIDE(kg_unpack)(const void* blocks, int block, int lane, kg_conta
     }
 }
 
-static const kg_body_motion KG_WIDE(kg_still) = {{0.0f, 0.0f}, 0.0f, {0.0f, 0.0f}, {1.0f, 0.0f}};
+KG_STATIC_ASSERT(sizeof(kg_body_motion) == KG_MOTION_FLOATS * sizeof(float), motion_is_seven_floats);
 
-#ifndef KG_GATHER_TRANSPOSED
-/* The motions of the bodies slot[lane] into lanes; a lane without a body is still. (A
- * width may bring its own, a transpose of whole solver bodies: KG_GATHER_TRANSPOSED.) */
-static kg_wmotion KG_WIDE(kg_gather)(const kg_solver_body* bodies, const kg_wrow* r, int is_b)
+#ifndef KG_TRANSPOSES
+/* The solver bodies of slots, a lane each, into the columns of their motions (column k's
+ * lane l is float k of lane l's body), a float at a time. (A width may bring its own,
+ * with SIMD shuffles: KG_TRANSPOSES.) */
+static inline void KG_WIDE(kg_rows_to_columns)(const kg_solver_body* bodies, kg_lindex slots,
+                                               kg_lane columns[KG_MOTION_FLOATS])
 {
-    kg_wmotion m;
     for (int lane = 0; lane < KG_W; ++lane) {
-        kg_u32 slot = is_b ? KG_LANE_OF(r->b, lane) : KG_LANE_OF(r->a, lane);
-        const kg_body_motion* s = slot == KG_NULL_INDEX ? &KG_WIDE(kg_still) : &bodies[slot].motion;
-        KG_LANE_OF(m.v.x, lane) = s->v.x;
-        KG_LANE_OF(m.v.y, lane) = s->v.y;
-        KG_LANE_OF(m.w, lane) = s->w;
-        KG_LANE_OF(m.dp.x, lane) = s->dp.x;
-        KG_LANE_OF(m.dp.y, lane) = s->dp.y;
-        KG_LANE_OF(m.dq.c, lane) = s->dq.c;
-        KG_LANE_OF(m.dq.s, lane) = s->dq.s;
+        const float* row = kg_gather_source(bodies, KG_LANE_OF(slots, lane));
+        for (int k = 0; k < KG_MOTION_FLOATS; ++k) {
+            KG_LANE_OF(columns[k], lane) = row[k];
+        }
     }
-    return m;
 }
 
-/* Velocities back to the bodies that take impulses (the passes change nothing else). */
-static void KG_WIDE(kg_scatter)(kg_solver_body* bodies, const kg_wrow* r, int is_b, const kg_wmotion* m)
+/* ...and the first four columns back into the bodies that take impulses. */
+static inline void KG_WIDE(kg_columns_to_rows)(kg_solver_body* bodies, kg_lindex slots, const kg_lane columns[4])
 {
     for (int lane = 0; lane < KG_W; ++lane) {
-        kg_u32 slot = is_b ? KG_LANE_OF(r->b, lane) : KG_LANE_OF(r->a, lane);
-        if (slot != KG_NULL_INDEX && bodies[slot].moves) {
-            bodies[slot].motion.v.x = KG_LANE_OF(m->v.x, lane);
-            bodies[slot].motion.v.y = KG_LANE_OF(m->v.y, lane);
-            bodies[slot].motion.w = KG_LANE_OF(m->w, lane);
+        float* row = kg_scatter_target(bodies, KG_LANE_OF(slots, lane));
+        for (int k = 0; row && k < 4; ++k) {
+            row[k] = KG_LANE_OF(columns[k], lane);
         }
     }
 }
 #endif
+
+/* The motions of a block side's bodies, in lanes; a lane without a body is still. */
+static inline kg_wmotion KG_WIDE(kg_gather)(const kg_solver_body* bodies, const kg_wrow* r, int is_b)
+{
+    kg_lane c[KG_MOTION_FLOATS];
+    KG_WIDE(kg_rows_to_columns)(bodies, is_b ? r->b : r->a, c);
+    kg_wmotion m;
+    m.v.x = c[0];
+    m.v.y = c[1];
+    m.w = c[2];
+    m.dp.x = c[3];
+    m.dp.y = c[4];
+    m.dq.c = c[5];
+    m.dq.s = c[6];
+    return m;
+}
+
+/* The velocities back to the bodies that take impulses (all a pass changes). */
+static inline void KG_WIDE(kg_scatter)(kg_solver_body* bodies, const kg_wrow* r, int is_b, const kg_wmotion* m)
+{
+    const kg_lane c[4] = {m->v.x, m->v.y, m->w, m->dp.x};
+    KG_WIDE(kg_columns_to_rows)(bodies, is_b ? r->b : r->a, c);
+}
 
 static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm,
                             kg_constraint_pass pass)
