@@ -7,7 +7,6 @@
 kg_result kg_graph_coloring_init(kg_graph_coloring* g, int body_capacity, int constraint_capacity)
 {
     memset(g, 0, sizeof *g);
-    g->body_capacity = body_capacity;
     g->used = kg_alloc_zeroed((size_t)body_capacity * sizeof *g->used);
     g->order = kg_alloc_zeroed((size_t)constraint_capacity * sizeof *g->order);
     if (!g->used || !g->order) {

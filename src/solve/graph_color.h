@@ -12,7 +12,6 @@
 #define KG_COLOR_COUNT 24
 
 typedef struct kg_graph_coloring {
-    int body_capacity;
     kg_u32* used;           /* per body, one bit per colour: the colours its constraints took */
     int* order;             /* constraint indices grouped by colour, overflow last */
     int color_start[KG_COLOR_COUNT + 2]; /* colour c is order[color_start[c], color_start[c+1]); */
