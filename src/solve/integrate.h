@@ -18,27 +18,53 @@ typedef struct kg_integrate_params {
     float max_linear_speed;
 } kg_integrate_params;
 
+/* What a body's velocity update adds and scales by, constant over the sub-steps of a
+ * step: the CPU makes it once a step (solve/solver.c), the kernel at every sub-step
+ * (kg_integrate_velocity), the same operations either way. */
+typedef struct kg_velocity_step {
+    kg_vec2 dv;       /* h times the acceleration of gravity and the force */
+    float dw;         /* h times the angular acceleration of the torque */
+    float lin_factor; /* implicit linear damping and drag: 1 / (1 + h c) */
+    float ang_factor; /* implicit angular damping */
+} kg_velocity_step;
+
 /* drag: N s/m, the wind's; linear_damping: 1/s, the body's own. */
+KG_FN kg_velocity_step kg_velocity_step_of(kg_vec2 force, float torque, float drag, float inv_mass, float inv_inertia,
+                                           float linear_damping, float angular_damping, kg_integrate_params prm)
+{
+    float h = prm.h;
+    kg_vec2 acc = inv_mass > 0.0f ? kg_mul_add(prm.gravity, inv_mass, force) : kg_v2(0.0f, 0.0f);
+    kg_velocity_step s;
+    s.dv = kg_scale(h, acc);
+    s.dw = h * inv_inertia * torque;
+    s.lin_factor = 1.0f / (1.0f + h * (linear_damping + inv_mass * drag));
+    s.ang_factor = 1.0f / (1.0f + h * angular_damping);
+    return s;
+}
+
+KG_FN void kg_apply_velocity_step(kg_vec2* v, float* w, kg_velocity_step s, kg_integrate_params prm)
+{
+    kg_vec2 nv = kg_scale(s.lin_factor, kg_add(*v, s.dv));
+    float nw = s.ang_factor * (*w) + s.dw;
+    /* Clamped along its direction, found from the velocity scaled to its largest
+     * component first, so a huge but finite velocity does not overflow to nothing. */
+    float max_speed = prm.max_linear_speed;
+    float largest = kg_maxf(fabsf(nv.x), fabsf(nv.y));
+    if (largest > max_speed || kg_length_sq(nv) > max_speed * max_speed) {
+        nv = kg_scale(max_speed, kg_normalize(kg_scale(1.0f / largest, nv)));
+    }
+    float max_w = KG_MAX_ROTATION_PER_SUBSTEP / prm.h;
+    *v = nv;
+    *w = kg_clampf(nw, -max_w, max_w);
+}
+
 KG_FN void kg_integrate_velocity(kg_vec2* v, float* w, kg_vec2 force, float torque, float drag, float inv_mass,
                                  float inv_inertia, float linear_damping, float angular_damping,
                                  kg_integrate_params prm)
 {
-    float h = prm.h;
-    kg_vec2 acc = inv_mass > 0.0f ? kg_mul_add(prm.gravity, inv_mass, force) : kg_v2(0.0f, 0.0f);
-    float lin_factor = 1.0f / (1.0f + h * (linear_damping + inv_mass * drag));
-    float ang_factor = 1.0f / (1.0f + h * angular_damping);
-    kg_vec2 nv = kg_scale(lin_factor, kg_mul_add(*v, h, acc));
-    float nw = ang_factor * (*w) + h * inv_inertia * torque;
-    /* Clamped along its direction, found from the velocity scaled to its largest
-     * component first, so a huge but finite velocity does not overflow to nothing. */
-    float max_speed = prm.max_linear_speed;
-    float largest = fmaxf(fabsf(nv.x), fabsf(nv.y));
-    if (largest > max_speed || kg_length_sq(nv) > max_speed * max_speed) {
-        nv = kg_scale(max_speed, kg_normalize(kg_scale(1.0f / largest, nv)));
-    }
-    float max_w = KG_MAX_ROTATION_PER_SUBSTEP / h;
-    *v = nv;
-    *w = kg_clampf(nw, -max_w, max_w);
+    kg_velocity_step s =
+        kg_velocity_step_of(force, torque, drag, inv_mass, inv_inertia, linear_damping, angular_damping, prm);
+    kg_apply_velocity_step(v, w, s, prm);
 }
 
 KG_FN void kg_integrate_position(kg_vec2* center, kg_rot* q, kg_vec2 v, float w, float h)

@@ -34,6 +34,7 @@ struct kg_solver {
     int capacity;
     kg_graph_coloring coloring;
     kg_solver_body* bodies;
+    kg_velocity_step* velocity_steps; /* per body, made once a step */
 };
 
 static kg_result kg_reserve_blocks(struct kg_solver* s, int blocks)
@@ -72,7 +73,8 @@ kg_result kg_solver_create(kg_world* world)
         s->rows = kg_contact_rows_of(1);
     }
     s->bodies = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->bodies);
-    if (!s->bodies) {
+    s->velocity_steps = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->velocity_steps);
+    if (!s->bodies || !s->velocity_steps) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the solver");
     }
     return kg_solver_reserve(s, world->def.max_bodies, world->def.max_contacts);
@@ -88,6 +90,7 @@ void kg_solver_destroy(kg_world* world)
     kg_free(s->scratch_colors);
     kg_graph_coloring_free(&s->coloring);
     kg_free(s->bodies);
+    kg_free(s->velocity_steps);
     kg_free(s);
     world->solver = NULL;
 }
@@ -97,6 +100,7 @@ void kg_solver_destroy(kg_world* world)
 typedef struct kg_body_job {
     kg_body_pool* pool;
     kg_solver_body* bodies;
+    kg_velocity_step* velocity_steps;
     kg_integrate_params prm;
     float dt; /* of the whole step */
     int sleep; /* kg_world_def.enable_sleep: rest timers are kept */
@@ -137,18 +141,21 @@ static void kg_load_bodies(void* context, int begin, int end)
         sb->motion.dp = kg_v2(0.0f, 0.0f);
         sb->motion.dq = kg_rot_identity();
         sb->moves = (kg_u32)kg_pool_is_simulated(p, i);
+        if (sb->moves) {
+            job->velocity_steps[i] = kg_velocity_step_of(p->force[i], p->torque[i], p->drag[i], p->inv_mass[i],
+                                                         p->inv_inertia[i], p->linear_damping[i],
+                                                         p->angular_damping[i], job->prm);
+        }
     }
 }
 
 static void kg_integrate_velocities(void* context, int begin, int end)
 {
     kg_body_job* job = context;
-    const kg_body_pool* p = job->pool;
     for (int i = begin; i < end; ++i) {
         kg_body_motion* m = &job->bodies[i].motion;
         if (job->bodies[i].moves) {
-            kg_integrate_velocity(&m->v, &m->w, p->force[i], p->torque[i], p->drag[i], p->inv_mass[i], p->inv_inertia[i],
-                                  p->linear_damping[i], p->angular_damping[i], job->prm);
+            kg_apply_velocity_step(&m->v, &m->w, job->velocity_steps[i], job->prm);
         }
     }
 }
@@ -369,7 +376,7 @@ void kg_stage_solve(kg_world* world, float dt)
     int n = world->def.substeps;
     float h = dt / (float)n;
     kg_body_pool* p = &world->bodies;
-    kg_body_job bjob = {p, s->bodies, {world->def.gravity, h, world->def.max_linear_speed}, dt,
+    kg_body_job bjob = {p, s->bodies, s->velocity_steps, {world->def.gravity, h, world->def.max_linear_speed}, dt,
                         world->def.enable_sleep, world->def.sleep_speed};
     atomic_int bounces = 0;
     kg_constraint_job cjob = {p, s->bodies, contacts, s, 0, &bounces, kg_solver_params_of(&world->def, h), KG_PASS_SOLVE};
