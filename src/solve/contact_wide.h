@@ -27,8 +27,8 @@ typedef struct kg_contact_rows {
      * restitution and the inverse masses of each lane's constraint) and inputs. */
     void (*prepare)(void* blocks, int block, const kg_contact_constraint* heads, const kg_prepare_input* inputs,
                     kg_solver_params prm);
-    /* The impulses and approach speeds of lane `lane` of block `block`, into c. */
-    void (*unpack)(const void* blocks, int block, int lane, kg_contact_constraint* c);
+    /* The impulses and approach speeds of blocks [begin, end) into their contacts. */
+    void (*store_impulses)(const void* blocks, int begin, int end, kg_contact* contacts);
     /* One pass over blocks [begin, end): gathers the lanes' bodies, runs the pass, scatters. */
     void (*run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm, kg_constraint_pass pass);
 } kg_contact_rows;

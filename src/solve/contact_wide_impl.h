@@ -66,15 +66,21 @@ static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_contact_constr
     KG_ROWFN(kg_contact_prepare_lanes)(r, &in, prm);
 }
 
-static void KG_WIDE(kg_unpack)(const void* blocks, int block, int lane, kg_contact_constraint* c)
+/* The impulses and approach speeds of blocks [begin, end) back into their contacts'
+ * manifolds, for warm starting and events; a padding lane has no points. */
+static void KG_WIDE(kg_store_impulses)(const void* blocks, int begin, int end, kg_contact* contacts)
 {
-    const kg_wrow* r = (const kg_wrow*)blocks + block;
-    c->contact = KG_LANE_OF(r->contact, lane);
-    c->point_count = KG_LANE_OF(r->point_count, lane);
-    for (int j = 0; j < 2; ++j) {
-        c->points[j].normal_impulse = KG_LANE_OF(r->points[j].normal_impulse, lane);
-        c->points[j].tangent_impulse = KG_LANE_OF(r->points[j].tangent_impulse, lane);
-        c->points[j].relative_velocity = KG_LANE_OF(r->points[j].relative_velocity, lane);
+    for (int block = begin; block < end; ++block) {
+        const kg_wrow* r = (const kg_wrow*)blocks + block;
+        for (int lane = 0; lane < KG_W; ++lane) {
+            kg_manifold* m = &contacts[KG_LANE_OF(r->contact, lane)].manifold;
+            int points = KG_LANE_OF(r->point_count, lane);
+            for (int j = 0; j < points; ++j) {
+                m->points[j].normal_impulse = KG_LANE_OF(r->points[j].normal_impulse, lane);
+                m->points[j].tangent_impulse = KG_LANE_OF(r->points[j].tangent_impulse, lane);
+                m->points[j].normal_velocity = KG_LANE_OF(r->points[j].relative_velocity, lane);
+            }
+        }
     }
 }
 
@@ -147,5 +153,5 @@ static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bo
     }
 }
 
-const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_prepare), KG_WIDE(kg_unpack),
+const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_prepare), KG_WIDE(kg_store_impulses),
                                                   KG_WIDE(kg_run)};

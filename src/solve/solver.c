@@ -309,19 +309,7 @@ static void kg_prepare_range(void* context, int begin, int end)
 static void kg_store_impulses_range(void* context, int begin, int end)
 {
     const kg_constraint_job* job = context;
-    const struct kg_solver* s = job->solver;
-    for (int block = begin; block < end; ++block) {
-        for (int lane = 0; lane < s->rows->width; ++lane) {
-            kg_contact_constraint c;
-            s->rows->unpack(s->blocks, block, lane, &c);
-            kg_manifold* m = &job->contacts[c.contact].manifold;
-            for (int j = 0; j < c.point_count; ++j) {
-                m->points[j].normal_impulse = c.points[j].normal_impulse;
-                m->points[j].tangent_impulse = c.points[j].tangent_impulse;
-                m->points[j].normal_velocity = c.points[j].relative_velocity;
-            }
-        }
-    }
+    job->solver->rows->store_impulses(job->solver->blocks, begin, end, job->contacts);
 }
 
 /* The colours' block ranges, from the colouring; grows the blocks (with a warning) when
