@@ -33,8 +33,13 @@ typedef struct kg_contact_rows {
     void (*run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm, kg_constraint_pass pass);
 } kg_contact_rows;
 
-/* A solver body read as floats: v.x, v.y, w, dp.x, dp.y, dq.c, dq.s (then moves). */
-#define KG_MOTION_FLOATS 7
+/* A solver body read as floats: v.x, v.y, w, dp.x, dp.y, dq.c, dq.s, then moves. */
+#define KG_BODY_FLOATS 8
+KG_STATIC_ASSERT(sizeof(kg_solver_body) == KG_BODY_FLOATS * sizeof(float), solver_body_is_eight_floats);
+
+/* A prepare input read as floats. */
+#define KG_PREPARE_INPUT_FLOATS 32
+KG_STATIC_ASSERT(sizeof(kg_prepare_input) == KG_PREPARE_INPUT_FLOATS * sizeof(float), prepare_input_is_floats);
 
 /* Where a pass gathers body slot's floats from: a still body for KG_NULL_INDEX. */
 static inline const float* kg_gather_source(const kg_solver_body* bodies, kg_u32 slot)

@@ -8,23 +8,16 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 
-/* The solver bodies of slots (two halves of four floats each) into the columns of their
- * motions: data movement only. */
-static inline void kg_rows_to_columns_w4(const kg_solver_body* bodies, kg_vu slots, kg_vf columns[7])
+/* Lanes from rows: lane l of out[k] is rows[l][k]. */
+static inline void kg_rows_to_lanes_w4(const float* const rows[4], kg_vf out[4])
 {
-    __m128 low[4], high[4];
+    __m128 r[4];
     for (int lane = 0; lane < 4; ++lane) {
-        const float* row = kg_gather_source(bodies, slots[lane]);
-        low[lane] = _mm_loadu_ps(row);
-        high[lane] = _mm_loadu_ps(row + 4);
+        r[lane] = _mm_loadu_ps(rows[lane]);
     }
-    _MM_TRANSPOSE4_PS(low[0], low[1], low[2], low[3]);
-    _MM_TRANSPOSE4_PS(high[0], high[1], high[2], high[3]);
+    _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
     for (int k = 0; k < 4; ++k) {
-        columns[k] = (kg_vf)low[k];
-    }
-    for (int k = 4; k < 7; ++k) {
-        columns[k] = (kg_vf)high[k - 4];
+        out[k] = (kg_vf)r[k];
     }
 }
 

@@ -31,16 +31,16 @@ static inline void kg_transpose8(__m256 r[8])
     r[7] = _mm256_permute2f128_ps(s3, s7, 0x31);
 }
 
-/* The solver bodies of slots (eight floats each) into the columns of their motions. */
-static inline void kg_rows_to_columns_w8(const kg_solver_body* bodies, kg_vu slots, kg_vf columns[7])
+/* Lanes from rows: lane l of out[k] is rows[l][k]. */
+static inline void kg_rows_to_lanes_w8(const float* const rows[8], kg_vf out[8])
 {
     __m256 r[8];
     for (int lane = 0; lane < 8; ++lane) {
-        r[lane] = _mm256_loadu_ps(kg_gather_source(bodies, slots[lane]));
+        r[lane] = _mm256_loadu_ps(rows[lane]);
     }
     kg_transpose8(r);
-    for (int k = 0; k < 7; ++k) {
-        columns[k] = (kg_vf)r[k];
+    for (int k = 0; k < 8; ++k) {
+        out[k] = (kg_vf)r[k];
     }
 }
 

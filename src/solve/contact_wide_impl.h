@@ -16,16 +16,43 @@
 #define kg_wmotion KG_WIDE(kg_body_motion)
 #endif
 
+#ifndef KG_TRANSPOSES
+/* Lanes from rows: lane l of out[k] is rows[l][k], for k < W; data movement only, a float
+ * at a time. (A width may bring its own, with SIMD shuffles: KG_TRANSPOSES, together
+ * with kg_columns_to_rows.) */
+static inline void KG_WIDE(kg_rows_to_lanes)(const float* const rows[KG_W], kg_lane out[KG_W])
+{
+    for (int lane = 0; lane < KG_W; ++lane) {
+        for (int k = 0; k < KG_W; ++k) {
+            KG_LANE_OF(out[k], lane) = rows[lane][k];
+        }
+    }
+}
+
+/* The first four columns (velocities and dp.x) back into the bodies that take impulses. */
+static inline void KG_WIDE(kg_columns_to_rows)(kg_solver_body* bodies, kg_lindex slots, const kg_lane columns[4])
+{
+    for (int lane = 0; lane < KG_W; ++lane) {
+        float* row = kg_scatter_target(bodies, KG_LANE_OF(slots, lane));
+        for (int k = 0; row && k < 4; ++k) {
+            row[k] = KG_LANE_OF(columns[k], lane);
+        }
+    }
+}
+#endif
+
+KG_STATIC_ASSERT(sizeof(KG_ROWFN(kg_prepare_input)) == KG_PREPARE_INPUT_FLOATS * sizeof(kg_lane),
+                 prepare_input_is_lanes_of_floats);
+KG_STATIC_ASSERT(KG_PREPARE_INPUT_FLOATS % KG_W == 0, prepare_input_in_whole_transposes);
+
 /* Block `block` from the heads (bodies, contact, masses and material of each lane) and
  * inputs of its width constraints. */
 static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_contact_constraint* heads,
                                 const kg_prepare_input* inputs, kg_solver_params prm)
 {
     kg_wrow* r = (kg_wrow*)blocks + block;
-    KG_ROWFN(kg_prepare_input) in;
     for (int lane = 0; lane < KG_W; ++lane) {
         const kg_contact_constraint* h = &heads[lane];
-        const kg_prepare_input* p = &inputs[lane];
         KG_LANE_OF(r->a, lane) = h->a;
         KG_LANE_OF(r->b, lane) = h->b;
         KG_LANE_OF(r->contact, lane) = h->contact;
@@ -36,32 +63,16 @@ static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_contact_constr
         KG_LANE_OF(r->inv_i_a, lane) = h->inv_i_a;
         KG_LANE_OF(r->inv_mass_b, lane) = h->inv_mass_b;
         KG_LANE_OF(r->inv_i_b, lane) = h->inv_i_b;
-        for (int j = 0; j < 2; ++j) {
-            KG_LANE_OF(in.anchor_a[j].x, lane) = p->anchor_a[j].x;
-            KG_LANE_OF(in.anchor_a[j].y, lane) = p->anchor_a[j].y;
-            KG_LANE_OF(in.anchor_b[j].x, lane) = p->anchor_b[j].x;
-            KG_LANE_OF(in.anchor_b[j].y, lane) = p->anchor_b[j].y;
-            KG_LANE_OF(in.separation[j], lane) = p->separation[j];
-            KG_LANE_OF(in.normal_impulse[j], lane) = p->normal_impulse[j];
-            KG_LANE_OF(in.tangent_impulse[j], lane) = p->tangent_impulse[j];
-            KG_LANE_OF(in.has_point[j], lane) = p->has_point[j];
+    }
+    /* the inputs, all floats in the same order at every width, W fields at a time */
+    KG_ROWFN(kg_prepare_input) in;
+    kg_lane* fields = (kg_lane*)&in;
+    for (int f = 0; f < KG_PREPARE_INPUT_FLOATS; f += KG_W) {
+        const float* rows[KG_W];
+        for (int lane = 0; lane < KG_W; ++lane) {
+            rows[lane] = (const float*)&inputs[lane] + f;
         }
-        KG_LANE_OF(in.normal.x, lane) = p->normal.x;
-        KG_LANE_OF(in.normal.y, lane) = p->normal.y;
-        KG_LANE_OF(in.origin_a.x, lane) = p->origin_a.x;
-        KG_LANE_OF(in.origin_a.y, lane) = p->origin_a.y;
-        KG_LANE_OF(in.center_a.x, lane) = p->center_a.x;
-        KG_LANE_OF(in.center_a.y, lane) = p->center_a.y;
-        KG_LANE_OF(in.origin_b.x, lane) = p->origin_b.x;
-        KG_LANE_OF(in.origin_b.y, lane) = p->origin_b.y;
-        KG_LANE_OF(in.center_b.x, lane) = p->center_b.x;
-        KG_LANE_OF(in.center_b.y, lane) = p->center_b.y;
-        KG_LANE_OF(in.va.x, lane) = p->va.x;
-        KG_LANE_OF(in.va.y, lane) = p->va.y;
-        KG_LANE_OF(in.vb.x, lane) = p->vb.x;
-        KG_LANE_OF(in.vb.y, lane) = p->vb.y;
-        KG_LANE_OF(in.wa, lane) = p->wa;
-        KG_LANE_OF(in.wb, lane) = p->wb;
+        KG_WIDE(kg_rows_to_lanes)(rows, fields + f);
     }
     KG_ROWFN(kg_contact_prepare_lanes)(r, &in, prm);
 }
@@ -84,39 +95,24 @@ static void KG_WIDE(kg_store_impulses)(const void* blocks, int begin, int end, k
     }
 }
 
-KG_STATIC_ASSERT(sizeof(kg_body_motion) == KG_MOTION_FLOATS * sizeof(float), motion_is_seven_floats);
-
-#ifndef KG_TRANSPOSES
 /* The solver bodies of slots, a lane each, into the columns of their motions (column k's
- * lane l is float k of lane l's body), a float at a time. (A width may bring its own,
- * with SIMD shuffles: KG_TRANSPOSES.) */
+ * lane l is float k of lane l's body; the last column is `moves`), W floats at a time. */
 static inline void KG_WIDE(kg_rows_to_columns)(const kg_solver_body* bodies, kg_lindex slots,
-                                               kg_lane columns[KG_MOTION_FLOATS])
+                                               kg_lane columns[KG_BODY_FLOATS])
 {
-    for (int lane = 0; lane < KG_W; ++lane) {
-        const float* row = kg_gather_source(bodies, KG_LANE_OF(slots, lane));
-        for (int k = 0; k < KG_MOTION_FLOATS; ++k) {
-            KG_LANE_OF(columns[k], lane) = row[k];
+    for (int f = 0; f < KG_BODY_FLOATS; f += KG_W) {
+        const float* rows[KG_W];
+        for (int lane = 0; lane < KG_W; ++lane) {
+            rows[lane] = kg_gather_source(bodies, KG_LANE_OF(slots, lane)) + f;
         }
+        KG_WIDE(kg_rows_to_lanes)(rows, columns + f);
     }
 }
-
-/* ...and the first four columns back into the bodies that take impulses. */
-static inline void KG_WIDE(kg_columns_to_rows)(kg_solver_body* bodies, kg_lindex slots, const kg_lane columns[4])
-{
-    for (int lane = 0; lane < KG_W; ++lane) {
-        float* row = kg_scatter_target(bodies, KG_LANE_OF(slots, lane));
-        for (int k = 0; row && k < 4; ++k) {
-            row[k] = KG_LANE_OF(columns[k], lane);
-        }
-    }
-}
-#endif
 
 /* The motions of a block side's bodies, in lanes; a lane without a body is still. */
 static inline kg_wmotion KG_WIDE(kg_gather)(const kg_solver_body* bodies, const kg_wrow* r, int is_b)
 {
-    kg_lane c[KG_MOTION_FLOATS];
+    kg_lane c[KG_BODY_FLOATS];
     KG_WIDE(kg_rows_to_columns)(bodies, is_b ? r->b : r->a, c);
     kg_wmotion m;
     m.v.x = c[0];
