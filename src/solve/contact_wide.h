@@ -41,19 +41,15 @@ KG_STATIC_ASSERT(sizeof(kg_solver_body) == KG_BODY_FLOATS * sizeof(float), solve
 #define KG_PREPARE_INPUT_FLOATS 32
 KG_STATIC_ASSERT(sizeof(kg_prepare_input) == KG_PREPARE_INPUT_FLOATS * sizeof(float), prepare_input_is_floats);
 
-/* Where a pass gathers body slot's floats from: a still body for KG_NULL_INDEX. */
-static inline const float* kg_gather_source(const kg_solver_body* bodies, kg_u32 slot)
-{
-    static const kg_solver_body still = {{{0.0f, 0.0f}, 0.0f, {0.0f, 0.0f}, {1.0f, 0.0f}}, 0u};
-    return (const float*)(slot == KG_NULL_INDEX ? &still : &bodies[slot]);
-}
-
-/* Where a pass scatters body slot's first four floats (the velocities, and dp.x as it was
- * gathered): NULL for a body that takes no impulses. A moving body is in one lane of a
- * colour at most, so no other lane or thread writes it meanwhile. */
+/* A row's body slots index the solver bodies directly: the static world and padding
+ * lanes name a still body of their own after the pool's slots, which takes no impulses,
+ * so a gather needs no test. A pass scatters the first four floats of a lane's body (the
+ * velocities, and dp.x as gathered) where the body takes impulses (`moves`); a moving
+ * body is in one lane of a colour at most, so no other lane or thread writes it
+ * meanwhile. */
 static inline float* kg_scatter_target(kg_solver_body* bodies, kg_u32 slot)
 {
-    return slot != KG_NULL_INDEX && bodies[slot].moves ? (float*)&bodies[slot] : NULL;
+    return bodies[slot].moves ? (float*)&bodies[slot] : NULL;
 }
 
 /* The rows of width 1, 4 or 8, or 0 for the widest this CPU runs (KGYRO_SIMD_WIDTH in

@@ -103,7 +103,7 @@ static inline void KG_WIDE(kg_rows_to_columns)(const kg_solver_body* bodies, kg_
     for (int f = 0; f < KG_BODY_FLOATS; f += KG_W) {
         const float* rows[KG_W];
         for (int lane = 0; lane < KG_W; ++lane) {
-            rows[lane] = kg_gather_source(bodies, KG_LANE_OF(slots, lane)) + f;
+            rows[lane] = (const float*)&bodies[KG_LANE_OF(slots, lane)] + f;
         }
         KG_WIDE(kg_rows_to_lanes)(rows, columns + f);
     }

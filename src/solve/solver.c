@@ -33,7 +33,8 @@ struct kg_solver {
     int* scratch_colors;
     int capacity;
     kg_graph_coloring coloring;
-    kg_solver_body* bodies;
+    kg_solver_body* bodies;           /* per body slot, then the still body (slot `still`) */
+    kg_u32 still;                     /* what rows name for the static world and empty lanes */
     kg_velocity_step* velocity_steps; /* per body, made once a step */
 };
 
@@ -72,11 +73,13 @@ kg_result kg_solver_create(kg_world* world)
         kg_warn_once("simd-width", "KGYRO_SIMD_WIDTH names a width this build or CPU cannot run: using 1");
         s->rows = kg_contact_rows_of(1);
     }
-    s->bodies = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->bodies);
+    s->bodies = kg_alloc_zeroed(((size_t)world->def.max_bodies + 1) * sizeof *s->bodies);
     s->velocity_steps = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->velocity_steps);
     if (!s->bodies || !s->velocity_steps) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the solver");
     }
+    s->still = (kg_u32)world->def.max_bodies;
+    s->bodies[s->still].motion.dq = kg_rot_identity(); /* at rest, and never scattered to: moves 0 */
     return kg_solver_reserve(s, world->def.max_bodies, world->def.max_contacts);
 }
 
@@ -231,13 +234,6 @@ static void kg_constraint_pass_run(kg_world* world, kg_constraint_job* job, kg_c
     }
 }
 
-static const kg_body_motion kg_still_motion = {{0.0f, 0.0f}, 0.0f, {0.0f, 0.0f}, {1.0f, 0.0f}};
-
-static kg_body_motion kg_load_motion(const kg_constraint_job* job, kg_u32 slot)
-{
-    return slot == KG_NULL_INDEX ? kg_still_motion : job->bodies[slot].motion;
-}
-
 /* The head (what prepare does not compute) and prepare input of contact k's
  * constraint; an empty lane (no bodies, zero masses) for k < 0 (padding) and when there
  * is nothing to solve: both bodies asleep or frozen, impulses kept as they are. */
@@ -248,12 +244,14 @@ static void kg_prepare_lane(const kg_constraint_job* job, int k, kg_contact_cons
                                           {0.0f, 0.0f},  {0.0f, 0.0f},  {0.0f, 0.0f}, {0.0f, 0.0f}, {0.0f, 0.0f},
                                           0.0f,          0.0f};
     const kg_body_pool* p = job->pool;
+    kg_u32 still = job->solver->still;
     const kg_contact* ct = k >= 0 ? &job->contacts[k] : NULL;
-    int a_moves = ct && ct->a != KG_NULL_INDEX && job->bodies[ct->a].moves;
-    int b_moves = ct && ct->b != KG_NULL_INDEX && job->bodies[ct->b].moves;
-    if (!a_moves && !b_moves) {
-        head->a = KG_NULL_INDEX;
-        head->b = KG_NULL_INDEX;
+    kg_u32 a = ct && ct->a != KG_NULL_INDEX ? ct->a : still, b = ct && ct->b != KG_NULL_INDEX ? ct->b : still;
+    const kg_solver_body* sa = &job->bodies[a];
+    const kg_solver_body* sb = &job->bodies[b];
+    if (!sa->moves && !sb->moves) {
+        head->a = still;
+        head->b = still;
         head->contact = 0u;
         head->point_count = 0;
         head->friction = head->restitution = 0.0f;
@@ -261,14 +259,16 @@ static void kg_prepare_lane(const kg_constraint_job* job, int k, kg_contact_cons
         *in = none;
         return;
     }
-    kg_constraint_head(head, ct, (kg_u32)k, a_moves ? p->inv_mass[ct->a] : 0.0f, a_moves ? p->inv_inertia[ct->a] : 0.0f,
-                       b_moves ? p->inv_mass[ct->b] : 0.0f, b_moves ? p->inv_inertia[ct->b] : 0.0f);
-    kg_body_motion ma = kg_load_motion(job, ct->a), mb = kg_load_motion(job, ct->b);
+    kg_constraint_head(head, ct, (kg_u32)k, sa->moves ? p->inv_mass[a] : 0.0f, sa->moves ? p->inv_inertia[a] : 0.0f,
+                       sb->moves ? p->inv_mass[b] : 0.0f, sb->moves ? p->inv_inertia[b] : 0.0f);
+    head->a = a;
+    head->b = b;
     kg_vec2 origin_a = ct->a != KG_NULL_INDEX ? p->xf[ct->a].p : kg_v2(0.0f, 0.0f);
     kg_vec2 origin_b = ct->b != KG_NULL_INDEX ? p->xf[ct->b].p : kg_v2(0.0f, 0.0f);
     kg_vec2 center_a = ct->a != KG_NULL_INDEX ? p->center[ct->a] : origin_a;
     kg_vec2 center_b = ct->b != KG_NULL_INDEX ? p->center[ct->b] : origin_b;
-    *in = kg_prepare_input_of(&ct->manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w);
+    *in = kg_prepare_input_of(&ct->manifold, origin_a, center_a, origin_b, center_b, sa->motion.v, sa->motion.w,
+                              sb->motion.v, sb->motion.w);
     if (ct->restitution != 0.0f) {
         atomic_store_explicit(job->bounces, 1, memory_order_relaxed);
     }
