@@ -283,7 +283,7 @@ KG_FN void KG_L(kg_contact_solve)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_s
     kg_lane x1 = -(c->inv_k12 * rhs0 + c->inv_k22 * rhs1) - pb[1].impulse_scale * acc1;
     kg_lmask use_block = (c->block > zero) & (pb[0].mass_scale == pb[1].mass_scale) & (acc0 + x0 >= zero) &
                          (acc1 + x1 >= zero);
-    /* one point after the other, each seeing the other's impulse */
+    /* one point after the other: the second sees the first's impulse */
     kg_lmotion sa = *a, sb = *b;
     kg_lane seq[2];
     for (int j = 0; j < 2; ++j) {
@@ -292,17 +292,18 @@ KG_FN void KG_L(kg_contact_solve)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_s
         kg_lane impulse = -cp->normal_mass * pb[j].mass_scale * (v + pb[j].bias) - pb[j].impulse_scale * cp->normal_impulse;
         seq[j] = KG_L(kg_lmax)(cp->normal_impulse + impulse, zero) - cp->normal_impulse;
         vn[j] = KG_SEL(use_block, vn[j], v);
-        KG_L(kg_apply_impulse_pair)(c, &sa, &sb, ra[j], rb[j], KG_L(kg_lscale)(KG_SEL(use_block, zero, seq[j]), c->normal));
+        if (j == 0) {
+            KG_L(kg_apply_impulse_pair)(c, &sa, &sb, ra[0], rb[0], KG_L(kg_lscale)(seq[0], c->normal));
+        }
     }
+    /* either way, the chosen impulses applied in point order: the same operations as
+     * the sequential candidate's where it is chosen */
     kg_lane block_x[2] = {x0, x1};
     for (int j = 0; j < 2; ++j) {
-        KG_L(kg_accumulate_normal)(&c->points[j], KG_SEL(use_block, block_x[j], seq[j]), vn[j]);
-        KG_L(kg_apply_impulse_pair)(c, a, b, ra[j], rb[j], KG_L(kg_lscale)(KG_SEL(use_block, block_x[j], zero), c->normal));
+        kg_lane applied = KG_SEL(use_block, block_x[j], seq[j]);
+        KG_L(kg_accumulate_normal)(&c->points[j], applied, vn[j]);
+        KG_L(kg_apply_impulse_pair)(c, a, b, ra[j], rb[j], KG_L(kg_lscale)(applied, c->normal));
     }
-    a->v = KG_L(kg_lmake)(KG_SEL(use_block, a->v.x, sa.v.x), KG_SEL(use_block, a->v.y, sa.v.y));
-    a->w = KG_SEL(use_block, a->w, sa.w);
-    b->v = KG_L(kg_lmake)(KG_SEL(use_block, b->v.x, sb.v.x), KG_SEL(use_block, b->v.y, sb.v.y));
-    b->w = KG_SEL(use_block, b->w, sb.w);
 
     kg_lv2 t = KG_L(kg_lright_perp)(c->normal);
     for (int j = 0; j < 2; ++j) {
