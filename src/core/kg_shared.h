@@ -1,7 +1,7 @@
 /* Portability layer for code compiled both as C (CPU backend) and as OpenCL C (kernels).
  * Everything included after this header must stay within what both languages accept:
- * no pointers to global memory in shared functions (kernels copy elements to private
- * memory first), no libc beyond sqrtf/fabsf/fminf/fmaxf, no double. */
+ * pointers to global memory only as KG_GLOBAL, no libc beyond sqrtf/fabsf/fminf/fmaxf,
+ * no double. */
 #ifndef KG_SHARED_H
 #define KG_SHARED_H
 
@@ -16,6 +16,7 @@ typedef int kg_i32;
 #define fminf fmin
 #define fmaxf fmax
 #define KG_FLT_MAX 3.402823466e+38f
+#define kg_lowest_bit(x) ((int)popcount(((x) & (0u - (x))) - 1u)) /* ctz is OpenCL 2.0 */
 typedef struct kg_vec2 {
     float x, y;
 } kg_vec2;
@@ -32,6 +33,7 @@ typedef int32_t kg_i32;
 #define KG_FN static inline
 #define KG_GLOBAL
 #define KG_FLT_MAX FLT_MAX
+#define kg_lowest_bit(x) __builtin_ctz(x) /* the index of x's lowest set bit; x != 0 */
 #endif
 
 /* A compile-time check usable in C99 and OpenCL C alike; both sides assert the same

@@ -1,15 +1,11 @@
-/* Constraint graph colouring: constraints of one colour share no moving body, so a
- * colour can be solved in any order or all at once (threads, SIMD lanes, work-items)
- * with the same result. Colours are solved in sequence (Gauss-Seidel across colours).
- * Greedy, in constraint order, so the colouring itself is deterministic. Constraints
- * that fit no colour go to an overflow list solved serially, in order, after the colours. */
+/* The CPU backend's constraint graph colouring (solve/coloring.h holds the algorithm, shared
+ * with the kernels) and its buffers. */
 #ifndef KG_GRAPH_COLOR_H
 #define KG_GRAPH_COLOR_H
 
 #include "core/body_pool.h"
+#include "solve/coloring.h"
 #include "solve/contact_solver.h"
-
-#define KG_COLOR_COUNT 24
 
 typedef struct kg_graph_coloring {
     kg_u32* used;           /* per body, one bit per colour: the colours its constraints took */

@@ -12,6 +12,7 @@
 #include "collide/manifold.h"
 #include "collide/recycle.h"
 #include "collide/tile_collide.h"
+#include "solve/coloring.h"
 #include "kg_collide_shared.h"
 
 /* Cell coordinates are clamped to this (exact in float), so any finite position maps. */
@@ -799,64 +800,17 @@ __kernel void kg_tile_total(int capacity, __global uint* counts)
 
 /* ---- graph colouring ------------------------------------------------------------------ */
 
-KG_FN int kg_slot_moves(__global const kg_u32* flags, kg_u32 slot)
-{
-    return slot != KG_NULL_INDEX && kg_flags_simulated(flags[slot]);
-}
-
-/* The lowest colour free in used, or the overflow when all KG_COLOR_COUNT are taken. */
-KG_FN uint kg_first_free_color(uint used)
-{
-    uint c = 0u;
-    while (c < KG_COLOR_COUNT && ((used >> c) & 1u)) {
-        c += 1u;
-    }
-    return c;
-}
-
-/* kg_graph_color of solve/graph_color.c, by one work-item: contact k takes the lowest
- * colour that no earlier contact sharing a moving body with it took (used: per body
- * slot, the colours its contacts took so far, zeroed by kg_bp_proxies), or the overflow;
- * then graph_color.h's color_start and order (contact indices grouped by colour, in
- * contact order within each), also into the counters for the host. Greedy in contact
- * order is serial by nature; it costs the CPU backend's colouring, one pass over the
- * contacts and one over their bodies' masks, on one core of the device. */
+/* Colours this step's contacts (solve/coloring.h), also copying color_start into the
+ * counters for the host. One work-item: greedy colouring is serial. */
 __kernel void kg_color_contacts(__global uint* counts, __global const kg_contact* contacts,
-                                __global const kg_u32* flags, __global uint* used, __global uint* colors,
+                                __global const kg_u32* flags, __global uint* used, __global int* colors,
                                 __global int* order, __global int* color_start)
 {
     if (get_global_id(0) != 0) {
         return;
     }
-    uint count = counts[KG_CC_CONTACTS];
-    uint next[KG_COLOR_COUNT + 1];
-    for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
-        next[c] = 0u;
-    }
-    for (uint k = 0u; k < count; ++k) {
-        kg_u32 a = contacts[k].a, b = contacts[k].b;
-        int a_moves = kg_slot_moves(flags, a), b_moves = kg_slot_moves(flags, b);
-        uint c = kg_first_free_color((a_moves ? used[a] : 0u) | (b_moves ? used[b] : 0u));
-        if (c < KG_COLOR_COUNT && a_moves) {
-            used[a] |= 1u << c;
-        }
-        if (c < KG_COLOR_COUNT && b_moves) {
-            used[b] |= 1u << c;
-        }
-        colors[k] = c;
-        next[c] += 1u;
-    }
-    uint start = 0u;
-    for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
-        uint size = next[c];
-        color_start[c] = (int)start;
-        counts[KG_CC_COLOR_START + c] = start;
-        next[c] = start;
-        start += size;
-    }
-    color_start[KG_COLOR_COUNT + 1] = (int)count;
-    counts[KG_CC_COLOR_START + KG_COLOR_COUNT + 1] = count;
-    for (uint k = 0u; k < count; ++k) {
-        order[next[colors[k]]++] = (int)k;
+    kg_color_constraints((int)counts[KG_CC_CONTACTS], contacts, flags, used, colors, order, color_start);
+    for (int c = 0; c < KG_COLOR_COUNT + 2; ++c) {
+        counts[KG_CC_COLOR_START + c] = (uint)color_start[c];
     }
 }

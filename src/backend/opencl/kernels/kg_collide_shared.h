@@ -1,11 +1,11 @@
 /* What the collision stage's kernels (kg_collide.cl) and their host code (cl_collide.c)
  * agree on: the slots of the small counters buffer, the broadphase proxy, the grid's
- * levels and the sizes of the scan blocks. KG_COLOR_COUNT comes from solve/graph_color.h
- * on the host and as a build option on the device. */
+ * levels and the sizes of the scan blocks. KG_COLOR_COUNT comes from solve/coloring.h. */
 #ifndef KG_COLLIDE_SHARED_H
 #define KG_COLLIDE_SHARED_H
 
 #include "core/kg_layout.h"
+#include "solve/coloring.h"
 
 /* The counters buffer: what the host reads back of a step, 6 + KG_COLOR_COUNT + 2 words. */
 #define KG_CC_PAIRS 0        /* pairs the broadphase found, counted past the capacity */
@@ -14,7 +14,7 @@
 #define KG_CC_LEVELS 3       /* bit m set: some proxy is keyed at grid level m */
 #define KG_CC_TILES 4        /* tile contacts found, counted past the room left */
 #define KG_CC_BODY_CONTACTS 5 /* the touching pairs, the first contacts */
-#define KG_CC_COLOR_START 6  /* graph_color.h's color_start, KG_COLOR_COUNT + 2 words */
+#define KG_CC_COLOR_START 6  /* coloring.h's color_start, KG_COLOR_COUNT + 2 words */
 #define KG_CC_WORDS (KG_CC_COLOR_START + KG_COLOR_COUNT + 2)
 
 /* Grid levels: level m has cells of the base size times 2^m. A box is keyed at the

@@ -5,13 +5,14 @@
  * Work-items copy what they need from global memory into private variables, call the
  * shared function, and write back only the element they own (gather, never scatter).
  * Every kernel takes its element count and returns for the padding work-items.
- * The body types (KG_BODY_*), KG_COLOR_COUNT, the pass and
+ * The body types (KG_BODY_*), the pass and
  * applicator numbers (KG_PASS_*, KG_APPLICATOR_*_KIND) come as build options from the
  * host's definitions, so the two sides cannot disagree. */
 #include "core/body_flags.h"
 #include "core/kg_layout.h"
 #include "collide/aabb.h"
 #include "solve/integrate.h"
+#include "solve/coloring.h"
 #include "solve/contact_solver.h"
 #include "solve/island.h"
 
@@ -228,7 +229,7 @@ KG_FN void kg_solve_one(kg_contact_constraint* c, __global kg_solver_body* bodie
     kg_store_motion(bodies, c->b, b);
 }
 
-/* The constraints grouped by colour (order is graph_color.h's), so that each pass reads a
+/* The constraints grouped by colour (order is solve/coloring.h's), so that each pass reads a
  * colour's constraints from one contiguous range, as the CPU solver does. */
 __kernel void kg_gather_colored(int count, __global const int* order,
                                 __global const kg_contact_constraint* constraints,
@@ -267,7 +268,7 @@ __kernel void kg_solve_color(int first, int count, int serial, int pass, __globa
 /* One pass over every colour and the overflow, by a single work-group: the colours in
  * sequence with a barrier between them, the overflow by work-item 0. One launch instead
  * of one per colour, for worlds too small to fill the device, where launches cost more
- * than the work. color_start is graph_color.h's. */
+ * than the work. color_start is solve/coloring.h's. */
 __kernel void kg_solve_colors_in_group(int pass, __global const int* color_start,
                                        __global const kg_solver_params* params,
                                        __global kg_contact_constraint* colored, __global kg_solver_body* bodies)
