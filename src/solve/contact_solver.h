@@ -87,22 +87,48 @@ KG_FN kg_softness kg_make_softness(float hertz, float damping_ratio, float h)
     return s;
 }
 
-/* The parts of contact ct's constraint that prepare does not compute: its bodies, its
+/* The parts of a contact's constraint that prepare does not compute: its bodies, its
  * index, point count and material, and the inverse masses of the bodies that take
- * impulses (the caller passes zero for the others). */
-KG_FN void kg_constraint_head(kg_contact_constraint* c, const kg_contact* ct, kg_u32 index, float inv_mass_a,
-                              float inv_i_a, float inv_mass_b, float inv_i_b)
+ * impulses (zero for the others). */
+typedef struct kg_row_head {
+    kg_u32 a, b, contact;
+    kg_i32 point_count;
+    float friction, restitution;
+    float inv_mass_a, inv_i_a, inv_mass_b, inv_i_b;
+} kg_row_head;
+
+KG_STATIC_ASSERT(sizeof(kg_row_head) == 40, row_head_size);
+
+KG_FN kg_row_head kg_row_head_of(const kg_contact* ct, kg_u32 index, float inv_mass_a, float inv_i_a, float inv_mass_b,
+                                 float inv_i_b)
 {
-    c->a = ct->a;
-    c->b = ct->b;
-    c->contact = index;
-    c->point_count = ct->manifold.point_count;
-    c->friction = ct->friction;
-    c->restitution = ct->restitution;
-    c->inv_mass_a = inv_mass_a;
-    c->inv_i_a = inv_i_a;
-    c->inv_mass_b = inv_mass_b;
-    c->inv_i_b = inv_i_b;
+    kg_row_head h;
+    h.a = ct->a;
+    h.b = ct->b;
+    h.contact = index;
+    h.point_count = ct->manifold.point_count;
+    h.friction = ct->friction;
+    h.restitution = ct->restitution;
+    h.inv_mass_a = inv_mass_a;
+    h.inv_i_a = inv_i_a;
+    h.inv_mass_b = inv_mass_b;
+    h.inv_i_b = inv_i_b;
+    return h;
+}
+
+/* The head into a constraint of width 1 (a kernel's). */
+KG_FN void kg_constraint_head(kg_contact_constraint* c, const kg_row_head* h)
+{
+    c->a = h->a;
+    c->b = h->b;
+    c->contact = h->contact;
+    c->point_count = h->point_count;
+    c->friction = h->friction;
+    c->restitution = h->restitution;
+    c->inv_mass_a = h->inv_mass_a;
+    c->inv_i_a = h->inv_i_a;
+    c->inv_mass_b = h->inv_mass_b;
+    c->inv_i_b = h->inv_i_b;
 }
 
 /* What prepare reads of a contact's manifold (a point it does not have reads zeros) and

@@ -23,9 +23,8 @@ typedef enum kg_constraint_pass {
 typedef struct kg_contact_rows {
     int width;
     size_t block_size; /* bytes of a block of width rows */
-    /* Prepares block `block` from width heads (a, b, contact, point_count, friction,
-     * restitution and the inverse masses of each lane's constraint) and inputs. */
-    void (*prepare)(void* blocks, int block, const kg_contact_constraint* heads, const kg_prepare_input* inputs,
+    /* Prepares block `block` from width consecutive heads and inputs. */
+    void (*prepare)(void* blocks, int block, const kg_row_head* heads, const kg_prepare_input* inputs,
                     kg_solver_params prm);
     /* The impulses and approach speeds of blocks [begin, end) into their contacts. */
     void (*store_impulses)(const void* blocks, int begin, int end, kg_contact* contacts);

@@ -45,14 +45,13 @@ KG_STATIC_ASSERT(sizeof(KG_ROWFN(kg_prepare_input)) == KG_PREPARE_INPUT_FLOATS *
                  prepare_input_is_lanes_of_floats);
 KG_STATIC_ASSERT(KG_PREPARE_INPUT_FLOATS % KG_W == 0, prepare_input_in_whole_transposes);
 
-/* Block `block` from the heads (bodies, contact, masses and material of each lane) and
- * inputs of its width constraints. */
-static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_contact_constraint* heads,
-                                const kg_prepare_input* inputs, kg_solver_params prm)
+/* Block `block` from the heads and inputs of its width constraints. */
+static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_row_head* heads, const kg_prepare_input* inputs,
+                                kg_solver_params prm)
 {
     kg_wrow* r = (kg_wrow*)blocks + block;
     for (int lane = 0; lane < KG_W; ++lane) {
-        const kg_contact_constraint* h = &heads[lane];
+        const kg_row_head* h = &heads[lane];
         KG_LANE_OF(r->a, lane) = h->a;
         KG_LANE_OF(r->b, lane) = h->b;
         KG_LANE_OF(r->contact, lane) = h->contact;

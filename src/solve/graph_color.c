@@ -9,7 +9,8 @@ kg_result kg_graph_coloring_init(kg_graph_coloring* g, int body_capacity, int co
     memset(g, 0, sizeof *g);
     g->used = kg_alloc_zeroed((size_t)body_capacity * sizeof *g->used);
     g->order = kg_alloc_zeroed((size_t)constraint_capacity * sizeof *g->order);
-    if (!g->used || !g->order) {
+    g->rank = kg_alloc_zeroed((size_t)constraint_capacity * sizeof *g->rank);
+    if (!g->used || !g->order || !g->rank) {
         kg_graph_coloring_free(g);
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the constraint graph colouring");
     }
@@ -20,14 +21,19 @@ void kg_graph_coloring_free(kg_graph_coloring* g)
 {
     kg_free(g->used);
     kg_free(g->order);
+    kg_free(g->rank);
     g->used = NULL;
     g->order = NULL;
+    g->rank = NULL;
 }
 
 void kg_graph_color(kg_graph_coloring* g, const kg_contact* contacts, int count, const kg_body_pool* bodies,
                     int* scratch_colors)
 {
     kg_color_constraints(count, contacts, bodies->flags, g->used, scratch_colors, g->order, g->color_start);
+    for (int i = 0; i < count; ++i) {
+        g->rank[g->order[i]] = i;
+    }
     g->color_count = 0;
     for (int c = 0; c < KG_COLOR_COUNT; ++c) {
         if (g->color_start[c + 1] > g->color_start[c]) {

@@ -10,6 +10,7 @@
 typedef struct kg_graph_coloring {
     kg_u32* used;           /* per body, one bit per colour: the colours its constraints took */
     int* order;             /* constraint indices grouped by colour, overflow last */
+    int* rank;              /* per constraint, its place in order */
     int color_start[KG_COLOR_COUNT + 2]; /* colour c is order[color_start[c], color_start[c+1]); */
                                          /* index KG_COLOR_COUNT is the overflow */
     int color_count;        /* colours in use (overflow not counted) */

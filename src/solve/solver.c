@@ -31,6 +31,8 @@ struct kg_solver {
     int block_capacity;
     int block_start[KG_COLOR_COUNT + 2]; /* colour c's blocks are [block_start[c], block_start[c+1]) */
     int* scratch_colors;
+    kg_row_head* heads;         /* per constraint, in colour order: what prepare reads */
+    kg_prepare_input* inputs;
     int capacity;
     kg_graph_coloring coloring;
     kg_solver_body* bodies;           /* per body slot, then the still body (slot `still`) */
@@ -46,13 +48,22 @@ static kg_result kg_reserve_blocks(struct kg_solver* s, int blocks)
     return s->blocks ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d constraint blocks", blocks);
 }
 
-static kg_result kg_solver_reserve(struct kg_solver* s, int body_capacity, int capacity)
+static void kg_free_constraints(struct kg_solver* s)
 {
     kg_free(s->scratch_colors);
+    kg_free(s->heads);
+    kg_free(s->inputs);
     kg_graph_coloring_free(&s->coloring);
+}
+
+static kg_result kg_solver_reserve(struct kg_solver* s, int body_capacity, int capacity)
+{
+    kg_free_constraints(s);
     s->scratch_colors = kg_alloc_zeroed((size_t)capacity * sizeof *s->scratch_colors);
+    s->heads = kg_alloc_zeroed((size_t)capacity * sizeof *s->heads);
+    s->inputs = kg_alloc_zeroed((size_t)capacity * sizeof *s->inputs);
     kg_result r = kg_graph_coloring_init(&s->coloring, body_capacity, capacity);
-    if (r == KG_OK && !s->scratch_colors) {
+    if (r == KG_OK && (!s->scratch_colors || !s->heads || !s->inputs)) {
         r = kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d contact constraints", capacity);
     }
     s->capacity = r == KG_OK ? capacity : 0; /* a failed reserve is tried again next step */
@@ -90,8 +101,7 @@ void kg_solver_destroy(kg_world* world)
         return;
     }
     kg_free(s->blocks);
-    kg_free(s->scratch_colors);
-    kg_graph_coloring_free(&s->coloring);
+    kg_free_constraints(s);
     kg_free(s->bodies);
     kg_free(s->velocity_steps);
     kg_free(s);
@@ -234,33 +244,33 @@ static void kg_constraint_pass_run(kg_world* world, kg_constraint_job* job, kg_c
     }
 }
 
-/* The head (what prepare does not compute) and prepare input of contact k's
- * constraint; an empty lane (no bodies, zero masses) for k < 0 (padding) and when there
- * is nothing to solve: both bodies asleep or frozen, impulses kept as they are. */
-static void kg_prepare_lane(const kg_constraint_job* job, int k, kg_contact_constraint* head, kg_prepare_input* in)
+static const kg_prepare_input kg_no_input; /* all zeros */
+
+/* The head of an empty lane: no bodies (the still one), no points, zero masses. */
+static kg_row_head kg_empty_head(kg_u32 still)
 {
-    static const kg_prepare_input none = {{{0.0f, 0.0f}, {0.0f, 0.0f}}, {{0.0f, 0.0f}, {0.0f, 0.0f}}, {0.0f, 0.0f},
-                                          {0.0f, 0.0f},  {0.0f, 0.0f},  {0.0f, 0.0f}, {0.0f, 0.0f}, {0.0f, 0.0f},
-                                          {0.0f, 0.0f},  {0.0f, 0.0f},  {0.0f, 0.0f}, {0.0f, 0.0f}, {0.0f, 0.0f},
-                                          0.0f,          0.0f};
+    kg_row_head h = {still, still, 0u, 0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+    return h;
+}
+
+/* The head (what prepare does not compute) and prepare input of contact k's constraint;
+ * an empty lane when there is nothing to solve: both bodies asleep or frozen, impulses
+ * kept as they are. */
+static void kg_prepare_source(const kg_constraint_job* job, int k, kg_row_head* head, kg_prepare_input* in)
+{
     const kg_body_pool* p = job->pool;
     kg_u32 still = job->solver->still;
-    const kg_contact* ct = k >= 0 ? &job->contacts[k] : NULL;
-    kg_u32 a = ct && ct->a != KG_NULL_INDEX ? ct->a : still, b = ct && ct->b != KG_NULL_INDEX ? ct->b : still;
+    const kg_contact* ct = &job->contacts[k];
+    kg_u32 a = ct->a != KG_NULL_INDEX ? ct->a : still, b = ct->b != KG_NULL_INDEX ? ct->b : still;
     const kg_solver_body* sa = &job->bodies[a];
     const kg_solver_body* sb = &job->bodies[b];
     if (!sa->moves && !sb->moves) {
-        head->a = still;
-        head->b = still;
-        head->contact = 0u;
-        head->point_count = 0;
-        head->friction = head->restitution = 0.0f;
-        head->inv_mass_a = head->inv_i_a = head->inv_mass_b = head->inv_i_b = 0.0f;
-        *in = none;
+        *head = kg_empty_head(still);
+        *in = kg_no_input;
         return;
     }
-    kg_constraint_head(head, ct, (kg_u32)k, sa->moves ? p->inv_mass[a] : 0.0f, sa->moves ? p->inv_inertia[a] : 0.0f,
-                       sb->moves ? p->inv_mass[b] : 0.0f, sb->moves ? p->inv_inertia[b] : 0.0f);
+    *head = kg_row_head_of(ct, (kg_u32)k, sa->moves ? p->inv_mass[a] : 0.0f, sa->moves ? p->inv_inertia[a] : 0.0f,
+                           sb->moves ? p->inv_mass[b] : 0.0f, sb->moves ? p->inv_inertia[b] : 0.0f);
     head->a = a;
     head->b = b;
     kg_vec2 origin_a = ct->a != KG_NULL_INDEX ? p->xf[ct->a].p : kg_v2(0.0f, 0.0f);
@@ -274,6 +284,18 @@ static void kg_prepare_lane(const kg_constraint_job* job, int k, kg_contact_cons
     }
 }
 
+/* Contacts [begin, end), read in their own order (a stream, where reading them in
+ * colour order jumps through megabytes), to their places in colour order. */
+static void kg_gather_sources_range(void* context, int begin, int end)
+{
+    const kg_constraint_job* job = context;
+    const struct kg_solver* s = job->solver;
+    for (int k = begin; k < end; ++k) {
+        int at = s->coloring.rank[k];
+        kg_prepare_source(job, k, &s->heads[at], &s->inputs[at]);
+    }
+}
+
 /* The colour a block belongs to. */
 static int kg_color_of_block(const struct kg_solver* s, int block)
 {
@@ -284,23 +306,28 @@ static int kg_color_of_block(const struct kg_solver* s, int block)
     return c;
 }
 
-/* Blocks [begin, end), lane by lane, from the contacts in colour order; lanes past the
- * colour's end are empty. */
+/* Blocks [begin, end) from the sources in colour order: width consecutive ones (one in
+ * the overflow); lanes past the colour's end are empty. */
 static void kg_prepare_range(void* context, int begin, int end)
 {
     const kg_constraint_job* job = context;
     const struct kg_solver* s = job->solver;
     const kg_graph_coloring* g = &s->coloring;
-    kg_contact_constraint heads[KG_MAX_LANES];
+    int width = s->rows->width;
+    kg_row_head heads[KG_MAX_LANES];
     kg_prepare_input inputs[KG_MAX_LANES];
     for (int block = begin; block < end; ++block) {
         int c = kg_color_of_block(s, block);
-        int lanes = c == KG_COLOR_COUNT ? 1 : s->rows->width;
+        int lanes = c == KG_COLOR_COUNT ? 1 : width;
         int first = g->color_start[c] + (block - s->block_start[c]) * lanes;
-        for (int lane = 0; lane < s->rows->width; ++lane) {
-            int k = first + lane;
-            int live = lane < lanes && k < g->color_start[c + 1];
-            kg_prepare_lane(job, live ? g->order[k] : -1, &heads[lane], &inputs[lane]);
+        int live = g->color_start[c + 1] - first < lanes ? g->color_start[c + 1] - first : lanes;
+        if (live == width) {
+            s->rows->prepare(s->blocks, block, &s->heads[first], &s->inputs[first], job->prm);
+            continue;
+        }
+        for (int lane = 0; lane < width; ++lane) {
+            heads[lane] = lane < live ? s->heads[first + lane] : kg_empty_head(s->still);
+            inputs[lane] = lane < live ? s->inputs[first + lane] : kg_no_input;
         }
         s->rows->prepare(s->blocks, block, heads, inputs, job->prm);
     }
@@ -376,6 +403,7 @@ void kg_stage_solve(kg_world* world, float dt)
     }
     int blocks = s->block_start[KG_COLOR_COUNT + 1];
     int grain = KG_CONSTRAINT_GRAIN / s->rows->width;
+    kg_parallel_for(world->threads, count, KG_CONSTRAINT_GRAIN, kg_gather_sources_range, &cjob);
     kg_parallel_for(world->threads, blocks, grain, kg_prepare_range, &cjob);
     for (int step = 0; step < n; ++step) {
         kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_integrate_velocities, &bjob);

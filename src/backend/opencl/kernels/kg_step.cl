@@ -195,8 +195,9 @@ __kernel void kg_prepare_contacts(int count, __global const kg_solver_params* pa
     kg_contact_constraint c;
     int a_moves = kg_takes_impulses(bodies, ct.a);
     int b_moves = kg_takes_impulses(bodies, ct.b);
-    kg_constraint_head(&c, &ct, (kg_u32)k, a_moves ? inv_mass[ct.a] : 0.0f, a_moves ? inv_inertia[ct.a] : 0.0f,
-                       b_moves ? inv_mass[ct.b] : 0.0f, b_moves ? inv_inertia[ct.b] : 0.0f);
+    kg_row_head head = kg_row_head_of(&ct, (kg_u32)k, a_moves ? inv_mass[ct.a] : 0.0f, a_moves ? inv_inertia[ct.a] : 0.0f,
+                                      b_moves ? inv_mass[ct.b] : 0.0f, b_moves ? inv_inertia[ct.b] : 0.0f);
+    kg_constraint_head(&c, &head);
     kg_body_motion ma = kg_load_motion(bodies, ct.a), mb = kg_load_motion(bodies, ct.b);
     kg_vec2 origin_a = ct.a != KG_NULL_INDEX ? xf[ct.a].p : kg_v2(0.0f, 0.0f);
     kg_vec2 origin_b = ct.b != KG_NULL_INDEX ? xf[ct.b].p : kg_v2(0.0f, 0.0f);
