@@ -1,12 +1,26 @@
 /* A body's flags word and what it says, shared by the pool (core/body_pool.h) and the
  * kernels, so both backends ask the same questions of it. The body types (KG_BODY_*)
- * come from kgyro/body.h in C and as build options in the kernels. */
+ * come from kgyro/body.h in C; the kernels, which cannot include the public headers,
+ * get the same values here, checked against them in C. */
 #ifndef KG_BODY_FLAGS_H
 #define KG_BODY_FLAGS_H
 
 #include "core/kg_shared.h"
-#ifndef __OPENCL_VERSION__
+
+#define KG_TYPE_STATIC 0
+#define KG_TYPE_DYNAMIC 1
+#define KG_TYPE_KINEMATIC 2
+#define KG_TYPE_PARTICLE 3
+#ifdef __OPENCL_VERSION__
+#define KG_BODY_STATIC KG_TYPE_STATIC
+#define KG_BODY_DYNAMIC KG_TYPE_DYNAMIC
+#define KG_BODY_KINEMATIC KG_TYPE_KINEMATIC
+#define KG_BODY_PARTICLE KG_TYPE_PARTICLE
+#else
 #include "kgyro/body.h"
+KG_STATIC_ASSERT(KG_BODY_STATIC == KG_TYPE_STATIC && KG_BODY_DYNAMIC == KG_TYPE_DYNAMIC &&
+                     KG_BODY_KINEMATIC == KG_TYPE_KINEMATIC && KG_BODY_PARTICLE == KG_TYPE_PARTICLE,
+                 body_types_as_the_kernels_see_them);
 #endif
 
 #define KG_FLAG_ALIVE 0x1u

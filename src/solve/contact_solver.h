@@ -37,6 +37,15 @@ typedef struct kg_solver_params {
     kg_softness static_softness;  /* against an immovable body: stiffer */
 } kg_solver_params;
 
+/* The solver's passes over the constraints, in the order of a sub-step (restitution once
+ * a step). */
+typedef enum kg_constraint_pass {
+    KG_PASS_WARM_START,
+    KG_PASS_SOLVE,
+    KG_PASS_RELAX,
+    KG_PASS_RESTITUTION
+} kg_constraint_pass;
+
 /* The passes over one constraint, a float a lane (contact_row.h; the CPU's SIMD widths
  * are instantiated in solve/contact_wide.c). */
 #define KG_W 1

@@ -13,13 +13,6 @@
 
 #define KG_MAX_LANES 8
 
-typedef enum kg_constraint_pass {
-    KG_PASS_WARM_START,
-    KG_PASS_SOLVE,
-    KG_PASS_RELAX,
-    KG_PASS_RESTITUTION
-} kg_constraint_pass;
-
 typedef struct kg_contact_rows {
     int width;
     size_t block_size; /* bytes of a block of width rows */

@@ -1,6 +1,7 @@
 #include "solve/forces.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "solve/body_step.h"
 
 #include <math.h>
 #include <string.h>
@@ -123,14 +124,10 @@ int kg_applicator_targets(kg_world* world, const kg_applicator_slot* a)
 
 static void kg_apply_builtin(kg_body_pool* p, const kg_applicator_slot* a, const kg_body* targets, int count)
 {
+    int gravity = a->kind == KG_APPLICATOR_GRAVITY;
     for (int k = 0; k < count; ++k) {
-        int i = (int)targets[k].index;
-        if (!kg_pool_is_simulated(p, i)) {
-            continue;
-        }
-        int gravity = a->kind == KG_APPLICATOR_GRAVITY;
-        p->force[i] = kg_add(p->force[i], kg_scale(gravity ? p->mass[i] : a->strength, a->vector));
-        p->drag[i] += gravity ? 0.0f : a->drag; /* integrated implicitly (solve/integrate.h) */
+        kg_builtin_force_on(targets[k].index, 1u, gravity, a->vector, a->strength, a->drag, p->flags, p->mass,
+                            p->force, p->drag);
     }
 }
 

@@ -14,6 +14,7 @@
 #include "collide/collide.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "solve/body_step.h"
 #include "solve/contact_wide.h"
 #include "solve/graph_color.h"
 #include "solve/integrate.h"
@@ -120,41 +121,18 @@ typedef struct kg_body_job {
     float sleep_speed;
 } kg_body_job;
 
-/* What reached a body between steps (an overflowing impulse or force through the API)
- * is caught before it is solved, so it cannot reach a neighbour through a contact. */
-static int kg_inputs_finite(const kg_body_pool* p, int i)
-{
-    return kg_vec_is_finite(p->velocity[i]) && kg_is_finite(p->omega[i]) && kg_vec_is_finite(p->force[i]) &&
-           kg_is_finite(p->torque[i]);
-}
-
-static void kg_freeze(kg_body_pool* p, int i)
-{
-    kg_warn_once("non-finite", "body %d got a non-finite state and was frozen", i);
-    p->flags[i] |= KG_FLAG_FROZEN;
-    p->velocity[i] = kg_v2(0.0f, 0.0f);
-    p->omega[i] = 0.0f;
-    p->force[i] = kg_v2(0.0f, 0.0f);
-    p->torque[i] = 0.0f;
-    p->rot[i] = p->xf[i].q; /* back to the last finite pose */
-    p->center[i] = kg_xf_point(p->xf[i], p->local_center[i]);
-}
+static void kg_warn_frozen(int i) { kg_warn_once("non-finite", "body %d got a non-finite state and was frozen", i); }
 
 static void kg_load_bodies(void* context, int begin, int end)
 {
     kg_body_job* job = context;
     kg_body_pool* p = job->pool;
     for (int i = begin; i < end; ++i) {
-        if (kg_pool_is_simulated(p, i) && !kg_inputs_finite(p, i)) {
-            kg_freeze(p, i);
+        if (kg_load_body((kg_u32)i, p->flags, p->velocity, p->omega, p->force, p->torque, p->rot, p->center, p->xf,
+                         p->local_center, job->bodies)) {
+            kg_warn_frozen(i);
         }
-        kg_solver_body* sb = &job->bodies[i];
-        sb->motion.v = p->velocity[i];
-        sb->motion.w = p->omega[i];
-        sb->motion.dp = kg_v2(0.0f, 0.0f);
-        sb->motion.dq = kg_rot_identity();
-        sb->moves = (kg_u32)kg_pool_is_simulated(p, i);
-        if (sb->moves) {
+        if (job->bodies[i].moves) {
             job->velocity_steps[i] = kg_velocity_step_of(p->force[i], p->torque[i], p->drag[i], p->inv_mass[i],
                                                          p->inv_inertia[i], p->linear_damping[i],
                                                          p->angular_damping[i], job->prm);
@@ -185,24 +163,13 @@ static void kg_integrate_positions(void* context, int begin, int end)
     }
 }
 
-/* Velocities back to the pool, and the step's motion applied to the poses. */
 static void kg_store_bodies(void* context, int begin, int end)
 {
     kg_body_job* job = context;
     kg_body_pool* p = job->pool;
     for (int i = begin; i < end; ++i) {
-        if (!kg_pool_moves(p, i)) {
-            continue;
-        }
-        const kg_body_motion* m = &job->bodies[i].motion;
-        p->velocity[i] = m->v;
-        p->omega[i] = m->w;
-        p->center[i] = kg_add(p->center[i], m->dp);
-        p->rot[i] = kg_rot_normalize(kg_rot_mul(m->dq, p->rot[i]));
-        if (job->sleep && job->bodies[i].moves) {
-            float extent = kg_shape_extent(&p->shape[i], p->local_center[i]);
-            p->sleep_time[i] = kg_rest_timer(p->sleep_time[i], *m, extent, job->dt, job->sleep_speed);
-        }
+        kg_store_body((kg_u32)i, job->sleep, job->dt, job->sleep_speed, p->flags, job->bodies, p->velocity, p->omega,
+                      p->center, p->rot, p->shape, p->local_center, p->sleep_time);
     }
 }
 
@@ -419,12 +386,6 @@ void kg_stage_solve(kg_world* world, float dt)
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_store_bodies, &bjob);
 }
 
-static int kg_body_state_finite(const kg_body_pool* p, int i)
-{
-    return kg_vec_is_finite(p->center[i]) && kg_vec_is_finite(p->velocity[i]) && kg_is_finite(p->omega[i]) &&
-           kg_is_finite(p->rot[i].c) && kg_is_finite(p->rot[i].s);
-}
-
 typedef struct kg_finalize_job {
     kg_body_pool* pool;
     float dt;
@@ -435,19 +396,9 @@ static void kg_finalize_range(void* context, int begin, int end)
     const kg_finalize_job* job = context;
     kg_body_pool* p = job->pool;
     for (int i = begin; i < end; ++i) {
-        if (!kg_pool_alive(p, i)) {
-            continue;
-        }
-        p->force[i] = kg_v2(0.0f, 0.0f);
-        p->torque[i] = 0.0f;
-        p->drag[i] = 0.0f;
-        if ((p->flags[i] & KG_FLAG_FROZEN) == 0 && !kg_body_state_finite(p, i)) {
-            kg_freeze(p, i);
-            continue;
-        }
-        if (kg_pool_type(p, i) != KG_BODY_STATIC) {
-            kg_body_update_transform(p, i);
-            p->aabb[i] = kg_aabb_sweep(p->aabb[i], kg_scale(job->dt, p->velocity[i]));
+        if (kg_finalize_body((kg_u32)i, job->dt, p->flags, p->center, p->rot, p->velocity, p->omega, p->force,
+                             p->torque, p->drag, p->xf, p->aabb, p->shape, p->local_center)) {
+            kg_warn_frozen(i);
         }
     }
 }

@@ -24,21 +24,12 @@ static kg_cl_runtime* g_runtimes[KG_CL_MAX_RUNTIMES];
 static kg_cl_force_program_entry* g_force_programs;
 
 /* Determinism: no fast-math or mad options, and correctly rounded division and square root
- * where the device offers them, so kernels compute what the C code computes. The body types
- * are passed from their C definitions (the flags are shared in core/body_flags.h, the
- * colour count in solve/coloring.h). */
+ * where the device offers them, so kernels compute what the C code computes. (Every
+ * constant the kernels share with the host is in the shared headers they include.) */
 static void kg_cl_make_options(kg_cl_runtime* rt)
 {
-    snprintf(rt->options, sizeof rt->options,
-             "-cl-std=CL1.2 %s -DKG_BODY_STATIC=%uu -DKG_BODY_DYNAMIC=%uu -DKG_BODY_KINEMATIC=%uu "
-             "-DKG_BODY_PARTICLE=%uu "
-             "-DKG_PASS_WARM_START=%d -DKG_PASS_SOLVE=%d -DKG_PASS_RELAX=%d "
-             "-DKG_PASS_RESTITUTION=%d -DKG_APPLICATOR_GRAVITY_KIND=%d -DKG_APPLICATOR_WIND_KIND=%d",
-             rt->device->info.correctly_rounded_divide_sqrt ? "-cl-fp32-correctly-rounded-divide-sqrt" : "",
-             (unsigned)KG_BODY_STATIC, (unsigned)KG_BODY_DYNAMIC, (unsigned)KG_BODY_KINEMATIC,
-             (unsigned)KG_BODY_PARTICLE,
-             KG_CL_PASS_WARM_START, KG_CL_PASS_SOLVE, KG_CL_PASS_RELAX, KG_CL_PASS_RESTITUTION, KG_CL_APPLICATOR_GRAVITY,
-             KG_CL_APPLICATOR_WIND);
+    snprintf(rt->options, sizeof rt->options, "-cl-std=CL1.2 %s",
+             rt->device->info.correctly_rounded_divide_sqrt ? "-cl-fp32-correctly-rounded-divide-sqrt" : "");
 }
 
 /* Builds lines into a program; on failure, the error names what and carries the log. */

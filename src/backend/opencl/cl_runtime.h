@@ -7,10 +7,6 @@
 
 #include "backend/opencl/cl_device.h"
 
-/* Numbers the step kernels and the host agree on (passed to the kernels as build options). */
-enum { KG_CL_PASS_WARM_START, KG_CL_PASS_SOLVE, KG_CL_PASS_RELAX, KG_CL_PASS_RESTITUTION };
-enum { KG_CL_APPLICATOR_GRAVITY, KG_CL_APPLICATOR_WIND };
-
 typedef struct kg_cl_runtime {
     const kg_cl_api* cl;
     const kg_cl_device* device;

@@ -215,7 +215,7 @@ static kg_result kg_run_builtin_force(kg_world* world, kg_cl_backend* b, const k
     cl_kernel k = w->kernels[KG_CL_K_APPLY_BUILTIN_FORCE];
     int items = 0;
     KG_TRY(kg_bind_targets(world, b, a, k, used, &items));
-    KG_TRY(kg_arg_int(w, k, 3, a->kind == KG_APPLICATOR_GRAVITY ? KG_CL_APPLICATOR_GRAVITY : KG_CL_APPLICATOR_WIND));
+    KG_TRY(kg_arg_int(w, k, 3, a->kind == KG_APPLICATOR_GRAVITY));
     KG_TRY(kg_arg_float(w, k, 4, a->vector.x));
     KG_TRY(kg_arg_float(w, k, 5, a->vector.y));
     KG_TRY(kg_arg_float(w, k, 6, a->strength));
@@ -433,12 +433,12 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     KG_TRY(kg_cl_run(w, KG_CL_K_GATHER_COLORED, count));
     for (int step = 0; step < n; ++step) {
         KG_TRY(kg_cl_run(w, KG_CL_K_INTEGRATE_VELOCITIES, bodies));
-        KG_TRY(kg_run_pass(b, KG_CL_PASS_WARM_START));
-        KG_TRY(kg_run_pass(b, KG_CL_PASS_SOLVE));
+        KG_TRY(kg_run_pass(b, KG_PASS_WARM_START));
+        KG_TRY(kg_run_pass(b, KG_PASS_SOLVE));
         KG_TRY(kg_cl_run(w, KG_CL_K_INTEGRATE_POSITIONS, bodies));
-        KG_TRY(kg_run_pass(b, KG_CL_PASS_RELAX));
+        KG_TRY(kg_run_pass(b, KG_PASS_RELAX));
     }
-    KG_TRY(kg_run_pass(b, KG_CL_PASS_RESTITUTION));
+    KG_TRY(kg_run_pass(b, KG_PASS_RESTITUTION));
     KG_TRY(kg_cl_run(w, KG_CL_K_STORE_IMPULSES, count));
     return kg_cl_run(w, KG_CL_K_STORE_BODIES, bodies);
 }

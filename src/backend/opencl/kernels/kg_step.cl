@@ -4,99 +4,42 @@
  *
  * Work-items copy what they need from global memory into private variables, call the
  * shared function, and write back only the element they own (gather, never scatter).
- * Every kernel takes its element count and returns for the padding work-items.
- * The body types (KG_BODY_*), the pass and
- * applicator numbers (KG_PASS_*, KG_APPLICATOR_*_KIND) come as build options from the
- * host's definitions, so the two sides cannot disagree. */
+ * Every kernel takes its element count and returns for the padding work-items. */
 #include "core/body_flags.h"
 #include "core/kg_layout.h"
 #include "collide/aabb.h"
 #include "solve/integrate.h"
 #include "solve/coloring.h"
 #include "solve/contact_solver.h"
+#include "solve/body_step.h"
 #include "solve/island.h"
-
-/* kg_body_update_transform of core/body_pool.c: the origin transform from the centre. */
-KG_FN kg_xf kg_origin_xf(kg_vec2 center, kg_rot q, kg_vec2 local_center)
-{
-    kg_xf t;
-    t.q = q;
-    t.p = kg_sub(center, kg_rotate(q, local_center));
-    return t;
-}
 
 /* ---- forces ---------------------------------------------------------------------- */
 
-/* A built-in applicator (gravity or wind) on every body (all != 0: work-item i is slot i)
- * or on a list of (slot, multiplicity) pairs, each slot once: a body listed twice gets
- * the force added twice, in sequence, as the CPU backend's loop over the list does. */
-__kernel void kg_apply_builtin_force(int count, int all, __global const uint2* targets, int kind, float vx, float vy,
+/* A built-in applicator on every body (all != 0: work-item i is slot i) or on a list of
+ * (slot, multiplicity) pairs, each slot once. */
+__kernel void kg_apply_builtin_force(int count, int all, __global const uint2* targets, int gravity, float vx, float vy,
                                      float strength, float wind_drag, __global const kg_u32* flags,
-                                     __global const float* mass, __global kg_vec2* force,
-                                     __global float* drag)
+                                     __global const float* mass, __global kg_vec2* force, __global float* drag)
 {
     int k = (int)get_global_id(0);
-    if (k >= count) {
-        return;
+    if (k < count) {
+        kg_builtin_force_on(all ? (kg_u32)k : targets[k].x, all ? 1u : targets[k].y, gravity, kg_v2(vx, vy), strength,
+                            wind_drag, flags, mass, force, drag);
     }
-    kg_u32 i = all ? (kg_u32)k : targets[k].x;
-    kg_u32 repeat = all ? 1u : targets[k].y;
-    if (!kg_flags_simulated(flags[i])) {
-        return;
-    }
-    int gravity = kind == KG_APPLICATOR_GRAVITY_KIND;
-    kg_vec2 f = kg_scale(gravity ? mass[i] : strength, kg_v2(vx, vy));
-    kg_vec2 sum = force[i];
-    float drag_sum = drag[i];
-    for (kg_u32 r = 0; r < repeat; ++r) {
-        sum = kg_add(sum, f);
-        drag_sum += gravity ? 0.0f : wind_drag;
-    }
-    force[i] = sum;
-    drag[i] = drag_sum;
 }
 
 /* ---- solver ---------------------------------------------------------------------- */
 
-/* kg_freeze of solve/solver.c: out of the simulation, back at its last finite pose (the
- * host warns when it next reads the flags back). */
-KG_FN void kg_freeze_body(int i, __global kg_u32* flags, __global kg_vec2* velocity, __global float* omega,
-                          __global kg_vec2* force, __global float* torque, __global kg_rot* rot,
-                          __global kg_vec2* center, __global const kg_xf* xf, __global const kg_vec2* local_center)
-{
-    kg_xf last = xf[i];
-    flags[i] |= KG_FLAG_FROZEN;
-    velocity[i] = kg_v2(0.0f, 0.0f);
-    omega[i] = 0.0f;
-    force[i] = kg_v2(0.0f, 0.0f);
-    torque[i] = 0.0f;
-    rot[i] = last.q;
-    center[i] = kg_xf_point(last, local_center[i]);
-}
-
-/* kg_load_bodies of solve/solver.c: what reached a body between steps non-finite (through
- * the API) is frozen before it is solved, so it cannot reach a neighbour. */
 __kernel void kg_load_bodies(int count, __global kg_u32* flags, __global kg_vec2* velocity, __global float* omega,
                              __global kg_vec2* force, __global float* torque, __global kg_rot* rot,
                              __global kg_vec2* center, __global const kg_xf* xf,
                              __global const kg_vec2* local_center, __global kg_solver_body* bodies)
 {
     int i = (int)get_global_id(0);
-    if (i >= count) {
-        return;
+    if (i < count) {
+        kg_load_body((kg_u32)i, flags, velocity, omega, force, torque, rot, center, xf, local_center, bodies);
     }
-    int inputs_finite = kg_vec_is_finite(velocity[i]) && kg_is_finite(omega[i]) && kg_vec_is_finite(force[i]) &&
-                        kg_is_finite(torque[i]);
-    if (kg_flags_simulated(flags[i]) && !inputs_finite) {
-        kg_freeze_body(i, flags, velocity, omega, force, torque, rot, center, xf, local_center);
-    }
-    kg_solver_body sb;
-    sb.motion.v = velocity[i];
-    sb.motion.w = omega[i];
-    sb.motion.dp = kg_v2(0.0f, 0.0f);
-    sb.motion.dq = kg_rot_identity();
-    sb.moves = (kg_u32)kg_flags_simulated(flags[i]);
-    bodies[i] = sb;
 }
 
 __kernel void kg_integrate_velocities(int count, float h, float gx, float gy, float max_linear_speed,
@@ -132,9 +75,6 @@ __kernel void kg_integrate_positions(int count, float h, __global const kg_u32* 
     bodies[i].motion = m;
 }
 
-/* kg_store_bodies of solve/solver.c: velocities back to the pool, the motion applied, and
- * with sleeping on (sleep != 0) the rest timers advanced over the step's motion (dt: the
- * whole step's). */
 __kernel void kg_store_bodies(int count, int sleep, float dt, float sleep_speed, __global const kg_u32* flags,
                               __global const kg_solver_body* bodies, __global kg_vec2* velocity,
                               __global float* omega, __global kg_vec2* center, __global kg_rot* rot,
@@ -142,18 +82,9 @@ __kernel void kg_store_bodies(int count, int sleep, float dt, float sleep_speed,
                               __global float* sleep_time)
 {
     int i = (int)get_global_id(0);
-    if (i >= count || !kg_flags_move(flags[i])) {
-        return;
-    }
-    kg_body_motion m = bodies[i].motion;
-    velocity[i] = m.v;
-    omega[i] = m.w;
-    center[i] = kg_add(center[i], m.dp);
-    rot[i] = kg_rot_normalize(kg_rot_mul(m.dq, rot[i]));
-    if (sleep && bodies[i].moves) {
-        kg_shape s = shape[i];
-        float extent = kg_shape_extent(&s, local_center[i]);
-        sleep_time[i] = kg_rest_timer(sleep_time[i], m, extent, dt, sleep_speed);
+    if (i < count) {
+        kg_store_body((kg_u32)i, sleep, dt, sleep_speed, flags, bodies, velocity, omega, center, rot, shape,
+                      local_center, sleep_time);
     }
 }
 
@@ -306,42 +237,14 @@ __kernel void kg_store_impulses(int count, __global const kg_contact_constraint*
 
 /* ---- finalize -------------------------------------------------------------------- */
 
-KG_FN int kg_state_finite(kg_vec2 c, kg_rot q, kg_vec2 v, float w)
-{
-    return kg_vec_is_finite(c) && kg_vec_is_finite(v) && kg_is_finite(w) && kg_is_finite(q.c) && kg_is_finite(q.s);
-}
-
-/* kg_stage_finalize of solve/solver.c with kg_body_update_transform of core/body_pool.c:
- * forces cleared, non-finite bodies frozen at their last finite pose (the host warns when
- * it next reads the flags back), origin transforms updated, and bounds swept over the
- * motion of the next step (dt of this one). */
 __kernel void kg_finalize(int count, float dt, __global kg_u32* flags, __global kg_vec2* center, __global kg_rot* rot,
                           __global kg_vec2* velocity, __global float* omega, __global kg_vec2* force,
                           __global float* torque, __global float* drag, __global kg_xf* xf, __global kg_aabb* aabb,
                           __global const kg_shape* shape, __global const kg_vec2* local_center)
 {
     int i = (int)get_global_id(0);
-    if (i >= count) {
-        return;
+    if (i < count) {
+        kg_finalize_body((kg_u32)i, dt, flags, center, rot, velocity, omega, force, torque, drag, xf, aabb, shape,
+                         local_center);
     }
-    kg_u32 f = flags[i];
-    if (!kg_flags_alive(f)) {
-        return;
-    }
-    force[i] = kg_v2(0.0f, 0.0f);
-    torque[i] = 0.0f;
-    drag[i] = 0.0f;
-    kg_vec2 c = center[i];
-    kg_rot q = rot[i];
-    if ((f & KG_FLAG_FROZEN) == 0u && !kg_state_finite(c, q, velocity[i], omega[i])) {
-        kg_freeze_body(i, flags, velocity, omega, force, torque, rot, center, xf, local_center);
-        return;
-    }
-    if (kg_flags_type(f) == KG_BODY_STATIC) {
-        return;
-    }
-    kg_xf t = kg_origin_xf(c, q, local_center[i]);
-    kg_shape s = shape[i];
-    xf[i] = t;
-    aabb[i] = kg_aabb_sweep(kg_shape_aabb(&s, t), kg_scale(dt, velocity[i]));
 }

@@ -1,0 +1,141 @@
+/* What a step does to one body, over the body pool's arrays and a slot: the CPU backend
+ * loops over these (solve/forces.c, solve/solver.c) and each kernel of kg_step.cl calls
+ * one for its work-item, so both backends compute the same bits. */
+#ifndef KG_BODY_STEP_H
+#define KG_BODY_STEP_H
+
+#include "collide/aabb.h"
+#include "core/body_flags.h"
+#include "solve/contact_solver.h"
+#include "solve/island.h"
+
+/* A built-in applicator's force on body i, `repeat` times over (a body listed twice in
+ * an applicator gets it twice, in sequence): gravity pulls by the body's mass, wind
+ * pushes by its strength and adds its drag (integrated implicitly, solve/integrate.h). */
+KG_FN void kg_builtin_force_on(kg_u32 i, kg_u32 repeat, int gravity, kg_vec2 vector, float strength, float wind_drag,
+                               KG_GLOBAL const kg_u32* flags, KG_GLOBAL const float* mass, KG_GLOBAL kg_vec2* force,
+                               KG_GLOBAL float* drag)
+{
+    if (!kg_flags_simulated(flags[i])) {
+        return;
+    }
+    kg_vec2 f = kg_scale(gravity ? mass[i] : strength, vector);
+    kg_vec2 sum = force[i];
+    float drag_sum = drag[i];
+    for (kg_u32 r = 0u; r < repeat; ++r) {
+        sum = kg_add(sum, f);
+        drag_sum += gravity ? 0.0f : wind_drag;
+    }
+    force[i] = sum;
+    drag[i] = drag_sum;
+}
+
+/* The pose of a body's origin from its centre of mass and rotation. */
+KG_FN kg_xf kg_origin_xf(kg_vec2 center, kg_rot q, kg_vec2 local_center)
+{
+    kg_xf t;
+    t.q = q;
+    t.p = kg_sub(center, kg_rotate(q, local_center));
+    return t;
+}
+
+/* Takes body i out of the simulation, back at its last finite pose, still. (The CPU
+ * backend warns at once, the OpenCL backend when it next reads the flags back.) */
+KG_FN void kg_freeze_body(kg_u32 i, KG_GLOBAL kg_u32* flags, KG_GLOBAL kg_vec2* velocity, KG_GLOBAL float* omega,
+                          KG_GLOBAL kg_vec2* force, KG_GLOBAL float* torque, KG_GLOBAL kg_rot* rot,
+                          KG_GLOBAL kg_vec2* center, KG_GLOBAL const kg_xf* xf, KG_GLOBAL const kg_vec2* local_center)
+{
+    kg_xf last = xf[i];
+    flags[i] |= KG_FLAG_FROZEN;
+    velocity[i] = kg_v2(0.0f, 0.0f);
+    omega[i] = 0.0f;
+    force[i] = kg_v2(0.0f, 0.0f);
+    torque[i] = 0.0f;
+    rot[i] = last.q;
+    center[i] = kg_xf_point(last, local_center[i]);
+}
+
+/* Body i's solver body at the start of the solve. What reached it between steps
+ * non-finite (an overflowing impulse or force through the API) is frozen first, so it
+ * cannot reach a neighbour through a contact. Returns 1 when it froze the body. */
+KG_FN int kg_load_body(kg_u32 i, KG_GLOBAL kg_u32* flags, KG_GLOBAL kg_vec2* velocity, KG_GLOBAL float* omega,
+                       KG_GLOBAL kg_vec2* force, KG_GLOBAL float* torque, KG_GLOBAL kg_rot* rot,
+                       KG_GLOBAL kg_vec2* center, KG_GLOBAL const kg_xf* xf, KG_GLOBAL const kg_vec2* local_center,
+                       KG_GLOBAL kg_solver_body* bodies)
+{
+    int finite = kg_vec_is_finite(velocity[i]) && kg_is_finite(omega[i]) && kg_vec_is_finite(force[i]) &&
+                 kg_is_finite(torque[i]);
+    int freeze = kg_flags_simulated(flags[i]) && !finite;
+    if (freeze) {
+        kg_freeze_body(i, flags, velocity, omega, force, torque, rot, center, xf, local_center);
+    }
+    kg_solver_body sb;
+    sb.motion.v = velocity[i];
+    sb.motion.w = omega[i];
+    sb.motion.dp = kg_v2(0.0f, 0.0f);
+    sb.motion.dq = kg_rot_identity();
+    sb.moves = (kg_u32)kg_flags_simulated(flags[i]);
+    bodies[i] = sb;
+    return freeze;
+}
+
+/* Body i's velocities back to the pool and the step's motion applied to its pose; with
+ * sleeping on, its rest timer advanced over the step's motion (dt: the whole step's). */
+KG_FN void kg_store_body(kg_u32 i, int sleep, float dt, float sleep_speed, KG_GLOBAL const kg_u32* flags,
+                         KG_GLOBAL const kg_solver_body* bodies, KG_GLOBAL kg_vec2* velocity, KG_GLOBAL float* omega,
+                         KG_GLOBAL kg_vec2* center, KG_GLOBAL kg_rot* rot, KG_GLOBAL const kg_shape* shape,
+                         KG_GLOBAL const kg_vec2* local_center, KG_GLOBAL float* sleep_time)
+{
+    if (!kg_flags_move(flags[i])) {
+        return;
+    }
+    kg_body_motion m = bodies[i].motion;
+    velocity[i] = m.v;
+    omega[i] = m.w;
+    center[i] = kg_add(center[i], m.dp);
+    rot[i] = kg_rot_normalize(kg_rot_mul(m.dq, rot[i]));
+    if (sleep && bodies[i].moves) {
+        kg_shape s = shape[i];
+        float extent = kg_shape_extent(&s, local_center[i]);
+        sleep_time[i] = kg_rest_timer(sleep_time[i], m, extent, dt, sleep_speed);
+    }
+}
+
+KG_FN int kg_state_finite(kg_vec2 c, kg_rot q, kg_vec2 v, float w)
+{
+    return kg_vec_is_finite(c) && kg_vec_is_finite(v) && kg_is_finite(w) && kg_is_finite(q.c) && kg_is_finite(q.s);
+}
+
+/* The end of body i's step: forces cleared; a body whose state became non-finite frozen
+ * at its last finite pose; the origin's pose updated, and the bounds swept over the
+ * motion of the next step (dt of this one). Returns 1 when it froze the body. */
+KG_FN int kg_finalize_body(kg_u32 i, float dt, KG_GLOBAL kg_u32* flags, KG_GLOBAL kg_vec2* center,
+                           KG_GLOBAL kg_rot* rot, KG_GLOBAL kg_vec2* velocity, KG_GLOBAL float* omega,
+                           KG_GLOBAL kg_vec2* force, KG_GLOBAL float* torque, KG_GLOBAL float* drag,
+                           KG_GLOBAL kg_xf* xf, KG_GLOBAL kg_aabb* aabb, KG_GLOBAL const kg_shape* shape,
+                           KG_GLOBAL const kg_vec2* local_center)
+{
+    kg_u32 f = flags[i];
+    if (!kg_flags_alive(f)) {
+        return 0;
+    }
+    force[i] = kg_v2(0.0f, 0.0f);
+    torque[i] = 0.0f;
+    drag[i] = 0.0f;
+    kg_vec2 c = center[i];
+    kg_rot q = rot[i];
+    if ((f & KG_FLAG_FROZEN) == 0u && !kg_state_finite(c, q, velocity[i], omega[i])) {
+        kg_freeze_body(i, flags, velocity, omega, force, torque, rot, center, xf, local_center);
+        return 1;
+    }
+    if (kg_flags_type(f) == KG_BODY_STATIC) {
+        return 0;
+    }
+    kg_xf t = kg_origin_xf(c, q, local_center[i]);
+    kg_shape s = shape[i];
+    xf[i] = t;
+    aabb[i] = kg_aabb_sweep(kg_shape_aabb(&s, t), kg_scale(dt, velocity[i]));
+    return 0;
+}
+
+#endif
