@@ -3,7 +3,9 @@
  *  - at start (load, platform, build, alloc): the world runs on the CPU from creation;
  *  - inside a step (enqueue, finish, any read, a force callback's read included): the step
  *    is redone on the CPU from the checkpoint, and the world ends bitwise where a CPU-only
- *    world ends;
+ *    world ends; a read failing in a force callback (a getter's, the transforms', the
+ *    contacts') falls back only once the step has unwound, the callback still running on
+ *    the OpenCL backend until it returns;
  *  - a failed read for a getter between steps (the contacts' included): tried again, same
  *    result;
  *  - a lost device: the world goes on from the last state and contacts the host read back
@@ -78,9 +80,9 @@ static kg_world* kg_make_empty_world(kg_backend backend, const char* faults)
     return world;
 }
 
-/* Bodies that fall, touch and stack, with a wind applicator and a callback: every stage
- * has work. */
-static kg_world* kg_make_world(kg_backend backend, const char* faults, kg_read_probe* probe)
+/* Bodies that fall, touch and stack, with a wind applicator and the force callback fn:
+ * every stage has work. */
+static kg_world* kg_make_world_calling(kg_backend backend, const char* faults, kg_force_fn* fn, void* user_data)
 {
     kg_world* world = kg_make_empty_world(backend, faults);
     if (!world) {
@@ -92,8 +94,14 @@ static kg_world* kg_make_world(kg_backend backend, const char* faults, kg_read_p
     }
     kg_applicator a;
     KG_CHECK_OK(kg_add_wind_applicator(world, (kg_vec2){1.0f, 0.0f}, 0.5f, 0.1f, NULL, 0, &a));
-    KG_CHECK_OK(kg_add_force_applicator(world, kg_lift_highest, NULL, 0, probe, &a));
+    KG_CHECK_OK(kg_add_force_applicator(world, fn, NULL, 0, user_data, &a));
     return world;
+}
+
+/* The same with kg_lift_highest as its callback. */
+static kg_world* kg_make_world(kg_backend backend, const char* faults, kg_read_probe* probe)
+{
+    return kg_make_world_calling(backend, faults, kg_lift_highest, probe);
 }
 
 /* A hash of the bits of every body's state, read through the public getters. */
@@ -357,6 +365,161 @@ static void test_sleep_state_carried_over(void)
     }
 }
 
+/* ---- a fallback forced by a force callback, mid-step ------------------------------- */
+
+enum { KG_FIRST_GETTER, KG_FIRST_TRANSFORMS, KG_FIRST_CONTACTS, KG_FIRST_CALL_KINDS };
+
+/* What the callback of the mid-step tests does and saw. In every step it first makes the
+ * call of kind first (a body getter, kg_world_get_transforms or the contact count; in
+ * fail_step, the read of that call is the one that fails), then lifts as kg_lift_highest
+ * does (so the world moves as the reference world does), then reads everything else
+ * back: transforms, contacts, every body's state. */
+typedef struct kg_midstep_probe {
+    int first;
+    int step;                 /* the step being taken */
+    int fail_step;
+    int reads_at_entry;       /* the device reads made before the callback of fail_step */
+    int first_call_read;      /* the first call of that callback read the device */
+    int reads_at_exit;        /* the device reads made when it returned */
+    int calls[KG_STEPS + 2];  /* callback calls per step */
+    int on_opencl[KG_STEPS + 2]; /* ... of which while the world reported the OpenCL backend */
+    int insane;               /* values read back that were not finite, or getters failing */
+} kg_midstep_probe;
+
+static int kg_device_reads(kg_world* world)
+{
+    kg_transfer_stats stats;
+    KG_CHECK_OK(kg_world_get_transfer_stats(world, &stats));
+    return stats.reads;
+}
+
+static int kg_finite_state(const kg_body_state* s)
+{
+    return isfinite(s->position.x) && isfinite(s->position.y) && isfinite(s->angle) && isfinite(s->velocity.x) &&
+           isfinite(s->velocity.y) && isfinite(s->angular_velocity);
+}
+
+static void kg_midstep_first_call(kg_world* world, const kg_body* bodies, int count, int first)
+{
+    kg_vec2 p;
+    float angle;
+    if (count == 0) {
+        return;
+    }
+    if (first == KG_FIRST_GETTER) {
+        kg_body_get_position(world, bodies[0], &p);
+    } else if (first == KG_FIRST_TRANSFORMS) {
+        kg_world_get_transforms(world, bodies, 1, &p, &angle);
+    } else {
+        kg_world_contact_count(world);
+    }
+}
+
+static void kg_midstep_callback(kg_world* world, const kg_body* bodies, int count, void* user_data)
+{
+    kg_midstep_probe* probe = user_data;
+    int s = probe->step;
+    probe->calls[s] += 1;
+    probe->on_opencl[s] += kg_world_backend(world) == KG_BACKEND_OPENCL;
+    int reads = kg_device_reads(world);
+    if (s == probe->fail_step && probe->calls[s] == 1) {
+        probe->reads_at_entry = reads;
+    }
+    kg_midstep_first_call(world, bodies, count, probe->first);
+    if (s == probe->fail_step && probe->calls[s] == 1) {
+        probe->first_call_read = kg_device_reads(world) > reads;
+    }
+    kg_lift_highest(world, bodies, count, NULL);
+    kg_vec2 positions[64];
+    float angles[64];
+    int n = count < 64 ? count : 64;
+    probe->insane |= kg_world_get_transforms(world, bodies, n, positions, angles) != KG_OK;
+    for (int i = 0; i < n; ++i) {
+        probe->insane |= !isfinite(positions[i].x) || !isfinite(positions[i].y) || !isfinite(angles[i]);
+    }
+    int contacts = kg_world_contact_count(world);
+    for (int k = 0; k < contacts; ++k) {
+        kg_contact_info info;
+        probe->insane |= kg_world_get_contact(world, k, &info) != KG_OK;
+    }
+    for (int i = 0; i < count; ++i) {
+        kg_body_state state;
+        probe->insane |= kg_body_get_state(world, bodies[i], &state) != KG_OK || !kg_finite_state(&state);
+    }
+    if (s == probe->fail_step && probe->calls[s] == 1) {
+        probe->reads_at_exit = kg_device_reads(world);
+    }
+}
+
+/* Steps a world whose callback is probe's through steps [from, to], each expected OK. */
+static void kg_midstep_run(kg_world* world, kg_midstep_probe* probe, int from, int to)
+{
+    for (int s = from; s <= to; ++s) {
+        probe->step = s;
+        KG_CHECK_OK(kg_world_step(world, KG_DT));
+    }
+}
+
+/* A force callback's read fails in step FAIL_STEP (the first read of its first call, of
+ * kind first), which makes the world fall back in the middle of the step, with the
+ * callback still running. The fallback takes effect once the step has unwound: the
+ * callback goes on on the OpenCL backend, its getters answer from the host's copy
+ * (finite values, no error) without calling the device again; the step returns KG_OK,
+ * redone on the CPU (the callback runs twice in that step); the world holds the same
+ * bodies, bitwise in the CPU world's state; the next steps run on the CPU. ASan and UBSan
+ * watch that nothing is used after it is freed. */
+static void kg_expect_midstep_fallback(int first)
+{
+    enum { FAIL_STEP = 30 };
+    static const char* const names[] = {"a body getter", "kg_world_get_transforms", "the contact count"};
+    kg_midstep_probe* probe = calloc(1, sizeof *probe);
+    probe->first = first;
+    probe->fail_step = FAIL_STEP;
+    kg_world* clean = kg_make_world_calling(KG_BACKEND_OPENCL, NULL, kg_midstep_callback, probe);
+    kg_midstep_run(clean, probe, 1, FAIL_STEP);
+    KG_CHECK(kg_world_backend(clean) == KG_BACKEND_OPENCL);
+    KG_CHECK(probe->first_call_read);
+    KG_CHECK(kg_state_hash(clean) == g_reference[FAIL_STEP]);
+    kg_destroy_world(clean);
+
+    char faults[32];
+    snprintf(faults, sizeof faults, "read:%d", probe->reads_at_entry + 1);
+    int reads_at_entry = probe->reads_at_entry;
+    memset(probe, 0, sizeof *probe);
+    probe->first = first;
+    probe->fail_step = FAIL_STEP;
+    kg_world* world = kg_make_world_calling(KG_BACKEND_OPENCL, faults, kg_midstep_callback, probe);
+    kg_midstep_run(world, probe, 1, FAIL_STEP - 1);
+    KG_CHECK(kg_world_backend(world) == KG_BACKEND_OPENCL);
+    kg_midstep_run(world, probe, FAIL_STEP, FAIL_STEP);
+    KG_CHECK(probe->reads_at_entry == reads_at_entry); /* the failing read is the callback's */
+    KG_CHECK(probe->reads_at_exit == reads_at_entry);  /* and no read was tried after it */
+    KG_CHECK(probe->calls[FAIL_STEP] == 2);     /* on the device, then redone on the CPU */
+    KG_CHECK(probe->on_opencl[FAIL_STEP] == 1); /* the world was not switched under the callback */
+    KG_CHECK(kg_world_backend(world) == KG_BACKEND_CPU);
+    KG_CHECK(kg_world_body_count(world) == 13);
+    KG_CHECK(kg_state_hash(world) == g_reference[FAIL_STEP]);
+    kg_midstep_run(world, probe, FAIL_STEP + 1, KG_STEPS);
+    KG_CHECK(probe->calls[FAIL_STEP + 1] == 1 && probe->on_opencl[FAIL_STEP + 1] == 0);
+    KG_CHECK(kg_world_backend(world) == KG_BACKEND_CPU);
+    KG_CHECK(kg_device_reads(world) == 0); /* no device behind the world any more */
+    KG_CHECK(!probe->insane);
+    uint64_t hash = kg_state_hash(world);
+    printf("     KGYRO_CL_FAIL=%-9s (%s, in the callback of step %d): step OK, next steps on the CPU, final state "
+           "%s\n", faults, names[first], FAIL_STEP, hash == g_reference[KG_STEPS] ? "bitwise equal to the CPU's"
+                                                                                   : "DIFFERENT");
+    KG_CHECK(hash == g_reference[KG_STEPS]);
+    kg_destroy_world(world);
+    free(probe);
+}
+
+static void test_callback_forces_fallback_mid_step(void)
+{
+    for (int first = 0; first < KG_FIRST_CALL_KINDS; ++first) {
+        kg_expect_midstep_fallback(first);
+    }
+}
+
 int main(void)
 {
     int devices = 0;
@@ -369,6 +532,7 @@ int main(void)
         KG_TEST(test_no_fault_no_fallback), KG_TEST(test_load_failure), KG_TEST(test_no_platform),
         KG_TEST(test_build_failure), KG_TEST(test_alloc_failure), KG_TEST(test_enqueue_failures),
         KG_TEST(test_kernel_failures), KG_TEST(test_read_failures), KG_TEST(test_contact_read_failure),
-        KG_TEST(test_device_lost), KG_TEST(test_bad_spec_is_ignored), KG_TEST(test_sleep_state_carried_over)};
+        KG_TEST(test_device_lost), KG_TEST(test_bad_spec_is_ignored), KG_TEST(test_sleep_state_carried_over),
+        KG_TEST(test_callback_forces_fallback_mid_step)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

@@ -23,7 +23,6 @@ typedef struct kg_backend_state {
     kg_device_force* forces; /* max_applicators */
     int profiling;
     struct kg_cl_backend* cl; /* NULL on the CPU backend */
-    kg_body_pool* restore;    /* state to re-apply once a step that fell back has unwound */
 } kg_backend_state;
 
 /* Allocates world->backend_state (kg_backend_select does, before starting a backend). */

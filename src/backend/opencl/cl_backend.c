@@ -17,7 +17,18 @@
  * Contacts live on the device and are read back only when asked for (sync_contacts). A
  * fallback reads last step's back first (tried twice), so warm starting goes on
  * undisturbed; when the device cannot be read, the world goes on with no contacts, and
- * the first step after warm starts from zero. */
+ * the first step after warm starts from zero.
+ *
+ * When. A fallback takes effect at once between steps, and at the end of the step inside
+ * one. The step's own failures unwind it (KG_TRY) to kg_opencl_step; a failure the step
+ * cannot see, of a read for a getter (or a transform read, a device force's build) that a
+ * force callback calls, only records that a fallback is wanted, with its message
+ * (kg_cl_request_fallback); the callback's later getters answer from the host's copy
+ * without calling the device (the values of the last read, or of the part of the failed
+ * one that arrived), and once the callback returns the step unwinds with KG_ERROR_BACKEND,
+ * calling the device no more. Then, and only then, kg_opencl_step reads the state back,
+ * stops the OpenCL backend and redoes the step on the CPU: nothing is freed while the step
+ * uses it (test_callback_forces_fallback_mid_step, under ASan). */
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_backend.h"
 #include "collide/collide.h"
@@ -162,16 +173,25 @@ static int kg_recover_contacts(kg_world* world, kg_cl_backend* b)
     return 0;
 }
 
-/* Hands the world to the CPU backend after the OpenCL failure described by the current
- * error. in_step: the failure happened inside a step, whose start state is wanted; the
- * step's caller re-applies it (s->restore) once the step has unwound, since a force
- * callback may still be running and writing forces. */
+void kg_cl_request_fallback(kg_cl_backend* b)
+{
+    if (!b->fallback_pending) {
+        snprintf(b->fallback_reason, sizeof b->fallback_reason, "%s", kg_last_error());
+        b->fallback_pending = 1;
+    }
+}
+
+/* Hands the world to the CPU backend after the OpenCL failure described by the pending
+ * request, else by the current error. in_step: the failure happened inside a step, whose
+ * start state is wanted; called only once the step has unwound (kg_opencl_step), so that
+ * nothing it frees is in use, and the start state can go straight into the world's pool
+ * (no callback is running any more to write forces over it). */
 static void kg_fall_back(kg_world* world, int in_step)
 {
-    char reason[512];
-    snprintf(reason, sizeof reason, "%s", kg_last_error());
     kg_backend_state* s = kg_state(world);
     kg_cl_backend* b = s->cl;
+    char reason[sizeof b->fallback_reason];
+    snprintf(reason, sizeof reason, "%s", b->fallback_pending ? b->fallback_reason : kg_last_error());
     kg_body_pool* snapshot = kg_alloc_zeroed(sizeof *snapshot);
     if (!snapshot || kg_body_pool_init(snapshot, world->bodies.capacity) != KG_OK) {
         kg_free(snapshot);
@@ -189,14 +209,10 @@ static void kg_fall_back(kg_world* world, int in_step)
     }
     int lost_steps = recovered ? 0 : b->steps_since_snapshot;
     kg_copy_state(&world->bodies, snapshot);
+    kg_body_pool_free(snapshot);
+    kg_free(snapshot);
     kg_cl_backend_stop(world);
     kg_backend_use_cpu(world);
-    if (in_step) {
-        s->restore = snapshot;
-    } else {
-        kg_body_pool_free(snapshot);
-        kg_free(snapshot);
-    }
     if (!recovered || !contacts_recovered) {
         kg_warn_once("opencl-lost", "OpenCL device lost (%s); continuing on the CPU backend from the last state "
                      "read back (%d steps simulated since then are lost%s)", reason, lost_steps,
@@ -209,37 +225,39 @@ static void kg_fall_back(kg_world* world, int in_step)
 
 /* ---- operations ------------------------------------------------------------------- */
 
+/* The one place a step falls back: after kg_cl_step has returned, whatever failed in it. */
 static kg_result kg_opencl_step(kg_world* world, float dt)
 {
-    kg_backend_state* s = kg_state(world);
-    kg_cl_backend* b = s->cl;
-    kg_result r = kg_cl_step(world, b, dt);
+    kg_result r = kg_cl_step(world, kg_state(world)->cl, dt);
     if (r == KG_OK) {
         return KG_OK;
     }
-    if (s->cl == b) {
-        kg_fall_back(world, 1);
-    }
-    if (s->restore) {
-        kg_copy_state(&world->bodies, s->restore);
-        kg_body_pool_free(s->restore);
-        kg_free(s->restore);
-        s->restore = NULL;
-    }
+    kg_fall_back(world, 1);
     return world->backend->step(world, dt);
+}
+
+/* A failed device call of an operation other than the step (a read for a getter, a device
+ * force's build): inside a step (a force callback calling it) the fallback waits for the
+ * end of the step; between steps it is at once. */
+static void kg_device_call_failed(kg_world* world, kg_cl_backend* b)
+{
+    if (b->in_step) {
+        kg_cl_request_fallback(b);
+    } else {
+        kg_fall_back(world, 0);
+    }
 }
 
 static kg_result kg_opencl_sync_to_host(kg_world* world)
 {
     kg_cl_backend* b = kg_state(world)->cl;
-    if (b->w->host_stale == 0) {
-        return KG_OK;
+    if (b->w->host_stale == 0 || b->fallback_pending) {
+        return KG_OK; /* with a fallback pending, the host's copy answers: the step is redone */
     }
     int flags_stale = (b->w->host_stale & KG_CL_BIT(FLAGS)) != 0;
     kg_result r = kg_cl_download(b->w, &world->bodies, b->w->host_stale);
     if (r != KG_OK) {
-        /* inside a step (a force callback reading), the step is redone from its start */
-        kg_fall_back(world, b->in_step);
+        kg_device_call_failed(world, b);
         return KG_OK;
     }
     b->steps_since_snapshot = 0;
@@ -249,13 +267,13 @@ static kg_result kg_opencl_sync_to_host(kg_world* world)
     return KG_OK;
 }
 
-/* Reading the contacts failing between steps is a read failure like any other: the world
- * falls back, and the fallback reads them again. */
+/* Reading the contacts failing is a read failure like any other: the world falls back,
+ * and the fallback reads them again. */
 static void kg_opencl_sync_contacts(kg_world* world)
 {
     kg_cl_backend* b = kg_state(world)->cl;
-    if (kg_cl_read_contacts(world, b) != KG_OK) {
-        kg_fall_back(world, b->in_step);
+    if (!b->fallback_pending && kg_cl_read_contacts(world, b) != KG_OK) {
+        kg_device_call_failed(world, b);
     }
 }
 
@@ -403,14 +421,14 @@ kg_result kg_cl_prepare_device_force(kg_world* world, kg_cl_backend* b, int slot
 kg_result kg_backend_prepare_device_force(kg_world* world, int slot)
 {
     kg_cl_backend* b = kg_state(world)->cl;
-    if (!b) {
-        return KG_OK;
+    if (!b || b->fallback_pending) {
+        return KG_OK; /* the world is, or is about to be, on the CPU */
     }
     kg_result r = kg_cl_prepare_device_force(world, b, slot);
     if (r == KG_OK || r == KG_ERROR_INVALID_ARGUMENT) {
         return r;
     }
-    kg_fall_back(world, 0);
+    kg_device_call_failed(world, b);
     return KG_OK;
 }
 
@@ -419,13 +437,13 @@ kg_result kg_backend_prepare_device_force(kg_world* world, int slot)
 kg_result kg_backend_read_transforms(kg_world* world, int first, int count)
 {
     kg_cl_backend* b = kg_state(world)->cl;
-    if (!b || !(b->w->host_stale & KG_CL_BIT(XF)) || count <= 0) {
+    if (!b || b->fallback_pending || !(b->w->host_stale & KG_CL_BIT(XF)) || count <= 0) {
         return KG_OK;
     }
     kg_result r = kg_cl_read(b->w, b->w->arrays[KG_CL_XF], (size_t)first * sizeof(kg_xf), (size_t)count * sizeof(kg_xf),
                              world->bodies.xf + first);
     if (r != KG_OK) {
-        kg_fall_back(world, 0);
+        kg_device_call_failed(world, b);
     }
     return KG_OK;
 }

@@ -25,6 +25,8 @@ typedef struct kg_cl_backend {
     int frozen_count;                /* frozen bodies the host knows of, to warn of new ones */
     int checkpoint_valid;            /* this step's start state is saved on the device */
     int in_step;                     /* a step is running (force callbacks run inside it) */
+    int fallback_pending;            /* a failure inside the step: it unwinds, then falls back */
+    char fallback_reason[512];       /* that failure's message */
     kg_vec2* start_force;            /* the forces the step began with, when the host set them */
     float* start_torque;
     int start_forces_saved;          /* else the step began with every force zero */
@@ -44,8 +46,15 @@ kg_result kg_cl_backend_start(kg_world* world, int device_index);
 /* Releases the OpenCL state (not the backend state). */
 void kg_cl_backend_stop(kg_world* world);
 
-/* The step on the device, stage by stage; a failure leaves the error set. */
+/* The step on the device, stage by stage; a failure leaves the error set. A failure that
+ * the step's own code did not see (a read for a getter a force callback calls) is recorded
+ * with kg_cl_request_fallback, and the step returns KG_ERROR_BACKEND once the callback has
+ * returned, with no device call after it. Either way the caller (kg_opencl_step) falls
+ * back once this has returned: nothing the step uses is freed while it runs. */
 kg_result kg_cl_step(kg_world* world, kg_cl_backend* b, float dt);
+/* Records that the world must fall back at the end of the step, for the failure described
+ * by the current error (the first one counts). */
+void kg_cl_request_fallback(kg_cl_backend* b);
 /* The collision stage on the device (cl_collide.c), tile maps included: this step's
  * contacts built into w->contacts[!w->current] and coloured there, *count of them, the
  * first *body_count between bodies, with b->coloring's colour ranges set for the solver.

@@ -244,17 +244,26 @@ static kg_result kg_run_device_force(kg_world* world, kg_cl_backend* b, int slot
     return kg_cl_launch(w, k, b->force_group_sizes[slot], items, f->function_name);
 }
 
+/* A fallback requested during the step (kg_cl_request_fallback) ends it here, before any
+ * further device call. */
+static kg_result kg_check_fallback(const kg_cl_backend* b)
+{
+    if (b->fallback_pending) {
+        return kg_fail(KG_ERROR_BACKEND, "OpenCL: the device failed during a force callback (%s)", b->fallback_reason);
+    }
+    return KG_OK;
+}
+
 /* A C callback runs on the host. It reads and writes through the body API, whose getters
  * read back what the device changed (sync_to_host) and whose setters mark the host copy
- * changed (host_changed); what it changed is uploaded before the next kernel. */
+ * changed (host_changed); what it changed is uploaded before the next kernel. A read of
+ * its that fails requests the fallback, and the step ends when the callback returns. */
 static kg_result kg_run_callback(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a)
 {
     KG_TRY(kg_cl_flags_to_host(world, b)); /* the targets leave out the bodies asleep */
     int count = kg_applicator_targets(world, a);
     a->fn(world, world->handle_scratch, count, a->user_data);
-    if (world->backend_state != NULL && ((kg_backend_state*)world->backend_state)->cl != b) {
-        return kg_fail(KG_ERROR_BACKEND, "OpenCL: the device failed during a force callback");
-    }
+    KG_TRY(kg_check_fallback(b));
     return kg_cl_to_device(b->w, &world->bodies, KG_CL_ALL_ARRAYS);
 }
 
@@ -498,10 +507,9 @@ static void kg_save_start_forces(kg_world* world, kg_cl_backend* b)
 kg_result kg_cl_step(kg_world* world, kg_cl_backend* b, float dt)
 {
     b->in_step = 1;
+    b->fallback_pending = 0;
     kg_result r = kg_cl_step_stages(world, b, dt);
-    if (r == KG_OK || ((kg_backend_state*)world->backend_state)->cl == b) {
-        b->in_step = 0; /* else b is gone: a force callback's read failed and the world fell back */
-    }
+    b->in_step = 0;
     return r;
 }
 
@@ -531,6 +539,7 @@ static kg_result kg_cl_step_stages(kg_world* world, kg_cl_backend* b, float dt)
     KG_TRY(kg_cl_sleep_on_device(world, b, count));
     KG_TRY(kg_drain_step(w));
     kg_time_stage(world, "sleep", 0, &t);
+    KG_TRY(kg_check_fallback(b)); /* only callbacks request one; checked before the commit all the same */
     kg_commit_contacts(world, b, count, body_count, on_device);
     if (w->profiling) {
         kg_add_kernel_times(world, w);

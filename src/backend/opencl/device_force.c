@@ -187,10 +187,6 @@ void kg_backend_state_free(kg_world* world)
     for (int i = 0; i <= world->def.max_applicators; ++i) {
         kg_clear_device_force(&s->forces[i]);
     }
-    if (s->restore) {
-        kg_body_pool_free(s->restore);
-        kg_free(s->restore);
-    }
     kg_free(s->forces);
     kg_free(s);
     world->backend_state = NULL;
