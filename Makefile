@@ -6,7 +6,7 @@ ASAN_BUILD  ?= build-asan
 JOBS        ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps build test test-release test-sanitize test-fuzz demo bench fuzz soak clean
+.PHONY: all deps build test test-release test-sanitize test-fuzz demo bench fuzz soak clean device-check
 
 all: build
 
@@ -41,6 +41,11 @@ soak: deps
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)
+
+# The OpenCL backend on this machine's device: installs (offline, from .debs/), builds,
+# runs the OpenCL tests, benches rain_N and particles_N on the device and the CPU.
+device-check:
+	@JOBS=$(JOBS) bash scripts/device-check.sh $(BUILD)
 
 demo: build
 	@bash scripts/demo.sh $(BUILD)
