@@ -169,4 +169,55 @@ KG_FN kg_prepare_input kg_prepare_input_of(const kg_manifold* m, kg_vec2 origin_
     return in;
 }
 
+/* The motion of a body slot as the solver sees it: still for KG_NULL_INDEX (the static
+ * world). */
+KG_FN kg_body_motion kg_motion_of(KG_GLOBAL const kg_solver_body* bodies, kg_u32 slot)
+{
+    kg_body_motion still;
+    still.v = kg_v2(0.0f, 0.0f);
+    still.w = 0.0f;
+    still.dp = kg_v2(0.0f, 0.0f);
+    still.dq = kg_rot_identity();
+    return slot == KG_NULL_INDEX ? still : bodies[slot].motion;
+}
+
+KG_FN int kg_slot_moves(KG_GLOBAL const kg_solver_body* bodies, kg_u32 slot)
+{
+    return slot != KG_NULL_INDEX && bodies[slot].moves;
+}
+
+/* The head and prepare input of the constraint of contact ct (the index-th): the
+ * masses of the bodies that take impulses, anchors from the body origins, velocities
+ * from the solver bodies. Returns 0, with an empty head (no bodies, no points) and zero
+ * inputs, when neither body takes impulses (both asleep or frozen): nothing to solve,
+ * the contact's impulses kept as they are. */
+KG_FN int kg_prepare_source(const kg_contact* ct, kg_u32 index, KG_GLOBAL const kg_solver_body* bodies,
+                            KG_GLOBAL const float* inv_mass, KG_GLOBAL const float* inv_inertia,
+                            KG_GLOBAL const kg_xf* xf, KG_GLOBAL const kg_vec2* center, kg_row_head* head,
+                            kg_prepare_input* in)
+{
+    int a_moves = kg_slot_moves(bodies, ct->a), b_moves = kg_slot_moves(bodies, ct->b);
+    if (!a_moves && !b_moves) {
+        kg_contact empty = *ct;
+        empty.a = KG_NULL_INDEX;
+        empty.b = KG_NULL_INDEX;
+        empty.manifold.point_count = 0;
+        empty.manifold.normal = kg_v2(0.0f, 0.0f);
+        empty.friction = empty.restitution = 0.0f;
+        kg_vec2 zero = kg_v2(0.0f, 0.0f);
+        *head = kg_row_head_of(&empty, 0u, 0.0f, 0.0f, 0.0f, 0.0f);
+        *in = kg_prepare_input_of(&empty.manifold, zero, zero, zero, zero, zero, 0.0f, zero, 0.0f);
+        return 0;
+    }
+    *head = kg_row_head_of(ct, index, a_moves ? inv_mass[ct->a] : 0.0f, a_moves ? inv_inertia[ct->a] : 0.0f,
+                           b_moves ? inv_mass[ct->b] : 0.0f, b_moves ? inv_inertia[ct->b] : 0.0f);
+    kg_body_motion ma = kg_motion_of(bodies, ct->a), mb = kg_motion_of(bodies, ct->b);
+    kg_vec2 origin_a = ct->a != KG_NULL_INDEX ? xf[ct->a].p : kg_v2(0.0f, 0.0f);
+    kg_vec2 origin_b = ct->b != KG_NULL_INDEX ? xf[ct->b].p : kg_v2(0.0f, 0.0f);
+    kg_vec2 center_a = ct->a != KG_NULL_INDEX ? center[ct->a] : origin_a;
+    kg_vec2 center_b = ct->b != KG_NULL_INDEX ? center[ct->b] : origin_b;
+    *in = kg_prepare_input_of(&ct->manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w);
+    return 1;
+}
+
 #endif

@@ -211,42 +211,29 @@ static void kg_constraint_pass_run(kg_world* world, kg_constraint_job* job, kg_c
     }
 }
 
-static const kg_prepare_input kg_no_input; /* all zeros */
-
-/* The head of an empty lane: no bodies (the still one), no points, zero masses. */
-static kg_row_head kg_empty_head(kg_u32 still)
+/* An empty lane: no bodies (the still one), no points, zero masses and inputs. */
+static void kg_empty_source(kg_u32 still, kg_row_head* head, kg_prepare_input* in)
 {
+    static const kg_prepare_input none; /* all zeros */
     kg_row_head h = {still, still, 0u, 0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
-    return h;
+    *head = h;
+    *in = none;
 }
 
-/* The head (what prepare does not compute) and prepare input of contact k's constraint;
- * an empty lane when there is nothing to solve: both bodies asleep or frozen, impulses
- * kept as they are. */
-static void kg_prepare_source(const kg_constraint_job* job, int k, kg_row_head* head, kg_prepare_input* in)
+/* Contact k's constraint head and prepare input (contact_solver.h), its bodies named as
+ * the rows name them: the still body for the static world and for an empty lane. */
+static void kg_prepare_source_of(const kg_constraint_job* job, int k, kg_row_head* head, kg_prepare_input* in)
 {
     const kg_body_pool* p = job->pool;
     kg_u32 still = job->solver->still;
-    const kg_contact* ct = &job->contacts[k];
-    kg_u32 a = ct->a != KG_NULL_INDEX ? ct->a : still, b = ct->b != KG_NULL_INDEX ? ct->b : still;
-    const kg_solver_body* sa = &job->bodies[a];
-    const kg_solver_body* sb = &job->bodies[b];
-    if (!sa->moves && !sb->moves) {
-        *head = kg_empty_head(still);
-        *in = kg_no_input;
+    if (!kg_prepare_source(&job->contacts[k], (kg_u32)k, job->bodies, p->inv_mass, p->inv_inertia, p->xf, p->center,
+                           head, in)) {
+        kg_empty_source(still, head, in);
         return;
     }
-    *head = kg_row_head_of(ct, (kg_u32)k, sa->moves ? p->inv_mass[a] : 0.0f, sa->moves ? p->inv_inertia[a] : 0.0f,
-                           sb->moves ? p->inv_mass[b] : 0.0f, sb->moves ? p->inv_inertia[b] : 0.0f);
-    head->a = a;
-    head->b = b;
-    kg_vec2 origin_a = ct->a != KG_NULL_INDEX ? p->xf[ct->a].p : kg_v2(0.0f, 0.0f);
-    kg_vec2 origin_b = ct->b != KG_NULL_INDEX ? p->xf[ct->b].p : kg_v2(0.0f, 0.0f);
-    kg_vec2 center_a = ct->a != KG_NULL_INDEX ? p->center[ct->a] : origin_a;
-    kg_vec2 center_b = ct->b != KG_NULL_INDEX ? p->center[ct->b] : origin_b;
-    *in = kg_prepare_input_of(&ct->manifold, origin_a, center_a, origin_b, center_b, sa->motion.v, sa->motion.w,
-                              sb->motion.v, sb->motion.w);
-    if (ct->restitution != 0.0f) {
+    head->a = head->a != KG_NULL_INDEX ? head->a : still;
+    head->b = head->b != KG_NULL_INDEX ? head->b : still;
+    if (head->restitution != 0.0f) {
         atomic_store_explicit(job->bounces, 1, memory_order_relaxed);
     }
 }
@@ -259,7 +246,7 @@ static void kg_gather_sources_range(void* context, int begin, int end)
     const struct kg_solver* s = job->solver;
     for (int k = begin; k < end; ++k) {
         int at = s->coloring.rank[k];
-        kg_prepare_source(job, k, &s->heads[at], &s->inputs[at]);
+        kg_prepare_source_of(job, k, &s->heads[at], &s->inputs[at]);
     }
 }
 
@@ -293,8 +280,12 @@ static void kg_prepare_range(void* context, int begin, int end)
             continue;
         }
         for (int lane = 0; lane < width; ++lane) {
-            heads[lane] = lane < live ? s->heads[first + lane] : kg_empty_head(s->still);
-            inputs[lane] = lane < live ? s->inputs[first + lane] : kg_no_input;
+            if (lane < live) {
+                heads[lane] = s->heads[first + lane];
+                inputs[lane] = s->inputs[first + lane];
+            } else {
+                kg_empty_source(s->still, &heads[lane], &inputs[lane]);
+            }
         }
         s->rows->prepare(s->blocks, block, heads, inputs, job->prm);
     }

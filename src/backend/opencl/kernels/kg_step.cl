@@ -88,30 +88,7 @@ __kernel void kg_store_bodies(int count, int sleep, float dt, float sleep_speed,
     }
 }
 
-KG_FN kg_body_motion kg_load_motion(__global const kg_solver_body* bodies, kg_u32 slot)
-{
-    kg_body_motion still;
-    still.v = kg_v2(0.0f, 0.0f);
-    still.w = 0.0f;
-    still.dp = kg_v2(0.0f, 0.0f);
-    still.dq = kg_rot_identity();
-    return slot == KG_NULL_INDEX ? still : bodies[slot].motion;
-}
-
-KG_FN void kg_store_motion(__global kg_solver_body* bodies, kg_u32 slot, kg_body_motion m)
-{
-    if (slot != KG_NULL_INDEX && bodies[slot].moves) {
-        bodies[slot].motion.v = m.v;
-        bodies[slot].motion.w = m.w;
-    }
-}
-
-KG_FN int kg_takes_impulses(__global const kg_solver_body* bodies, kg_u32 slot)
-{
-    return slot != KG_NULL_INDEX && bodies[slot].moves;
-}
-
-/* Constraint k from contact k: its head, prepare input and prepare are the shared ones. */
+/* Constraint k from contact k (contact_solver.h). */
 __kernel void kg_prepare_contacts(int count, __global const kg_solver_params* params, __global const kg_contact* contacts,
                                   __global kg_contact_constraint* constraints, __global const kg_solver_body* bodies,
                                   __global const float* inv_mass, __global const float* inv_inertia,
@@ -121,25 +98,22 @@ __kernel void kg_prepare_contacts(int count, __global const kg_solver_params* pa
     if (k >= count) {
         return;
     }
-    kg_solver_params prm = *params;
     kg_contact ct = contacts[k];
+    kg_row_head head;
+    kg_prepare_input in;
+    kg_prepare_source(&ct, (kg_u32)k, bodies, inv_mass, inv_inertia, xf, center, &head, &in);
     kg_contact_constraint c;
-    int a_moves = kg_takes_impulses(bodies, ct.a);
-    int b_moves = kg_takes_impulses(bodies, ct.b);
-    kg_row_head head = kg_row_head_of(&ct, (kg_u32)k, a_moves ? inv_mass[ct.a] : 0.0f, a_moves ? inv_inertia[ct.a] : 0.0f,
-                                      b_moves ? inv_mass[ct.b] : 0.0f, b_moves ? inv_inertia[ct.b] : 0.0f);
     kg_constraint_head(&c, &head);
-    kg_body_motion ma = kg_load_motion(bodies, ct.a), mb = kg_load_motion(bodies, ct.b);
-    kg_vec2 origin_a = ct.a != KG_NULL_INDEX ? xf[ct.a].p : kg_v2(0.0f, 0.0f);
-    kg_vec2 origin_b = ct.b != KG_NULL_INDEX ? xf[ct.b].p : kg_v2(0.0f, 0.0f);
-    kg_vec2 center_a = ct.a != KG_NULL_INDEX ? center[ct.a] : origin_a;
-    kg_vec2 center_b = ct.b != KG_NULL_INDEX ? center[ct.b] : origin_b;
-    kg_prepare_input in = kg_prepare_input_of(&ct.manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w);
-    kg_contact_prepare_lanes(&c, &in, prm);
-    if (!a_moves && !b_moves) {
-        c.point_count = 0; /* asleep or frozen on both sides: nothing to solve, impulses kept */
-    }
+    kg_contact_prepare_lanes(&c, &in, *params);
     constraints[k] = c;
+}
+
+KG_FN void kg_store_motion(__global kg_solver_body* bodies, kg_u32 slot, kg_body_motion m)
+{
+    if (kg_slot_moves(bodies, slot)) {
+        bodies[slot].motion.v = m.v;
+        bodies[slot].motion.w = m.w;
+    }
 }
 
 KG_FN void kg_solve_one(kg_contact_constraint* c, __global kg_solver_body* bodies, kg_solver_params prm, int pass)
@@ -147,7 +121,7 @@ KG_FN void kg_solve_one(kg_contact_constraint* c, __global kg_solver_body* bodie
     if (c->point_count == 0) {
         return; /* between sleeping or frozen bodies: nothing moves */
     }
-    kg_body_motion a = kg_load_motion(bodies, c->a), b = kg_load_motion(bodies, c->b);
+    kg_body_motion a = kg_motion_of(bodies, c->a), b = kg_motion_of(bodies, c->b);
     if (pass == KG_PASS_WARM_START) {
         kg_contact_warm_start(c, &a, &b);
     } else if (pass == KG_PASS_SOLVE) {
