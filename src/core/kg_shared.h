@@ -10,6 +10,7 @@
 typedef uint kg_u32;
 typedef int kg_i32;
 #define KG_FN static inline
+#define KG_FN_INLINE static inline
 #define KG_GLOBAL __global
 #define sqrtf sqrt
 #define fabsf fabs
@@ -31,6 +32,8 @@ typedef struct kg_aabb {
 typedef uint32_t kg_u32;
 typedef int32_t kg_i32;
 #define KG_FN static inline
+/* a KG_FN that a hot CPU loop needs inlined where gcc's size limits would not */
+#define KG_FN_INLINE static inline __attribute__((always_inline))
 #define KG_GLOBAL
 #define KG_FLT_MAX FLT_MAX
 #define kg_lowest_bit(x) __builtin_ctz(x) /* the index of x's lowest set bit; x != 0 */

@@ -361,6 +361,17 @@ KG_FN void KG_L(kg_contact_restitution)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b
     b->w = KG_SEL(touched, b->w, b0.w);
 }
 
+/* One pass of the solver over the constraint. */
+KG_FN void KG_L(kg_contact_pass)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_solver_params prm, int pass)
+{
+    switch (pass) {
+    case KG_PASS_WARM_START: KG_L(kg_contact_warm_start)(c, a, b); break;
+    case KG_PASS_SOLVE: KG_L(kg_contact_solve)(c, a, b, prm, 1); break;
+    case KG_PASS_RELAX: KG_L(kg_contact_solve)(c, a, b, prm, 0); break;
+    default: KG_L(kg_contact_restitution)(c, a, b, prm); break;
+    }
+}
+
 #undef kg_lv2
 #undef kg_lq
 #undef kg_lmotion

@@ -186,15 +186,37 @@ KG_FN int kg_slot_moves(KG_GLOBAL const kg_solver_body* bodies, kg_u32 slot)
     return slot != KG_NULL_INDEX && bodies[slot].moves;
 }
 
+/* What prepare reads of one body of a contact: its origin, centre of mass and velocity;
+ * the static world (KG_NULL_INDEX) is still, at the origin. */
+typedef struct kg_side_state {
+    kg_vec2 origin, center, v;
+    float w;
+} kg_side_state;
+
+KG_FN kg_side_state kg_side_state_of(kg_u32 slot, KG_GLOBAL const kg_solver_body* bodies, KG_GLOBAL const kg_xf* xf,
+                                     KG_GLOBAL const kg_vec2* center)
+{
+    kg_side_state s;
+    s.origin = s.center = s.v = kg_v2(0.0f, 0.0f);
+    s.w = 0.0f;
+    if (slot != KG_NULL_INDEX) {
+        s.origin = xf[slot].p;
+        s.center = center[slot];
+        s.v = bodies[slot].motion.v;
+        s.w = bodies[slot].motion.w;
+    }
+    return s;
+}
+
 /* The head and prepare input of the constraint of contact ct (the index-th): the
  * masses of the bodies that take impulses, anchors from the body origins, velocities
  * from the solver bodies. Returns 0, with an empty head (no bodies, no points) and zero
  * inputs, when neither body takes impulses (both asleep or frozen): nothing to solve,
  * the contact's impulses kept as they are. */
-KG_FN int kg_prepare_source(const kg_contact* ct, kg_u32 index, KG_GLOBAL const kg_solver_body* bodies,
-                            KG_GLOBAL const float* inv_mass, KG_GLOBAL const float* inv_inertia,
-                            KG_GLOBAL const kg_xf* xf, KG_GLOBAL const kg_vec2* center, kg_row_head* head,
-                            kg_prepare_input* in)
+KG_FN_INLINE int kg_prepare_source(const kg_contact* ct, kg_u32 index, KG_GLOBAL const kg_solver_body* bodies,
+                                   KG_GLOBAL const float* inv_mass, KG_GLOBAL const float* inv_inertia,
+                                   KG_GLOBAL const kg_xf* xf, KG_GLOBAL const kg_vec2* center, kg_row_head* head,
+                                   kg_prepare_input* in)
 {
     int a_moves = kg_slot_moves(bodies, ct->a), b_moves = kg_slot_moves(bodies, ct->b);
     if (!a_moves && !b_moves) {
@@ -211,12 +233,8 @@ KG_FN int kg_prepare_source(const kg_contact* ct, kg_u32 index, KG_GLOBAL const 
     }
     *head = kg_row_head_of(ct, index, a_moves ? inv_mass[ct->a] : 0.0f, a_moves ? inv_inertia[ct->a] : 0.0f,
                            b_moves ? inv_mass[ct->b] : 0.0f, b_moves ? inv_inertia[ct->b] : 0.0f);
-    kg_body_motion ma = kg_motion_of(bodies, ct->a), mb = kg_motion_of(bodies, ct->b);
-    kg_vec2 origin_a = ct->a != KG_NULL_INDEX ? xf[ct->a].p : kg_v2(0.0f, 0.0f);
-    kg_vec2 origin_b = ct->b != KG_NULL_INDEX ? xf[ct->b].p : kg_v2(0.0f, 0.0f);
-    kg_vec2 center_a = ct->a != KG_NULL_INDEX ? center[ct->a] : origin_a;
-    kg_vec2 center_b = ct->b != KG_NULL_INDEX ? center[ct->b] : origin_b;
-    *in = kg_prepare_input_of(&ct->manifold, origin_a, center_a, origin_b, center_b, ma.v, ma.w, mb.v, mb.w);
+    kg_side_state sa = kg_side_state_of(ct->a, bodies, xf, center), sb = kg_side_state_of(ct->b, bodies, xf, center);
+    *in = kg_prepare_input_of(&ct->manifold, sa.origin, sa.center, sb.origin, sb.center, sa.v, sa.w, sb.v, sb.w);
     return 1;
 }
 

@@ -137,12 +137,7 @@ static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bo
     for (int k = begin; k < end; ++k) {
         kg_wrow* r = (kg_wrow*)blocks + k;
         kg_wmotion a = KG_WIDE(kg_gather)(bodies, r, 0), b = KG_WIDE(kg_gather)(bodies, r, 1);
-        switch (pass) {
-        case KG_PASS_WARM_START: KG_ROWFN(kg_contact_warm_start)(r, &a, &b); break;
-        case KG_PASS_SOLVE: KG_ROWFN(kg_contact_solve)(r, &a, &b, prm, 1); break;
-        case KG_PASS_RELAX: KG_ROWFN(kg_contact_solve)(r, &a, &b, prm, 0); break;
-        case KG_PASS_RESTITUTION: KG_ROWFN(kg_contact_restitution)(r, &a, &b, prm); break;
-        }
+        KG_ROWFN(kg_contact_pass)(r, &a, &b, prm, pass);
         KG_WIDE(kg_scatter)(bodies, r, 0, &a);
         KG_WIDE(kg_scatter)(bodies, r, 1, &b);
     }

@@ -122,15 +122,7 @@ KG_FN void kg_solve_one(kg_contact_constraint* c, __global kg_solver_body* bodie
         return; /* between sleeping or frozen bodies: nothing moves */
     }
     kg_body_motion a = kg_motion_of(bodies, c->a), b = kg_motion_of(bodies, c->b);
-    if (pass == KG_PASS_WARM_START) {
-        kg_contact_warm_start(c, &a, &b);
-    } else if (pass == KG_PASS_SOLVE) {
-        kg_contact_solve(c, &a, &b, prm, 1);
-    } else if (pass == KG_PASS_RELAX) {
-        kg_contact_solve(c, &a, &b, prm, 0);
-    } else {
-        kg_contact_restitution(c, &a, &b, prm);
-    }
+    kg_contact_pass(c, &a, &b, prm, pass);
     kg_store_motion(bodies, c->a, a);
     kg_store_motion(bodies, c->b, b);
 }
