@@ -98,6 +98,15 @@ KG_FN kg_rot kg_rot_inv_mul(kg_rot a, kg_rot b)
 }
 
 KG_FN kg_vec2 kg_xf_point(kg_xf t, kg_vec2 p) { return kg_add(kg_rotate(t.q, p), t.p); }
+
+/* The pose of a body's origin from its centre of mass and rotation. */
+KG_FN kg_xf kg_origin_xf(kg_vec2 center, kg_rot q, kg_vec2 local_center)
+{
+    kg_xf t;
+    t.q = q;
+    t.p = kg_sub(center, kg_rotate(q, local_center));
+    return t;
+}
 KG_FN kg_vec2 kg_xf_inv_point(kg_xf t, kg_vec2 p) { return kg_inv_rotate(t.q, kg_sub(p, t.p)); }
 
 /* B expressed in A's frame: inverse(A) * B. */

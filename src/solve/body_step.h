@@ -30,15 +30,6 @@ KG_FN void kg_builtin_force_on(kg_u32 i, kg_u32 repeat, int gravity, kg_vec2 vec
     drag[i] = drag_sum;
 }
 
-/* The pose of a body's origin from its centre of mass and rotation. */
-KG_FN kg_xf kg_origin_xf(kg_vec2 center, kg_rot q, kg_vec2 local_center)
-{
-    kg_xf t;
-    t.q = q;
-    t.p = kg_sub(center, kg_rotate(q, local_center));
-    return t;
-}
-
 /* Takes body i out of the simulation, back at its last finite pose, still. (The CPU
  * backend warns at once, the OpenCL backend when it next reads the flags back.) */
 KG_FN void kg_freeze_body(kg_u32 i, KG_GLOBAL kg_u32* flags, KG_GLOBAL kg_vec2* velocity, KG_GLOBAL float* omega,

@@ -5,6 +5,7 @@
 #ifndef KG_ISLAND_H
 #define KG_ISLAND_H
 
+#include "collide/aabb.h"
 #include "core/body_flags.h"
 #include "core/kg_layout.h"
 #include "solve/contact_solver.h"
@@ -129,6 +130,30 @@ KG_FN void kg_link_islands(int bodies, int count, KG_GLOBAL const kg_contact* co
 KG_FN int kg_falls_asleep(kg_u32 f, kg_u32 root, KG_GLOBAL const float* least, float time_to_sleep)
 {
     return kg_flags_simulated(f) && least[root] >= time_to_sleep;
+}
+
+/* Body i wakes: awake, its rest timer restarted. */
+KG_FN void kg_wake_body(kg_u32 i, KG_GLOBAL kg_u32* flags, KG_GLOBAL float* sleep_time)
+{
+    flags[i] &= ~(KG_FLAG_ASLEEP | KG_FLAG_RESTED);
+    sleep_time[i] = 0.0f;
+}
+
+/* Body i falls asleep in the island named island_id: still, its bounds no longer swept
+ * over a motion (it moved since the collide stage, so it is not rested). */
+KG_FN void kg_sleep_body(kg_u32 i, kg_u32 island_id, KG_GLOBAL kg_u32* flags, KG_GLOBAL kg_u32* island,
+                         KG_GLOBAL kg_vec2* velocity, KG_GLOBAL float* omega, KG_GLOBAL const kg_vec2* center,
+                         KG_GLOBAL const kg_rot* rot, KG_GLOBAL const kg_vec2* local_center,
+                         KG_GLOBAL const kg_shape* shape, KG_GLOBAL kg_xf* xf, KG_GLOBAL kg_aabb* aabb)
+{
+    flags[i] = (flags[i] | KG_FLAG_ASLEEP) & ~KG_FLAG_RESTED;
+    island[i] = island_id;
+    velocity[i] = kg_v2(0.0f, 0.0f);
+    omega[i] = 0.0f;
+    kg_xf t = kg_origin_xf(center[i], rot[i], local_center[i]);
+    kg_shape s = shape[i];
+    xf[i] = t;
+    aabb[i] = kg_shape_aabb(&s, t);
 }
 
 #endif

@@ -51,20 +51,7 @@ void kg_sleep_destroy(kg_world* world)
     world->sleep = NULL;
 }
 
-void kg_wake_slot(kg_body_pool* p, int i)
-{
-    p->flags[i] &= ~(KG_FLAG_ASLEEP | KG_FLAG_RESTED);
-    p->sleep_time[i] = 0.0f;
-}
-
-static void kg_sleep_slot(kg_body_pool* p, int i, kg_u32 island)
-{
-    p->flags[i] = (p->flags[i] | KG_FLAG_ASLEEP) & ~KG_FLAG_RESTED; /* it moved since the collide stage */
-    p->island[i] = island;
-    p->velocity[i] = kg_v2(0.0f, 0.0f);
-    p->omega[i] = 0.0f;
-    kg_body_update_transform(p, i); /* bounds no longer swept over a motion */
-}
+void kg_wake_slot(kg_body_pool* p, int i) { kg_wake_body((kg_u32)i, p->flags, p->sleep_time); }
 
 void kg_wake_touching(kg_body_pool* p, kg_aabb box, float margin)
 {
@@ -120,7 +107,8 @@ void kg_stage_sleep(kg_world* world)
                     s->least);
     for (int i = 0; i < p->high_water; ++i) {
         if (kg_falls_asleep(p->flags[i], s->parent[i], s->least, world->def.time_to_sleep)) {
-            kg_sleep_slot(p, i, s->parent[i]);
+            kg_sleep_body((kg_u32)i, s->parent[i], p->flags, p->island, p->velocity, p->omega, p->center, p->rot,
+                          p->local_center, p->shape, p->xf, p->aabb);
         }
     }
 }

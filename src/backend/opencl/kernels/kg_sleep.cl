@@ -9,9 +9,7 @@
  *   sleep (last in the step): islands by union-find over the contacts, and the least
  *         rest timer of each, by one work-item in contact and slot order as the CPU does;
  *         then every awake body of an island at rest for time_to_sleep falls asleep, one
- *         work-item per body.
- *
- * Built after kg_step.cl, whose kg_origin_xf it uses. */
+ *         work-item per body. */
 #include "solve/island.h"
 
 /* Pair k, if it touches (index: the prefix sum of the touching pairs), marks the island
@@ -28,19 +26,18 @@ __kernel void kg_wake_touched(int count, __global const uint2* pairs, __global c
     kg_mark_woken(pairs[k].x, pairs[k].y, flags, velocity, omega, island, wake_marks);
 }
 
-/* kg_wake_slot of solve/sleep.c for every sleeping body of a marked island. */
+/* Every sleeping body of a marked island wakes. */
 __kernel void kg_wake_marked(int count, __global kg_u32* flags, __global const kg_u32* island,
                              __global const uint* wake_marks, __global float* sleep_time)
 {
     int i = (int)get_global_id(0);
-    if (i >= count || !kg_flags_asleep(flags[i]) || !wake_marks[island[i]]) {
-        return;
+    if (i < count && kg_flags_asleep(flags[i]) && wake_marks[island[i]]) {
+        kg_wake_body((kg_u32)i, flags, sleep_time);
     }
-    flags[i] &= ~(KG_FLAG_ASLEEP | KG_FLAG_RESTED);
-    sleep_time[i] = 0.0f;
 }
 
-/* kg_link_islands by one work-item, as the CPU's sleep stage runs it. */
+/* The islands and their least rest timers, by one work-item, as the CPU's sleep stage
+ * runs it. */
 __kernel void kg_find_islands(int bodies, int count, __global const kg_contact* contacts,
                               __global const kg_u32* flags, __global const kg_vec2* velocity,
                               __global const float* omega, __global const float* sleep_time,
@@ -51,8 +48,7 @@ __kernel void kg_find_islands(int bodies, int count, __global const kg_contact* 
     }
 }
 
-/* kg_sleep_slot of solve/sleep.c for an awake body whose island rested time_to_sleep:
- * still, named by its island, its bounds no longer swept over a motion. */
+/* An awake body whose island rested time_to_sleep falls asleep. */
 __kernel void kg_fall_asleep(int count, float time_to_sleep, __global const kg_u32* parent,
                              __global const float* least, __global kg_u32* flags, __global kg_u32* island,
                              __global kg_vec2* velocity, __global float* omega, __global const kg_vec2* center,
@@ -60,15 +56,8 @@ __kernel void kg_fall_asleep(int count, float time_to_sleep, __global const kg_u
                              __global const kg_shape* shape, __global kg_xf* xf, __global kg_aabb* aabb)
 {
     int i = (int)get_global_id(0);
-    if (i >= count || !kg_falls_asleep(flags[i], parent[i], least, time_to_sleep)) {
-        return;
+    if (i < count && kg_falls_asleep(flags[i], parent[i], least, time_to_sleep)) {
+        kg_sleep_body((kg_u32)i, parent[i], flags, island, velocity, omega, center, rot, local_center, shape, xf,
+                      aabb);
     }
-    flags[i] = (flags[i] | KG_FLAG_ASLEEP) & ~KG_FLAG_RESTED;
-    island[i] = parent[i];
-    velocity[i] = kg_v2(0.0f, 0.0f);
-    omega[i] = 0.0f;
-    kg_xf t = kg_origin_xf(center[i], rot[i], local_center[i]);
-    kg_shape s = shape[i];
-    xf[i] = t;
-    aabb[i] = kg_shape_aabb(&s, t);
 }
