@@ -169,6 +169,16 @@ KG_FN kg_prepare_input kg_prepare_input_of(const kg_manifold* m, kg_vec2 origin_
     return in;
 }
 
+/* What the solve leaves in a contact's point: its impulses, for warm starting the next
+ * step and for the API, and the approach speed it measured. */
+KG_FN void kg_store_point(KG_GLOBAL kg_manifold_point* mp, float normal_impulse, float tangent_impulse,
+                          float relative_velocity)
+{
+    mp->normal_impulse = normal_impulse;
+    mp->tangent_impulse = tangent_impulse;
+    mp->normal_velocity = relative_velocity;
+}
+
 /* The motion of a body slot as the solver sees it: still for KG_NULL_INDEX (the static
  * world). */
 KG_FN kg_body_motion kg_motion_of(KG_GLOBAL const kg_solver_body* bodies, kg_u32 slot)

@@ -86,9 +86,9 @@ static void KG_WIDE(kg_store_impulses)(const void* blocks, int begin, int end, k
             kg_manifold* m = &contacts[KG_LANE_OF(r->contact, lane)].manifold;
             int points = KG_LANE_OF(r->point_count, lane);
             for (int j = 0; j < points; ++j) {
-                m->points[j].normal_impulse = KG_LANE_OF(r->points[j].normal_impulse, lane);
-                m->points[j].tangent_impulse = KG_LANE_OF(r->points[j].tangent_impulse, lane);
-                m->points[j].normal_velocity = KG_LANE_OF(r->points[j].relative_velocity, lane);
+                kg_store_point(&m->points[j], KG_LANE_OF(r->points[j].normal_impulse, lane),
+                               KG_LANE_OF(r->points[j].tangent_impulse, lane),
+                               KG_LANE_OF(r->points[j].relative_velocity, lane));
             }
         }
     }

@@ -184,20 +184,15 @@ __kernel void kg_solve_colors_in_group(int pass, __global const int* color_start
     }
 }
 
-/* kg_store_impulses_range of solve/solver.c: impulses back into the contacts, for warm
- * starting next step and for kg_world_get_contact. */
+/* Constraint k's impulses back into its contact. */
 __kernel void kg_store_impulses(int count, __global const kg_contact_constraint* colored,
                                 __global kg_contact* contacts)
 {
     int k = (int)get_global_id(0);
-    if (k >= count) {
-        return;
-    }
-    kg_contact_constraint c = colored[k];
-    for (int j = 0; j < c.point_count; ++j) {
-        contacts[c.contact].manifold.points[j].normal_impulse = c.points[j].normal_impulse;
-        contacts[c.contact].manifold.points[j].tangent_impulse = c.points[j].tangent_impulse;
-        contacts[c.contact].manifold.points[j].normal_velocity = c.points[j].relative_velocity;
+    for (int j = 0; k < count && j < colored[k].point_count; ++j) {
+        __global const kg_constraint_point* p = &colored[k].points[j];
+        kg_store_point(&contacts[colored[k].contact].manifold.points[j], p->normal_impulse, p->tangent_impulse,
+                       p->relative_velocity);
     }
 }
 
