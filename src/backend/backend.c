@@ -20,12 +20,6 @@
 #include "backend/opencl/cl_backend.h"
 #endif
 
-static kg_result kg_cpu_hosted_step(kg_world* world, float dt) { return kg_cpu_backend.step(world, dt); }
-
-/* The CPU backend with the backend state freed on destroy. */
-static const kg_backend_ops kg_cpu_hosted_backend = {KG_BACKEND_CPU, "cpu", kg_cpu_hosted_step, NULL, NULL,
-                                                     kg_backend_state_free, NULL};
-
 void kg_backend_use_cpu(kg_world* world) { world->backend = &kg_cpu_hosted_backend; }
 
 /* The backend asked for, and the device index for OpenCL. */

@@ -145,20 +145,6 @@ void kg_destroy_world(kg_world* world)
     kg_free(world);
 }
 
-kg_result kg_world_step(kg_world* world, float dt)
-{
-    if (!world) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_world_step: NULL world");
-    }
-    if (!kg_positive_finite(dt)) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "time step must be finite and > 0 (got %g)", (double)dt);
-    }
-    world->last_dt = dt;
-    kg_result r = world->backend->step(world, dt);
-    world->step_index += 1;
-    return r;
-}
-
 kg_result kg_world_set_gravity(kg_world* world, kg_vec2 gravity)
 {
     if (!world || !isfinite(gravity.x) || !isfinite(gravity.y)) {

@@ -1,51 +1,36 @@
-/* The CPU backend: the step as a short list of stages, each looping over the shared
- * per-element code. */
+/* The CPU backend: each stage of the step (core/step.h) a loop over the shared
+ * per-element code, on the world's thread pool. */
 #include "backend/backend.h"
+#include "backend/opencl/backend_state.h"
 #include "collide/collide.h"
 #include "solve/forces.h"
 #include "solve/sleep.h"
 #include "solve/solver.h"
 
-#include <time.h>
-
-static double kg_now_ms(void)
+static kg_result kg_cpu_run_stage(kg_world* world, kg_stage stage, float dt)
 {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
-
-static void kg_time_stage(kg_world* world, const char* name, double* start)
-{
-    double now = kg_now_ms();
-    kg_stage_times* t = &world->times;
-    t->names[t->count] = name;
-    t->ms[t->count] = now - *start;
-    t->count += 1;
-    *start = now;
-}
-
-static kg_result kg_cpu_step(kg_world* world, float dt)
-{
-    world->times.count = 0;
-    double t = kg_now_ms();
-    kg_stage_apply_forces(world);
-    kg_time_stage(world, "forces", &t);
-    kg_result r = kg_stage_collide(world);
-    if (r != KG_OK) {
-        return r;
+    switch (stage) {
+    case KG_STAGE_FORCES: kg_stage_apply_forces(world); break;
+    case KG_STAGE_COLLIDE: {
+        kg_result r = kg_stage_collide(world);
+        if (r != KG_OK) {
+            return r;
+        }
+        kg_collision_mark_rested(world);
+        break;
     }
-    kg_collision_mark_rested(world);
-    kg_time_stage(world, "collide", &t);
-    kg_stage_wake(world);
-    kg_time_stage(world, "wake", &t);
-    kg_stage_solve(world, dt);
-    kg_time_stage(world, "solve", &t);
-    kg_stage_finalize(world);
-    kg_time_stage(world, "finalize", &t);
-    kg_stage_sleep(world);
-    kg_time_stage(world, "sleep", &t);
+    case KG_STAGE_WAKE: kg_stage_wake(world); break;
+    case KG_STAGE_SOLVE: kg_stage_solve(world, dt); break;
+    case KG_STAGE_FINALIZE: kg_stage_finalize(world); break;
+    case KG_STAGE_SLEEP: kg_stage_sleep(world); break;
+    case KG_STAGE_COUNT: break;
+    }
     return KG_OK;
 }
 
-const kg_backend_ops kg_cpu_backend = {KG_BACKEND_CPU, "cpu", kg_cpu_step, NULL, NULL, NULL, NULL};
+const kg_backend_ops kg_cpu_backend = {.kind = KG_BACKEND_CPU, .name = "cpu", .run_stage = kg_cpu_run_stage};
+
+/* What a world runs on after the OpenCL backend fell back: the CPU backend, freeing the
+ * backend state (device forces, profiling switch) with the world. */
+const kg_backend_ops kg_cpu_hosted_backend = {.kind = KG_BACKEND_CPU, .name = "cpu", .run_stage = kg_cpu_run_stage,
+                                              .destroy = kg_backend_state_free};

@@ -225,15 +225,34 @@ static void kg_fall_back(kg_world* world, int in_step)
 
 /* ---- operations ------------------------------------------------------------------- */
 
-/* The one place a step falls back: after kg_cl_step has returned, whatever failed in it. */
-static kg_result kg_opencl_step(kg_world* world, float dt)
+static kg_result kg_opencl_begin_step(kg_world* world, float dt)
 {
-    kg_result r = kg_cl_step(world, kg_state(world)->cl, dt);
-    if (r == KG_OK) {
-        return KG_OK;
+    (void)dt;
+    return kg_cl_begin_step(world, kg_state(world)->cl);
+}
+
+static kg_result kg_opencl_run_stage(kg_world* world, kg_stage stage, float dt)
+{
+    return kg_cl_run_stage(world, kg_state(world)->cl, stage, dt);
+}
+
+static const char* kg_opencl_stage_label(const kg_world* world, kg_stage stage)
+{
+    return kg_cl_stage_label(world, ((const kg_backend_state*)world->backend_state)->cl, stage);
+}
+
+/* The one place a step falls back: once its stages have unwound, whatever failed in them;
+ * the step is then run again, on the CPU, from its start. */
+static kg_result kg_opencl_end_step(kg_world* world, kg_result stages, int* redo)
+{
+    kg_cl_backend* b = kg_state(world)->cl;
+    kg_result r = stages == KG_OK ? kg_cl_end_step(world, b) : stages;
+    b->in_step = 0;
+    if (r != KG_OK) {
+        kg_fall_back(world, 1);
+        *redo = 1;
     }
-    kg_fall_back(world, 1);
-    return world->backend->step(world, dt);
+    return KG_OK;
 }
 
 /* A failed device call of an operation other than the step (a read for a getter, a device
@@ -289,8 +308,16 @@ static void kg_opencl_destroy(kg_world* world)
     kg_backend_state_free(world);
 }
 
-const kg_backend_ops kg_opencl_backend = {KG_BACKEND_OPENCL, "opencl", kg_opencl_step, kg_opencl_sync_to_host,
-                                          kg_opencl_host_changed, kg_opencl_destroy, kg_opencl_sync_contacts};
+const kg_backend_ops kg_opencl_backend = {.kind = KG_BACKEND_OPENCL,
+                                          .name = "opencl",
+                                          .begin_step = kg_opencl_begin_step,
+                                          .run_stage = kg_opencl_run_stage,
+                                          .end_step = kg_opencl_end_step,
+                                          .stage_label = kg_opencl_stage_label,
+                                          .sync_to_host = kg_opencl_sync_to_host,
+                                          .host_changed = kg_opencl_host_changed,
+                                          .destroy = kg_opencl_destroy,
+                                          .sync_contacts = kg_opencl_sync_contacts};
 
 /* ---- start ------------------------------------------------------------------------ */
 

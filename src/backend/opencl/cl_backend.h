@@ -37,6 +37,12 @@ typedef struct kg_cl_backend {
     int tiles_ran;                   /* this step collided the tile maps on the device */
     int contacts_stale;
     cl_uint counters[KG_CC_WORDS];   /* the device collide stage's counters, read back */
+    /* this step's collide stage: where it ran, the pairs it found on the device, the
+     * contacts it made (the first step_body_count between bodies, tile contacts after) */
+    int step_on_device;
+    int step_pairs;
+    int step_count;
+    int step_body_count;
 } kg_cl_backend;
 
 extern const kg_backend_ops kg_opencl_backend;
@@ -46,21 +52,30 @@ kg_result kg_cl_backend_start(kg_world* world, int device_index);
 /* Releases the OpenCL state (not the backend state). */
 void kg_cl_backend_stop(kg_world* world);
 
-/* The step on the device, stage by stage; a failure leaves the error set. A failure that
- * the step's own code did not see (a read for a getter a force callback calls) is recorded
- * with kg_cl_request_fallback, and the step returns KG_ERROR_BACKEND once the callback has
- * returned, with no device call after it. Either way the caller (kg_opencl_step) falls
- * back once this has returned: nothing the step uses is freed while it runs. */
-kg_result kg_cl_step(kg_world* world, kg_cl_backend* b, float dt);
+/* The step on the device (cl_step.c): its beginning, each stage of core/step.h, its end;
+ * a failure leaves the error set. A failure that the step's own code did not see (a read
+ * for a getter a force callback calls) is recorded with kg_cl_request_fallback, and the
+ * step returns KG_ERROR_BACKEND once the callback has returned, with no device call after
+ * it. Either way the backend falls back once the step has unwound (kg_opencl_end_step):
+ * nothing the step uses is freed while it runs. */
+kg_result kg_cl_begin_step(kg_world* world, kg_cl_backend* b);
+kg_result kg_cl_run_stage(kg_world* world, kg_cl_backend* b, kg_stage stage, float dt);
+kg_result kg_cl_end_step(kg_world* world, kg_cl_backend* b);
+/* The label a stage's time is reported under (core/step.c), or NULL when its kernels are
+ * timed by their events. */
+const char* kg_cl_stage_label(const kg_world* world, const kg_cl_backend* b, kg_stage stage);
 /* Records that the world must fall back at the end of the step, for the failure described
  * by the current error (the first one counts). */
 void kg_cl_request_fallback(kg_cl_backend* b);
 /* The collision stage on the device (cl_collide.c), tile maps included: this step's
- * contacts built into w->contacts[!w->current] and coloured there, *count of them, the
- * first *body_count between bodies, with b->coloring's colour ranges set for the solver.
- * *fits is 0 when the pairs outgrow the contact pool: then nothing is built, and the
- * host's stage must run (it grows the pool). */
-kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* count, int* body_count, int* fits);
+ * contacts built into w->contacts[!w->current], b->step_pairs set. *fits is 0 when the
+ * pairs outgrow the contact pool: then nothing is built, and the host's stage must run
+ * (it grows the pool). */
+kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits);
+/* Colours the contacts the device built (solve/coloring.h) and reads back how many there
+ * are, *count, the first *body_count between bodies, with b->coloring's colour ranges set
+ * for the solver. */
+kg_result kg_cl_color_on_device(kg_world* world, kg_cl_backend* b, int* count, int* body_count);
 /* The one-way platform state (collide/tilemap.c's last origins) into the host's arrays,
  * when the device has it newer: before the host's collide stage runs, or the CPU backend
  * takes over. */

@@ -304,6 +304,13 @@ static kg_result kg_color(kg_cl_world* w, cl_mem contacts)
 
 /* ---- the stage -------------------------------------------------------------------------- */
 
+/* The contacts the device lists hold this step: the world's pool, within the buffers. */
+static int kg_device_contact_capacity(kg_world* world, const kg_cl_world* w)
+{
+    int capacity = kg_collision_capacity(world);
+    return capacity < w->contact_capacity ? capacity : w->contact_capacity;
+}
+
 static kg_result kg_read_counters(kg_cl_backend* b, int words)
 {
     return kg_cl_read(b->w, b->w->collide.counts, 0, (size_t)words * sizeof(cl_uint), b->counters);
@@ -322,27 +329,31 @@ static void kg_take_color_ranges(kg_cl_backend* b)
     }
 }
 
-kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* count, int* body_count, int* fits)
+kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits)
 {
     kg_cl_world* w = b->w;
-    int capacity = kg_collision_capacity(world);
-    capacity = capacity < w->contact_capacity ? capacity : w->contact_capacity;
+    int capacity = kg_device_contact_capacity(world, w);
     KG_TRY(kg_find_pairs(world, w, capacity));
     KG_TRY(kg_read_counters(b, KG_CC_OVERFLOW + 1)); /* the pair count and the overflow flag */
     *fits = b->counters[KG_CC_OVERFLOW] == 0u;
     if (!*fits) {
         return KG_OK;
     }
-    int pairs = (int)b->counters[KG_CC_PAIRS];
-    KG_TRY(kg_order_pairs(world, w, pairs));
-    KG_TRY(kg_build_contacts(world, b, pairs));
-    KG_TRY(kg_collide_tiles(world, b, capacity));
-    KG_TRY(kg_cl_wake_on_device(world, b, pairs));
+    b->step_pairs = (int)b->counters[KG_CC_PAIRS];
+    KG_TRY(kg_order_pairs(world, w, b->step_pairs));
+    KG_TRY(kg_build_contacts(world, b, b->step_pairs));
+    return kg_collide_tiles(world, b, capacity);
+}
+
+kg_result kg_cl_color_on_device(kg_world* world, kg_cl_backend* b, int* count, int* body_count)
+{
+    kg_cl_world* w = b->w;
     KG_TRY(kg_color(w, w->contacts[w->current ^ 1]));
     KG_TRY(kg_read_counters(b, KG_CC_WORDS));
     *count = (int)b->counters[KG_CC_CONTACTS];
     *body_count = *count;
     if (b->tiles_ran) {
+        int capacity = kg_device_contact_capacity(world, w);
         int bodies = (int)b->counters[KG_CC_BODY_CONTACTS], tiles = (int)b->counters[KG_CC_TILES];
         *body_count = bodies;
         if (tiles > capacity - bodies) {

@@ -1,9 +1,9 @@
 /* Sleeping on the OpenCL backend: solve/sleep.c's two stages as kernels
  * (kernels/kg_sleep.cl), with the CPU backend's results bit for bit:
  *
- *   wake   in the collide stage, after the contacts and before the colouring, which must
- *          see the woken bodies as the CPU's does; on the host instead in the step whose
- *          collide stage ran there (it colours on the host)
+ *   wake   after the collide stage, before the colouring (in the solve stage), which
+ *          must see the woken bodies as the CPU's does; on the host instead in the step
+ *          whose collide stage ran there
  *   sleep  last in the step, after finalize
  *
  * Nothing crosses the bus: the flags, rest timers and islands stay on the device with the

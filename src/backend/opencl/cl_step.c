@@ -1,22 +1,23 @@
-/* The step on the device, in the CPU backend's order (backend/cpu/cpu_backend.c):
+/* The stages of the step (core/step.h) on the device:
  *
- *   upload what the host changed; checkpoint the state (on the device)
+ *   begin      upload what the host changed; checkpoint the state (on the device)
  *   forces     built-in and device force applicators as kernels; C callbacks on the host
  *   collide    on the device (cl_collide.c): broadphase, narrowphase, persistence, tile
- *              maps (their contacts after the body pairs), the wake of sleeping islands
- *              touched (cl_sleep.c) and graph colouring, into the contact list not
+ *              maps (their contacts after the body pairs), into the contact list not
  *              holding last step's contacts. On the host instead in the step that finds
  *              more pairs than the contact pool holds (the host's stage grows it): last
  *              step's contacts and one-way platform state read back, transforms, bounds,
- *              flags and velocities read back, contacts built by collide/collide.c,
- *              sleeping islands woken by solve/sleep.c, contacts coloured, uploaded
- *   solve      on the device: solver bodies loaded, constraints prepared, sub-steps of
- *              warm start, solve and relax colour by colour (one launch per colour, or
- *              all colours in one single-group launch for small worlds), restitution,
- *              impulses and motion stored
+ *              flags and velocities read back, contacts built by collide/collide.c and
+ *              uploaded
+ *   wake       on the device (cl_sleep.c), or on the host after a host collide
+ *   solve      contacts coloured (solve/coloring.h: one work-item on the device, or on the
+ *              host after a host collide); solver bodies loaded, constraints prepared,
+ *              sub-steps of warm start, solve and relax colour by colour (one launch per
+ *              colour, or all colours in one single-group launch for small worlds),
+ *              restitution, impulses and motion stored
  *   finalize   on the device
- *   sleep      on the device (cl_sleep.c): islands at rest fall asleep; the queue
- *              drained, so errors surface inside the step
+ *   sleep      on the device (cl_sleep.c): islands at rest fall asleep
+ *   end        the queue drained, so errors surface inside the step
  *
  * Only then does the step's contact list become the current one; the host's copy of it
  * is read back when asked for (kg_cl_read_contacts). Until then last step's contacts stay
@@ -104,19 +105,17 @@ static double kg_now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-/* Host time of a stage: always when not profiling; when profiling, only for the stages
- * that run on the host (the kernels are timed by their events). */
-static void kg_time_stage(kg_world* world, const char* name, int on_host, double* start)
+/* The begin and end of the step, timed on the host when not profiling (the kernels are
+ * timed by their events then). */
+static void kg_time_bracket(kg_world* world, const char* name, double start)
 {
     const kg_backend_state* s = world->backend_state;
-    double now = kg_now_ms();
     kg_stage_times* t = &world->times;
-    if ((!s->profiling || on_host) && t->count < KG_MAX_STAGE_TIMES) {
+    if (!s->profiling && t->count < KG_MAX_STAGE_TIMES) {
         t->names[t->count] = name;
-        t->ms[t->count] = now - *start;
+        t->ms[t->count] = kg_now_ms() - start;
         t->count += 1;
     }
-    *start = now;
 }
 
 static void kg_add_kernel_times(kg_world* world, kg_cl_world* w)
@@ -303,10 +302,9 @@ static int kg_body_contacts(const kg_contact* contacts, int count)
     return n;
 }
 
-static kg_result kg_upload_contacts(kg_world* world, kg_cl_backend* b, kg_contact* contacts, int count);
-
-/* collide/collide.c's stage, from last step's contacts and the state it reads. */
-static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b, int* count, int* body_count)
+/* collide/collide.c's stage, from last step's contacts and the state it reads; its
+ * contacts uploaded to the device list of this step. */
+static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b)
 {
     /* what collide/collide.c reads of the state: poses, bounds, flags, the velocities that
      * size the speculative margins, and the centres tile contacts are anchored to */
@@ -316,18 +314,26 @@ static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b, int
     KG_TRY(kg_cl_flags_to_host(world, b));
     KG_TRY(kg_cl_to_host(b->w, &world->bodies, reads));
     KG_TRY(kg_stage_collide(world));
-    KG_TRY(kg_cl_wake_on_host(world, b)); /* before the colouring, which must see the woken bodies */
-    kg_contact* contacts = kg_collision_contacts(world, count);
-    *body_count = kg_body_contacts(contacts, *count);
-    return kg_upload_contacts(world, b, contacts, *count);
+    int count = 0;
+    kg_contact* contacts = kg_collision_contacts(world, &count);
+    b->step_count = count;
+    b->step_body_count = kg_body_contacts(contacts, count);
+    KG_TRY(kg_cl_reserve_contacts(b->w, kg_collision_capacity(world))); /* the host's stage may have grown it */
+    return kg_cl_write(b->w, b->w->contacts[b->w->current ^ 1], 0, (size_t)count * sizeof *contacts, contacts, 0);
 }
 
 /* On the device, tile maps included, unless the pairs outgrow the contact pool. */
-static kg_result kg_stage_collide_cl(kg_world* world, kg_cl_backend* b, int* count, int* body_count, int* on_device)
+static kg_result kg_stage_collide_cl(kg_world* world, kg_cl_backend* b)
 {
-    *on_device = 0;
-    KG_TRY(kg_cl_collide_on_device(world, b, count, body_count, on_device));
-    return *on_device ? KG_OK : kg_stage_collide_on_host(world, b, count, body_count);
+    KG_TRY(kg_cl_collide_on_device(world, b, &b->step_on_device));
+    return b->step_on_device ? KG_OK : kg_stage_collide_on_host(world, b);
+}
+
+/* ---- wake ------------------------------------------------------------------------- */
+
+static kg_result kg_stage_wake_cl(kg_world* world, kg_cl_backend* b)
+{
+    return b->step_on_device ? kg_cl_wake_on_device(world, b, b->step_pairs) : kg_cl_wake_on_host(world, b);
 }
 
 /* ---- solve ------------------------------------------------------------------------ */
@@ -347,7 +353,7 @@ static kg_result kg_reserve_coloring(kg_world* world, kg_cl_backend* b, int coun
     }
     KG_TRY(kg_graph_coloring_init(&b->coloring, world->def.max_bodies, capacity));
     b->color_capacity = capacity;
-    return kg_cl_reserve_contacts(b->w, capacity);
+    return KG_OK;
 }
 
 /* The colouring the CPU solver computes (solve/graph_color.c, greedy in contact order),
@@ -416,20 +422,27 @@ static kg_result kg_set_rest_scalars(kg_cl_world* w, const kg_world_def* def, fl
     return kg_arg_float(w, k, 3, def->sleep_speed);
 }
 
-/* The host's contacts, coloured on the host, to the device list of this step. */
-static kg_result kg_upload_contacts(kg_world* world, kg_cl_backend* b, kg_contact* contacts, int count)
+/* The host's contacts (after a host collide) coloured on the host, their colour ranges
+ * and order to the device. */
+static kg_result kg_color_on_host(kg_world* world, kg_cl_backend* b)
 {
+    int count = 0;
+    const kg_contact* contacts = kg_collision_contacts(world, &count);
     KG_TRY(kg_reserve_coloring(world, b, count));
     kg_color_contacts(world, b, contacts, count);
-    cl_mem list = b->w->contacts[b->w->current ^ 1];
-    KG_TRY(kg_cl_write(b->w, list, 0, (size_t)count * sizeof *contacts, contacts, 0));
     KG_TRY(kg_cl_write(b->w, b->w->color_start, 0, sizeof b->coloring.color_start, b->coloring.color_start, 0));
     return kg_cl_write(b->w, b->w->order, 0, (size_t)count * sizeof(int), b->coloring.order, 0);
 }
 
-static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, float dt, int count)
+static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, float dt)
 {
     kg_cl_world* w = b->w;
+    if (b->step_on_device) {
+        KG_TRY(kg_cl_color_on_device(world, b, &b->step_count, &b->step_body_count));
+    } else {
+        KG_TRY(kg_color_on_host(world, b));
+    }
+    int count = b->step_count;
     int n = world->def.substeps;
     float h = dt / (float)n;
     int bodies = world->bodies.high_water;
@@ -476,21 +489,19 @@ static kg_result kg_drain_step(kg_cl_world* w)
 /* The step's contacts become the current ones, on the device (where the solver left their
  * impulses) and in the host's list, which is read back when asked for. A list built on
  * the device starts a new step of the host's list here, where nothing can fail any more. */
-static void kg_commit_contacts(kg_world* world, kg_cl_backend* b, int count, int body_count, int on_device)
+static void kg_commit_contacts(kg_world* world, kg_cl_backend* b)
 {
-    if (on_device) {
+    if (b->step_on_device) {
         kg_contact* previous = NULL;
         int previous_count = 0;
         kg_collision_begin_step(world, &previous, &previous_count);
-        kg_collision_set_count(world, count, body_count);
+        kg_collision_set_count(world, b->step_count, b->step_body_count);
     }
     b->w->current ^= 1;
     kg_cl_commit_tile_state(b);
-    b->body_contact_count = body_count;
-    b->contacts_stale = count > 0;
+    b->body_contact_count = b->step_body_count;
+    b->contacts_stale = b->step_count > 0;
 }
-
-static kg_result kg_cl_step_stages(kg_world* world, kg_cl_backend* b, float dt);
 
 /* The forces the step begins with, for a fallback that cannot read the device: zero after
  * a step, unless the host set some since (then they are about to be uploaded). */
@@ -504,43 +515,57 @@ static void kg_save_start_forces(kg_world* world, kg_cl_backend* b)
     }
 }
 
-kg_result kg_cl_step(kg_world* world, kg_cl_backend* b, float dt)
-{
-    b->in_step = 1;
-    b->fallback_pending = 0;
-    kg_result r = kg_cl_step_stages(world, b, dt);
-    b->in_step = 0;
-    return r;
-}
-
-static kg_result kg_cl_step_stages(kg_world* world, kg_cl_backend* b, float dt)
+kg_result kg_cl_begin_step(kg_world* world, kg_cl_backend* b)
 {
     kg_cl_world* w = b->w;
-    world->times.count = 0;
+    b->in_step = 1;
+    b->fallback_pending = 0;
+    b->checkpoint_valid = 0;
+    b->step_on_device = 1;
+    b->step_pairs = b->step_count = b->step_body_count = 0;
     world->times.warm_starts_carried = -1; /* contacts are built on the device, uncounted */
     world->times.warm_starts_missed = -1;
     w->profiling = ((kg_backend_state*)world->backend_state)->profiling;
-    b->checkpoint_valid = 0;
     double t = kg_now_ms();
     kg_save_start_forces(world, b);
     KG_TRY(kg_cl_to_device(w, &world->bodies, KG_CL_ALL_ARRAYS));
     KG_TRY(kg_cl_save_checkpoint(w, &world->bodies));
     b->checkpoint_valid = 1;
-    kg_time_stage(world, "upload", 0, &t);
-    KG_TRY(kg_stage_forces(world, b));
-    kg_time_stage(world, "forces", 0, &t);
-    int count = 0, body_count = 0, on_device = 0;
-    KG_TRY(kg_stage_collide_cl(world, b, &count, &body_count, &on_device));
-    kg_time_stage(world, on_device ? "collide" : "collide (host)", !on_device, &t);
-    KG_TRY(kg_stage_solve_on_device(world, b, dt, count));
-    kg_time_stage(world, "solve", 0, &t);
-    KG_TRY(kg_stage_finalize_on_device(world, b, dt));
-    kg_time_stage(world, "finalize", 0, &t);
-    KG_TRY(kg_cl_sleep_on_device(world, b, count));
+    kg_time_bracket(world, "upload", t);
+    return KG_OK;
+}
+
+kg_result kg_cl_run_stage(kg_world* world, kg_cl_backend* b, kg_stage stage, float dt)
+{
+    switch (stage) {
+    case KG_STAGE_FORCES: return kg_stage_forces(world, b);
+    case KG_STAGE_COLLIDE: return kg_stage_collide_cl(world, b);
+    case KG_STAGE_WAKE: return kg_stage_wake_cl(world, b);
+    case KG_STAGE_SOLVE: return kg_stage_solve_on_device(world, b, dt);
+    case KG_STAGE_FINALIZE: return kg_stage_finalize_on_device(world, b, dt);
+    case KG_STAGE_SLEEP: return kg_cl_sleep_on_device(world, b, b->step_count);
+    case KG_STAGE_COUNT: break;
+    }
+    return KG_OK;
+}
+
+const char* kg_cl_stage_label(const kg_world* world, const kg_cl_backend* b, kg_stage stage)
+{
+    int on_host = !b->step_on_device && (stage == KG_STAGE_COLLIDE || stage == KG_STAGE_WAKE);
+    if (((const kg_backend_state*)world->backend_state)->profiling && !on_host) {
+        return NULL; /* its kernels are timed by their events */
+    }
+    return stage == KG_STAGE_COLLIDE && on_host ? "collide (host)" : kg_stage_name(stage);
+}
+
+kg_result kg_cl_end_step(kg_world* world, kg_cl_backend* b)
+{
+    kg_cl_world* w = b->w;
+    double t = kg_now_ms();
     KG_TRY(kg_drain_step(w));
-    kg_time_stage(world, "sleep", 0, &t);
+    kg_time_bracket(world, "finish", t);
     KG_TRY(kg_check_fallback(b)); /* only callbacks request one; checked before the commit all the same */
-    kg_commit_contacts(world, b, count, body_count, on_device);
+    kg_commit_contacts(world, b);
     if (w->profiling) {
         kg_add_kernel_times(world, w);
     }
