@@ -3,7 +3,7 @@
  * with last step's impulses carried over point by point through the feature ids. */
 #include "collide/collide.h"
 #include "backend/backend.h"
-#include "backend/cpu/parallel.h"
+#include "core/parallel.h"
 #include "collide/aabb.h"
 #include "collide/broadphase.h"
 #include "collide/manifold.h"

@@ -1,5 +1,5 @@
 #include "core/world.h"
-#include "backend/cpu/parallel.h"
+#include "core/parallel.h"
 #include "backend/backend.h"
 #include "core/alloc.h"
 #include "core/error.h"

@@ -9,7 +9,7 @@
  * Every loop over constraints runs colour by colour; within a colour the constraints
  * share no moving body, so they run in parallel with results independent of the order. */
 #include "solve/solver.h"
-#include "backend/cpu/parallel.h"
+#include "core/parallel.h"
 #include "collide/aabb.h"
 #include "collide/collide.h"
 #include "core/alloc.h"

@@ -1,4 +1,5 @@
-/* A small thread pool for the CPU backend's loops. Work is split into fixed chunks of
+/* A small thread pool for the stages' loops over their elements on the CPU (it lives
+ * in core, below the stages, which know no backend). Work is split into fixed chunks of
  * the index range, and every element's result depends only on its own inputs, so the
  * answer is the same bits whatever the thread count. Workers spin briefly between the
  * many short loops of a step (colours x sub-steps) and sleep between steps. */

@@ -1,4 +1,4 @@
-#include "backend/cpu/parallel.h"
+#include "core/parallel.h"
 #include "core/alloc.h"
 
 #include <pthread.h>
