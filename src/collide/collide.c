@@ -257,7 +257,7 @@ static void kg_build_range(void* context, int begin, int end)
         ct->generation_a = p->generation[a];
         ct->generation_b = p->generation[b];
         ct->friction = sqrtf(p->friction[a] * p->friction[b]);
-        ct->restitution = fmaxf(p->restitution[a], p->restitution[b]);
+        ct->restitution = kg_maxf(p->restitution[a], p->restitution[b]);
         ct->pad = 0u;
         ct->base = c->bases[k];
     }
