@@ -25,8 +25,28 @@
 #define KG_INITIAL_CONTACTS_PER_BODY 1
 #define KG_MIN_CONTACT_SLOTS 64
 
+/* How much larger than its bounds each body's box is in the broadphase search whose pairs
+ * are kept (m; Box2D's aabbMargin): the search runs again only when a box leaves its
+ * enlarged one or a body is added, removed or changed. large_pyramid, settling (steps
+ * 21..40), searches twice in 20 steps; 0.05 m costs it 0.5 M instructions a step more
+ * (searching more often), 0.2 m saves 0.2 M and costs a rain more. */
+#define KG_PAIR_SLACK 0.1f
+
+/* Where bodies fly (a rain, a wall smashed), some box leaves its enlarged one every step,
+ * and a search with slack costs more than one without (larger boxes, more pairs, then the
+ * check and the picking): after one that served no later step, the next 1, 2, 4, ... up
+ * to this many steps search without it. */
+#define KG_MAX_PLAIN_RUN 64
+
 struct kg_collision {
     kg_broadphase* broadphase;
+    kg_pair* found;         /* the last search's pairs, with the slack: a superset of the
+                             * pairs while kg_broadphase_covers says so */
+    int found_count;        /* -1 when found holds no search's pairs */
+    int found_capacity;
+    int found_served;       /* whether the found pairs served a step after their search's */
+    int plain_run;          /* steps to search without slack after a search with it served none */
+    int plain_left;         /* of those, still to go */
     kg_pair* pairs;
     kg_manifold* manifolds; /* one per pair */
     kg_contact_base* bases; /* one per pair: the manifold as computed (collide/recycle.h) */
@@ -46,6 +66,7 @@ struct kg_collision {
 
 static void kg_free_buffers(struct kg_collision* c)
 {
+    kg_free(c->found);
     kg_free(c->pairs);
     kg_free(c->manifolds);
     kg_free(c->bases);
@@ -106,6 +127,7 @@ kg_result kg_collision_create(kg_world* world)
     int64_t initial = (int64_t)KG_INITIAL_CONTACTS_PER_BODY * world->def.max_bodies;
     initial = initial > KG_MIN_CONTACT_SLOTS ? initial : KG_MIN_CONTACT_SLOTS;
     kg_result r = kg_broadphase_create(world->def.max_bodies, &c->broadphase);
+    c->found_count = -1;
     return r == KG_OK ? kg_reserve(world, (int)(initial < c->budget ? initial : c->budget)) : r;
 }
 
@@ -132,18 +154,80 @@ void kg_collision_destroy(kg_world* world)
     }
 }
 
+static int kg_grown_count(int n)
+{
+    int64_t want = (int64_t)n + n / 2;
+    return want < INT_MAX ? (int)want : INT_MAX;
+}
+
+/* A search with the slack into c->found, grown to half again the pairs when they do not
+ * fit (a pool finding its size); -1 when out of memory for it. */
+static int kg_search_with_slack(kg_world* world)
+{
+    struct kg_collision* c = world->collision;
+    float margin = world->def.speculative_distance + KG_PAIR_SLACK;
+    int n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->found, c->found_capacity);
+    if (n > c->found_capacity) {
+        int grown = kg_grown_count(n);
+        if (!kg_regrow((void**)&c->found, 0, (size_t)grown * sizeof *c->found)) {
+            return -1;
+        }
+        c->found_capacity = grown;
+        n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->found, c->found_capacity);
+    }
+    return n;
+}
+
+/* Whether c->found holds every pair of this step: last step's search still covers the
+ * boxes, or a new one with the slack does (unless it is a step to search without). */
+static int kg_found_serves(kg_world* world)
+{
+    struct kg_collision* c = world->collision;
+    float margin = world->def.speculative_distance;
+    if (c->found_count >= 0) {
+        if (kg_broadphase_covers(c->broadphase, &world->bodies, margin)) {
+            c->found_served = 1;
+            return 1;
+        }
+        c->plain_run = c->found_served ? 0 : kg_min_int(c->plain_run > 0 ? 2 * c->plain_run : 1, KG_MAX_PLAIN_RUN);
+        c->plain_left = c->plain_run;
+        c->found_count = -1;
+    }
+    if (c->plain_left > 0) {
+        c->plain_left -= 1;
+        return 0;
+    }
+    c->found_count = kg_search_with_slack(world);
+    c->found_served = 0;
+    return c->found_count >= 0 && kg_broadphase_covers(c->broadphase, &world->bodies, margin);
+}
+
+/* This step's pairs into c->pairs, as many as fit; returns how many there are. Picked
+ * from the found pairs when they serve, the very list a search gives
+ * (collide/broadphase.h); else searched without slack (also when they cannot serve: out
+ * of memory for them, or boxes at the edge of the floats that the slack turns infinite). */
+static int kg_pairs_now(kg_world* world, int found_serves)
+{
+    struct kg_collision* c = world->collision;
+    if (found_serves) {
+        return kg_broadphase_keep_pairs(c->broadphase, c->found, c->found_count, c->pairs, c->capacity);
+    }
+    c->found_count = -1; /* this search overwrites what the broadphase saw */
+    return kg_broadphase_find_pairs(c->broadphase, &world->bodies, world->def.speculative_distance, c->pairs,
+                                    c->capacity);
+}
+
 /* Pairs into c->pairs. A full buffer is the one case where a step allocates: it grows to
- * half again the pairs found, and the broadphase runs again, because dropping contacts
+ * half again the pairs found, and the pairs are taken again, because dropping contacts
  * would let bodies fall through each other. Up to max_contacts this is the pool finding
  * its size, silently; past it, it warns (once). */
 static kg_result kg_find_pairs(kg_world* world, int* pair_count)
 {
     struct kg_collision* c = world->collision;
-    float margin = world->def.speculative_distance;
-    int n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->pairs, c->capacity);
+    int found_serves = kg_found_serves(world);
+    int n = kg_pairs_now(world, found_serves);
     if (n > c->capacity) {
-        int64_t want = (int64_t)n + n / 2;
-        int grown = want < INT_MAX ? (int)want : INT_MAX;
+        int grown = kg_grown_count(n);
         if (n > c->budget) {
             kg_warn_once("contacts-grow", "more touching pairs (%d) than max_contacts (%d): growing the contact pool; "
                          "raise kg_world_def.max_contacts to avoid this", n, c->budget);
@@ -155,7 +239,7 @@ static kg_result kg_find_pairs(kg_world* world, int* pair_count)
         if (r != KG_OK) {
             return r;
         }
-        n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->pairs, c->capacity);
+        n = kg_pairs_now(world, found_serves);
     }
     *pair_count = n;
     return KG_OK;
