@@ -1,6 +1,6 @@
 /* The broadphase against a brute-force all-pairs check: same pairs, sorted, no duplicates,
  * on random mixed scenes, moving scenes, the shapes of the standard benchmark scenes,
- * degenerate inputs and output overflow. */
+ * degenerate inputs and output overflow; and the pairs of a search kept for later steps. */
 #include "collide/aabb.h"
 #include "collide/broadphase.h"
 #include "core/body_pool.h"
@@ -566,6 +566,83 @@ static void test_degenerate_scenes(void)
     kg_body_pool_free(&pool);
 }
 
+/* Nudges every non-static body by up to reach on each axis. */
+static void nudge_scene(kg_body_pool* pool, float reach)
+{
+    for (int i = 0; i < pool->high_water; ++i) {
+        if (kg_pool_alive(pool, i) && kg_pool_type(pool, i) != KG_BODY_STATIC) {
+            kg_vec2 d = rng_vec(-reach, reach);
+            pool->aabb[i].lower = kg_add(pool->aabb[i].lower, d);
+            pool->aabb[i].upper = kg_add(pool->aabb[i].upper, d);
+        }
+    }
+}
+
+/* Whether the pairs of a search with margin + slack, kept, are exactly a search's now. */
+static int kept_pairs_exact(kg_broadphase* bp, const kg_body_pool* pool, float margin, const kg_pair* kept,
+                            int kept_count, pair_buffers* buf)
+{
+    int expected = brute_force_pairs(pool, margin, buf->expected, buf->capacity);
+    int n = kg_broadphase_keep_pairs(bp, kept, kept_count, buf->found, buf->capacity);
+    return n == expected && same_pairs(buf->found, buf->expected, n, "kept pairs");
+}
+
+/* A search with slack serves later steps while the boxes stay within the slack and
+ * nothing else changes; any change that may add a pair makes it stop. */
+static void test_kept_pairs(void)
+{
+    const float margin = 0.05f, slack = 0.1f;
+    kg_body_pool pool;
+    KG_CHECK_OK(kg_body_pool_init(&pool, 4000));
+    kg_broadphase* bp = make_broadphase(4000);
+    pair_buffers buf = make_buffers(200000);
+    kg_pair* kept = malloc(200000 * sizeof *kept);
+    rng_state = 777u;
+    fill_random_scene(&pool, 3000, 100.0f);
+    int count = kg_broadphase_find_pairs(bp, &pool, margin + slack, kept, 200000);
+    for (int step = 0; step < 4; ++step) {
+        nudge_scene(&pool, 0.02f);
+        KG_CHECK(kg_broadphase_covers(bp, &pool, margin));
+        KG_CHECK(kept_pairs_exact(bp, &pool, margin, kept, count, &buf));
+    }
+    KG_CHECK(!kg_broadphase_covers(bp, &pool, margin + 2.0f * slack)); /* boxes grown past it */
+
+    int body = 0;
+    while (!kg_pool_alive(&pool, body) || kg_pool_type(&pool, body) != KG_BODY_DYNAMIC ||
+           (pool.flags[body] & KG_FLAG_FROZEN)) {
+        body += 1;
+    }
+    kg_aabb box = pool.aabb[body];
+    kg_u32 category = pool.category[body], mask = pool.mask[body], flags = pool.flags[body];
+    pool.aabb[body].upper.x += 0.2f; /* out of its enlarged box */
+    KG_CHECK(!kg_broadphase_covers(bp, &pool, margin));
+    pool.aabb[body] = box;
+    pool.category[body] = category ^ 2u;
+    KG_CHECK(!kg_broadphase_covers(bp, &pool, margin));
+    pool.category[body] = category;
+    pool.mask[body] = mask ^ 2u;
+    KG_CHECK(!kg_broadphase_covers(bp, &pool, margin));
+    pool.mask[body] = mask;
+    pool.flags[body] |= KG_FLAG_FROZEN; /* no longer moves */
+    KG_CHECK(!kg_broadphase_covers(bp, &pool, margin));
+    pool.flags[body] = flags;
+    pool.aabb[body].lower.x = NAN;
+    KG_CHECK(!kg_broadphase_covers(bp, &pool, margin));
+    pool.aabb[body] = box;
+    kg_body_pool_release(&pool, body);
+    KG_CHECK(!kg_broadphase_covers(bp, &pool, margin));
+    /* a body born in its slot, the same to the search as the one that died */
+    KG_CHECK(add_body(&pool, KG_BODY_DYNAMIC, box) == body);
+    KG_CHECK(kg_broadphase_covers(bp, &pool, margin) == (category == 1u && mask == ALL_BITS));
+    add_body(&pool, KG_BODY_DYNAMIC, box); /* in a slot dead at the search */
+    KG_CHECK(!kg_broadphase_covers(bp, &pool, margin));
+
+    free(kept);
+    free_buffers(&buf);
+    kg_broadphase_destroy(bp);
+    kg_body_pool_free(&pool);
+}
+
 KG_TEST_MAIN(KG_TEST(test_empty_and_single), KG_TEST(test_pair_rules), KG_TEST(test_random_moving_scenes),
              KG_TEST(test_deterministic), KG_TEST(test_overflow), KG_TEST(test_standard_scene_shapes),
-             KG_TEST(test_container_with_huge_walls), KG_TEST(test_degenerate_scenes))
+             KG_TEST(test_container_with_huge_walls), KG_TEST(test_degenerate_scenes), KG_TEST(test_kept_pairs))

@@ -50,7 +50,7 @@ KG_FN kg_aabb kg_aabb_sweep(kg_aabb box, kg_vec2 displacement)
  * 0.1 m a step sank up to 8 cm before its contact existed, and bounced 5% low. */
 KG_FN float kg_pair_speculative(float base, kg_vec2 va, kg_vec2 vb, float dt)
 {
-    return fminf(base + dt * kg_length(kg_sub(vb, va)), KG_MAX_SPECULATIVE_SCALE * base);
+    return kg_minf(base + dt * kg_length(kg_sub(vb, va)), KG_MAX_SPECULATIVE_SCALE * base);
 }
 
 #endif

@@ -42,6 +42,20 @@ typedef struct kg_proxy {
     kg_u32 moves; /* dynamic or particle */
 } kg_proxy;
 
+/* What the last search saw of a slot, all that decides its pairs: its fattened box, the
+ * filter, and whether it took part (KG_SEEN_OUT: dead or not finite) and moves. */
+typedef struct kg_seen {
+    kg_aabb box;
+    kg_u32 category;
+    kg_u32 mask;
+    kg_u32 state;
+    kg_u32 pad;
+} kg_seen;
+
+#define KG_SEEN_OUT 0u
+#define KG_SEEN_STILL 1u
+#define KG_SEEN_MOVES 2u
+
 typedef struct kg_grid {
     kg_vec2 origin;
     float cell_size;
@@ -59,7 +73,8 @@ typedef enum kg_emit_mode {
 struct kg_broadphase {
     int capacity;
     kg_grid grid;
-    kg_proxy* proxies;     /* candidates, in slot order */
+    kg_proxy* proxies;     /* candidates, in slot order; after kg_broadphase_covers, indexed
+                            * by slot (the boxes kg_broadphase_keep_pairs tests) */
     kg_proxy* sorted;      /* small proxies, in key order */
     int proxy_count;
     int small_count;
@@ -77,6 +92,8 @@ struct kg_broadphase {
     int* run_count;        /* per lower slot: how many pairs */
     int* run_start;        /* per lower slot: first output index, saturated at INT_MAX */
     int* run_next;         /* per lower slot: next output index while filling */
+    kg_seen* seen;         /* per slot: what the last search saw */
+    int seen_count;        /* slots the last search looked at */
     kg_u32 histogram[KG_RADIX_BUCKETS];
 
     /* the pair sink of the current pass */
@@ -111,8 +128,9 @@ kg_result kg_broadphase_create(int capacity, kg_broadphase** out)
     bp->run_count = kg_alloc_zeroed(n * sizeof *bp->run_count);
     bp->run_start = kg_alloc_zeroed(n * sizeof *bp->run_start);
     bp->run_next = kg_alloc_zeroed(n * sizeof *bp->run_next);
+    bp->seen = kg_alloc_zeroed(n * sizeof *bp->seen);
     if (!bp->proxies || !bp->sorted || !bp->keys || !bp->items || !bp->large_keys || !bp->large_items ||
-        !bp->key_scratch || !bp->item_scratch || !bp->run_count || !bp->run_start || !bp->run_next) {
+        !bp->key_scratch || !bp->item_scratch || !bp->run_count || !bp->run_start || !bp->run_next || !bp->seen) {
         kg_broadphase_destroy(bp);
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate a broadphase for %d bodies", capacity);
     }
@@ -136,6 +154,7 @@ void kg_broadphase_destroy(kg_broadphase* bp)
     kg_free(bp->run_count);
     kg_free(bp->run_start);
     kg_free(bp->run_next);
+    kg_free(bp->seen);
     kg_free(bp);
 }
 
@@ -226,13 +245,27 @@ static kg_u32 kg_extent_bin(float extent)
     return bits >> KG_EXTENT_SHIFT;
 }
 
-/* Copies the candidates out of the pool and bins their extents into the histogram. */
+static kg_seen kg_seen_of(const kg_proxy* p)
+{
+    kg_seen s;
+    s.box = p->box;
+    s.category = p->category;
+    s.mask = p->mask;
+    s.state = p->moves ? KG_SEEN_MOVES : KG_SEEN_STILL;
+    s.pad = 0u;
+    return s;
+}
+
+/* Copies the candidates out of the pool, bins their extents into the histogram and notes
+ * what it saw of each slot. */
 static void kg_gather_proxies(kg_broadphase* bp, const kg_body_pool* bodies, float margin)
 {
     memset(bp->histogram, 0, sizeof bp->histogram);
     int n = 0;
+    bp->seen_count = bodies->high_water;
     for (int i = 0; i < bodies->high_water; ++i) {
         bp->run_count[i] = 0;
+        bp->seen[i].state = KG_SEEN_OUT;
         if (!kg_pool_alive(bodies, i)) {
             continue;
         }
@@ -248,6 +281,7 @@ static void kg_gather_proxies(kg_broadphase* bp, const kg_body_pool* bodies, flo
         /* a frozen body stays where it froze, as solid as a static one; a sleeping one
          * keeps its contacts, so that its stack wakes warm */
         p->moves = kg_pool_collides(bodies, i);
+        bp->seen[i] = kg_seen_of(p);
         bp->histogram[kg_extent_bin(kg_extent(box))] += 1;
     }
     bp->proxy_count = n;
@@ -696,4 +730,58 @@ int kg_broadphase_find_pairs(kg_broadphase* bp, const kg_body_pool* bodies, floa
     kg_write_output(bp, slot_count);
     bp->out = NULL;
     return bp->total < INT_MAX ? (int)bp->total : INT_MAX;
+}
+
+/* ---- pairs kept across steps ---- */
+
+/* False when inner has a NaN or an infinity (outer, seen in a search, is finite). */
+static int kg_box_within(kg_aabb inner, kg_aabb outer)
+{
+    return inner.lower.x >= outer.lower.x && inner.lower.y >= outer.lower.y && inner.upper.x <= outer.upper.x &&
+           inner.upper.y <= outer.upper.y;
+}
+
+/* Whether slot i, as it is now (box fattened by margin), pairs with nothing the last
+ * search's view of it would not have paired it with. */
+static int kg_seen_covers(const kg_seen* seen, const kg_body_pool* bodies, int i, kg_aabb box)
+{
+    if (!kg_pool_alive(bodies, i)) {
+        return seen->state == KG_SEEN_OUT;
+    }
+    if (seen->state == KG_SEEN_OUT) { /* alive then and not finite, or born since */
+        return !kg_vec_is_finite(box.lower) || !kg_vec_is_finite(box.upper);
+    }
+    kg_u32 state = kg_pool_collides(bodies, i) ? KG_SEEN_MOVES : KG_SEEN_STILL;
+    return seen->state == state && seen->category == bodies->category[i] && seen->mask == bodies->mask[i] &&
+           kg_box_within(box, seen->box);
+}
+
+int kg_broadphase_covers(kg_broadphase* bp, const kg_body_pool* bodies, float margin)
+{
+    if (bodies->high_water != bp->seen_count) {
+        return 0;
+    }
+    for (int i = 0; i < bodies->high_water; ++i) {
+        kg_aabb box = kg_aabb_fatten(bodies->aabb[i], margin);
+        if (!kg_seen_covers(&bp->seen[i], bodies, i, box)) {
+            return 0;
+        }
+        bp->proxies[i].box = box;
+    }
+    return 1;
+}
+
+int kg_broadphase_keep_pairs(const kg_broadphase* bp, const kg_pair* found, int count, kg_pair* out, int capacity)
+{
+    int n = 0;
+    for (int k = 0; k < count; ++k) {
+        kg_pair pair = found[k];
+        if (kg_aabb_overlap(bp->proxies[pair.a].box, bp->proxies[pair.b].box)) {
+            if (n < capacity) {
+                out[n] = pair;
+            }
+            n += 1;
+        }
+    }
+    return n;
 }

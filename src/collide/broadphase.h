@@ -16,9 +16,14 @@
  *    a global sort of the pairs, and without a second pair buffer. When the pairs do not
  *    all fit the caller's buffer, the search runs a second time to place those that fit
  *    (no allocation).
+ *  - Each search notes what it saw of every slot (box, filter, whether it moves), so that a
+ *    search made with boxes enlarged beyond the margin can serve the next steps: while
+ *    kg_broadphase_covers says every box is still within what was seen, its pairs hold
+ *    every pair a search now would find, and kg_broadphase_keep_pairs picks those.
  * Everything is integer keyed, so the output depends only on the input.
- * Memory: 100 bytes per body of capacity (proxies twice, 32 each; six sort buffers and
- * three run arrays, 4 each), all allocated by kg_broadphase_create. */
+ * Memory: 132 bytes per body of capacity (proxies twice and what was seen of each slot,
+ * 32 each; six sort buffers and three run arrays, 4 each), all allocated by
+ * kg_broadphase_create. */
 #ifndef KG_BROADPHASE_H
 #define KG_BROADPHASE_H
 
@@ -49,6 +54,18 @@ void kg_broadphase_destroy(kg_broadphase* bp);
  * and margin must be >= 0 (boxes turned inside out would escape the grid). */
 int kg_broadphase_find_pairs(kg_broadphase* bp, const kg_body_pool* bodies, float margin, kg_pair* out,
                              int capacity);
+
+/* Whether a search with margin now would find no pair that the last search did not: every
+ * slot it looked at (and no other) is as it was then, alive or not, with the same filter
+ * and motion type, and its box fattened by margin lies within the box that search saw
+ * (fattened by its own margin). Then stores those boxes for kg_broadphase_keep_pairs. */
+int kg_broadphase_covers(kg_broadphase* bp, const kg_body_pool* bodies, float margin);
+
+/* After kg_broadphase_covers said yes, given the last search's pairs (found, count): the
+ * pairs a search with that margin would give now, in the same (a, b) order, as
+ * kg_broadphase_find_pairs writes and counts them (the first capacity written, the total
+ * returned). The other conditions of a pair are unchanged, so only the boxes are tested. */
+int kg_broadphase_keep_pairs(const kg_broadphase* bp, const kg_pair* found, int count, kg_pair* out, int capacity);
 
 /* The grid of the last call, for tests and benchmarks: cell size (m) and how many boxes
  * were small (keyed in the grid) and large (handled apart). */

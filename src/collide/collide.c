@@ -25,20 +25,38 @@
 #define KG_INITIAL_CONTACTS_PER_BODY 1
 #define KG_MIN_CONTACT_SLOTS 64
 
+/* How much larger than its bounds each body's box is in the broadphase search whose pairs
+ * are kept (m; Box2D's aabbMargin): the search runs again only when a box leaves its
+ * enlarged one or a body is added, removed or changed. large_pyramid, settling (steps
+ * 21..40), searches twice in 20 steps; 0.05 m costs it 0.5 M instructions a step more
+ * (searching more often), 0.2 m saves 0.2 M and costs a rain more. */
+#define KG_PAIR_SLACK 0.1f
+
+/* Where bodies fly (a rain, a wall smashed), some box leaves its enlarged one every step,
+ * and a search with slack costs more than one without (larger boxes, more pairs, then the
+ * check and the picking): after one that served no later step, the next 1, 2, 4, ... up
+ * to this many steps search without it. */
+#define KG_MAX_PLAIN_RUN 64
+
 struct kg_collision {
     kg_broadphase* broadphase;
+    kg_pair* found;         /* the last search's pairs, with the slack: a superset of the
+                             * pairs while kg_broadphase_covers says so */
+    int found_count;        /* -1 when found holds no search's pairs */
+    int found_capacity;
+    int found_served;       /* whether the found pairs served a step after their search's */
+    int plain_run;          /* steps to search without slack after a search with it served none */
+    int plain_left;         /* of those, still to go */
     kg_pair* pairs;
-    kg_manifold* manifolds; /* one per pair */
-    kg_contact_base* bases; /* one per pair: the manifold as computed (collide/recycle.h) */
     int* previous_of;       /* one per pair: last step's contact of the pair, or -1 */
-    int* contact_of;        /* one per pair: its contact this step, or -1 */
+    int* block_touching;    /* one per block of KG_PAIR_BLOCK pairs: how many touch */
     kg_contact* contacts;
     kg_contact* previous;
     int count;
     int previous_count;
     int body_count;          /* contacts [0, body_count) are body pairs, the rest tiles */
     int previous_body_count;
-    int capacity;           /* of pairs, manifolds and both contact arrays; world->def.max_contacts
+    int capacity;           /* of pairs and both contact arrays; world->def.max_contacts
                              * is kept equal to it (the solver and the OpenCL backend size from it) */
     int budget;             /* pairs the pool may grow to without a warning: max_contacts as
                              * given, or as raised by a growth past it */
@@ -46,14 +64,20 @@ struct kg_collision {
 
 static void kg_free_buffers(struct kg_collision* c)
 {
+    kg_free(c->found);
     kg_free(c->pairs);
-    kg_free(c->manifolds);
-    kg_free(c->bases);
     kg_free(c->previous_of);
-    kg_free(c->contact_of);
+    kg_free(c->block_touching);
     kg_free(c->contacts);
     kg_free(c->previous);
 }
+
+/* The narrowphase takes the pairs in blocks of this many: a block's contacts are written
+ * one after another from the block's first index (as many as touch), then the blocks are
+ * moved together (kg_gather_blocks). */
+#define KG_PAIR_BLOCK 64
+
+static size_t kg_block_count(size_t pairs) { return (pairs + KG_PAIR_BLOCK - 1) / KG_PAIR_BLOCK; }
 
 /* Replaces *buffer by a zeroed one of size bytes holding its first keep bytes; on failure
  * *buffer is left as it was. */
@@ -80,10 +104,8 @@ static kg_result kg_reserve(kg_world* world, int capacity)
     struct kg_collision* c = world->collision;
     size_t n = (size_t)(capacity > 0 ? capacity : 1);
     if (!kg_regrow((void**)&c->pairs, 0, n * sizeof *c->pairs) ||
-        !kg_regrow((void**)&c->manifolds, 0, n * sizeof *c->manifolds) ||
-        !kg_regrow((void**)&c->bases, 0, n * sizeof *c->bases) ||
         !kg_regrow((void**)&c->previous_of, 0, n * sizeof *c->previous_of) ||
-        !kg_regrow((void**)&c->contact_of, 0, n * sizeof *c->contact_of) ||
+        !kg_regrow((void**)&c->block_touching, 0, kg_block_count(n) * sizeof *c->block_touching) ||
         !kg_regrow((void**)&c->contacts, (size_t)c->count * sizeof *c->contacts, n * sizeof *c->contacts) ||
         !kg_regrow((void**)&c->previous, (size_t)c->previous_count * sizeof *c->previous, n * sizeof *c->previous)) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate room for %d contacts", capacity);
@@ -106,6 +128,7 @@ kg_result kg_collision_create(kg_world* world)
     int64_t initial = (int64_t)KG_INITIAL_CONTACTS_PER_BODY * world->def.max_bodies;
     initial = initial > KG_MIN_CONTACT_SLOTS ? initial : KG_MIN_CONTACT_SLOTS;
     kg_result r = kg_broadphase_create(world->def.max_bodies, &c->broadphase);
+    c->found_count = -1;
     return r == KG_OK ? kg_reserve(world, (int)(initial < c->budget ? initial : c->budget)) : r;
 }
 
@@ -132,18 +155,80 @@ void kg_collision_destroy(kg_world* world)
     }
 }
 
+static int kg_grown_count(int n)
+{
+    int64_t want = (int64_t)n + n / 2;
+    return want < INT_MAX ? (int)want : INT_MAX;
+}
+
+/* A search with the slack into c->found, grown to half again the pairs when they do not
+ * fit (a pool finding its size); -1 when out of memory for it. */
+static int kg_search_with_slack(kg_world* world)
+{
+    struct kg_collision* c = world->collision;
+    float margin = world->def.speculative_distance + KG_PAIR_SLACK;
+    int n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->found, c->found_capacity);
+    if (n > c->found_capacity) {
+        int grown = kg_grown_count(n);
+        if (!kg_regrow((void**)&c->found, 0, (size_t)grown * sizeof *c->found)) {
+            return -1;
+        }
+        c->found_capacity = grown;
+        n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->found, c->found_capacity);
+    }
+    return n;
+}
+
+/* Whether c->found holds every pair of this step: last step's search still covers the
+ * boxes, or a new one with the slack does (unless it is a step to search without). */
+static int kg_found_serves(kg_world* world)
+{
+    struct kg_collision* c = world->collision;
+    float margin = world->def.speculative_distance;
+    if (c->found_count >= 0) {
+        if (kg_broadphase_covers(c->broadphase, &world->bodies, margin)) {
+            c->found_served = 1;
+            return 1;
+        }
+        c->plain_run = c->found_served ? 0 : kg_min_int(c->plain_run > 0 ? 2 * c->plain_run : 1, KG_MAX_PLAIN_RUN);
+        c->plain_left = c->plain_run;
+        c->found_count = -1;
+    }
+    if (c->plain_left > 0) {
+        c->plain_left -= 1;
+        return 0;
+    }
+    c->found_count = kg_search_with_slack(world);
+    c->found_served = 0;
+    return c->found_count >= 0 && kg_broadphase_covers(c->broadphase, &world->bodies, margin);
+}
+
+/* This step's pairs into c->pairs, as many as fit; returns how many there are. Picked
+ * from the found pairs when they serve, the very list a search gives
+ * (collide/broadphase.h); else searched without slack (also when they cannot serve: out
+ * of memory for them, or boxes at the edge of the floats that the slack turns infinite). */
+static int kg_pairs_now(kg_world* world, int found_serves)
+{
+    struct kg_collision* c = world->collision;
+    if (found_serves) {
+        return kg_broadphase_keep_pairs(c->broadphase, c->found, c->found_count, c->pairs, c->capacity);
+    }
+    c->found_count = -1; /* this search overwrites what the broadphase saw */
+    return kg_broadphase_find_pairs(c->broadphase, &world->bodies, world->def.speculative_distance, c->pairs,
+                                    c->capacity);
+}
+
 /* Pairs into c->pairs. A full buffer is the one case where a step allocates: it grows to
- * half again the pairs found, and the broadphase runs again, because dropping contacts
+ * half again the pairs found, and the pairs are taken again, because dropping contacts
  * would let bodies fall through each other. Up to max_contacts this is the pool finding
  * its size, silently; past it, it warns (once). */
 static kg_result kg_find_pairs(kg_world* world, int* pair_count)
 {
     struct kg_collision* c = world->collision;
-    float margin = world->def.speculative_distance;
-    int n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->pairs, c->capacity);
+    int found_serves = kg_found_serves(world);
+    int n = kg_pairs_now(world, found_serves);
     if (n > c->capacity) {
-        int64_t want = (int64_t)n + n / 2;
-        int grown = want < INT_MAX ? (int)want : INT_MAX;
+        int grown = kg_grown_count(n);
         if (n > c->budget) {
             kg_warn_once("contacts-grow", "more touching pairs (%d) than max_contacts (%d): growing the contact pool; "
                          "raise kg_world_def.max_contacts to avoid this", n, c->budget);
@@ -155,43 +240,10 @@ static kg_result kg_find_pairs(kg_world* world, int* pair_count)
         if (r != KG_OK) {
             return r;
         }
-        n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->pairs, c->capacity);
+        n = kg_pairs_now(world, found_serves);
     }
     *pair_count = n;
     return KG_OK;
-}
-
-typedef struct kg_narrowphase_job {
-    const kg_body_pool* bodies;
-    const kg_pair* pairs;
-    const int* previous_of;
-    const kg_contact* previous;
-    kg_manifold* manifolds;
-    kg_contact_base* bases;
-    float speculative;
-    float dt;
-} kg_narrowphase_job;
-
-/* A manifold to be copied from last step's contact of the pair, not computed again. */
-#define KG_MANIFOLD_KEPT (-1)
-
-static int kg_rested(const kg_body_pool* p, kg_u32 i) { return (p->flags[i] & KG_FLAG_RESTED) != 0; }
-
-static void kg_narrowphase_range(void* context, int begin, int end)
-{
-    const kg_narrowphase_job* job = context;
-    const kg_body_pool* p = job->bodies;
-    for (int k = begin; k < end; ++k) {
-        kg_u32 a = job->pairs[k].a, b = job->pairs[k].b;
-        if (kg_rested(p, a) && kg_rested(p, b)) {
-            job->manifolds[k].point_count = KG_MANIFOLD_KEPT; /* same poses, same margin: same manifold */
-            continue;
-        }
-        float speculative = kg_pair_speculative(job->speculative, p->velocity[a], p->velocity[b], job->dt);
-        int old = job->previous_of[k];
-        kg_collide_or_recycle(&p->shape[a], p->xf[a], &p->shape[b], p->xf[b], speculative,
-                              old >= 0 ? &job->previous[old] : NULL, &job->manifolds[k], &job->bases[k]);
-    }
 }
 
 static int kg_pair_less(kg_u32 a0, kg_u32 b0, kg_u32 a1, kg_u32 b1) { return a0 < a1 || (a0 == a1 && b0 < b1); }
@@ -215,72 +267,111 @@ static void kg_match_previous(kg_world* world, int pair_count)
     }
 }
 
-typedef struct kg_build_job {
-    kg_world* world;
-    atomic_int carried, missed; /* warm starts, summed over the ranges */
-} kg_build_job;
-
-/* Pair k's contact, at the index the prefix sum gave it, with last step's impulses
- * carried over. A kept manifold takes last step's contact whole: nothing has moved or
- * been solved since (two sleeping or static bodies), so it is what computing it again
- * and carrying the impulses gives, bit for bit, and what the OpenCL backend, which does
- * compute it, gets. */
-static void kg_build_range(void* context, int begin, int end)
+/* Between two static or sleeping bodies: last step's contact whole. Nothing has moved or
+ * been solved since, so it is what computing it again and carrying the impulses gives,
+ * bit for bit, and what the OpenCL backend, which does compute it, gets. No contact last
+ * step, none now. */
+static void kg_keep_contact(kg_contact* ct, const kg_contact* prev)
 {
-    kg_build_job* job = context;
-    struct kg_collision* c = job->world->collision;
-    const kg_body_pool* p = &job->world->bodies;
-    int carried = 0, missed = 0;
+    if (prev) {
+        *ct = *prev;
+    } else {
+        ct->manifold.point_count = 0;
+    }
+}
+
+static void kg_set_contact_bodies(kg_contact* ct, const kg_body_pool* p, kg_u32 a, kg_u32 b)
+{
+    ct->a = a;
+    ct->b = b;
+    ct->tile = KG_NULL_INDEX;
+    ct->generation_a = p->generation[a];
+    ct->generation_b = p->generation[b];
+    ct->friction = sqrtf(p->friction[a] * p->friction[b]);
+    ct->restitution = kg_maxf(p->restitution[a], p->restitution[b]);
+    ct->pad = 0u;
+}
+
+typedef struct kg_narrowphase_job {
+    const kg_body_pool* bodies;
+    const kg_pair* pairs;
+    const int* previous_of;
+    const kg_contact* previous;
+    kg_contact* contacts;
+    int* block_touching;
+    int pair_count;
+    float speculative;
+    float dt;
+    atomic_int carried, missed; /* warm starts, summed over the ranges */
+} kg_narrowphase_job;
+
+static int kg_rested(const kg_body_pool* p, kg_u32 i) { return (p->flags[i] & KG_FLAG_RESTED) != 0; }
+
+/* The contacts of the pairs [begin, end) that touch, each a manifold computed or kept
+ * and last step's impulses carried over, written one after another from index begin in
+ * place (not a manifold per pair copied into a contact after: that copy cost more than
+ * moving the blocks together, which in a pile of touching bodies moves none). Returns how
+ * many. */
+static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int* carried_sum, int* missed_sum)
+{
+    const kg_body_pool* p = job->bodies;
+    int n = begin, carried = 0, missed = 0;
     for (int k = begin; k < end; ++k) {
-        int index = c->contact_of[k];
-        if (index < 0) {
+        kg_u32 a = job->pairs[k].a, b = job->pairs[k].b;
+        const kg_contact* prev = job->previous_of[k] >= 0 ? &job->previous[job->previous_of[k]] : NULL;
+        kg_contact* ct = &job->contacts[n]; /* a pair before it that did not touch left it free */
+        if (kg_rested(p, a) && kg_rested(p, b)) {
+            kg_keep_contact(ct, prev);
+            carried += ct->manifold.point_count;
+            n += ct->manifold.point_count > 0;
             continue;
         }
-        kg_manifold* m = &c->manifolds[k];
-        const kg_contact* prev = c->previous_of[k] >= 0 ? &c->previous[c->previous_of[k]] : NULL;
-        kg_contact* ct = &c->contacts[index];
-        if (m->point_count == KG_MANIFOLD_KEPT) {
-            *ct = *prev;
-            carried += prev->manifold.point_count;
+        float speculative = kg_pair_speculative(job->speculative, p->velocity[a], p->velocity[b], job->dt);
+        kg_collide_or_recycle(&p->shape[a], p->xf[a], &p->shape[b], p->xf[b], speculative, prev, &ct->manifold,
+                              &ct->base);
+        if (ct->manifold.point_count == 0) {
             continue;
         }
         if (prev) {
-            int matched = kg_contact_carry_impulses(m, &prev->manifold);
+            int matched = kg_contact_carry_impulses(&ct->manifold, &prev->manifold);
             carried += matched;
-            missed += m->point_count - matched;
+            missed += ct->manifold.point_count - matched;
         }
-        kg_u32 a = c->pairs[k].a, b = c->pairs[k].b;
-        ct->manifold = *m;
-        ct->a = a;
-        ct->b = b;
-        ct->tile = KG_NULL_INDEX;
-        ct->generation_a = p->generation[a];
-        ct->generation_b = p->generation[b];
-        ct->friction = sqrtf(p->friction[a] * p->friction[b]);
-        ct->restitution = fmaxf(p->restitution[a], p->restitution[b]);
-        ct->pad = 0u;
-        ct->base = c->bases[k];
+        kg_set_contact_bodies(ct, p, a, b);
+        n += 1;
+    }
+    *carried_sum += carried;
+    *missed_sum += missed;
+    return n - begin;
+}
+
+static void kg_narrowphase_range(void* context, int begin, int end)
+{
+    kg_narrowphase_job* job = context;
+    int carried = 0, missed = 0;
+    for (int block = begin; block < end; ++block) {
+        int first = block * KG_PAIR_BLOCK;
+        int last = first + KG_PAIR_BLOCK < job->pair_count ? first + KG_PAIR_BLOCK : job->pair_count;
+        job->block_touching[block] = kg_narrowphase_block(job, first, last, &carried, &missed);
     }
     atomic_fetch_add(&job->carried, carried);
     atomic_fetch_add(&job->missed, missed);
 }
 
-/* Touching pairs become contacts, in pair order (a prefix sum gives each its index), in
- * parallel; a kept manifold with no contact last step makes none now. */
-static void kg_build_contacts(kg_world* world, int pair_count)
+/* Moves each block's contacts to follow the last block's: the contacts of the touching
+ * pairs in pair order, so sorted by (a, b). Returns how many. One by one rather than by
+ * memmove, whose overlapping copy costs about four times the instructions. */
+static int kg_gather_blocks(kg_contact* contacts, const int* block_touching, int pair_count)
 {
-    struct kg_collision* c = world->collision;
     int count = 0;
-    for (int k = 0; k < pair_count; ++k) {
-        int points = c->manifolds[k].point_count;
-        int touching = points == KG_MANIFOLD_KEPT ? c->previous_of[k] >= 0 : points > 0;
-        c->contact_of[k] = touching ? count++ : -1;
+    for (int block = 0; (size_t)block < kg_block_count((size_t)pair_count); ++block) {
+        int first = block * KG_PAIR_BLOCK;
+        for (int i = 0; count != first && i < block_touching[block]; ++i) {
+            contacts[count + i] = contacts[first + i];
+        }
+        count += block_touching[block];
     }
-    kg_build_job job = {world, 0, 0};
-    kg_parallel_for(world->threads, pair_count, 256, kg_build_range, &job);
-    kg_count_warm_starts(world, atomic_load(&job.carried) + atomic_load(&job.missed), atomic_load(&job.carried));
-    c->count = count;
-    c->body_count = count;
+    return count;
 }
 
 void kg_collision_mark_rested(kg_world* world)
@@ -316,10 +407,13 @@ kg_result kg_stage_collide(kg_world* world)
         return r;
     }
     kg_match_previous(world, pair_count);
-    kg_narrowphase_job job = {&world->bodies, c->pairs, c->previous_of, c->previous, c->manifolds, c->bases,
-                              world->def.speculative_distance, world->last_dt};
-    kg_parallel_for(world->threads, pair_count, 64, kg_narrowphase_range, &job);
-    kg_build_contacts(world, pair_count);
+    kg_narrowphase_job job = {&world->bodies, c->pairs, c->previous_of, c->previous, c->contacts, c->block_touching,
+                              pair_count, world->def.speculative_distance, world->last_dt, 0, 0};
+    kg_parallel_for(world->threads, (int)kg_block_count((size_t)pair_count), 1, kg_narrowphase_range, &job);
+    int carried = atomic_load(&job.carried);
+    kg_count_warm_starts(world, carried + atomic_load(&job.missed), carried);
+    c->count = kg_gather_blocks(c->contacts, c->block_touching, pair_count);
+    c->body_count = c->count;
     int room = c->capacity - c->count;
     int tiles = kg_tilemap_collide(world, c->contacts + c->count, room, c->previous + c->previous_body_count,
                                    c->previous_count - c->previous_body_count);

@@ -145,7 +145,7 @@ KG_FN float kg_max_separation(const kg_shape* poly1, const kg_shape* poly2, int*
         kg_vec2 v = poly1->vertices[i];
         float deepest = KG_FLT_MAX;
         for (int j = 0; j < poly2->count; ++j) {
-            deepest = fminf(deepest, kg_dot(n, kg_sub(poly2->vertices[j], v)));
+            deepest = kg_minf(deepest, kg_dot(n, kg_sub(poly2->vertices[j], v)));
         }
         if (deepest > best) {
             best = deepest;
@@ -252,8 +252,8 @@ KG_FN kg_manifold kg_clip_to_face(const kg_face_contact* fc)
     /* an incident edge (nearly) perpendicular to the face cannot be clipped along it; it is
      * kept whole, its deeper end giving the depth */
     if (span > KG_LENGTH_EPSILON) {
-        t_lower = fmaxf(-fc->lower / span, 0.0f);
-        t_upper = fminf((fc->face_length - fc->lower) / span, 1.0f);
+        t_lower = kg_maxf(-fc->lower / span, 0.0f);
+        t_upper = kg_minf((fc->face_length - fc->lower) / span, 1.0f);
     }
     if (t_lower <= t_upper) {
         kg_push_face_point(&m, fc, kg_lerp(fc->v22, fc->v21, t_lower), fc->i11, fc->i22);
@@ -282,7 +282,7 @@ KG_FN float kg_min_separation(const kg_manifold* m)
 {
     float s = KG_FLT_MAX;
     for (int i = 0; i < m->point_count; ++i) {
-        s = fminf(s, m->points[i].separation);
+        s = kg_minf(s, m->points[i].separation);
     }
     return s;
 }
@@ -367,7 +367,7 @@ KG_FN kg_manifold kg_collide_polygons(const kg_shape* a, kg_xf xfa, const kg_sha
     const kg_shape* inc = flip ? &poly_a : &poly_b;
     kg_face_contact fc = kg_face_contact_of(ref, flip ? edge_b : edge_a, inc, flip);
 
-    kg_manifold m = kg_polygon_manifold(&fc, inc, fmaxf(separation_a, separation_b));
+    kg_manifold m = kg_polygon_manifold(&fc, inc, kg_maxf(separation_a, separation_b));
     return kg_manifold_to_world(m, xfa, origin, xfb, speculative_distance);
 }
 

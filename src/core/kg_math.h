@@ -36,13 +36,15 @@ KG_FN float kg_length(kg_vec2 v) { return sqrtf(v.x * v.x + v.y * v.y); }
 KG_FN float kg_length_sq(kg_vec2 v) { return v.x * v.x + v.y * v.y; }
 KG_FN float kg_distance(kg_vec2 a, kg_vec2 b) { return kg_length(kg_sub(b, a)); }
 KG_FN kg_vec2 kg_lerp(kg_vec2 a, kg_vec2 b, float t) { return kg_v2(a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)); }
-KG_FN kg_vec2 kg_vmin(kg_vec2 a, kg_vec2 b) { return kg_v2(fminf(a.x, b.x), fminf(a.y, b.y)); }
-KG_FN kg_vec2 kg_vmax(kg_vec2 a, kg_vec2 b) { return kg_v2(fmaxf(a.x, b.x), fmaxf(a.y, b.y)); }
-KG_FN float kg_clampf(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
 /* Compare-and-select: with strict float flags (no fast math) gcc calls fmaxf and fminf in
- * libm instead of inlining them, which cost about 3% of a step in the solver's rows. */
+ * libm instead of inlining them, which cost about 3% of a step in the solver's rows.
+ * For numbers (not NaN) they give the bits glibc's x86-64 fminf and fmaxf give, signed
+ * zeros included: those are minss and maxss, which are these selects. */
 KG_FN float kg_maxf(float a, float b) { return a > b ? a : b; }
 KG_FN float kg_minf(float a, float b) { return a < b ? a : b; }
+KG_FN kg_vec2 kg_vmin(kg_vec2 a, kg_vec2 b) { return kg_v2(kg_minf(a.x, b.x), kg_minf(a.y, b.y)); }
+KG_FN kg_vec2 kg_vmax(kg_vec2 a, kg_vec2 b) { return kg_v2(kg_maxf(a.x, b.x), kg_maxf(a.y, b.y)); }
+KG_FN float kg_clampf(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
 
 KG_FN kg_vec2 kg_normalize(kg_vec2 v)
 {

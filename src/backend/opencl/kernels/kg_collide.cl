@@ -588,7 +588,7 @@ __kernel void kg_build_contacts(int count, __global const uint2* pairs, __global
     c.b = p.y;
     c.tile = KG_NULL_INDEX;
     c.friction = sqrtf(friction[p.x] * friction[p.y]);
-    c.restitution = fmaxf(restitution[p.x], restitution[p.y]);
+    c.restitution = kg_maxf(restitution[p.x], restitution[p.y]);
     c.generation_a = generation[p.x];
     c.generation_b = generation[p.y];
     c.pad = 0u;
