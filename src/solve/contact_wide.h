@@ -10,6 +10,7 @@
 #include "solve/contact_solver.h"
 
 #include <stddef.h>
+#include <string.h>
 
 #define KG_MAX_LANES 8
 
@@ -36,13 +37,8 @@ KG_STATIC_ASSERT(sizeof(kg_prepare_input) == KG_PREPARE_INPUT_FLOATS * sizeof(fl
 /* A row's body slots index the solver bodies directly: the static world and padding
  * lanes name a still body of their own after the pool's slots, which takes no impulses,
  * so a gather needs no test. A pass scatters the first four floats of a lane's body (the
- * velocities, and dp.x as gathered) where the body takes impulses (`moves`); a moving
- * body is in one lane of a colour at most, so no other lane or thread writes it
- * meanwhile. */
-static inline float* kg_scatter_target(kg_solver_body* bodies, kg_u32 slot)
-{
-    return bodies[slot].moves ? (float*)&bodies[slot] : NULL;
-}
+ * velocities, and dp.x as gathered) where the body takes impulses (its `moves`, gathered
+ * with it). */
 
 /* The rows of width 1, 4 or 8, or 0 for the widest this CPU runs (KGYRO_SIMD_WIDTH in
  * the environment, 1, 4 or 8, overrides it, for tests and measurements); NULL for a

@@ -44,7 +44,13 @@ static inline void kg_rows_to_lanes_w8(const float* const rows[8], kg_vf out[8])
     }
 }
 
-static inline void kg_columns_to_rows_w8(kg_solver_body* bodies, kg_vu slots, const kg_vf columns[4])
+/* Bit l set where lane l's moves (0 or 1, as gathered) is 1: shifted into the sign bit. */
+static inline unsigned kg_movers_w8(kg_vf moves)
+{
+    return (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_slli_epi32(_mm256_castps_si256((__m256)moves), 31)));
+}
+
+static inline void kg_columns_to_rows_w8(kg_solver_body* bodies, kg_vu slots, unsigned movers, const kg_vf columns[4])
 {
     __m256 r[8] = {(__m256)columns[0], (__m256)columns[1], (__m256)columns[2], (__m256)columns[3]};
     for (int k = 4; k < 8; ++k) {
@@ -52,9 +58,8 @@ static inline void kg_columns_to_rows_w8(kg_solver_body* bodies, kg_vu slots, co
     }
     kg_transpose8(r);
     for (int lane = 0; lane < 8; ++lane) {
-        float* row = kg_scatter_target(bodies, slots[lane]);
-        if (row) {
-            _mm_storeu_ps(row, _mm256_castps256_ps128(r[lane]));
+        if (movers >> lane & 1u) {
+            _mm_storeu_ps((float*)&bodies[slots[lane]], _mm256_castps256_ps128(r[lane]));
         }
     }
 }

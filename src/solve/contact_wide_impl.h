@@ -29,12 +29,26 @@ static inline void KG_WIDE(kg_rows_to_lanes)(const float* const rows[KG_W], kg_l
     }
 }
 
-/* The first four columns (velocities and dp.x) back into the bodies that take impulses. */
-static inline void KG_WIDE(kg_columns_to_rows)(kg_solver_body* bodies, kg_lindex slots, const kg_lane columns[4])
+/* Bit l set where lane l's `moves` column (as gathered) is not zero. */
+static inline unsigned KG_WIDE(kg_movers)(kg_lane moves)
+{
+    unsigned mask = 0u;
+    for (int lane = 0; lane < KG_W; ++lane) {
+        kg_u32 bits;
+        memcpy(&bits, &KG_LANE_OF(moves, lane), sizeof bits);
+        mask |= (bits != 0u ? 1u : 0u) << lane;
+    }
+    return mask;
+}
+
+/* The first four columns (velocities and dp.x) back into the bodies of the lanes in
+ * movers. */
+static inline void KG_WIDE(kg_columns_to_rows)(kg_solver_body* bodies, kg_lindex slots, unsigned movers,
+                                               const kg_lane columns[4])
 {
     for (int lane = 0; lane < KG_W; ++lane) {
-        float* row = kg_scatter_target(bodies, KG_LANE_OF(slots, lane));
-        for (int k = 0; row && k < 4; ++k) {
+        float* row = (float*)&bodies[KG_LANE_OF(slots, lane)];
+        for (int k = 0; (movers >> lane & 1u) && k < 4; ++k) {
             row[k] = KG_LANE_OF(columns[k], lane);
         }
     }
@@ -109,10 +123,12 @@ static inline void KG_WIDE(kg_rows_to_columns)(const kg_solver_body* bodies, kg_
 }
 
 /* The motions of a block side's bodies, in lanes; a lane without a body is still. */
-static inline kg_wmotion KG_WIDE(kg_gather)(const kg_solver_body* bodies, const kg_wrow* r, int is_b)
+static inline kg_wmotion KG_WIDE(kg_gather)(const kg_solver_body* bodies, const kg_wrow* r, int is_b,
+                                             unsigned* movers)
 {
     kg_lane c[KG_BODY_FLOATS];
     KG_WIDE(kg_rows_to_columns)(bodies, is_b ? r->b : r->a, c);
+    *movers = KG_WIDE(kg_movers)(c[7]);
     kg_wmotion m;
     m.v.x = c[0];
     m.v.y = c[1];
@@ -124,11 +140,14 @@ static inline kg_wmotion KG_WIDE(kg_gather)(const kg_solver_body* bodies, const 
     return m;
 }
 
-/* The velocities back to the bodies that take impulses (all a pass changes). */
-static inline void KG_WIDE(kg_scatter)(kg_solver_body* bodies, const kg_wrow* r, int is_b, const kg_wmotion* m)
+/* The velocities back to the bodies that take impulses (all a pass changes): the lanes
+ * in movers. A moving body is in one lane of a colour at most, so no other lane or thread
+ * writes it meanwhile. */
+static inline void KG_WIDE(kg_scatter)(kg_solver_body* bodies, const kg_wrow* r, int is_b, unsigned movers,
+                                       const kg_wmotion* m)
 {
     const kg_lane c[4] = {m->v.x, m->v.y, m->w, m->dp.x};
-    KG_WIDE(kg_columns_to_rows)(bodies, is_b ? r->b : r->a, c);
+    KG_WIDE(kg_columns_to_rows)(bodies, is_b ? r->b : r->a, movers, c);
 }
 
 static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm,
@@ -136,10 +155,11 @@ static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bo
 {
     for (int k = begin; k < end; ++k) {
         kg_wrow* r = (kg_wrow*)blocks + k;
-        kg_wmotion a = KG_WIDE(kg_gather)(bodies, r, 0), b = KG_WIDE(kg_gather)(bodies, r, 1);
+        unsigned movers_a, movers_b;
+        kg_wmotion a = KG_WIDE(kg_gather)(bodies, r, 0, &movers_a), b = KG_WIDE(kg_gather)(bodies, r, 1, &movers_b);
         KG_ROWFN(kg_contact_pass)(r, &a, &b, prm, pass);
-        KG_WIDE(kg_scatter)(bodies, r, 0, &a);
-        KG_WIDE(kg_scatter)(bodies, r, 1, &b);
+        KG_WIDE(kg_scatter)(bodies, r, 0, movers_a, &a);
+        KG_WIDE(kg_scatter)(bodies, r, 1, movers_b, &b);
     }
 }
 
