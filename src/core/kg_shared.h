@@ -18,6 +18,9 @@ typedef int kg_i32;
 #define fmaxf fmax
 #define KG_FLT_MAX 3.402823466e+38f
 #define kg_lowest_bit(x) ((int)popcount(((x) & (0u - (x))) - 1u)) /* ctz is OpenCL 2.0 */
+#define KG_PRIVATE_VIEW(type, name, element) \
+    type name##_copy = (element);           \
+    const type* name = &name##_copy
 typedef struct kg_vec2 {
     float x, y;
 } kg_vec2;
@@ -37,6 +40,9 @@ typedef int32_t kg_i32;
 #define KG_GLOBAL
 #define KG_FLT_MAX FLT_MAX
 #define kg_lowest_bit(x) __builtin_ctz(x) /* the index of x's lowest set bit; x != 0 */
+/* A pointer to an array element for a shared function that takes a private pointer: in a
+ * kernel a private copy of the global element, in C the element itself. */
+#define KG_PRIVATE_VIEW(type, name, element) const type* name = &(element)
 #endif
 
 /* A compile-time check usable in C99 and OpenCL C alike; both sides assert the same

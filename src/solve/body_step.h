@@ -86,8 +86,8 @@ KG_FN void kg_store_body(kg_u32 i, int sleep, float dt, float sleep_speed, KG_GL
     center[i] = kg_add(center[i], m.dp);
     rot[i] = kg_rot_normalize(kg_rot_mul(m.dq, rot[i]));
     if (sleep && bodies[i].moves) {
-        kg_shape s = shape[i];
-        float extent = kg_shape_extent(&s, local_center[i]);
+        KG_PRIVATE_VIEW(kg_shape, s, shape[i]);
+        float extent = kg_shape_extent(s, local_center[i]);
         sleep_time[i] = kg_rest_timer(sleep_time[i], m, extent, dt, sleep_speed);
     }
 }
@@ -123,9 +123,9 @@ KG_FN int kg_finalize_body(kg_u32 i, float dt, KG_GLOBAL kg_u32* flags, KG_GLOBA
         return 0;
     }
     kg_xf t = kg_origin_xf(c, q, local_center[i]);
-    kg_shape s = shape[i];
+    KG_PRIVATE_VIEW(kg_shape, s, shape[i]);
     xf[i] = t;
-    aabb[i] = kg_aabb_sweep(kg_shape_aabb(&s, t), kg_scale(dt, velocity[i]));
+    aabb[i] = kg_aabb_sweep(kg_shape_aabb(s, t), kg_scale(dt, velocity[i]));
     return 0;
 }
 

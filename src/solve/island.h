@@ -151,9 +151,9 @@ KG_FN void kg_sleep_body(kg_u32 i, kg_u32 island_id, KG_GLOBAL kg_u32* flags, KG
     velocity[i] = kg_v2(0.0f, 0.0f);
     omega[i] = 0.0f;
     kg_xf t = kg_origin_xf(center[i], rot[i], local_center[i]);
-    kg_shape s = shape[i];
+    KG_PRIVATE_VIEW(kg_shape, s, shape[i]);
     xf[i] = t;
-    aabb[i] = kg_shape_aabb(&s, t);
+    aabb[i] = kg_shape_aabb(s, t);
 }
 
 #endif
