@@ -14,14 +14,22 @@
 
 #define KG_MAX_LANES 8
 
+/* What the solve leaves of a constraint lane, for its contact: how many points it solved
+ * (none for an empty lane) and each point's impulses and approach speed. */
+typedef struct kg_lane_impulses {
+    kg_i32 point_count;
+    float normal_impulse[2], tangent_impulse[2], relative_velocity[2];
+} kg_lane_impulses;
+
 typedef struct kg_contact_rows {
     int width;
     size_t block_size; /* bytes of a block of width rows */
     /* Prepares block `block` from width consecutive heads and inputs. */
     void (*prepare)(void* blocks, int block, const kg_row_head* heads, const kg_prepare_input* inputs,
                     kg_solver_params prm);
-    /* The impulses and approach speeds of blocks [begin, end) into their contacts. */
-    void (*store_impulses)(const void* blocks, int begin, int end, kg_contact* contacts);
+    /* The impulses and approach speeds of blocks [begin, end), lane by lane, into out
+     * (block * width + lane). */
+    void (*unpack_impulses)(const void* blocks, int begin, int end, kg_lane_impulses* out);
     /* One pass over blocks [begin, end): gathers the lanes' bodies, runs the pass, scatters. */
     void (*run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm, kg_constraint_pass pass);
 } kg_contact_rows;

@@ -90,19 +90,20 @@ static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_row_head* head
     KG_ROWFN(kg_contact_prepare_lanes)(r, &in, prm);
 }
 
-/* The impulses and approach speeds of blocks [begin, end) back into their contacts'
- * manifolds, for warm starting and events; a padding lane has no points. */
-static void KG_WIDE(kg_store_impulses)(const void* blocks, int begin, int end, kg_contact* contacts)
+/* The impulses and approach speeds of blocks [begin, end), lane by lane, into out:
+ * written in order, where storing them into their contacts (in colour order, scattered
+ * over megabytes) cost a cache miss a contact. */
+static void KG_WIDE(kg_unpack_impulses)(const void* blocks, int begin, int end, kg_lane_impulses* out)
 {
     for (int block = begin; block < end; ++block) {
         const kg_wrow* r = (const kg_wrow*)blocks + block;
         for (int lane = 0; lane < KG_W; ++lane) {
-            kg_manifold* m = &contacts[KG_LANE_OF(r->contact, lane)].manifold;
-            int points = KG_LANE_OF(r->point_count, lane);
-            for (int j = 0; j < points; ++j) {
-                kg_store_point(&m->points[j], KG_LANE_OF(r->points[j].normal_impulse, lane),
-                               KG_LANE_OF(r->points[j].tangent_impulse, lane),
-                               KG_LANE_OF(r->points[j].relative_velocity, lane));
+            kg_lane_impulses* o = &out[block * KG_W + lane];
+            o->point_count = KG_LANE_OF(r->point_count, lane);
+            for (int j = 0; j < 2; ++j) {
+                o->normal_impulse[j] = KG_LANE_OF(r->points[j].normal_impulse, lane);
+                o->tangent_impulse[j] = KG_LANE_OF(r->points[j].tangent_impulse, lane);
+                o->relative_velocity[j] = KG_LANE_OF(r->points[j].relative_velocity, lane);
             }
         }
     }
@@ -163,5 +164,5 @@ static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bo
     }
 }
 
-const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_prepare), KG_WIDE(kg_store_impulses),
+const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_prepare), KG_WIDE(kg_unpack_impulses),
                                                   KG_WIDE(kg_run)};

@@ -29,6 +29,7 @@
 struct kg_solver {
     const kg_contact_rows* rows; /* the SIMD width's row code */
     void* blocks;                /* rows of width lanes, colour by colour: what the passes run over */
+    kg_lane_impulses* impulses;  /* per lane of the blocks: what the solve leaves, for the contacts */
     int block_capacity;
     int block_start[KG_COLOR_COUNT + 2]; /* colour c's blocks are [block_start[c], block_start[c+1]) */
     int* scratch_colors;
@@ -44,9 +45,12 @@ struct kg_solver {
 static kg_result kg_reserve_blocks(struct kg_solver* s, int blocks)
 {
     kg_free(s->blocks);
+    kg_free(s->impulses);
     s->blocks = kg_alloc_zeroed((size_t)blocks * s->rows->block_size);
-    s->block_capacity = s->blocks ? blocks : 0;
-    return s->blocks ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d constraint blocks", blocks);
+    s->impulses = kg_alloc_zeroed((size_t)blocks * (size_t)s->rows->width * sizeof *s->impulses);
+    int ok = s->blocks && s->impulses;
+    s->block_capacity = ok ? blocks : 0;
+    return ok ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d constraint blocks", blocks);
 }
 
 static void kg_free_constraints(struct kg_solver* s)
@@ -102,6 +106,7 @@ void kg_solver_destroy(kg_world* world)
         return;
     }
     kg_free(s->blocks);
+    kg_free(s->impulses);
     kg_free_constraints(s);
     kg_free(s->bodies);
     kg_free(s->velocity_steps);
@@ -291,10 +296,35 @@ static void kg_prepare_range(void* context, int begin, int end)
     }
 }
 
+static void kg_unpack_impulses_range(void* context, int begin, int end)
+{
+    const kg_constraint_job* job = context;
+    job->solver->rows->unpack_impulses(job->solver->blocks, begin, end, job->solver->impulses);
+}
+
+/* Where contact k's constraint was solved: its block's lane, block * width + lane. */
+static int kg_lane_of_contact(const struct kg_solver* s, int k)
+{
+    const kg_graph_coloring* g = &s->coloring;
+    int c = s->scratch_colors[k];
+    int lanes = c == KG_COLOR_COUNT ? 1 : s->rows->width;
+    int at = g->rank[k] - g->color_start[c];
+    return (s->block_start[c] + at / lanes) * s->rows->width + at % lanes;
+}
+
+/* Contacts [begin, end), in their own order, take their impulses back for warm starting
+ * the next step (and the API): written in order, read from the lanes' compact copy. An
+ * empty lane (nothing solved) leaves its contact's impulses as they were. */
 static void kg_store_impulses_range(void* context, int begin, int end)
 {
     const kg_constraint_job* job = context;
-    job->solver->rows->store_impulses(job->solver->blocks, begin, end, job->contacts);
+    for (int k = begin; k < end; ++k) {
+        const kg_lane_impulses* in = &job->solver->impulses[kg_lane_of_contact(job->solver, k)];
+        kg_manifold* m = &job->contacts[k].manifold;
+        for (int j = 0; j < in->point_count; ++j) {
+            kg_store_point(&m->points[j], in->normal_impulse[j], in->tangent_impulse[j], in->relative_velocity[j]);
+        }
+    }
 }
 
 /* The colours' block ranges, from the colouring; grows the blocks (with a warning) when
@@ -373,7 +403,10 @@ void kg_stage_solve(kg_world* world, float dt)
     if (atomic_load(&bounces)) { /* else the pass, a loop per colour, would change nothing */
         kg_constraint_pass_run(world, &cjob, KG_PASS_RESTITUTION);
     }
-    kg_parallel_for(world->threads, blocks, grain, kg_store_impulses_range, &cjob);
+    if (blocks > 0) {
+        kg_parallel_for(world->threads, blocks, grain, kg_unpack_impulses_range, &cjob);
+        kg_parallel_for(world->threads, count, KG_CONSTRAINT_GRAIN, kg_store_impulses_range, &cjob);
+    }
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_store_bodies, &bjob);
 }
 
