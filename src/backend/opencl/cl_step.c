@@ -24,7 +24,8 @@
  * untouched on both sides, so a step that fails is redone on the CPU exactly.
  *
  * Each kernel calls the shared per-element function the CPU loop calls, so the state
- * agrees bit for bit with the CPU backend's. */
+ * agrees bit for bit with the CPU backend's. Each launch sets all of its kernel's
+ * arguments, in order, where it is launched (KG_LAUNCH of cl_world.h). */
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_backend.h"
 #include "collide/collide.h"
