@@ -424,13 +424,16 @@ kg_result kg_cl_prepare_device_force(kg_world* world, kg_cl_backend* b, int slot
         return r;
     }
     cl_int err = CL_SUCCESS;
-    b->force_kernels[slot] = b->w->cl->CreateKernel(program, "kg_device_force", &err);
+    b->force_kernels[slot] = b->w->cl->CreateKernel(program, KG_CL_DEVICE_FORCE_KERNEL, &err);
     if (!b->force_kernels[slot] || err != CL_SUCCESS) {
         b->force_kernels[slot] = NULL;
         return kg_fail(KG_ERROR_BACKEND, "OpenCL: no kernel in the device force program (%s)", kg_cl_error_name(err));
     }
     b->force_group_sizes[slot] = kg_cl_pick_group_size(b->w, b->force_kernels[slot]);
-    r = kg_cl_buffer(b->w, sizeof f->params, &b->force_params[slot]);
+    r = kg_cl_check_arg_count(b->w, b->force_kernels[slot], KG_CL_DEVICE_FORCE_KERNEL, KG_CL_DEVICE_FORCE_ARGS);
+    if (r == KG_OK) {
+        r = kg_cl_buffer(b->w, sizeof f->params, &b->force_params[slot]);
+    }
     if (r == KG_OK) {
         r = kg_cl_write(b->w, b->force_params[slot], 0, sizeof f->params, f->params, 1);
     }

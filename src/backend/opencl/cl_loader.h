@@ -28,6 +28,7 @@
     X(cl_kernel, CreateKernel, (cl_program, const char*, cl_int*))                                                 \
     X(cl_int, ReleaseKernel, (cl_kernel))                                                                          \
     X(cl_int, SetKernelArg, (cl_kernel, cl_uint, size_t, const void*))                                             \
+    X(cl_int, GetKernelInfo, (cl_kernel, cl_kernel_info, size_t, void*, size_t*))                                  \
     X(cl_int, GetKernelWorkGroupInfo, (cl_kernel, cl_device_id, cl_kernel_work_group_info, size_t, void*, size_t*)) \
     X(cl_mem, CreateBuffer, (cl_context, cl_mem_flags, size_t, void*, cl_int*))                                    \
     X(cl_int, ReleaseMemObject, (cl_mem))                                                                          \

@@ -24,7 +24,8 @@
  * untouched on both sides, so a step that fails is redone on the CPU exactly.
  *
  * Each kernel calls the shared per-element function the CPU loop calls, so the state
- * agrees bit for bit with the CPU backend's. */
+ * agrees bit for bit with the CPU backend's. Each launch sets all of its kernel's
+ * arguments, in order, where it is launched (KG_LAUNCH of cl_world.h). */
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_backend.h"
 #include "collide/collide.h"
@@ -45,56 +46,6 @@ KG_STATIC_ASSERT(sizeof(kg_force_body) == 56, host_force_body_size);
  * small cannot fill a GPU, and one launch instead of one per colour saves the launch
  * latency (5 to 50 us each, times colours x 3 passes x sub-steps). */
 #define KG_CL_SINGLE_GROUP_CONTACTS 1024
-
-/* ---- kernel arguments ------------------------------------------------------------- */
-
-static kg_result kg_bind(kg_cl_world* w, kg_cl_kernel_id id, int first, const cl_mem* buffers, int count)
-{
-    for (int k = 0; k < count; ++k) {
-        KG_TRY(kg_cl_arg(w, w->kernels[id], first + k, sizeof(cl_mem), &buffers[k]));
-    }
-    return KG_OK;
-}
-
-#define KG_BIND(id, first, ...)                                                                   \
-    do {                                                                                          \
-        const cl_mem list_[] = {__VA_ARGS__};                                                     \
-        KG_TRY(kg_bind(w, KG_CL_K_##id, first, list_, (int)(sizeof list_ / sizeof list_[0])));    \
-    } while (0)
-
-kg_result kg_cl_bind_buffers(kg_cl_world* w)
-{
-    KG_BIND(APPLY_BUILTIN_FORCE, 8, KG_A(FLAGS), KG_A(MASS), KG_A(FORCE), KG_A(DRAG));
-    KG_BIND(INTEGRATE_VELOCITIES, 5, w->solver_bodies, KG_A(FORCE), KG_A(TORQUE), KG_A(DRAG), KG_A(INV_MASS),
-            KG_A(INV_INERTIA), KG_A(LINEAR_DAMPING), KG_A(ANGULAR_DAMPING));
-    KG_BIND(INTEGRATE_POSITIONS, 2, KG_A(FLAGS), w->solver_bodies);
-    KG_BIND(LOAD_BODIES, 1, KG_A(FLAGS), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE), KG_A(TORQUE), KG_A(ROT),
-            KG_A(CENTER), KG_A(XF), KG_A(LOCAL_CENTER), w->solver_bodies);
-    KG_BIND(STORE_BODIES, 4, KG_A(FLAGS), w->solver_bodies, KG_A(VELOCITY), KG_A(OMEGA), KG_A(CENTER), KG_A(ROT),
-            KG_A(SHAPE), KG_A(LOCAL_CENTER), KG_A(SLEEP_TIME));
-    KG_BIND(PREPARE_CONTACTS, 1, w->solver_params);
-    KG_BIND(PREPARE_CONTACTS, 3, w->constraints, w->solver_bodies, KG_A(INV_MASS), KG_A(INV_INERTIA), KG_A(XF),
-            KG_A(CENTER));
-    KG_BIND(GATHER_COLORED, 1, w->order, w->constraints, w->colored);
-    KG_BIND(SOLVE_COLOR, 4, w->solver_params, w->colored, w->solver_bodies);
-    KG_BIND(SOLVE_COLORS_IN_GROUP, 1, w->color_start, w->solver_params, w->colored, w->solver_bodies);
-    KG_BIND(STORE_IMPULSES, 1, w->colored);
-    KG_BIND(FINALIZE, 2, KG_A(FLAGS), KG_A(CENTER), KG_A(ROT), KG_A(VELOCITY), KG_A(OMEGA), KG_A(FORCE),
-            KG_A(TORQUE), KG_A(DRAG), KG_A(XF), KG_A(AABB), KG_A(SHAPE), KG_A(LOCAL_CENTER));
-    return KG_OK;
-}
-
-static kg_result kg_arg_int(kg_cl_world* w, cl_kernel k, int index, int value)
-{
-    cl_int v = value;
-    return kg_cl_arg(w, k, index, sizeof v, &v);
-}
-
-static kg_result kg_arg_float(kg_cl_world* w, cl_kernel k, int index, float value)
-{
-    cl_float v = value;
-    return kg_cl_arg(w, k, index, sizeof v, &v);
-}
 
 /* ---- timing ----------------------------------------------------------------------- */
 
@@ -185,41 +136,36 @@ static kg_result kg_list_targets(kg_world* world, kg_cl_backend* b, const kg_app
     return KG_OK;
 }
 
-/* Binds the targets of applicator a to arguments 0..2 (count, all, targets) of kernel and
- * returns the work-item count in *items. Each list is written from its own range of the
- * host scratch (a non-blocking write reads it later); on the device they all go to the
- * start of the targets buffer, which the in-order queue makes safe. A list has at most
- * one pair per slot, so the buffer, sized max_bodies, always holds it. */
-static kg_result kg_bind_targets(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, cl_kernel kernel,
-                                 int* used, int* items)
+/* The targets of applicator a, for the first three arguments of its kernel (count, all,
+ * targets): *all when it applies to every slot, else its list written to w->targets;
+ * *count, the work-item count. Each list is written from its own range of the host
+ * scratch (a non-blocking write reads it later); on the device they all go to the start
+ * of the targets buffer, which the in-order queue makes safe. A list has at most one pair
+ * per slot, so the buffer, sized max_bodies, always holds it. */
+static kg_result kg_write_targets(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, int* used,
+                                  int* count, int* all)
 {
     kg_cl_world* w = b->w;
-    int all = a->bodies == NULL;
-    int count = world->bodies.high_water;
-    if (!all) {
-        KG_TRY(kg_list_targets(world, b, a, used, &count));
-        KG_TRY(kg_cl_write(w, w->targets, 0, (size_t)count * 2u * sizeof(cl_uint), b->target_pairs + 2 * *used, 0));
-        *used += count;
+    *all = a->bodies == NULL;
+    *count = world->bodies.high_water;
+    if (!*all) {
+        KG_TRY(kg_list_targets(world, b, a, used, count));
+        KG_TRY(kg_cl_write(w, w->targets, 0, (size_t)*count * 2u * sizeof(cl_uint), b->target_pairs + 2 * *used, 0));
+        *used += *count;
     }
-    KG_TRY(kg_arg_int(w, kernel, 0, count));
-    KG_TRY(kg_arg_int(w, kernel, 1, all));
-    KG_TRY(kg_cl_arg(w, kernel, 2, sizeof(cl_mem), &w->targets));
-    *items = count;
     return KG_OK;
 }
 
 static kg_result kg_run_builtin_force(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, int* used)
 {
     kg_cl_world* w = b->w;
-    cl_kernel k = w->kernels[KG_CL_K_APPLY_BUILTIN_FORCE];
-    int items = 0;
-    KG_TRY(kg_bind_targets(world, b, a, k, used, &items));
-    KG_TRY(kg_arg_int(w, k, 3, a->kind == KG_APPLICATOR_GRAVITY));
-    KG_TRY(kg_arg_float(w, k, 4, a->vector.x));
-    KG_TRY(kg_arg_float(w, k, 5, a->vector.y));
-    KG_TRY(kg_arg_float(w, k, 6, a->strength));
-    KG_TRY(kg_arg_float(w, k, 7, a->drag));
-    return kg_cl_run(w, KG_CL_K_APPLY_BUILTIN_FORCE, items);
+    int count = 0, all = 0;
+    KG_TRY(kg_write_targets(world, b, a, used, &count, &all));
+    KG_LAUNCH(w, APPLY_BUILTIN_FORCE, count, NULL, KG_INT(count), KG_INT(all), KG_MEM(w->targets),
+              KG_INT(a->kind == KG_APPLICATOR_GRAVITY), KG_FLOAT(a->vector.x), KG_FLOAT(a->vector.y),
+              KG_FLOAT(a->strength), KG_FLOAT(a->drag), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(MASS)), KG_MEM(KG_A(FORCE)),
+              KG_MEM(KG_A(DRAG)));
+    return KG_OK;
 }
 
 static kg_result kg_run_device_force(kg_world* world, kg_cl_backend* b, int slot, kg_device_force* f, int* used)
@@ -228,19 +174,18 @@ static kg_result kg_run_device_force(kg_world* world, kg_cl_backend* b, int slot
     if (!b->force_kernels[slot]) {
         KG_TRY(kg_cl_prepare_device_force(world, b, slot));
     }
-    cl_kernel k = b->force_kernels[slot];
     if (f->params_changed) {
         KG_TRY(kg_cl_write(w, b->force_params[slot], 0, sizeof f->params, f->params, 1));
         f->params_changed = 0;
     }
-    int items = 0;
-    KG_TRY(kg_bind_targets(world, b, &world->applicators[slot], k, used, &items));
-    const cl_mem buffers[] = {b->force_params[slot], KG_A(FLAGS), KG_A(CENTER), KG_A(ROT), KG_A(VELOCITY),
-                              KG_A(OMEGA), KG_A(MASS), KG_A(INERTIA), KG_A(FORCE), KG_A(TORQUE)};
-    for (int i = 0; i < (int)(sizeof buffers / sizeof buffers[0]); ++i) {
-        KG_TRY(kg_cl_arg(w, k, 3 + i, sizeof(cl_mem), &buffers[i]));
-    }
-    return kg_cl_launch(w, k, b->force_group_sizes[slot], items, f->function_name);
+    int count = 0, all = 0;
+    KG_TRY(kg_write_targets(world, b, &world->applicators[slot], used, &count, &all));
+    KG_LAUNCH_DEVICE_FORCE(w, b->force_kernels[slot], b->force_group_sizes[slot], count, f->function_name,
+                           KG_INT(count), KG_INT(all), KG_MEM(w->targets), KG_MEM(b->force_params[slot]),
+                           KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(VELOCITY)),
+                           KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(MASS)), KG_MEM(KG_A(INERTIA)), KG_MEM(KG_A(FORCE)),
+                           KG_MEM(KG_A(TORQUE)));
+    return KG_OK;
 }
 
 /* A fallback requested during the step (kg_cl_request_fallback) ends it here, before any
@@ -370,56 +315,30 @@ static kg_result kg_run_pass(kg_cl_backend* b, int pass)
     kg_cl_world* w = b->w;
     const kg_graph_coloring* g = &b->coloring;
     if (g->color_start[KG_COLOR_COUNT + 1] <= KG_CL_SINGLE_GROUP_CONTACTS) {
-        cl_kernel k = w->kernels[KG_CL_K_SOLVE_COLORS_IN_GROUP];
-        size_t size = w->group_size[KG_CL_K_SOLVE_COLORS_IN_GROUP];
-        KG_TRY(kg_arg_int(w, k, 0, pass));
-        return kg_cl_launch(w, k, size, (int)size, "kg_solve_colors_in_group");
+        KG_LAUNCH(w, SOLVE_COLORS_IN_GROUP, (int)w->group_size[KG_CL_K_SOLVE_COLORS_IN_GROUP], NULL, KG_INT(pass),
+                  KG_MEM(w->color_start), KG_MEM(w->solver_params), KG_MEM(w->colored), KG_MEM(w->solver_bodies));
+        return KG_OK;
     }
-    cl_kernel k = w->kernels[KG_CL_K_SOLVE_COLOR];
-    KG_TRY(kg_arg_int(w, k, 3, pass));
     for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
         int serial = c == KG_COLOR_COUNT;
         int count = g->color_start[c + 1] - g->color_start[c];
         if (count == 0 || (!serial && c >= g->color_count)) {
             continue;
         }
-        KG_TRY(kg_arg_int(w, k, 0, g->color_start[c]));
-        KG_TRY(kg_arg_int(w, k, 1, count));
-        KG_TRY(kg_arg_int(w, k, 2, serial));
-        KG_TRY(kg_cl_run(w, KG_CL_K_SOLVE_COLOR, serial ? 1 : count));
+        KG_LAUNCH(w, SOLVE_COLOR, serial ? 1 : count, NULL, KG_INT(g->color_start[c]), KG_INT(count), KG_INT(serial),
+                  KG_INT(pass), KG_MEM(w->solver_params), KG_MEM(w->colored), KG_MEM(w->solver_bodies));
     }
     return KG_OK;
 }
 
-static kg_result kg_set_solver_scalars(kg_cl_world* w, int bodies, int contacts, const kg_solver_params* prm,
-                                       kg_integrate_params ip)
+/* One sub-step's velocities: gravity, forces and damping (solve/integrate.h). */
+static kg_result kg_integrate_velocities(kg_cl_world* w, int bodies, kg_integrate_params ip)
 {
-    cl_mem list = w->contacts[w->current ^ 1];
-    KG_TRY(kg_cl_arg(w, w->kernels[KG_CL_K_PREPARE_CONTACTS], 2, sizeof list, &list));
-    KG_TRY(kg_cl_arg(w, w->kernels[KG_CL_K_STORE_IMPULSES], 2, sizeof list, &list));
-    cl_kernel v = w->kernels[KG_CL_K_INTEGRATE_VELOCITIES], p = w->kernels[KG_CL_K_INTEGRATE_POSITIONS];
-    KG_TRY(kg_arg_int(w, v, 0, bodies));
-    KG_TRY(kg_arg_float(w, v, 1, ip.h));
-    KG_TRY(kg_arg_float(w, v, 2, ip.gravity.x));
-    KG_TRY(kg_arg_float(w, v, 3, ip.gravity.y));
-    KG_TRY(kg_arg_float(w, v, 4, ip.max_linear_speed));
-    KG_TRY(kg_arg_int(w, p, 0, bodies));
-    KG_TRY(kg_arg_float(w, p, 1, ip.h));
-    KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_LOAD_BODIES], 0, bodies));
-    KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_STORE_BODIES], 0, bodies));
-    KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_PREPARE_CONTACTS], 0, contacts));
-    KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_GATHER_COLORED], 0, contacts));
-    KG_TRY(kg_cl_write(w, w->solver_params, 0, sizeof *prm, prm, 0));
-    return kg_arg_int(w, w->kernels[KG_CL_K_STORE_IMPULSES], 0, contacts);
-}
-
-/* What kg_store_bodies advances the rest timers with (solve/island.h): dt of the whole step. */
-static kg_result kg_set_rest_scalars(kg_cl_world* w, const kg_world_def* def, float dt)
-{
-    cl_kernel k = w->kernels[KG_CL_K_STORE_BODIES];
-    KG_TRY(kg_arg_int(w, k, 1, def->enable_sleep));
-    KG_TRY(kg_arg_float(w, k, 2, dt));
-    return kg_arg_float(w, k, 3, def->sleep_speed);
+    KG_LAUNCH(w, INTEGRATE_VELOCITIES, bodies, NULL, KG_INT(bodies), KG_FLOAT(ip.h), KG_FLOAT(ip.gravity.x),
+              KG_FLOAT(ip.gravity.y), KG_FLOAT(ip.max_linear_speed), KG_MEM(w->solver_bodies), KG_MEM(KG_A(FORCE)),
+              KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(DRAG)), KG_MEM(KG_A(INV_MASS)), KG_MEM(KG_A(INV_INERTIA)),
+              KG_MEM(KG_A(LINEAR_DAMPING)), KG_MEM(KG_A(ANGULAR_DAMPING)));
+    return KG_OK;
 }
 
 /* The host's contacts (after a host collide) coloured on the host, their colour ranges
@@ -442,27 +361,39 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     } else {
         KG_TRY(kg_color_on_host(world, b));
     }
+    const kg_world_def* def = &world->def;
     int count = b->step_count;
-    int n = world->def.substeps;
+    int n = def->substeps;
     float h = dt / (float)n;
     int bodies = world->bodies.high_water;
-    kg_integrate_params ip = {world->def.gravity, h, world->def.max_linear_speed};
-    b->solver_params = kg_solver_params_of(&world->def, h);
-    KG_TRY(kg_set_solver_scalars(w, bodies, count, &b->solver_params, ip));
-    KG_TRY(kg_set_rest_scalars(w, &world->def, dt));
-    KG_TRY(kg_cl_run(w, KG_CL_K_LOAD_BODIES, bodies));
-    KG_TRY(kg_cl_run(w, KG_CL_K_PREPARE_CONTACTS, count));
-    KG_TRY(kg_cl_run(w, KG_CL_K_GATHER_COLORED, count));
+    cl_mem contacts = w->contacts[w->current ^ 1];
+    kg_integrate_params ip = {def->gravity, h, def->max_linear_speed};
+    b->solver_params = kg_solver_params_of(def, h);
+    KG_TRY(kg_cl_write(w, w->solver_params, 0, sizeof b->solver_params, &b->solver_params, 0));
+    KG_LAUNCH(w, LOAD_BODIES, bodies, NULL, KG_INT(bodies), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)),
+              KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(CENTER)),
+              KG_MEM(KG_A(XF)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(w->solver_bodies));
+    KG_LAUNCH(w, PREPARE_CONTACTS, count, NULL, KG_INT(count), KG_MEM(w->solver_params), KG_MEM(contacts),
+              KG_MEM(w->constraints), KG_MEM(w->solver_bodies), KG_MEM(KG_A(INV_MASS)), KG_MEM(KG_A(INV_INERTIA)),
+              KG_MEM(KG_A(XF)), KG_MEM(KG_A(CENTER)));
+    KG_LAUNCH(w, GATHER_COLORED, count, NULL, KG_INT(count), KG_MEM(w->order), KG_MEM(w->constraints),
+              KG_MEM(w->colored));
     for (int step = 0; step < n; ++step) {
-        KG_TRY(kg_cl_run(w, KG_CL_K_INTEGRATE_VELOCITIES, bodies));
+        KG_TRY(kg_integrate_velocities(w, bodies, ip));
         KG_TRY(kg_run_pass(b, KG_PASS_WARM_START));
         KG_TRY(kg_run_pass(b, KG_PASS_SOLVE));
-        KG_TRY(kg_cl_run(w, KG_CL_K_INTEGRATE_POSITIONS, bodies));
+        KG_LAUNCH(w, INTEGRATE_POSITIONS, bodies, NULL, KG_INT(bodies), KG_FLOAT(h), KG_MEM(KG_A(FLAGS)),
+                  KG_MEM(w->solver_bodies));
         KG_TRY(kg_run_pass(b, KG_PASS_RELAX));
     }
     KG_TRY(kg_run_pass(b, KG_PASS_RESTITUTION));
-    KG_TRY(kg_cl_run(w, KG_CL_K_STORE_IMPULSES, count));
-    return kg_cl_run(w, KG_CL_K_STORE_BODIES, bodies);
+    KG_LAUNCH(w, STORE_IMPULSES, count, NULL, KG_INT(count), KG_MEM(w->colored), KG_MEM(contacts));
+    /* the rest timers advance by dt of the whole step (solve/island.h) */
+    KG_LAUNCH(w, STORE_BODIES, bodies, NULL, KG_INT(bodies), KG_INT(def->enable_sleep), KG_FLOAT(dt),
+              KG_FLOAT(def->sleep_speed), KG_MEM(KG_A(FLAGS)), KG_MEM(w->solver_bodies), KG_MEM(KG_A(VELOCITY)),
+              KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(SHAPE)),
+              KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(KG_A(SLEEP_TIME)));
+    return KG_OK;
 }
 
 /* ---- finalize --------------------------------------------------------------------- */
@@ -470,9 +401,11 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
 static kg_result kg_stage_finalize_on_device(kg_world* world, kg_cl_backend* b, float dt)
 {
     kg_cl_world* w = b->w;
-    KG_TRY(kg_arg_int(w, w->kernels[KG_CL_K_FINALIZE], 0, world->bodies.high_water));
-    KG_TRY(kg_arg_float(w, w->kernels[KG_CL_K_FINALIZE], 1, dt));
-    return kg_cl_run(w, KG_CL_K_FINALIZE, world->bodies.high_water);
+    int bodies = world->bodies.high_water;
+    KG_LAUNCH(w, FINALIZE, bodies, NULL, KG_INT(bodies), KG_FLOAT(dt), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(CENTER)),
+              KG_MEM(KG_A(ROT)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(TORQUE)),
+              KG_MEM(KG_A(DRAG)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(AABB)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(LOCAL_CENTER)));
+    return KG_OK;
 }
 
 /* The queue drained, so that errors surface inside the step; the state is the device's. */

@@ -149,16 +149,8 @@ kg_result kg_cl_copy(kg_cl_world* w, cl_mem from, cl_mem to, size_t size)
     return kg_cl_check(err, "a copy on the device");
 }
 
-kg_result kg_cl_arg(kg_cl_world* w, cl_kernel kernel, int index, size_t size, const void* value)
+static kg_result kg_cl_launch(kg_cl_world* w, cl_kernel kernel, size_t group_size, int count, const char* name)
 {
-    return kg_cl_check(w->cl->SetKernelArg(kernel, (cl_uint)index, size, value), "setting a kernel argument");
-}
-
-kg_result kg_cl_launch(kg_cl_world* w, cl_kernel kernel, size_t group_size, int count, const char* name)
-{
-    if (count <= 0) {
-        return KG_OK;
-    }
     if (kg_cl_fault(&w->faults, KG_CL_FAULT_ENQUEUE)) {
         return kg_cl_injected(name);
     }
@@ -172,24 +164,54 @@ kg_result kg_cl_launch(kg_cl_world* w, cl_kernel kernel, size_t group_size, int 
     return KG_OK;
 }
 
+kg_result kg_cl_launch_kernel(kg_cl_world* w, cl_kernel kernel, size_t group_size, int items, const char* label,
+                              const kg_cl_kernel_arg* args, int count)
+{
+    if (items <= 0) {
+        return KG_OK;
+    }
+    for (int k = 0; k < count; ++k) {
+        cl_int err = w->cl->SetKernelArg(kernel, (cl_uint)k, args[k].size, args[k].value);
+        if (err != CL_SUCCESS) {
+            return kg_fail(KG_ERROR_BACKEND, "OpenCL: setting argument %d of %s failed (%s)", k, label,
+                           kg_cl_error_name(err));
+        }
+    }
+    return kg_cl_launch(w, kernel, group_size, items, label);
+}
+
 static const char* const kKernelNames[KG_CL_KERNEL_COUNT] = {
-#define KG_CL_KERNEL_NAME(id, name) #name,
+#define KG_CL_KERNEL_NAME(id, name, args) #name,
     KG_CL_KERNELS(KG_CL_KERNEL_NAME)
 #undef KG_CL_KERNEL_NAME
 };
 
-kg_result kg_cl_run(kg_cl_world* w, kg_cl_kernel_id id, int count)
-{
-    return kg_cl_launch(w, w->kernels[id], w->group_size[id], count, kKernelNames[id]);
-}
+static const int kKernelArgs[KG_CL_KERNEL_COUNT] = {
+#define KG_CL_KERNEL_ARG_COUNT(id, name, args) args,
+    KG_CL_KERNELS(KG_CL_KERNEL_ARG_COUNT)
+#undef KG_CL_KERNEL_ARG_COUNT
+};
 
 kg_result kg_cl_launch_args(kg_cl_world* w, kg_cl_kernel_id id, int items, const char* label,
                             const kg_cl_kernel_arg* args, int count)
 {
-    for (int k = 0; k < count; ++k) {
-        KG_TRY(kg_cl_arg(w, w->kernels[id], k, args[k].size, args[k].value));
+    return kg_cl_launch_kernel(w, w->kernels[id], w->group_size[id], items, label ? label : kKernelNames[id], args,
+                               count);
+}
+
+kg_result kg_cl_check_arg_count(kg_cl_world* w, cl_kernel kernel, const char* name, int expected)
+{
+    cl_uint actual = 0;
+    cl_int err = w->cl->GetKernelInfo(kernel, CL_KERNEL_NUM_ARGS, sizeof actual, &actual, NULL);
+    if (err != CL_SUCCESS) {
+        return kg_fail(KG_ERROR_BACKEND, "OpenCL: cannot read the argument count of kernel %s (%s)", name,
+                       kg_cl_error_name(err));
     }
-    return kg_cl_launch(w, w->kernels[id], w->group_size[id], items, label);
+    if ((int)actual != expected) {
+        return kg_fail(KG_ERROR_BACKEND, "OpenCL: kernel %s takes %u arguments in its source but %d in cl_world.h, "
+                       "which its launches follow", name, (unsigned)actual, expected);
+    }
+    return KG_OK;
 }
 
 kg_result kg_cl_finish(kg_cl_world* w)
@@ -377,6 +399,7 @@ static kg_result kg_cl_create_kernels(kg_cl_world* w)
             return kg_fail(KG_ERROR_BACKEND, "OpenCL: no kernel %s in the step program (%s)", kKernelNames[k],
                            kg_cl_error_name(err));
         }
+        KG_TRY(kg_cl_check_arg_count(w, w->kernels[k], kKernelNames[k], kKernelArgs[k]));
         w->group_size[k] = kg_cl_pick_group_size(w, w->kernels[k]);
     }
     w->group_size[KG_CL_K_SOLVE_COLORS_IN_GROUP] = kg_cl_single_group_size(w, w->kernels[KG_CL_K_SOLVE_COLORS_IN_GROUP]);
@@ -466,8 +489,7 @@ static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
     if (r == KG_OK) {
         /* For the budget, not the host's pool (sized from need): the device grows its
          * contact buffers only when the contacts outgrow its colouring, so pairs that
-         * outgrew a smaller device pool would send every step to the host. Last: it
-         * binds every buffer. */
+         * outgrew a smaller device pool would send every step to the host. */
         r = kg_cl_reserve_contacts(w, kg_collision_budget(world));
     }
     return r;
@@ -510,7 +532,6 @@ kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
     kg_result r = kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
     if (r == KG_OK) {
         w->contact_capacity = (int)n;
-        r = kg_cl_bind_buffers(w);
     }
     return r;
 }

@@ -38,30 +38,46 @@ typedef enum kg_cl_array {
 #define KG_CL_BIT(id) (1u << KG_CL_##id)
 #define KG_CL_ALL_ARRAYS ((1u << KG_CL_ARRAY_COUNT) - 1u)
 
-#define KG_CL_KERNELS(X)                                                                   \
-    X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force) X(INTEGRATE_VELOCITIES, kg_integrate_velocities) \
-    X(INTEGRATE_POSITIONS, kg_integrate_positions) X(LOAD_BODIES, kg_load_bodies)          \
-    X(STORE_BODIES, kg_store_bodies)                                                       \
-    X(PREPARE_CONTACTS, kg_prepare_contacts) X(GATHER_COLORED, kg_gather_colored)          \
-    X(SOLVE_COLOR, kg_solve_color)                                                         \
-    X(SOLVE_COLORS_IN_GROUP, kg_solve_colors_in_group) X(STORE_IMPULSES, kg_store_impulses) \
-    X(FINALIZE, kg_finalize)                                                               \
-    X(SCAN_BLOCKS, kg_scan_blocks) X(SCAN_APPLY, kg_scan_apply)                            \
-    X(BP_CLEAR, kg_bp_clear) X(BP_PROXIES, kg_bp_proxies) X(BP_GRID, kg_bp_grid)           \
-    X(BP_INSERT, kg_bp_insert) X(BP_MEASURE, kg_bp_measure) X(BP_PLAN, kg_bp_plan)         \
-    X(BP_FIND, kg_bp_find) X(BP_SCATTER, kg_bp_scatter)                                    \
-    X(BP_SORT_RUNS, kg_bp_sort_runs) X(NARROWPHASE, kg_narrowphase)                        \
-    X(BUILD_CONTACTS, kg_build_contacts) X(COLOR_CONTACTS, kg_color_contacts)            \
-    X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies) X(TILE_TOTAL, kg_tile_total)            \
-    X(WAKE_TOUCHED, kg_wake_touched) X(WAKE_MARKED, kg_wake_marked)                        \
-    X(FIND_ISLANDS, kg_find_islands) X(FALL_ASLEEP, kg_fall_asleep)
+/* The step program's kernels: id, name, and the number of arguments of its .cl parameter
+ * list. A launch (KG_LAUNCH) that passes another number does not compile; a table whose
+ * count differs from the built kernel's (CL_KERNEL_NUM_ARGS) stops the backend's start,
+ * naming the kernel. */
+#define KG_CL_KERNELS(X)                                                                          \
+    X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force, 12) X(INTEGRATE_VELOCITIES, kg_integrate_velocities, 13) \
+    X(INTEGRATE_POSITIONS, kg_integrate_positions, 4) X(LOAD_BODIES, kg_load_bodies, 11)            \
+    X(STORE_BODIES, kg_store_bodies, 13)                                                          \
+    X(PREPARE_CONTACTS, kg_prepare_contacts, 9) X(GATHER_COLORED, kg_gather_colored, 4)            \
+    X(SOLVE_COLOR, kg_solve_color, 7)                                                             \
+    X(SOLVE_COLORS_IN_GROUP, kg_solve_colors_in_group, 5) X(STORE_IMPULSES, kg_store_impulses, 3)  \
+    X(FINALIZE, kg_finalize, 14)                                                                  \
+    X(SCAN_BLOCKS, kg_scan_blocks, 4) X(SCAN_APPLY, kg_scan_apply, 7)                             \
+    X(BP_CLEAR, kg_bp_clear, 5) X(BP_PROXIES, kg_bp_proxies, 12) X(BP_GRID, kg_bp_grid, 2)         \
+    X(BP_INSERT, kg_bp_insert, 8) X(BP_MEASURE, kg_bp_measure, 5) X(BP_PLAN, kg_bp_plan, 2)        \
+    X(BP_FIND, kg_bp_find, 11) X(BP_SCATTER, kg_bp_scatter, 5)                                     \
+    X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 13)                         \
+    X(BUILD_CONTACTS, kg_build_contacts, 11) X(COLOR_CONTACTS, kg_color_contacts, 7)               \
+    X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 29) X(TILE_TOTAL, kg_tile_total, 2)             \
+    X(WAKE_TOUCHED, kg_wake_touched, 8) X(WAKE_MARKED, kg_wake_marked, 5)                          \
+    X(FIND_ISLANDS, kg_find_islands, 9) X(FALL_ASLEEP, kg_fall_asleep, 14)
 
 typedef enum kg_cl_kernel_id {
-#define KG_CL_KERNEL_ENUM(id, name) KG_CL_K_##id,
+#define KG_CL_KERNEL_ENUM(id, name, args) KG_CL_K_##id,
     KG_CL_KERNELS(KG_CL_KERNEL_ENUM)
 #undef KG_CL_KERNEL_ENUM
     KG_CL_KERNEL_COUNT
 } kg_cl_kernel_id;
+
+/* KG_CL_ARGS_<id>: the argument count of kernel id, for KG_LAUNCH's compile-time check. */
+enum {
+#define KG_CL_KERNEL_ARGS(id, name, args) KG_CL_ARGS_##id = (args),
+    KG_CL_KERNELS(KG_CL_KERNEL_ARGS)
+#undef KG_CL_KERNEL_ARGS
+};
+
+/* A device force applicator's kernel (kg_device_force of kernels/kg_force.cl, built per
+ * force by cl_runtime.c): its arguments are the same whatever the user's function. */
+#define KG_CL_DEVICE_FORCE_KERNEL "kg_device_force"
+#define KG_CL_DEVICE_FORCE_ARGS 13
 
 #define KG_CL_MAX_TIMED (KG_MAX_STAGE_TIMES - 8) /* leaves room for the host stages */
 
@@ -180,12 +196,6 @@ kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity);
 kg_result kg_cl_write(kg_cl_world* w, cl_mem buffer, size_t offset, size_t size, const void* data, int blocking);
 kg_result kg_cl_read(kg_cl_world* w, cl_mem buffer, size_t offset, size_t size, void* data);
 kg_result kg_cl_copy(kg_cl_world* w, cl_mem from, cl_mem to, size_t size);
-/* Sets argument index of a kernel; a failure is a backend error like any other. */
-kg_result kg_cl_arg(kg_cl_world* w, cl_kernel kernel, int index, size_t size, const void* value);
-/* Launches kernel over count work-items (rounded up to its work-group size; the kernels
- * return early past count). name labels it in the profile. */
-kg_result kg_cl_launch(kg_cl_world* w, cl_kernel kernel, size_t group_size, int count, const char* name);
-kg_result kg_cl_run(kg_cl_world* w, kg_cl_kernel_id id, int count);
 
 /* Body array name of the kg_cl_world w in scope. */
 #define KG_A(name) w->arrays[KG_CL_##name]
@@ -201,17 +211,40 @@ typedef struct kg_cl_kernel_arg {
 #define KG_UINT(v) {sizeof(cl_uint), &(cl_uint){(v)}}
 #define KG_FLOAT(v) {sizeof(cl_float), &(cl_float){(v)}}
 
-/* Sets the first count arguments of kernel id and launches it over items work-items,
- * labelled label in the profile. */
+/* The launch convention, the only one: every argument of the kernel set in order at the
+ * call site, then the kernel launched over items work-items (rounded up to its work-group
+ * size; the kernels return early past their count), labelled label in the profile. No
+ * argument outlives its launch: nothing is bound once and relied on later. Nothing is
+ * done when items is 0. */
+kg_result kg_cl_launch_kernel(kg_cl_world* w, cl_kernel kernel, size_t group_size, int items, const char* label,
+                              const kg_cl_kernel_arg* args, int count);
+/* The same for kernel id of the step program; label NULL labels it with its name. */
 kg_result kg_cl_launch_args(kg_cl_world* w, kg_cl_kernel_id id, int items, const char* label,
                             const kg_cl_kernel_arg* args, int count);
 
-/* Sets every argument of kernel id, in order, and launches it. */
+/* Launches kernel id of KG_CL_KERNELS with the arguments that follow, all of them, in
+ * order; their count must be the table's, else it does not compile. */
 #define KG_LAUNCH(w, id, items, label, ...)                                                                      \
     do {                                                                                                         \
         const kg_cl_kernel_arg args_[] = {__VA_ARGS__};                                                          \
+        _Static_assert(sizeof args_ / sizeof args_[0] == KG_CL_ARGS_##id,                                        \
+                       "KG_LAUNCH(" #id "): not as many arguments as KG_CL_KERNELS gives the kernel");           \
         KG_TRY(kg_cl_launch_args(w, KG_CL_K_##id, items, label, args_, (int)(sizeof args_ / sizeof args_[0]))); \
     } while (0)
+
+/* Launches a device force applicator's kernel, every argument in order, as KG_LAUNCH. */
+#define KG_LAUNCH_DEVICE_FORCE(w, kernel, group_size, items, label, ...)                                         \
+    do {                                                                                                         \
+        const kg_cl_kernel_arg args_[] = {__VA_ARGS__};                                                          \
+        _Static_assert(sizeof args_ / sizeof args_[0] == KG_CL_DEVICE_FORCE_ARGS,                                \
+                       "KG_LAUNCH_DEVICE_FORCE: not as many arguments as kg_device_force has");                  \
+        KG_TRY(kg_cl_launch_kernel(w, kernel, group_size, items, label, args_,                                   \
+                                   (int)(sizeof args_ / sizeof args_[0])));                                      \
+    } while (0)
+
+/* KG_OK when kernel (named name) takes expected arguments (CL_KERNEL_NUM_ARGS); else a
+ * backend error naming the kernel and both counts. */
+kg_result kg_cl_check_arg_count(kg_cl_world* w, cl_kernel kernel, const char* name, int expected);
 
 /* Waits for the queue; errors of kernels that failed while running surface here. */
 kg_result kg_cl_finish(kg_cl_world* w);
@@ -229,10 +262,6 @@ kg_result kg_cl_read_checkpoint(kg_cl_world* w, kg_body_pool* pool);
 
 /* The mask of the arrays a step changes. */
 unsigned kg_cl_state_arrays(void);
-
-/* Sets the buffer arguments of every kernel (again after a buffer grows). In cl_step.c,
- * which knows the kernels' signatures. */
-kg_result kg_cl_bind_buffers(kg_cl_world* w);
 
 /* Adds the device time of the step's profiled commands to w->timing, and releases them. */
 void kg_cl_collect_timing(kg_cl_world* w);
