@@ -40,7 +40,6 @@
 #include <string.h>
 #include <time.h>
 
-KG_STATIC_ASSERT(sizeof(kg_force_body) == 56, host_force_body_size);
 
 /* Up to this many contacts, each solver pass is one single-group launch: a world that
  * small cannot fill a GPU, and one launch instead of one per colour saves the launch

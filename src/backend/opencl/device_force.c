@@ -7,6 +7,7 @@
 #include "core/alloc.h"
 #include "core/error.h"
 #include "kgyro/force.h"
+#include "solve/force_body.h"
 
 #include <ctype.h>
 #include <math.h>
@@ -29,20 +30,10 @@ void kg_device_force_on_cpu(kg_world* world, const kg_body* bodies, int count, v
         if (!kg_pool_is_simulated(p, i)) {
             continue;
         }
-        kg_force_body body;
-        memset(&body, 0, sizeof body);
-        body.position = p->center[i];
-        body.rotation = kg_v2(p->rot[i].c, p->rot[i].s);
-        body.velocity = p->velocity[i];
-        body.angular_velocity = p->omega[i];
-        body.mass = p->mass[i];
-        body.inertia = p->inertia[i];
-        body.torque = p->torque[i];
-        body.force = p->force[i];
-        body.index = (uint32_t)i;
+        kg_force_body body = kg_force_body_of((kg_u32)i, p->center, p->rot, p->velocity, p->omega, p->mass, p->inertia,
+                                              p->force, p->torque);
         f->cpu_fn(&body, f->params);
-        p->force[i] = body.force;
-        p->torque[i] = body.torque;
+        kg_force_body_store((kg_u32)i, &body, p->force, p->torque);
     }
 }
 
