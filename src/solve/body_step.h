@@ -7,6 +7,7 @@
 #include "collide/aabb.h"
 #include "core/body_flags.h"
 #include "solve/contact_solver.h"
+#include "solve/integrate.h"
 #include "solve/island.h"
 
 /* A built-in applicator's force on body i, `repeat` times over (a body listed twice in
@@ -44,6 +45,29 @@ KG_FN void kg_freeze_body(kg_u32 i, KG_GLOBAL kg_u32* flags, KG_GLOBAL kg_vec2* 
     torque[i] = 0.0f;
     rot[i] = last.q;
     center[i] = kg_xf_point(last, local_center[i]);
+}
+
+/* What the integration of body i's velocity adds and scales by over the step's sub-steps
+ * (solve/integrate.h), from its forces, drag, masses and damping. */
+KG_FN kg_velocity_step kg_body_velocity_step(kg_u32 i, KG_GLOBAL const kg_vec2* force, KG_GLOBAL const float* torque,
+                                             KG_GLOBAL const float* drag, KG_GLOBAL const float* inv_mass,
+                                             KG_GLOBAL const float* inv_inertia, KG_GLOBAL const float* linear_damping,
+                                             KG_GLOBAL const float* angular_damping, kg_integrate_params prm)
+{
+    return kg_velocity_step_of(force[i], torque[i], drag[i], inv_mass[i], inv_inertia[i], linear_damping[i],
+                               angular_damping[i], prm);
+}
+
+/* One sub-step's velocity update of body i, if it takes impulses. */
+KG_FN void kg_integrate_body_velocity(kg_u32 i, KG_GLOBAL kg_solver_body* bodies,
+                                      KG_GLOBAL const kg_velocity_step* steps, kg_integrate_params prm)
+{
+    if (bodies[i].moves) {
+        kg_body_motion m = bodies[i].motion;
+        kg_apply_velocity_step(&m.v, &m.w, steps[i], prm);
+        bodies[i].motion.v = m.v;
+        bodies[i].motion.w = m.w;
+    }
 }
 
 /* Body i's solver body at the start of the solve. What reached it between steps

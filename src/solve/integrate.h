@@ -19,14 +19,16 @@ typedef struct kg_integrate_params {
 } kg_integrate_params;
 
 /* What a body's velocity update adds and scales by, constant over the sub-steps of a
- * step: the CPU makes it once a step (solve/solver.c), the kernel at every sub-step
- * (kg_integrate_velocity), the same operations either way. */
+ * step: made once a step (solve/body_step.h, kg_body_velocity_step), applied at every
+ * sub-step. */
 typedef struct kg_velocity_step {
     kg_vec2 dv;       /* h times the acceleration of gravity and the force */
     float dw;         /* h times the angular acceleration of the torque */
     float lin_factor; /* implicit linear damping and drag: 1 / (1 + h c) */
     float ang_factor; /* implicit angular damping */
 } kg_velocity_step;
+
+KG_STATIC_ASSERT(sizeof(kg_velocity_step) == 20, velocity_step_size);
 
 /* drag: N s/m, the wind's; linear_damping: 1/s, the body's own. */
 KG_FN kg_velocity_step kg_velocity_step_of(kg_vec2 force, float torque, float drag, float inv_mass, float inv_inertia,
@@ -56,15 +58,6 @@ KG_FN void kg_apply_velocity_step(kg_vec2* v, float* w, kg_velocity_step s, kg_i
     float max_w = KG_MAX_ROTATION_PER_SUBSTEP / prm.h;
     *v = nv;
     *w = kg_clampf(nw, -max_w, max_w);
-}
-
-KG_FN void kg_integrate_velocity(kg_vec2* v, float* w, kg_vec2 force, float torque, float drag, float inv_mass,
-                                 float inv_inertia, float linear_damping, float angular_damping,
-                                 kg_integrate_params prm)
-{
-    kg_velocity_step s =
-        kg_velocity_step_of(force, torque, drag, inv_mass, inv_inertia, linear_damping, angular_damping, prm);
-    kg_apply_velocity_step(v, w, s, prm);
 }
 
 KG_FN void kg_integrate_position(kg_vec2* center, kg_rot* q, kg_vec2 v, float w, float h)

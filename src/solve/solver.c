@@ -138,9 +138,9 @@ static void kg_load_bodies(void* context, int begin, int end)
             kg_warn_frozen(i);
         }
         if (job->bodies[i].moves) {
-            job->velocity_steps[i] = kg_velocity_step_of(p->force[i], p->torque[i], p->drag[i], p->inv_mass[i],
-                                                         p->inv_inertia[i], p->linear_damping[i],
-                                                         p->angular_damping[i], job->prm);
+            job->velocity_steps[i] = kg_body_velocity_step((kg_u32)i, p->force, p->torque, p->drag, p->inv_mass,
+                                                           p->inv_inertia, p->linear_damping, p->angular_damping,
+                                                           job->prm);
         }
     }
 }
@@ -149,10 +149,7 @@ static void kg_integrate_velocities(void* context, int begin, int end)
 {
     kg_body_job* job = context;
     for (int i = begin; i < end; ++i) {
-        kg_body_motion* m = &job->bodies[i].motion;
-        if (job->bodies[i].moves) {
-            kg_apply_velocity_step(&m->v, &m->w, job->velocity_steps[i], job->prm);
-        }
+        kg_integrate_body_velocity((kg_u32)i, job->bodies, job->velocity_steps, job->prm);
     }
 }
 

@@ -333,10 +333,8 @@ static kg_result kg_run_pass(kg_cl_backend* b, int pass)
 /* One sub-step's velocities: gravity, forces and damping (solve/integrate.h). */
 static kg_result kg_integrate_velocities(kg_cl_world* w, int bodies, kg_integrate_params ip)
 {
-    KG_LAUNCH(w, INTEGRATE_VELOCITIES, bodies, NULL, KG_INT(bodies), KG_FLOAT(ip.h), KG_FLOAT(ip.gravity.x),
-              KG_FLOAT(ip.gravity.y), KG_FLOAT(ip.max_linear_speed), KG_MEM(w->solver_bodies), KG_MEM(KG_A(FORCE)),
-              KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(DRAG)), KG_MEM(KG_A(INV_MASS)), KG_MEM(KG_A(INV_INERTIA)),
-              KG_MEM(KG_A(LINEAR_DAMPING)), KG_MEM(KG_A(ANGULAR_DAMPING)));
+    KG_LAUNCH(w, INTEGRATE_VELOCITIES, bodies, NULL, KG_INT(bodies), KG_FLOAT(ip.h), KG_FLOAT(ip.max_linear_speed),
+              KG_MEM(w->solver_bodies), KG_MEM(w->velocity_steps));
     return KG_OK;
 }
 
@@ -369,9 +367,12 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     kg_integrate_params ip = {def->gravity, h, def->max_linear_speed};
     b->solver_params = kg_solver_params_of(def, h);
     KG_TRY(kg_cl_write(w, w->solver_params, 0, sizeof b->solver_params, &b->solver_params, 0));
-    KG_LAUNCH(w, LOAD_BODIES, bodies, NULL, KG_INT(bodies), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)),
-              KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(CENTER)),
-              KG_MEM(KG_A(XF)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(w->solver_bodies));
+    KG_LAUNCH(w, LOAD_BODIES, bodies, NULL, KG_INT(bodies), KG_FLOAT(ip.gravity.x), KG_FLOAT(ip.gravity.y),
+              KG_FLOAT(ip.h), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)),
+              KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(XF)),
+              KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(w->solver_bodies), KG_MEM(KG_A(DRAG)), KG_MEM(KG_A(INV_MASS)),
+              KG_MEM(KG_A(INV_INERTIA)), KG_MEM(KG_A(LINEAR_DAMPING)), KG_MEM(KG_A(ANGULAR_DAMPING)),
+              KG_MEM(w->velocity_steps));
     KG_LAUNCH(w, PREPARE_CONTACTS, count, NULL, KG_INT(count), KG_MEM(w->solver_params), KG_MEM(contacts),
               KG_MEM(w->constraints), KG_MEM(w->solver_bodies), KG_MEM(KG_A(INV_MASS)), KG_MEM(KG_A(INV_INERTIA)),
               KG_MEM(KG_A(XF)), KG_MEM(KG_A(CENTER)));

@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "solve/contact_solver.h"
 #include "solve/graph_color.h"
+#include "solve/integrate.h"
 
 #include <string.h>
 
@@ -472,7 +473,8 @@ static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
         }
     }
     const kg_cl_sized_buffer list[] = {
-        {&w->solver_bodies, (size_t)pool->capacity * KG_CL_SOLVER_BODY_SIZE},
+        {&w->solver_bodies, (size_t)pool->capacity * sizeof(kg_solver_body)},
+        {&w->velocity_steps, (size_t)pool->capacity * sizeof(kg_velocity_step)},
         {&w->solver_params, sizeof(kg_solver_params)},
         {&w->color_start, (KG_COLOR_COUNT + 2) * sizeof(int)},
         {&w->targets, (size_t)pool->capacity * 2u * sizeof(cl_uint)},
@@ -592,6 +594,7 @@ void kg_cl_world_destroy(kg_cl_world* w)
         kg_cl_release(w, &w->checkpoint[id]);
     }
     kg_cl_release(w, &w->solver_bodies);
+    kg_cl_release(w, &w->velocity_steps);
     kg_cl_release(w, &w->solver_params);
     kg_cl_release(w, &w->color_start);
     kg_cl_release(w, &w->targets);

@@ -43,8 +43,8 @@ typedef enum kg_cl_array {
  * count differs from the built kernel's (CL_KERNEL_NUM_ARGS) stops the backend's start,
  * naming the kernel. */
 #define KG_CL_KERNELS(X)                                                                          \
-    X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force, 12) X(INTEGRATE_VELOCITIES, kg_integrate_velocities, 13) \
-    X(INTEGRATE_POSITIONS, kg_integrate_positions, 4) X(LOAD_BODIES, kg_load_bodies, 11)            \
+    X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force, 12) X(INTEGRATE_VELOCITIES, kg_integrate_velocities, 5) \
+    X(INTEGRATE_POSITIONS, kg_integrate_positions, 4) X(LOAD_BODIES, kg_load_bodies, 20)            \
     X(STORE_BODIES, kg_store_bodies, 13)                                                          \
     X(PREPARE_CONTACTS, kg_prepare_contacts, 9) X(GATHER_COLORED, kg_gather_colored, 4)            \
     X(SOLVE_COLOR, kg_solve_color, 7)                                                             \
@@ -80,9 +80,6 @@ enum {
 #define KG_CL_DEVICE_FORCE_ARGS 13
 
 #define KG_CL_MAX_TIMED (KG_MAX_STAGE_TIMES - 8) /* leaves room for the host stages */
-
-/* sizeof(kg_solver_body) of solve/solver.c and kernels/kg_step.cl (asserted there) */
-#define KG_CL_SOLVER_BODY_SIZE 32u
 
 /* Device time per kernel name over one step, from profiling events. */
 typedef struct kg_cl_timing {
@@ -137,6 +134,7 @@ typedef struct kg_cl_world {
     cl_mem arrays[KG_CL_ARRAY_COUNT];
     cl_mem checkpoint[KG_CL_ARRAY_COUNT]; /* state arrays at the start of the step */
     cl_mem solver_bodies;                 /* kg_solver_body per slot: the solver's state */
+    cl_mem velocity_steps;                /* kg_velocity_step per slot, made by kg_load_bodies */
     cl_mem solver_params;                 /* kg_solver_params of the step */
     cl_mem contacts[2];                   /* this step's and last step's, swapped each step */
     int current;                          /* contacts[current]: the last step's */

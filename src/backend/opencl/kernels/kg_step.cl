@@ -31,36 +31,32 @@ __kernel void kg_apply_builtin_force(int count, int all, __global const uint2* t
 
 /* ---- solver ---------------------------------------------------------------------- */
 
-__kernel void kg_load_bodies(int count, __global kg_u32* flags, __global kg_vec2* velocity, __global float* omega,
-                             __global kg_vec2* force, __global float* torque, __global kg_rot* rot,
-                             __global kg_vec2* center, __global const kg_xf* xf,
-                             __global const kg_vec2* local_center, __global kg_solver_body* bodies)
+__kernel void kg_load_bodies(int count, float gx, float gy, float h, __global kg_u32* flags,
+                             __global kg_vec2* velocity, __global float* omega, __global kg_vec2* force,
+                             __global float* torque, __global kg_rot* rot, __global kg_vec2* center,
+                             __global const kg_xf* xf, __global const kg_vec2* local_center,
+                             __global kg_solver_body* bodies, __global const float* drag,
+                             __global const float* inv_mass, __global const float* inv_inertia,
+                             __global const float* linear_damping, __global const float* angular_damping,
+                             __global kg_velocity_step* steps)
 {
     int i = (int)get_global_id(0);
     if (i < count) {
         kg_load_body((kg_u32)i, flags, velocity, omega, force, torque, rot, center, xf, local_center, bodies);
+        kg_integrate_params prm = {kg_v2(gx, gy), h, 0.0f};
+        steps[i] = kg_body_velocity_step((kg_u32)i, force, torque, drag, inv_mass, inv_inertia, linear_damping,
+                                         angular_damping, prm);
     }
 }
 
-__kernel void kg_integrate_velocities(int count, float h, float gx, float gy, float max_linear_speed,
-                                      __global kg_solver_body* bodies, __global const kg_vec2* force,
-                                      __global const float* torque, __global const float* drag,
-                                      __global const float* inv_mass,
-                                      __global const float* inv_inertia, __global const float* linear_damping,
-                                      __global const float* angular_damping)
+__kernel void kg_integrate_velocities(int count, float h, float max_linear_speed, __global kg_solver_body* bodies,
+                                      __global const kg_velocity_step* steps)
 {
     int i = (int)get_global_id(0);
-    if (i >= count || !bodies[i].moves) {
-        return;
+    if (i < count) {
+        kg_integrate_params prm = {kg_v2(0.0f, 0.0f), h, max_linear_speed};
+        kg_integrate_body_velocity((kg_u32)i, bodies, steps, prm);
     }
-    kg_integrate_params prm;
-    prm.gravity = kg_v2(gx, gy);
-    prm.h = h;
-    prm.max_linear_speed = max_linear_speed;
-    kg_body_motion m = bodies[i].motion;
-    kg_integrate_velocity(&m.v, &m.w, force[i], torque[i], drag[i], inv_mass[i], inv_inertia[i], linear_damping[i],
-                          angular_damping[i], prm);
-    bodies[i].motion = m;
 }
 
 __kernel void kg_integrate_positions(int count, float h, __global const kg_u32* flags,
