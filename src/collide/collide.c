@@ -327,13 +327,14 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
             continue;
         }
         float speculative = kg_pair_speculative(job->speculative, p->velocity[a], p->velocity[b], job->dt);
-        kg_collide_or_recycle(&p->shape[a], p->xf[a], &p->shape[b], p->xf[b], speculative, prev, &ct->manifold,
-                              &ct->base);
+        int kept = kg_collide_or_recycle(&p->shape[a], p->xf[a], &p->shape[b], p->xf[b], speculative, prev,
+                                         &ct->manifold, &ct->base);
         if (ct->manifold.point_count == 0) {
             continue;
         }
         if (prev) {
-            int matched = kg_contact_carry_impulses(&ct->manifold, &prev->manifold);
+            int matched = kept ? kg_carry_kept_impulses(&ct->manifold, &prev->manifold)
+                               : kg_contact_carry_impulses(&ct->manifold, &prev->manifold);
             carried += matched;
             missed += ct->manifold.point_count - matched;
         }

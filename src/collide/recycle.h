@@ -83,6 +83,19 @@ KG_FN int kg_pose_kept(const kg_contact_base* base, kg_xf xfa, kg_xf xfb)
            cosine > 0.0f;
 }
 
+/* kg_contact_carry_impulses for a manifold kept from old: its points are old's, with
+ * old's ids in old's order, so each takes the impulses of old's first point of its id
+ * without a search (the second point its own, unless both share an id). */
+KG_FN int kg_carry_kept_impulses(kg_manifold* m, const kg_manifold* old)
+{
+    for (int i = 0; i < m->point_count; ++i) {
+        int j = i == 1 && old->points[1].id == old->points[0].id ? 0 : i;
+        m->points[i].normal_impulse = old->points[j].normal_impulse;
+        m->points[i].tangent_impulse = old->points[j].tangent_impulse;
+    }
+    return m->point_count;
+}
+
 /* The manifold of a body pair and its base: last step's kept (old, may be NULL) when the
  * pair has barely moved since it was computed and every point stays within the
  * speculative distance, else computed anew. Returns 1 when kept.

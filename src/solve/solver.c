@@ -299,14 +299,15 @@ static void kg_unpack_impulses_range(void* context, int begin, int end)
     job->solver->rows->unpack_impulses(job->solver->blocks, begin, end, job->solver->impulses);
 }
 
-/* Where contact k's constraint was solved: its block's lane, block * width + lane. */
+/* Where contact k's constraint was solved: its block's lane, block * width + lane. A
+ * colour's constraints fill its blocks' lanes one after another; the overflow's take the
+ * first lane of a block each. */
 static int kg_lane_of_contact(const struct kg_solver* s, int k)
 {
     const kg_graph_coloring* g = &s->coloring;
-    int c = s->scratch_colors[k];
-    int lanes = c == KG_COLOR_COUNT ? 1 : s->rows->width;
+    int c = s->scratch_colors[k], width = s->rows->width;
     int at = g->rank[k] - g->color_start[c];
-    return (s->block_start[c] + at / lanes) * s->rows->width + at % lanes;
+    return s->block_start[c] * width + (c == KG_COLOR_COUNT ? at * width : at);
 }
 
 /* Contacts [begin, end), in their own order, take their impulses back for warm starting
