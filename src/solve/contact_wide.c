@@ -9,6 +9,7 @@
 #define kg_lindex kg_u32
 #define kg_lint kg_i32
 #define KG_LANE_OF(v, lane) ((&(v))[lane]) /* lane is always 0 */
+#define KG_LZERO 0.0f
 #include "solve/contact_wide_impl.h"
 
 extern const kg_contact_rows kg_contact_rows_w4;

@@ -19,7 +19,10 @@
 typedef struct kg_lane_impulses {
     kg_i32 point_count;
     float normal_impulse[2], tangent_impulse[2], relative_velocity[2];
+    float pad; /* eight floats: a lane's record is one transposed row */
 } kg_lane_impulses;
+
+KG_STATIC_ASSERT(sizeof(kg_lane_impulses) == 8 * sizeof(float), lane_impulses_are_eight_floats);
 
 typedef struct kg_contact_rows {
     int width;

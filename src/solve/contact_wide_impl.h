@@ -29,6 +29,17 @@ static inline void KG_WIDE(kg_rows_to_lanes)(const float* const rows[KG_W], kg_l
     }
 }
 
+/* Rows from lanes, the other way: rows (W rows of 8 floats, one after the other) get
+ * float k of row l from lane l of columns[k]. */
+static inline void KG_WIDE(kg_lanes_to_rows8)(const kg_lane columns[8], float* rows)
+{
+    for (int lane = 0; lane < KG_W; ++lane) {
+        for (int k = 0; k < 8; ++k) {
+            rows[lane * 8 + k] = KG_LANE_OF(columns[k], lane);
+        }
+    }
+}
+
 /* Bit l set where lane l's `moves` column (as gathered) is not zero. */
 static inline unsigned KG_WIDE(kg_movers)(kg_lane moves)
 {
@@ -90,22 +101,30 @@ static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_row_head* head
     KG_ROWFN(kg_contact_prepare_lanes)(r, &in, prm);
 }
 
-/* The impulses and approach speeds of blocks [begin, end), lane by lane, into out:
- * written in order, where storing them into their contacts (in colour order, scattered
- * over megabytes) cost a cache miss a contact. */
+/* An int lane's bits as a float lane's, to be moved with the floats. */
+#if KG_W == 1
+static inline kg_lane KG_WIDE(kg_int_bits)(kg_lint v)
+{
+    kg_lane f;
+    memcpy(&f, &v, sizeof f);
+    return f;
+}
+#else
+static inline kg_lane KG_WIDE(kg_int_bits)(kg_lint v) { return (kg_lane)v; }
+#endif
+
+/* The impulses and approach speeds of blocks [begin, end), lane by lane, into out (a
+ * transpose a block): written in order, where storing them into their contacts (in colour
+ * order, scattered over megabytes) cost a cache miss a contact. */
 static void KG_WIDE(kg_unpack_impulses)(const void* blocks, int begin, int end, kg_lane_impulses* out)
 {
     for (int block = begin; block < end; ++block) {
         const kg_wrow* r = (const kg_wrow*)blocks + block;
-        for (int lane = 0; lane < KG_W; ++lane) {
-            kg_lane_impulses* o = &out[block * KG_W + lane];
-            o->point_count = KG_LANE_OF(r->point_count, lane);
-            for (int j = 0; j < 2; ++j) {
-                o->normal_impulse[j] = KG_LANE_OF(r->points[j].normal_impulse, lane);
-                o->tangent_impulse[j] = KG_LANE_OF(r->points[j].tangent_impulse, lane);
-                o->relative_velocity[j] = KG_LANE_OF(r->points[j].relative_velocity, lane);
-            }
-        }
+        const kg_lane columns[8] = {KG_WIDE(kg_int_bits)(r->point_count), r->points[0].normal_impulse,
+                                    r->points[1].normal_impulse,         r->points[0].tangent_impulse,
+                                    r->points[1].tangent_impulse,        r->points[0].relative_velocity,
+                                    r->points[1].relative_velocity,      KG_LZERO};
+        KG_WIDE(kg_lanes_to_rows8)(columns, (float*)&out[block * KG_W]);
     }
 }
 
