@@ -651,7 +651,6 @@ KG_FN int kg_tile_cell_contact(const kg_tile_body* body, const kg_tile_map_info*
     kg_xf xf = body->xf;
     xf.p = kg_sub(xf.p, cell_origin);
     kg_shape shape = kg_shape_in_cell(&body->shape, xf);
-    kg_tile_proto around[9];
     kg_tile_neighbourhood nb;
     nb.tile_size = m->tile_size;
     for (int dy = -1; dy <= 1; ++dy) {
@@ -659,10 +658,7 @@ KG_FN int kg_tile_cell_contact(const kg_tile_body* body, const kg_tile_map_info*
             int k = (dy + 1) * 3 + dx + 1, cx = x + dx, cy = y + dy;
             int inside = cx >= 0 && cy >= 0 && cx < m->width && cy < m->height;
             kg_u32 w = inside ? cells[m->cell_offset + (kg_u32)((layer * m->height + cy) * m->width + cx)] : 0u;
-            if (inside) {
-                around[k] = k == 4 ? centre : protos[m->proto_offset + kg_cell_id(w)];
-            }
-            nb.cells[k].proto = inside ? &around[k] : 0;
+            nb.cells[k].proto = inside ? &protos[m->proto_offset + kg_cell_id(w)] : 0;
             nb.cells[k].word = w;
         }
     }
