@@ -27,7 +27,7 @@
 #define KG_TILEMAP_H
 
 #include "collide/collide.h"
-#include "collide/tile_collide.h"
+#include "collide/tile_pass.h"
 #include "kgyro/tilemap.h"
 
 /* Writes up to room contacts of bodies against the world's tile maps into out (b =
@@ -50,8 +50,17 @@ typedef struct kg_tilemap_view {
     kg_u32 key_base;
 } kg_tilemap_view;
 void kg_tilemaps_view(const kg_world* world, int live_index, kg_tilemap_view* out);
-/* The map's kg_tile_proto per tile id, def->shape_count of them, into out. */
-void kg_tilemaps_copy_protos(const kg_world* world, int live_index, kg_tile_proto* out);
+/* The live maps as the tile pass reads them, the same arrays on the host and the device
+ * (collide/tile_pass.h): valid until a map is created or destroyed. */
+typedef struct kg_tilemap_arrays {
+    const kg_tile_map_info* maps;
+    int map_count;
+    const kg_u32* cells;
+    size_t cell_count;
+    const kg_tile_proto* protos;
+    size_t proto_count;
+} kg_tilemap_arrays;
+void kg_tilemaps_arrays(const kg_world* world, kg_tilemap_arrays* out);
 /* Whether kg_tilemap_set_tile changed the map's cells since the last call (which clears it). */
 int kg_tilemaps_take_dirty(kg_world* world, int live_index);
 /* The one-way platform state, per body slot (world->def.max_bodies each): origin and

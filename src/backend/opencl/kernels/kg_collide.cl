@@ -11,7 +11,7 @@
 #include "collide/aabb.h"
 #include "collide/manifold.h"
 #include "collide/recycle.h"
-#include "collide/tile_collide.h"
+#include "collide/tile_pass.h"
 #include "solve/coloring.h"
 #include "kg_collide_shared.h"
 
