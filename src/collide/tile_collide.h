@@ -616,11 +616,11 @@ KG_FN kg_tile_hit kg_tile_collide_circle(const kg_tile_segment* s, kg_vec2 cente
     return hit;
 }
 
-/* ---- the body in the cell frame, and its contact back in the world (collide/tilemap.c
- * and the OpenCL kernels) ---- */
+/* ---- the body in the cell frame, and its contact back in the world (collide/tile_pass.h)
+ * ---- */
 
 /* A body's shape moved into a cell's frame: xf is the body's pose relative to the cell. */
-KG_FN kg_shape kg_shape_in_cell(const kg_shape* shape, kg_xf xf)
+KG_FN kg_shape kg_shape_in_cell(KG_GLOBAL const kg_shape* shape, kg_xf xf)
 {
     kg_shape out = *shape;
     for (int i = 0; i < shape->count; ++i) {

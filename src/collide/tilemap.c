@@ -628,191 +628,25 @@ kg_result kg_world_get_contact_tile(const kg_world* world, int index, kg_tilemap
 
 /* ---- collision ---- */
 
-typedef struct kg_tile_pass {
-    kg_world* world;
-    struct kg_tilemaps* tilemaps;
-    kg_contact* out;
-    int room;
-    int count;
-    const kg_contact* previous;
-    int previous_count;
-    int cursor; /* into previous: the first contact not below (body, key) */
-} kg_tile_pass;
-
-static kg_tile_neighbourhood kg_neighbourhood(const kg_map* m, int layer, int x, int y)
-{
-    kg_tile_neighbourhood nb;
-    nb.tile_size = m->def.tile_size;
-    for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-            kg_tile_cell* cell = &nb.cells[(dy + 1) * 3 + dx + 1];
-            const kg_tile_template* t = kg_template_at(m, layer, x + dx, y + dy);
-            cell->proto = t ? &t->proto : NULL;
-            cell->word = t ? m->cells[kg_cell_index(m, layer, x + dx, y + dy)] : 0u;
-        }
-    }
-    return nb;
-}
-
-/* Last step's contact of (body, key), found by walking the previous list (sorted the same
- * way) along with this step's; NULL if there was none. */
-static const kg_contact* kg_previous_contact(kg_tile_pass* pass, kg_u32 body, kg_u32 key)
-{
-    while (pass->cursor < pass->previous_count) {
-        const kg_contact* old = &pass->previous[pass->cursor];
-        if (old->a > body || (old->a == body && old->tile >= key)) {
-            return old->a == body && old->tile == key ? old : NULL;
-        }
-        pass->cursor++;
-    }
-    return NULL;
-}
-
-/* Where the body's origin was at the last collision (its current one when unknown). */
-static kg_vec2 kg_last_origin(const kg_tile_pass* pass, int body)
-{
-    const kg_body_pool* p = &pass->world->bodies;
-    const struct kg_tilemaps* t = pass->tilemaps;
-    return t->last_generation[body] == p->generation[body] ? t->last_origin[body] : p->xf[body].p;
-}
-
-/* One-way platforms hold a body that comes from above: the contact existed last step, or
- * the body's deepest point was above the surface (within the linear slop) at the last
- * collision. A body can only cross the surface downwards by moving down, so this also
- * means "moving down or resting". The normal (tile to body) must point up. */
-static int kg_one_way_accepts(const kg_tile_pass* pass, int body, const kg_manifold* local, int persisted)
-{
-    if (!(local->normal.y > 0.0f)) {
-        return 0;
-    }
-    if (persisted) {
-        return 1;
-    }
-    kg_vec2 moved = kg_sub(pass->world->bodies.xf[body].p, kg_last_origin(pass, body));
-    float previous_separation = kg_min_separation(local) - kg_dot(moved, local->normal);
-    return previous_separation >= -pass->world->def.linear_slop;
-}
-
-static void kg_emit_contact(kg_tile_pass* pass, int body, const kg_map* m, kg_u32 key, const kg_manifold* manifold,
-                            const kg_contact* old)
-{
-    if (pass->count < pass->room) {
-        const kg_body_pool* p = &pass->world->bodies;
-        kg_contact* ct = &pass->out[pass->count];
-        memset(ct, 0, sizeof *ct);
-        ct->manifold = *manifold;
-        if (old) {
-            kg_count_warm_starts(pass->world, manifold->point_count, kg_contact_carry_impulses(&ct->manifold, &old->manifold));
-        }
-        ct->a = (kg_u32)body;
-        ct->b = KG_NULL_INDEX;
-        ct->tile = key;
-        ct->friction = sqrtf(p->friction[body] * m->def.friction);
-        ct->restitution = fmaxf(p->restitution[body], m->def.restitution);
-    }
-    pass->count += 1;
-}
-
-/* The body against the tile at (layer, x, y), if that tile can touch anything. */
-static void kg_collide_cell(kg_tile_pass* pass, int body, const kg_map* m, int layer, int x, int y)
-{
-    kg_u32 index = kg_cell_index(m, layer, x, y);
-    kg_u32 word = m->cells[index];
-    const kg_tile_template* t = &m->templates[kg_cell_id(word)];
-    int circle = t->proto.shape.count == 1;
-    if (!circle && (word >> KG_CELL_START_SHIFT) == 0u) {
-        return;
-    }
-    const kg_body_pool* p = &pass->world->bodies;
-    kg_vec2 cell_origin = kg_v2(m->def.origin.x + (float)x * m->def.tile_size.x,
-                                m->def.origin.y + (float)y * m->def.tile_size.y);
-    kg_xf xf = p->xf[body];
-    xf.p = kg_sub(xf.p, cell_origin);
-    kg_shape shape = kg_shape_in_cell(&p->shape[body], xf);
-    kg_tile_neighbourhood nb = kg_neighbourhood(m, layer, x, y);
-    kg_tile_hit hit = kg_tile_collide(&nb, &shape, pass->world->def.speculative_distance);
-    if (hit.manifold.point_count == 0) {
-        return;
-    }
-    kg_u32 key = m->key_base + index;
-    const kg_contact* old = kg_previous_contact(pass, (kg_u32)body, key);
-    if ((t->proto.flags & KG_TILE_FLAG_ONE_WAY) && !kg_one_way_accepts(pass, body, &hit.manifold, old != NULL)) {
-        return;
-    }
-    kg_manifold manifold = kg_contact_manifold(&hit.manifold, cell_origin, xf, p->xf[body].p, p->center[body]);
-    kg_emit_contact(pass, body, m, key, &manifold, old);
-}
-
-/* The cells [lo, hi] along one axis that the interval [a, b] (map frame, in tiles)
- * covers; 0 when none. Clamped in floats first, so far-away bodies cannot overflow. */
-static int kg_cell_span(float a, float b, int count, int* lo, int* hi)
-{
-    if (!(b >= 0.0f) || !(a < (float)count)) {
-        return 0;
-    }
-    *lo = (int)floorf(fmaxf(a, 0.0f));
-    *hi = (int)floorf(fminf(b, (float)count - 1.0f));
-    if (*hi >= count) {
-        *hi = count - 1;
-    }
-    return *lo <= *hi;
-}
-
-static void kg_collide_body_map(kg_tile_pass* pass, int body, const kg_map* m, kg_aabb box)
-{
-    const kg_body_pool* p = &pass->world->bodies;
-    if ((p->category[body] & m->def.mask) == 0u || (m->def.category & p->mask[body]) == 0u) {
-        return;
-    }
-    kg_vec2 size = m->def.tile_size, origin = m->def.origin;
-    int x0, x1, y0, y1;
-    if (!kg_cell_span((box.lower.x - origin.x) / size.x, (box.upper.x - origin.x) / size.x, m->def.width, &x0, &x1) ||
-        !kg_cell_span((box.lower.y - origin.y) / size.y, (box.upper.y - origin.y) / size.y, m->def.height, &y0,
-                      &y1)) {
-        return;
-    }
-    for (int layer = 0; layer < m->def.layer_count; ++layer) {
-        for (int y = y0; y <= y1; ++y) {
-            for (int x = x0; x <= x1; ++x) {
-                kg_collide_cell(pass, body, m, layer, x, y);
-            }
-        }
-    }
-}
-
-static void kg_collide_body(kg_tile_pass* pass, int body)
-{
-    const kg_body_pool* p = &pass->world->bodies;
-    const struct kg_tilemaps* t = pass->tilemaps;
-    kg_aabb box = kg_aabb_fatten(p->aabb[body], pass->world->def.speculative_distance);
-    for (int i = 0; i < t->live_count; ++i) {
-        kg_collide_body_map(pass, body, &t->maps[t->order[i]], box);
-    }
-}
-
-static void kg_remember_origins(struct kg_tilemaps* t, const kg_body_pool* p)
-{
-    for (int i = 0; i < p->high_water; ++i) {
-        t->last_origin[i] = p->xf[i].p;
-        t->last_generation[i] = p->generation[i];
-    }
-}
-
 int kg_tilemap_collide(kg_world* world, kg_contact* out, int room, const kg_contact* previous, int previous_count)
 {
     struct kg_tilemaps* t = world->tilemaps;
     if (!t || t->live_count == 0) {
         return 0;
     }
-    kg_tile_pass pass = {world, t, out, room, 0, previous, previous_count, 0};
-    const kg_body_pool* p = &world->bodies;
-    for (int i = 0; i < p->high_water; ++i) {
-        if (kg_pool_collides(p, i)) {
-            kg_collide_body(&pass, i);
-        }
+    kg_body_pool* p = &world->bodies;
+    kg_tile_terrain terrain = {t->infos, t->cells, t->protos, t->live_count, world->def.speculative_distance,
+                               world->def.linear_slop};
+    kg_tile_bodies bodies = {p->flags,    p->aabb,     p->xf,          p->shape,          p->center,
+                             p->category, p->mask,     p->generation,  p->friction,       p->restitution,
+                             t->last_origin, t->last_generation};
+    kg_tile_contacts c = {previous, 0, previous_count, out, 0u, (kg_u32)room, 0u, 0, 0};
+    for (kg_u32 i = 0; i < (kg_u32)p->high_water; ++i) {
+        kg_tile_collide_body(i, &terrain, &bodies, &c);
+        kg_tile_remember_origin(i, p->xf, p->generation, t->last_origin, t->last_generation);
     }
-    kg_remember_origins(t, p);
-    return pass.count;
+    kg_count_warm_starts(world, c.points, c.carried);
+    return (int)c.found;
 }
 
 /* ---- for the OpenCL backend ---- */

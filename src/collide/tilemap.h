@@ -1,7 +1,7 @@
 /* Tile-map terrain in the collision stage (public API: include/kgyro/tilemap.h). After the
  * body pairs, the collision stage calls kg_tilemap_collide, which looks up, for every
  * moving body, the cells of every map that its bounds (fattened by the speculative
- * distance) cover, and collides the body with each tile there (collide/tile_collide.h).
+ * distance) cover, and collides the body with each tile there (collide/tile_pass.h).
  *
  * Data layout, the same on the host and in a device buffer:
  *
@@ -17,8 +17,10 @@
  *  - per map: origin, tile size, width, height, layer count, the offset of its cells and
  *    protos in those buffers, its first tile key, friction, restitution, category, mask.
  *
- * A kernel colliding body i copies the centre cell's and its eight neighbours' words and
- * protos to private memory (a kg_tile_neighbourhood) and calls kg_tile_collide.
+ * The host keeps these arrays as the device does (kg_tilemaps_arrays): the cells of every
+ * live map one after the other in key order, their protos likewise, and a description
+ * per map (kg_tile_map_info); both backends collide a body with them through the same
+ * code (collide/tile_pass.h).
  *
  * Tile keys: each map owns a range [key_base, key_base + layer_count * width * height) of
  * 32-bit keys; a cell's key is key_base + (layer * height + y) * width + x, so sorting
