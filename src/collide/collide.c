@@ -423,10 +423,6 @@ kg_result kg_stage_collide(kg_world* world)
                      "the extra ones were dropped this step; raise kg_world_def.max_contacts", tiles, room);
         tiles = room;
     }
-    for (int k = c->count; k < c->count + tiles; ++k) {
-        c->contacts[k].generation_a = world->bodies.generation[c->contacts[k].a];
-        c->contacts[k].generation_b = 0;
-    }
     c->count += tiles;
     return KG_OK;
 }

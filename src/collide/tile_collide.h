@@ -67,10 +67,11 @@ typedef struct kg_tile_proto {
 KG_STATIC_ASSERT(sizeof(kg_tile_proto) == 160, tile_proto_size);
 
 /* The tile being collided and its eight neighbours in the same layer, which tell how the
- * terrain goes on past its edges. cells[(dy + 1) * 3 + dx + 1]; proto NULL = empty or
- * outside the map. */
+ * terrain goes on past its edges. cells[(dy + 1) * 3 + dx + 1]; proto NULL = outside the
+ * map. A proto is read where it lies (a kernel reads the proto buffer): copying nine of
+ * them per cell would cost more than the collision reads of them. */
 typedef struct kg_tile_cell {
-    const kg_tile_proto* proto;
+    KG_GLOBAL const kg_tile_proto* proto;
     kg_u32 word;
 } kg_tile_cell;
 
@@ -131,7 +132,7 @@ KG_FN int kg_find_edge_in_cell(const kg_tile_neighbourhood* nb, int dx, int dy, 
     if (cell.proto == 0 || cell.proto->shape.count < 3) {
         return 0;
     }
-    const kg_shape* s = &cell.proto->shape;
+    KG_GLOBAL const kg_shape* s = &cell.proto->shape;
     kg_vec2 in_cell = kg_v2(v.x - (float)dx * nb->tile_size.x, v.y - (float)dy * nb->tile_size.y);
     float tolerance = KG_TILE_WELD * fmaxf(nb->tile_size.x, nb->tile_size.y);
     for (int j = 0; j < s->count && j < KG_MAX_VERTS; ++j) {
@@ -171,7 +172,7 @@ KG_FN kg_segment_end kg_segment_end_of(const kg_tile_neighbourhood* nb, const kg
                                        kg_vec2* ghost_normal)
 {
     const kg_tile_cell centre = nb->cells[4];
-    const kg_shape* shape = &centre.proto->shape;
+    KG_GLOBAL const kg_shape* shape = &centre.proto->shape;
     int edge = (int)s->edge;
     int own = is_start ? (edge > 0 ? edge - 1 : shape->count - 1) : kg_next_vertex(edge, shape->count);
     int own_exposed = is_start ? kg_cell_exposed_end(centre.word, own) : kg_cell_exposed_start(centre.word, own);
@@ -193,7 +194,7 @@ KG_FN kg_segment_end kg_segment_end_of(const kg_tile_neighbourhood* nb, const kg
 /* Exposed edge `edge` of the centre tile as a segment with its two ends classified. */
 KG_FN kg_tile_segment kg_tile_segment_of(const kg_tile_neighbourhood* nb, int edge)
 {
-    const kg_shape* shape = &nb->cells[4].proto->shape;
+    KG_GLOBAL const kg_shape* shape = &nb->cells[4].proto->shape;
     int next = kg_next_vertex(edge, shape->count);
     kg_tile_segment s;
     s.p1 = shape->vertices[edge];
@@ -615,11 +616,11 @@ KG_FN kg_tile_hit kg_tile_collide_circle(const kg_tile_segment* s, kg_vec2 cente
     return hit;
 }
 
-/* ---- the body in the cell frame, and its contact back in the world (collide/tilemap.c
- * and the OpenCL kernels) ---- */
+/* ---- the body in the cell frame, and its contact back in the world (collide/tile_pass.h)
+ * ---- */
 
 /* A body's shape moved into a cell's frame: xf is the body's pose relative to the cell. */
-KG_FN kg_shape kg_shape_in_cell(const kg_shape* shape, kg_xf xf)
+KG_FN kg_shape kg_shape_in_cell(KG_GLOBAL const kg_shape* shape, kg_xf xf)
 {
     kg_shape out = *shape;
     for (int i = 0; i < shape->count; ++i) {
@@ -658,7 +659,7 @@ KG_FN kg_manifold kg_contact_manifold(const kg_manifold* in_cell, kg_vec2 cell_o
 
 /* The exposed edge through which a point inside the tile leaves it (the one it is least
  * deep behind), or -1 when the point is outside or no edge is exposed. */
-KG_FN int kg_exit_edge(const kg_shape* tile, kg_u32 word, kg_vec2 c)
+KG_FN int kg_exit_edge(KG_GLOBAL const kg_shape* tile, kg_u32 word, kg_vec2 c)
 {
     int exit = -1;
     float best = -KG_FLT_MAX;
@@ -681,10 +682,11 @@ KG_FN int kg_exit_edge(const kg_shape* tile, kg_u32 word, kg_vec2 c)
 KG_FN kg_tile_hit kg_tile_collide(const kg_tile_neighbourhood* nb, const kg_shape* body, float speculative)
 {
     kg_tile_cell centre = nb->cells[4];
-    const kg_shape* tile = &centre.proto->shape;
+    KG_GLOBAL const kg_shape* tile = &centre.proto->shape;
     if (tile->count < 3) {
+        KG_PRIVATE_VIEW(kg_shape, circle_tile, centre.proto->shape);
         kg_tile_hit hit = kg_tile_no_hit();
-        hit.manifold = kg_collide_shapes(tile, kg_translation(kg_v2(0.0f, 0.0f)), body,
+        hit.manifold = kg_collide_shapes(circle_tile, kg_translation(kg_v2(0.0f, 0.0f)), body,
                                          kg_translation(kg_v2(0.0f, 0.0f)), speculative);
         hit.separation = kg_min_separation(&hit.manifold);
         return hit;

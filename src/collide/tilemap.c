@@ -19,7 +19,7 @@ typedef struct kg_map {
     kg_u32 generation;  /* odd while alive */
     kg_tilemap_def def; /* shapes and tiles NULL */
     kg_tile_template* templates; /* def.shape_count */
-    kg_u32* cells;      /* layer_count * height * width words */
+    kg_u32* cells;      /* layer_count * height * width words, in kg_tilemaps.cells */
     kg_u32 key_base;
     kg_u32 key_count;
     int cells_dirty;    /* set_tile changed cells since the OpenCL backend last looked */
@@ -31,6 +31,12 @@ struct kg_tilemaps {
     int map_capacity;
     int* order;    /* live slots by key_base */
     int live_count;
+    /* The live maps as the tile pass reads them (collide/tile_pass.h), in key order: a
+     * description each (map_capacity), their cells and protos one map after the other. */
+    kg_tile_map_info* infos;
+    kg_u32* cells;
+    kg_tile_proto* protos;
+    size_t cell_count, proto_count;
     kg_u32 layout_version; /* bumped when a map is created or destroyed */
     /* body origins at the last collision, for one-way platforms; generation 0 = unknown */
     kg_vec2* last_origin;
@@ -211,30 +217,96 @@ static kg_result kg_build_templates(kg_map* m, const kg_tile_shape* shapes)
     return KG_OK;
 }
 
-static kg_result kg_fill_cells(kg_map* m, const uint16_t* tiles)
+static kg_result kg_check_tiles(const kg_map* m, const uint16_t* tiles)
 {
-    size_t count = (size_t)kg_map_cell_count(m) * (size_t)m->def.layer_count;
-    m->cells = kg_alloc_zeroed(count * sizeof *m->cells);
-    if (!m->cells) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %zu tile map cells", count);
-    }
-    for (size_t i = 0; tiles && i < count; ++i) {
+    for (kg_u32 i = 0; tiles && i < m->key_count; ++i) {
         if (tiles[i] >= m->def.shape_count) {
-            return kg_fail(KG_ERROR_INVALID_ARGUMENT, "tile %zu has id %u, but the map has %d shapes", i,
+            return kg_fail(KG_ERROR_INVALID_ARGUMENT, "tile %u has id %u, but the map has %d shapes", (unsigned)i,
                            (unsigned)tiles[i], m->def.shape_count);
         }
+    }
+    return KG_OK;
+}
+
+/* The map's cells (zeros, placed by kg_place_maps) from its checked tile ids. */
+static void kg_fill_cells(kg_map* m, const uint16_t* tiles)
+{
+    for (kg_u32 i = 0; tiles && i < m->key_count; ++i) {
         m->cells[i] = tiles[i];
     }
     kg_refresh_all(m);
-    return KG_OK;
 }
 
 static void kg_map_free(kg_map* m)
 {
     kg_free(m->templates);
-    kg_free(m->cells);
     m->templates = NULL;
     m->cells = NULL;
+}
+
+static void kg_describe_map(const kg_map* m, size_t cell_offset, size_t proto_offset, kg_tile_map_info* out)
+{
+    memset(out, 0, sizeof *out);
+    out->origin = m->def.origin;
+    out->tile_size = m->def.tile_size;
+    out->width = m->def.width;
+    out->height = m->def.height;
+    out->layer_count = m->def.layer_count;
+    out->cell_offset = (kg_u32)cell_offset;
+    out->proto_offset = (kg_u32)proto_offset;
+    out->key_base = m->key_base;
+    out->friction = m->def.friction;
+    out->restitution = m->def.restitution;
+    out->category = m->def.category;
+    out->mask = m->def.mask;
+}
+
+/* Lays the live maps out one after the other in key order into cells and protos, which
+ * are new arrays (a map was added: it has no cells yet and gets zeros) or the current
+ * ones (a map went: every map moves down, never up, so memmove is safe). */
+static void kg_place_maps(struct kg_tilemaps* t, kg_u32* cells, kg_tile_proto* protos)
+{
+    size_t cell_at = 0, proto_at = 0;
+    for (int i = 0; i < t->live_count; ++i) {
+        kg_map* m = &t->maps[t->order[i]];
+        if (m->cells) {
+            memmove(cells + cell_at, m->cells, m->key_count * sizeof *cells);
+        }
+        m->cells = cells + cell_at;
+        for (int id = 0; id < m->def.shape_count; ++id) {
+            protos[proto_at + (size_t)id] = m->templates[id].proto;
+        }
+        kg_describe_map(m, cell_at, proto_at, &t->infos[i]);
+        cell_at += m->key_count;
+        proto_at += (size_t)m->def.shape_count;
+    }
+    t->cells = cells;
+    t->protos = protos;
+    t->cell_count = cell_at;
+    t->proto_count = proto_at;
+}
+
+/* Places the live maps, one of them new, in arrays of their own size. */
+static kg_result kg_place_new_map(struct kg_tilemaps* t)
+{
+    size_t cell_count = 0, proto_count = 0;
+    for (int i = 0; i < t->live_count; ++i) {
+        cell_count += t->maps[t->order[i]].key_count;
+        proto_count += (size_t)t->maps[t->order[i]].def.shape_count;
+    }
+    kg_u32* cells = kg_alloc_zeroed(cell_count * sizeof *cells);
+    kg_tile_proto* protos = kg_alloc_zeroed(proto_count * sizeof *protos);
+    if (!cells || !protos) {
+        kg_free(cells);
+        kg_free(protos);
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %zu tile map cells", cell_count);
+    }
+    kg_u32* old_cells = t->cells;
+    kg_tile_proto* old_protos = t->protos;
+    kg_place_maps(t, cells, protos);
+    kg_free(old_cells);
+    kg_free(old_protos);
+    return KG_OK;
 }
 
 static kg_result kg_tilemaps_create(kg_world* world)
@@ -263,6 +335,9 @@ void kg_tilemaps_destroy(kg_world* world)
     }
     kg_free(t->maps);
     kg_free(t->order);
+    kg_free(t->infos);
+    kg_free(t->cells);
+    kg_free(t->protos);
     kg_free(t->last_origin);
     kg_free(t->last_generation);
     kg_free(t);
@@ -281,9 +356,11 @@ static int kg_take_slot(struct kg_tilemaps* t)
         int capacity = t->map_capacity > 0 ? 2 * t->map_capacity : 4;
         kg_map* maps = kg_alloc_zeroed((size_t)capacity * sizeof *maps);
         int* order = kg_alloc_zeroed((size_t)capacity * sizeof *order);
-        if (!maps || !order) {
+        kg_tile_map_info* infos = kg_alloc_zeroed((size_t)capacity * sizeof *infos);
+        if (!maps || !order || !infos) {
             kg_free(maps);
             kg_free(order);
+            kg_free(infos);
             return -1;
         }
         if (t->map_count > 0) {
@@ -292,8 +369,10 @@ static int kg_take_slot(struct kg_tilemaps* t)
         }
         kg_free(t->maps);
         kg_free(t->order);
+        kg_free(t->infos); /* rewritten whole by kg_place_maps */
         t->maps = maps;
         t->order = order;
+        t->infos = infos;
         t->map_capacity = capacity;
     }
     return t->map_count++;
@@ -330,7 +409,18 @@ static kg_result kg_init_map(kg_map* m, const kg_tilemap_def* def)
     m->def.tiles = NULL;
     m->key_count = (kg_u32)(def->width * def->height * def->layer_count);
     kg_result r = kg_build_templates(m, def->shapes);
-    return r == KG_OK ? kg_fill_cells(m, def->tiles) : r;
+    return r == KG_OK ? kg_check_tiles(m, def->tiles) : r;
+}
+
+/* Takes slot out of the live order. */
+static void kg_unlist(struct kg_tilemaps* t, int slot)
+{
+    int at = 0;
+    while (t->order[at] != slot) {
+        at++;
+    }
+    memmove(t->order + at, t->order + at + 1, (size_t)(t->live_count - at - 1) * sizeof *t->order);
+    t->live_count -= 1;
 }
 
 kg_result kg_create_tilemap(kg_world* world, const kg_tilemap_def* def, kg_tilemap* out_map)
@@ -357,11 +447,15 @@ kg_result kg_create_tilemap(kg_world* world, const kg_tilemap_def* def, kg_tilem
     r = kg_init_map(m, def);
     if (r == KG_OK) {
         r = kg_assign_keys(t, slot);
+        if (r == KG_OK && (r = kg_place_new_map(t)) != KG_OK) {
+            kg_unlist(t, slot);
+        }
     }
     if (r != KG_OK) {
         kg_map_free(m);
         return r;
     }
+    kg_fill_cells(m, def->tiles);
     m->generation += 1u;
     t->layout_version += 1u;
     out_map->index = (uint32_t)slot;
@@ -377,13 +471,9 @@ kg_result kg_destroy_tilemap(kg_world* world, kg_tilemap map)
         return KG_ERROR_INVALID_HANDLE;
     }
     struct kg_tilemaps* t = world->tilemaps;
-    int at = 0;
-    while (t->order[at] != (int)map.index) {
-        at++;
-    }
-    memmove(t->order + at, t->order + at + 1, (size_t)(t->live_count - at - 1) * sizeof *t->order);
-    t->live_count -= 1;
+    kg_unlist(t, (int)map.index);
     kg_map_free(m);
+    kg_place_maps(t, t->cells, t->protos);
     m->generation += 1u;
     t->layout_version += 1u;
     kg_world_wake_all(world); /* what rested on the map */
@@ -538,191 +628,25 @@ kg_result kg_world_get_contact_tile(const kg_world* world, int index, kg_tilemap
 
 /* ---- collision ---- */
 
-typedef struct kg_tile_pass {
-    kg_world* world;
-    struct kg_tilemaps* tilemaps;
-    kg_contact* out;
-    int room;
-    int count;
-    const kg_contact* previous;
-    int previous_count;
-    int cursor; /* into previous: the first contact not below (body, key) */
-} kg_tile_pass;
-
-static kg_tile_neighbourhood kg_neighbourhood(const kg_map* m, int layer, int x, int y)
-{
-    kg_tile_neighbourhood nb;
-    nb.tile_size = m->def.tile_size;
-    for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-            kg_tile_cell* cell = &nb.cells[(dy + 1) * 3 + dx + 1];
-            const kg_tile_template* t = kg_template_at(m, layer, x + dx, y + dy);
-            cell->proto = t ? &t->proto : NULL;
-            cell->word = t ? m->cells[kg_cell_index(m, layer, x + dx, y + dy)] : 0u;
-        }
-    }
-    return nb;
-}
-
-/* Last step's contact of (body, key), found by walking the previous list (sorted the same
- * way) along with this step's; NULL if there was none. */
-static const kg_contact* kg_previous_contact(kg_tile_pass* pass, kg_u32 body, kg_u32 key)
-{
-    while (pass->cursor < pass->previous_count) {
-        const kg_contact* old = &pass->previous[pass->cursor];
-        if (old->a > body || (old->a == body && old->tile >= key)) {
-            return old->a == body && old->tile == key ? old : NULL;
-        }
-        pass->cursor++;
-    }
-    return NULL;
-}
-
-/* Where the body's origin was at the last collision (its current one when unknown). */
-static kg_vec2 kg_last_origin(const kg_tile_pass* pass, int body)
-{
-    const kg_body_pool* p = &pass->world->bodies;
-    const struct kg_tilemaps* t = pass->tilemaps;
-    return t->last_generation[body] == p->generation[body] ? t->last_origin[body] : p->xf[body].p;
-}
-
-/* One-way platforms hold a body that comes from above: the contact existed last step, or
- * the body's deepest point was above the surface (within the linear slop) at the last
- * collision. A body can only cross the surface downwards by moving down, so this also
- * means "moving down or resting". The normal (tile to body) must point up. */
-static int kg_one_way_accepts(const kg_tile_pass* pass, int body, const kg_manifold* local, int persisted)
-{
-    if (!(local->normal.y > 0.0f)) {
-        return 0;
-    }
-    if (persisted) {
-        return 1;
-    }
-    kg_vec2 moved = kg_sub(pass->world->bodies.xf[body].p, kg_last_origin(pass, body));
-    float previous_separation = kg_min_separation(local) - kg_dot(moved, local->normal);
-    return previous_separation >= -pass->world->def.linear_slop;
-}
-
-static void kg_emit_contact(kg_tile_pass* pass, int body, const kg_map* m, kg_u32 key, const kg_manifold* manifold,
-                            const kg_contact* old)
-{
-    if (pass->count < pass->room) {
-        const kg_body_pool* p = &pass->world->bodies;
-        kg_contact* ct = &pass->out[pass->count];
-        memset(ct, 0, sizeof *ct);
-        ct->manifold = *manifold;
-        if (old) {
-            kg_count_warm_starts(pass->world, manifold->point_count, kg_contact_carry_impulses(&ct->manifold, &old->manifold));
-        }
-        ct->a = (kg_u32)body;
-        ct->b = KG_NULL_INDEX;
-        ct->tile = key;
-        ct->friction = sqrtf(p->friction[body] * m->def.friction);
-        ct->restitution = fmaxf(p->restitution[body], m->def.restitution);
-    }
-    pass->count += 1;
-}
-
-/* The body against the tile at (layer, x, y), if that tile can touch anything. */
-static void kg_collide_cell(kg_tile_pass* pass, int body, const kg_map* m, int layer, int x, int y)
-{
-    kg_u32 index = kg_cell_index(m, layer, x, y);
-    kg_u32 word = m->cells[index];
-    const kg_tile_template* t = &m->templates[kg_cell_id(word)];
-    int circle = t->proto.shape.count == 1;
-    if (!circle && (word >> KG_CELL_START_SHIFT) == 0u) {
-        return;
-    }
-    const kg_body_pool* p = &pass->world->bodies;
-    kg_vec2 cell_origin = kg_v2(m->def.origin.x + (float)x * m->def.tile_size.x,
-                                m->def.origin.y + (float)y * m->def.tile_size.y);
-    kg_xf xf = p->xf[body];
-    xf.p = kg_sub(xf.p, cell_origin);
-    kg_shape shape = kg_shape_in_cell(&p->shape[body], xf);
-    kg_tile_neighbourhood nb = kg_neighbourhood(m, layer, x, y);
-    kg_tile_hit hit = kg_tile_collide(&nb, &shape, pass->world->def.speculative_distance);
-    if (hit.manifold.point_count == 0) {
-        return;
-    }
-    kg_u32 key = m->key_base + index;
-    const kg_contact* old = kg_previous_contact(pass, (kg_u32)body, key);
-    if ((t->proto.flags & KG_TILE_FLAG_ONE_WAY) && !kg_one_way_accepts(pass, body, &hit.manifold, old != NULL)) {
-        return;
-    }
-    kg_manifold manifold = kg_contact_manifold(&hit.manifold, cell_origin, xf, p->xf[body].p, p->center[body]);
-    kg_emit_contact(pass, body, m, key, &manifold, old);
-}
-
-/* The cells [lo, hi] along one axis that the interval [a, b] (map frame, in tiles)
- * covers; 0 when none. Clamped in floats first, so far-away bodies cannot overflow. */
-static int kg_cell_span(float a, float b, int count, int* lo, int* hi)
-{
-    if (!(b >= 0.0f) || !(a < (float)count)) {
-        return 0;
-    }
-    *lo = (int)floorf(fmaxf(a, 0.0f));
-    *hi = (int)floorf(fminf(b, (float)count - 1.0f));
-    if (*hi >= count) {
-        *hi = count - 1;
-    }
-    return *lo <= *hi;
-}
-
-static void kg_collide_body_map(kg_tile_pass* pass, int body, const kg_map* m, kg_aabb box)
-{
-    const kg_body_pool* p = &pass->world->bodies;
-    if ((p->category[body] & m->def.mask) == 0u || (m->def.category & p->mask[body]) == 0u) {
-        return;
-    }
-    kg_vec2 size = m->def.tile_size, origin = m->def.origin;
-    int x0, x1, y0, y1;
-    if (!kg_cell_span((box.lower.x - origin.x) / size.x, (box.upper.x - origin.x) / size.x, m->def.width, &x0, &x1) ||
-        !kg_cell_span((box.lower.y - origin.y) / size.y, (box.upper.y - origin.y) / size.y, m->def.height, &y0,
-                      &y1)) {
-        return;
-    }
-    for (int layer = 0; layer < m->def.layer_count; ++layer) {
-        for (int y = y0; y <= y1; ++y) {
-            for (int x = x0; x <= x1; ++x) {
-                kg_collide_cell(pass, body, m, layer, x, y);
-            }
-        }
-    }
-}
-
-static void kg_collide_body(kg_tile_pass* pass, int body)
-{
-    const kg_body_pool* p = &pass->world->bodies;
-    const struct kg_tilemaps* t = pass->tilemaps;
-    kg_aabb box = kg_aabb_fatten(p->aabb[body], pass->world->def.speculative_distance);
-    for (int i = 0; i < t->live_count; ++i) {
-        kg_collide_body_map(pass, body, &t->maps[t->order[i]], box);
-    }
-}
-
-static void kg_remember_origins(struct kg_tilemaps* t, const kg_body_pool* p)
-{
-    for (int i = 0; i < p->high_water; ++i) {
-        t->last_origin[i] = p->xf[i].p;
-        t->last_generation[i] = p->generation[i];
-    }
-}
-
 int kg_tilemap_collide(kg_world* world, kg_contact* out, int room, const kg_contact* previous, int previous_count)
 {
     struct kg_tilemaps* t = world->tilemaps;
     if (!t || t->live_count == 0) {
         return 0;
     }
-    kg_tile_pass pass = {world, t, out, room, 0, previous, previous_count, 0};
-    const kg_body_pool* p = &world->bodies;
-    for (int i = 0; i < p->high_water; ++i) {
-        if (kg_pool_collides(p, i)) {
-            kg_collide_body(&pass, i);
-        }
+    kg_body_pool* p = &world->bodies;
+    kg_tile_terrain terrain = {t->infos, t->cells, t->protos, t->live_count, world->def.speculative_distance,
+                               world->def.linear_slop};
+    kg_tile_bodies bodies = {p->flags,    p->aabb,     p->xf,          p->shape,          p->center,
+                             p->category, p->mask,     p->generation,  p->friction,       p->restitution,
+                             t->last_origin, t->last_generation};
+    kg_tile_contacts c = {previous, 0, previous_count, out, 0u, (kg_u32)room, 0u, 0, 0};
+    for (kg_u32 i = 0; i < (kg_u32)p->high_water; ++i) {
+        kg_tile_collide_body(i, &terrain, &bodies, &c);
+        kg_tile_remember_origin(i, p->xf, p->generation, t->last_origin, t->last_generation);
     }
-    kg_remember_origins(t, p);
-    return pass.count;
+    kg_count_warm_starts(world, c.points, c.carried);
+    return (int)c.found;
 }
 
 /* ---- for the OpenCL backend ---- */
@@ -748,12 +672,15 @@ void kg_tilemaps_view(const kg_world* world, int live_index, kg_tilemap_view* ou
     out->key_base = m->key_base;
 }
 
-void kg_tilemaps_copy_protos(const kg_world* world, int live_index, kg_tile_proto* out)
+void kg_tilemaps_arrays(const kg_world* world, kg_tilemap_arrays* out)
 {
-    const kg_map* m = kg_live_map(world, live_index);
-    for (int id = 0; id < m->def.shape_count; ++id) {
-        out[id] = m->templates[id].proto;
-    }
+    const struct kg_tilemaps* t = world->tilemaps;
+    out->maps = t->infos;
+    out->map_count = t->live_count;
+    out->cells = t->cells;
+    out->cell_count = t->cell_count;
+    out->protos = t->protos;
+    out->proto_count = t->proto_count;
 }
 
 int kg_tilemaps_take_dirty(kg_world* world, int live_index)

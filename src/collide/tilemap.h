@@ -1,7 +1,7 @@
 /* Tile-map terrain in the collision stage (public API: include/kgyro/tilemap.h). After the
  * body pairs, the collision stage calls kg_tilemap_collide, which looks up, for every
  * moving body, the cells of every map that its bounds (fattened by the speculative
- * distance) cover, and collides the body with each tile there (collide/tile_collide.h).
+ * distance) cover, and collides the body with each tile there (collide/tile_pass.h).
  *
  * Data layout, the same on the host and in a device buffer:
  *
@@ -17,8 +17,10 @@
  *  - per map: origin, tile size, width, height, layer count, the offset of its cells and
  *    protos in those buffers, its first tile key, friction, restitution, category, mask.
  *
- * A kernel colliding body i copies the centre cell's and its eight neighbours' words and
- * protos to private memory (a kg_tile_neighbourhood) and calls kg_tile_collide.
+ * The host keeps these arrays as the device does (kg_tilemaps_arrays): the cells of every
+ * live map one after the other in key order, their protos likewise, and a description
+ * per map (kg_tile_map_info); both backends collide a body with them through the same
+ * code (collide/tile_pass.h).
  *
  * Tile keys: each map owns a range [key_base, key_base + layer_count * width * height) of
  * 32-bit keys; a cell's key is key_base + (layer * height + y) * width + x, so sorting
@@ -27,7 +29,7 @@
 #define KG_TILEMAP_H
 
 #include "collide/collide.h"
-#include "collide/tile_collide.h"
+#include "collide/tile_pass.h"
 #include "kgyro/tilemap.h"
 
 /* Writes up to room contacts of bodies against the world's tile maps into out (b =
@@ -50,8 +52,17 @@ typedef struct kg_tilemap_view {
     kg_u32 key_base;
 } kg_tilemap_view;
 void kg_tilemaps_view(const kg_world* world, int live_index, kg_tilemap_view* out);
-/* The map's kg_tile_proto per tile id, def->shape_count of them, into out. */
-void kg_tilemaps_copy_protos(const kg_world* world, int live_index, kg_tile_proto* out);
+/* The live maps as the tile pass reads them, the same arrays on the host and the device
+ * (collide/tile_pass.h): valid until a map is created or destroyed. */
+typedef struct kg_tilemap_arrays {
+    const kg_tile_map_info* maps;
+    int map_count;
+    const kg_u32* cells;
+    size_t cell_count;
+    const kg_tile_proto* protos;
+    size_t proto_count;
+} kg_tilemap_arrays;
+void kg_tilemaps_arrays(const kg_world* world, kg_tilemap_arrays* out);
 /* Whether kg_tilemap_set_tile changed the map's cells since the last call (which clears it). */
 int kg_tilemaps_take_dirty(kg_world* world, int live_index);
 /* The one-way platform state, per body slot (world->def.max_bodies each): origin and

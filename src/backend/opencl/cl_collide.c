@@ -125,7 +125,7 @@ static kg_result kg_write_map_cells(kg_cl_world* w, const kg_tilemap_view* v, si
                        v->cells, 1);
 }
 
-/* Every live map's cells, protos and description into new buffers. */
+/* The host's tile arrays (collide/tilemap.h) into new buffers of their size. */
 static kg_result kg_build_tile_buffers(kg_world* world, kg_cl_world* w, int maps)
 {
     kg_cl_collide_buffers* c = &w->collide;
@@ -133,64 +133,23 @@ static kg_result kg_build_tile_buffers(kg_world* world, kg_cl_world* w, int maps
     kg_cl_release(w, &c->tile_cells);
     kg_cl_release(w, &c->tile_protos);
     c->tiles_built = 0;
-    kg_tile_map_info* infos = kg_alloc_zeroed((size_t)maps * sizeof *infos);
-    if (!infos) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the tile map descriptions");
-    }
-    size_t cells = 0, protos = 0;
+    kg_tilemap_arrays a;
+    kg_tilemaps_arrays(world, &a);
     for (int i = 0; i < maps; ++i) {
-        kg_tilemap_view v;
-        kg_tilemaps_view(world, i, &v);
-        kg_tile_map_info* m = &infos[i];
-        m->origin = v.def->origin;
-        m->tile_size = v.def->tile_size;
-        m->width = v.def->width;
-        m->height = v.def->height;
-        m->layer_count = v.def->layer_count;
-        m->cell_offset = (kg_u32)cells;
-        m->proto_offset = (kg_u32)protos;
-        m->key_base = v.key_base;
-        m->friction = v.def->friction;
-        m->restitution = v.def->restitution;
-        m->category = v.def->category;
-        m->mask = v.def->mask;
-        cells += (size_t)v.cell_count;
-        protos += (size_t)v.def->shape_count;
-    }
-    kg_tile_proto* host_protos = kg_alloc_zeroed(protos * sizeof *host_protos);
-    kg_result r = host_protos ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the tile protos");
-    for (int i = 0; r == KG_OK && i < maps; ++i) {
-        kg_tilemaps_copy_protos(world, i, host_protos + infos[i].proto_offset);
-    }
-    if (r == KG_OK) {
-        r = kg_cl_buffer(w, (size_t)maps * sizeof *infos, &c->tile_maps);
-    }
-    if (r == KG_OK) {
-        r = kg_cl_buffer(w, cells * sizeof(kg_u32), &c->tile_cells);
-    }
-    if (r == KG_OK) {
-        r = kg_cl_buffer(w, protos * sizeof *host_protos, &c->tile_protos);
-    }
-    if (r == KG_OK) {
-        r = kg_cl_write(w, c->tile_maps, 0, (size_t)maps * sizeof *infos, infos, 1);
-    }
-    if (r == KG_OK) {
-        r = kg_cl_write(w, c->tile_protos, 0, protos * sizeof *host_protos, host_protos, 1);
-    }
-    for (int i = 0; r == KG_OK && i < maps; ++i) {
-        kg_tilemap_view v;
-        kg_tilemaps_view(world, i, &v);
         kg_tilemaps_take_dirty(world, i);
-        r = kg_write_map_cells(w, &v, infos[i].cell_offset);
     }
-    kg_free(infos);
-    kg_free(host_protos);
-    if (r == KG_OK) {
-        c->tiles_built = 1;
-        c->tile_map_count = maps;
-        c->tile_layout = kg_tilemaps_layout_version(world);
-    }
-    return r;
+    size_t info_size = (size_t)maps * sizeof *a.maps, proto_size = a.proto_count * sizeof *a.protos;
+    KG_TRY(kg_cl_buffer(w, info_size, &c->tile_maps));
+    KG_TRY(kg_cl_buffer(w, a.cell_count * sizeof *a.cells, &c->tile_cells));
+    KG_TRY(kg_cl_buffer(w, proto_size, &c->tile_protos));
+    KG_TRY(kg_cl_write(w, c->tile_maps, 0, info_size, a.maps, 1));
+    KG_TRY(kg_cl_write(w, c->tile_protos, 0, proto_size, a.protos, 1));
+    /* blocking: kg_tilemap_set_tile may change the host's cells as soon as the step ends */
+    KG_TRY(kg_cl_write(w, c->tile_cells, 0, a.cell_count * sizeof *a.cells, a.cells, 1));
+    c->tiles_built = 1;
+    c->tile_map_count = maps;
+    c->tile_layout = kg_tilemaps_layout_version(world);
+    return KG_OK;
 }
 
 /* The maps on the device: built again when a map was created or destroyed, else the

@@ -11,7 +11,7 @@
 #include "collide/aabb.h"
 #include "collide/manifold.h"
 #include "collide/recycle.h"
-#include "collide/tile_collide.h"
+#include "collide/tile_pass.h"
 #include "solve/coloring.h"
 #include "kg_collide_shared.h"
 
@@ -598,126 +598,11 @@ __kernel void kg_build_contacts(int count, __global const uint2* pairs, __global
 
 /* ---- tile maps ------------------------------------------------------------------------ */
 
-/* kg_tilemap_collide of collide/tilemap.c on the device, one work-item per body slot: the
- * same cells visited in the same order (maps by key, layers, rows, columns), so a body's
- * tile contacts come out sorted by key, and bodies in slot order after the prefix sum of
- * their counts. Run twice: counting (write 0: tile_run[i] = body i's contacts), then, after
- * the prefix sum, writing them at counts[KG_CC_BODY_CONTACTS] + tile_run[i] (those within
- * capacity, as the host drops the ones past its room) and remembering every slot's origin
- * for the one-way platforms, as kg_remember_origins does, into the other of the two
- * copies of that state (the step may yet fail and be run again on the host). */
-
-typedef struct kg_tile_body {
-    kg_u32 slot;
-    kg_xf xf;
-    kg_shape shape;
-    kg_vec2 center;
-    kg_vec2 last_origin; /* at the last collision, or the current one when unknown */
-    float friction, restitution;
-} kg_tile_body;
-
-/* Last step's tile contact of (body, key) among previous[begin, end), sorted by (a, tile);
- * -1 if none. As the host, it matches slot and key only. */
-KG_FN int kg_find_previous_tile(__global const kg_contact* previous, int begin, int end, kg_u32 body, kg_u32 key)
-{
-    int lo = begin, hi = end;
-    while (lo < hi) {
-        int mid = lo + (hi - lo) / 2;
-        kg_u32 ma = previous[mid].a, mk = previous[mid].tile;
-        if (ma < body || (ma == body && mk < key)) {
-            lo = mid + 1;
-        } else {
-            hi = mid;
-        }
-    }
-    return lo < end && previous[lo].a == body && previous[lo].tile == key ? lo : -1;
-}
-
-/* kg_collide_cell of collide/tilemap.c: 1 and the contact in *out when the body touches
- * the tile at (layer, x, y) of map m. */
-KG_FN int kg_tile_cell_contact(const kg_tile_body* body, const kg_tile_map_info* m, int layer, int x, int y,
-                               float speculative, float linear_slop, __global const kg_u32* cells,
-                               __global const kg_tile_proto* protos, __global const kg_contact* previous,
-                               int previous_begin, int previous_end, kg_contact* out)
-{
-    kg_u32 index = (kg_u32)((layer * m->height + y) * m->width + x);
-    kg_u32 word = cells[m->cell_offset + index];
-    kg_tile_proto centre = protos[m->proto_offset + kg_cell_id(word)];
-    int circle = centre.shape.count == 1;
-    if (!circle && (word >> KG_CELL_START_SHIFT) == 0u) {
-        return 0;
-    }
-    kg_vec2 cell_origin = kg_v2(m->origin.x + (float)x * m->tile_size.x, m->origin.y + (float)y * m->tile_size.y);
-    kg_xf xf = body->xf;
-    xf.p = kg_sub(xf.p, cell_origin);
-    kg_shape shape = kg_shape_in_cell(&body->shape, xf);
-    kg_tile_proto around[9];
-    kg_tile_neighbourhood nb;
-    nb.tile_size = m->tile_size;
-    for (int dy = -1; dy <= 1; ++dy) {
-        for (int dx = -1; dx <= 1; ++dx) {
-            int k = (dy + 1) * 3 + dx + 1, cx = x + dx, cy = y + dy;
-            int inside = cx >= 0 && cy >= 0 && cx < m->width && cy < m->height;
-            kg_u32 w = inside ? cells[m->cell_offset + (kg_u32)((layer * m->height + cy) * m->width + cx)] : 0u;
-            if (inside) {
-                around[k] = k == 4 ? centre : protos[m->proto_offset + kg_cell_id(w)];
-            }
-            nb.cells[k].proto = inside ? &around[k] : 0;
-            nb.cells[k].word = w;
-        }
-    }
-    kg_tile_hit hit = kg_tile_collide(&nb, &shape, speculative);
-    if (hit.manifold.point_count == 0) {
-        return 0;
-    }
-    kg_u32 key = m->key_base + index;
-    int old = kg_find_previous_tile(previous, previous_begin, previous_end, body->slot, key);
-    if (centre.flags & KG_TILE_FLAG_ONE_WAY) {
-        /* kg_one_way_accepts */
-        if (!(hit.manifold.normal.y > 0.0f)) {
-            return 0;
-        }
-        if (old < 0) {
-            kg_vec2 moved = kg_sub(body->xf.p, body->last_origin);
-            float previous_separation = kg_min_separation(&hit.manifold) - kg_dot(moved, hit.manifold.normal);
-            if (!(previous_separation >= -linear_slop)) {
-                return 0;
-            }
-        }
-    }
-    kg_contact c;
-    c.manifold = kg_contact_manifold(&hit.manifold, cell_origin, xf, body->xf.p, body->center);
-    if (old >= 0) {
-        kg_manifold carried = previous[old].manifold;
-        kg_contact_carry_impulses(&c.manifold, &carried);
-    }
-    c.a = body->slot;
-    c.b = KG_NULL_INDEX;
-    c.tile = key;
-    c.friction = sqrtf(body->friction * m->friction);
-    c.restitution = fmaxf(body->restitution, m->restitution);
-    c.generation_a = 0u; /* stamped by the caller */
-    c.generation_b = 0u;
-    c.pad = 0u;
-    c.base = kg_no_contact_base();
-    *out = c;
-    return 1;
-}
-
-/* The cells [lo, hi] along one axis that [a, b] (map frame, in tiles) covers: kg_cell_span. */
-KG_FN int kg_tile_span(float a, float b, int count, int* lo, int* hi)
-{
-    if (!(b >= 0.0f) || !(a < (float)count)) {
-        return 0;
-    }
-    *lo = (int)floor(fmax(a, 0.0f));
-    *hi = (int)floor(fmin(b, (float)count - 1.0f));
-    if (*hi >= count) {
-        *hi = count - 1;
-    }
-    return *lo <= *hi;
-}
-
+/* The tile pass (collide/tile_pass.h), one work-item per body slot. Run twice: counting
+ * (write 0: tile_run[i] = body i's contacts), then, after the prefix sum, writing them at
+ * counts[KG_CC_BODY_CONTACTS] + tile_run[i] (those within capacity) and remembering every
+ * slot's origin for the one-way platforms into the other of the two copies of that state
+ * (the step may yet fail and be run again on the host). */
 __kernel void kg_tile_collide_bodies(int count, int write, float speculative, float linear_slop, int map_count,
                                      __global const kg_tile_map_info* maps, __global const kg_u32* cells,
                                      __global const kg_tile_proto* protos, __global const kg_u32* flags,
@@ -731,57 +616,21 @@ __kernel void kg_tile_collide_bodies(int count, int write, float speculative, fl
                                      __global kg_u32* next_generation, __global uint* tile_run,
                                      __global const uint* counts, int capacity, __global kg_contact* contacts)
 {
-    int i = (int)get_global_id(0);
-    if (i >= count) {
+    kg_u32 i = (kg_u32)get_global_id(0);
+    if (i >= (kg_u32)count) {
         return;
     }
-    uint found = 0u;
-    if (kg_flags_collide(flags[i])) {
-        kg_tile_body body;
-        body.slot = (kg_u32)i;
-        body.xf = xfs[i];
-        body.shape = shapes[i];
-        body.center = centers[i];
-        body.last_origin = last_generation[i] == generation[i] ? last_origin[i] : body.xf.p;
-        body.friction = friction[i];
-        body.restitution = restitution[i];
-        kg_aabb box = kg_aabb_fatten(aabb[i], speculative);
-        uint base = write ? counts[KG_CC_BODY_CONTACTS] + tile_run[i] : 0u;
-        for (int n = 0; n < map_count; ++n) {
-            kg_tile_map_info m = maps[n];
-            if ((category[i] & m.mask) == 0u || (m.category & mask[i]) == 0u) {
-                continue;
-            }
-            int x0, x1, y0, y1;
-            if (!kg_tile_span((box.lower.x - m.origin.x) / m.tile_size.x, (box.upper.x - m.origin.x) / m.tile_size.x,
-                              m.width, &x0, &x1) ||
-                !kg_tile_span((box.lower.y - m.origin.y) / m.tile_size.y, (box.upper.y - m.origin.y) / m.tile_size.y,
-                              m.height, &y0, &y1)) {
-                continue;
-            }
-            for (int layer = 0; layer < m.layer_count; ++layer) {
-                for (int y = y0; y <= y1; ++y) {
-                    for (int x = x0; x <= x1; ++x) {
-                        kg_contact c;
-                        if (!kg_tile_cell_contact(&body, &m, layer, x, y, speculative, linear_slop, cells, protos,
-                                                  previous, previous_begin, previous_end, &c)) {
-                            continue;
-                        }
-                        if (write && base + found < (uint)capacity) {
-                            c.generation_a = generation[i];
-                            contacts[base + found] = c;
-                        }
-                        found += 1u;
-                    }
-                }
-            }
-        }
-    }
+    kg_tile_terrain terrain = {maps, cells, protos, map_count, speculative, linear_slop};
+    kg_tile_contacts found = {previous, previous_begin, previous_end, contacts,
+                              write ? counts[KG_CC_BODY_CONTACTS] + tile_run[i] : 0u, write ? (uint)capacity : 0u,
+                              0u, 0, 0};
+    kg_tile_bodies bodies = {flags,      aabb,     xfs,         shapes,          centers,     category,
+                             mask,       generation, friction, restitution, last_origin, last_generation};
+    kg_tile_collide_body(i, &terrain, &bodies, &found);
     if (write) {
-        next_origin[i] = xfs[i].p;
-        next_generation[i] = generation[i];
+        kg_tile_remember_origin(i, xfs, generation, next_origin, next_generation);
     } else {
-        tile_run[i] = found;
+        tile_run[i] = found.found;
     }
 }
 

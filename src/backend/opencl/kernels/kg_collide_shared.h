@@ -60,25 +60,6 @@ KG_STATIC_ASSERT(sizeof(kg_bp_proxy) == 48, bp_proxy_size);
 #define KG_SCAN_MAX_BLOCKS 256
 #define KG_SCAN_MIN_BLOCK 256
 
-/* A live tile map as the tile kernel sees it (collide/tilemap.h's layout): its cells
- * start at cell_offset in the world's cell buffer, its protos (one per tile id) at
- * proto_offset in the proto buffer. 64 bytes. */
-typedef struct kg_tile_map_info {
-    kg_vec2 origin;
-    kg_vec2 tile_size;
-    kg_i32 width, height, layer_count;
-    kg_u32 cell_offset;
-    kg_u32 proto_offset;
-    kg_u32 key_base;
-    float friction;
-    float restitution;
-    kg_u32 category;
-    kg_u32 mask;
-    kg_u32 pad[2];
-} kg_tile_map_info;
-
-KG_STATIC_ASSERT(sizeof(kg_tile_map_info) == 64, tile_map_info_size);
-
 /* A contact's colour before the colouring has decided it. */
 #define KG_COLOR_UNDECIDED 0xFFu
 
