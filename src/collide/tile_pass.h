@@ -174,16 +174,21 @@ KG_FN void kg_tile_emit(kg_tile_contacts* c, const kg_tile_bodies* b, kg_u32 i, 
     c->out[at] = ct;
 }
 
-/* The body against the tile at (layer, x, y) of map m, if that tile can touch anything. */
+/* Whether the tile of cell `index` of map m can touch anything: a circle, or a tile with
+ * an exposed edge (most cells a body's bounds cover have none, and end here). */
+KG_FN int kg_tile_may_touch(const kg_tile_terrain* t, const kg_tile_map_info* m, kg_u32 index)
+{
+    kg_u32 word = t->cells[m->cell_offset + index];
+    return t->protos[m->proto_offset + kg_cell_id(word)].shape.count == 1 || (word >> KG_CELL_START_SHIFT) != 0u;
+}
+
+/* The body against the tile at (layer, x, y) of map m, one that may touch. */
 KG_FN_NOINLINE void kg_tile_collide_cell(const kg_tile_terrain* t, const kg_tile_map_info* m, const kg_tile_bodies* b,
-                                kg_u32 i, int layer, int x, int y, kg_tile_contacts* c)
+                                         kg_u32 i, int layer, int x, int y, kg_tile_contacts* c)
 {
     kg_u32 index = kg_tile_cell_index(m, layer, x, y);
     kg_u32 word = t->cells[m->cell_offset + index];
     KG_GLOBAL const kg_tile_proto* proto = &t->protos[m->proto_offset + kg_cell_id(word)];
-    if (proto->shape.count != 1 && (word >> KG_CELL_START_SHIFT) == 0u) {
-        return; /* no exposed edge, and not a circle */
-    }
     kg_vec2 cell_origin = kg_v2(m->origin.x + (float)x * m->tile_size.x, m->origin.y + (float)y * m->tile_size.y);
     kg_xf xf = b->xf[i];
     xf.p = kg_sub(xf.p, cell_origin);
@@ -218,7 +223,9 @@ KG_FN void kg_tile_collide_map(const kg_tile_terrain* t, const kg_tile_map_info*
     for (int layer = 0; layer < m->layer_count; ++layer) {
         for (int y = y0; y <= y1; ++y) {
             for (int x = x0; x <= x1; ++x) {
-                kg_tile_collide_cell(t, m, b, i, layer, x, y, c);
+                if (kg_tile_may_touch(t, m, kg_tile_cell_index(m, layer, x, y))) {
+                    kg_tile_collide_cell(t, m, b, i, layer, x, y, c);
+                }
             }
         }
     }
