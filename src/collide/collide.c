@@ -48,7 +48,6 @@ struct kg_collision {
     int plain_run;          /* steps to search without slack after a search with it served none */
     int plain_left;         /* of those, still to go */
     kg_pair* pairs;
-    int* previous_of;       /* one per pair: last step's contact of the pair, or -1 */
     int* block_touching;    /* one per block of KG_PAIR_BLOCK pairs: how many touch */
     kg_contact* contacts;
     kg_contact* previous;
@@ -66,7 +65,6 @@ static void kg_free_buffers(struct kg_collision* c)
 {
     kg_free(c->found);
     kg_free(c->pairs);
-    kg_free(c->previous_of);
     kg_free(c->block_touching);
     kg_free(c->contacts);
     kg_free(c->previous);
@@ -104,7 +102,6 @@ static kg_result kg_reserve(kg_world* world, int capacity)
     struct kg_collision* c = world->collision;
     size_t n = (size_t)(capacity > 0 ? capacity : 1);
     if (!kg_regrow((void**)&c->pairs, 0, n * sizeof *c->pairs) ||
-        !kg_regrow((void**)&c->previous_of, 0, n * sizeof *c->previous_of) ||
         !kg_regrow((void**)&c->block_touching, 0, kg_block_count(n) * sizeof *c->block_touching) ||
         !kg_regrow((void**)&c->contacts, (size_t)c->count * sizeof *c->contacts, n * sizeof *c->contacts) ||
         !kg_regrow((void**)&c->previous, (size_t)c->previous_count * sizeof *c->previous, n * sizeof *c->previous)) {
@@ -248,23 +245,35 @@ static kg_result kg_find_pairs(kg_world* world, int* pair_count)
 
 static int kg_pair_less(kg_u32 a0, kg_u32 b0, kg_u32 a1, kg_u32 b1) { return a0 < a1 || (a0 == a1 && b0 < b1); }
 
-/* Last step's contact of each pair (the same two bodies, not others that took over their
- * slots), or -1: both lists are sorted by (a, b), so they are walked together. */
-static void kg_match_previous(kg_world* world, int pair_count)
+/* The first of last step's body contacts [0, count) not before the pair (a, b): they are
+ * sorted by (a, b). */
+static int kg_first_not_before(const kg_contact* previous, int count, kg_u32 a, kg_u32 b)
 {
-    struct kg_collision* c = world->collision;
-    const kg_body_pool* p = &world->bodies;
-    int old = 0;
-    for (int k = 0; k < pair_count; ++k) {
-        kg_u32 a = c->pairs[k].a, b = c->pairs[k].b;
-        while (old < c->previous_count && kg_pair_less(c->previous[old].a, c->previous[old].b, a, b)) {
-            old++;
+    int lo = 0, hi = count;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (kg_pair_less(previous[mid].a, previous[mid].b, a, b)) {
+            lo = mid + 1;
+        } else {
+            hi = mid;
         }
-        const kg_contact* prev = &c->previous[old];
-        int same = old < c->previous_count && prev->a == a && prev->b == b && prev->generation_a == p->generation[a] &&
-                   prev->generation_b == p->generation[b];
-        c->previous_of[k] = same ? old : -1;
     }
+    return lo;
+}
+
+/* Last step's contact of the pair (a, b) (the same two bodies, not others that took over
+ * their slots), or NULL, searching from *old on: pairs come in (a, b) order, as last
+ * step's contacts do, so a block of pairs walks them once. */
+static const kg_contact* kg_previous_of(const kg_contact* previous, int count, int* old, kg_u32 a, kg_u32 b,
+                                        const kg_body_pool* p)
+{
+    while (*old < count && kg_pair_less(previous[*old].a, previous[*old].b, a, b)) {
+        *old += 1;
+    }
+    const kg_contact* prev = &previous[*old];
+    int same = *old < count && prev->a == a && prev->b == b && prev->generation_a == p->generation[a] &&
+               prev->generation_b == p->generation[b];
+    return same ? prev : NULL;
 }
 
 /* Between two static or sleeping bodies: last step's contact whole. Nothing has moved or
@@ -295,8 +304,8 @@ static void kg_set_contact_bodies(kg_contact* ct, const kg_body_pool* p, kg_u32 
 typedef struct kg_narrowphase_job {
     const kg_body_pool* bodies;
     const kg_pair* pairs;
-    const int* previous_of;
     const kg_contact* previous;
+    int previous_count; /* of body contacts, sorted by (a, b); tile contacts follow */
     kg_contact* contacts;
     int* block_touching;
     int pair_count;
@@ -316,9 +325,12 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
 {
     const kg_body_pool* p = job->bodies;
     int n = begin, carried = 0, missed = 0;
+    int old = begin < end ? kg_first_not_before(job->previous, job->previous_count, job->pairs[begin].a,
+                                                job->pairs[begin].b)
+                          : 0;
     for (int k = begin; k < end; ++k) {
         kg_u32 a = job->pairs[k].a, b = job->pairs[k].b;
-        const kg_contact* prev = job->previous_of[k] >= 0 ? &job->previous[job->previous_of[k]] : NULL;
+        const kg_contact* prev = kg_previous_of(job->previous, job->previous_count, &old, a, b, p);
         kg_contact* ct = &job->contacts[n]; /* a pair before it that did not touch left it free */
         if (kg_rested(p, a) && kg_rested(p, b)) {
             kg_keep_contact(ct, prev);
@@ -407,9 +419,8 @@ kg_result kg_stage_collide(kg_world* world)
     if (r != KG_OK) {
         return r;
     }
-    kg_match_previous(world, pair_count);
-    kg_narrowphase_job job = {&world->bodies, c->pairs, c->previous_of, c->previous, c->contacts, c->block_touching,
-                              pair_count, world->def.speculative_distance, world->last_dt, 0, 0};
+    kg_narrowphase_job job = {&world->bodies, c->pairs, c->previous, c->previous_body_count, c->contacts,
+                              c->block_touching, pair_count, world->def.speculative_distance, world->last_dt, 0, 0};
     kg_parallel_for(world->threads, (int)kg_block_count((size_t)pair_count), 1, kg_narrowphase_range, &job);
     int carried = atomic_load(&job.carried);
     kg_count_warm_starts(world, carried + atomic_load(&job.missed), carried);
