@@ -68,9 +68,7 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL const kg_contact* contacts,
     color_start[KG_COLOR_COUNT + 1] = count;
     for (int k = 0; k < count; ++k) {
         order[next[colors[k]]++] = k;
-    }
-    /* cleared by the constraints, so the cost follows them, not the bodies */
-    for (int k = 0; k < count; ++k) {
+        /* cleared by the constraints, so the cost follows them, not the bodies */
         kg_u32 a = contacts[k].a, b = contacts[k].b;
         if (a != KG_NULL_INDEX) {
             used[a] = 0u;

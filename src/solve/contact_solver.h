@@ -108,21 +108,19 @@ typedef struct kg_row_head {
 
 KG_STATIC_ASSERT(sizeof(kg_row_head) == 40, row_head_size);
 
-KG_FN kg_row_head kg_row_head_of(const kg_contact* ct, kg_u32 index, float inv_mass_a, float inv_i_a, float inv_mass_b,
-                                 float inv_i_b)
+KG_FN void kg_row_head_of(kg_row_head* h, const kg_contact* ct, kg_u32 index, float inv_mass_a, float inv_i_a,
+                          float inv_mass_b, float inv_i_b)
 {
-    kg_row_head h;
-    h.a = ct->a;
-    h.b = ct->b;
-    h.contact = index;
-    h.point_count = ct->manifold.point_count;
-    h.friction = ct->friction;
-    h.restitution = ct->restitution;
-    h.inv_mass_a = inv_mass_a;
-    h.inv_i_a = inv_i_a;
-    h.inv_mass_b = inv_mass_b;
-    h.inv_i_b = inv_i_b;
-    return h;
+    h->a = ct->a;
+    h->b = ct->b;
+    h->contact = index;
+    h->point_count = ct->manifold.point_count;
+    h->friction = ct->friction;
+    h->restitution = ct->restitution;
+    h->inv_mass_a = inv_mass_a;
+    h->inv_i_a = inv_i_a;
+    h->inv_mass_b = inv_mass_b;
+    h->inv_i_b = inv_i_b;
 }
 
 /* The head into a constraint of width 1 (a kernel's). */
@@ -143,30 +141,32 @@ KG_FN void kg_constraint_head(kg_contact_constraint* c, const kg_row_head* h)
 /* What prepare reads of a contact's manifold (a point it does not have reads zeros) and
  * of its bodies: origins (the manifold's anchors are relative to them), centres of mass
  * and velocities. */
-KG_FN kg_prepare_input kg_prepare_input_of(const kg_manifold* m, kg_vec2 origin_a, kg_vec2 center_a, kg_vec2 origin_b,
-                                           kg_vec2 center_b, kg_vec2 va, float wa, kg_vec2 vb, float wb)
+KG_FN void kg_prepare_input_of(kg_prepare_input* in, const kg_manifold* m, kg_vec2 origin_a, kg_vec2 center_a,
+                               kg_vec2 origin_b, kg_vec2 center_b, kg_vec2 va, float wa, kg_vec2 vb, float wb)
 {
-    kg_prepare_input in;
     for (int j = 0; j < 2; ++j) {
-        int has = j < m->point_count;
         const kg_manifold_point* mp = &m->points[j];
-        in.anchor_a[j] = has ? mp->anchor_a : kg_v2(0.0f, 0.0f);
-        in.anchor_b[j] = has ? mp->anchor_b : kg_v2(0.0f, 0.0f);
-        in.separation[j] = has ? mp->separation : 0.0f;
-        in.normal_impulse[j] = has ? mp->normal_impulse : 0.0f;
-        in.tangent_impulse[j] = has ? mp->tangent_impulse : 0.0f;
-        in.has_point[j] = has ? 1.0f : 0.0f;
+        if (j < m->point_count) {
+            in->anchor_a[j] = mp->anchor_a;
+            in->anchor_b[j] = mp->anchor_b;
+            in->separation[j] = mp->separation;
+            in->normal_impulse[j] = mp->normal_impulse;
+            in->tangent_impulse[j] = mp->tangent_impulse;
+            in->has_point[j] = 1.0f;
+        } else {
+            in->anchor_a[j] = in->anchor_b[j] = kg_v2(0.0f, 0.0f);
+            in->separation[j] = in->normal_impulse[j] = in->tangent_impulse[j] = in->has_point[j] = 0.0f;
+        }
     }
-    in.normal = m->normal;
-    in.origin_a = origin_a;
-    in.center_a = center_a;
-    in.origin_b = origin_b;
-    in.center_b = center_b;
-    in.va = va;
-    in.wa = wa;
-    in.vb = vb;
-    in.wb = wb;
-    return in;
+    in->normal = m->normal;
+    in->origin_a = origin_a;
+    in->center_a = center_a;
+    in->origin_b = origin_b;
+    in->center_b = center_b;
+    in->va = va;
+    in->wa = wa;
+    in->vb = vb;
+    in->wb = wb;
 }
 
 /* What the solve leaves in a contact's point: its impulses, for warm starting the next
@@ -237,14 +237,14 @@ KG_FN_INLINE int kg_prepare_source(const kg_contact* ct, kg_u32 index, KG_GLOBAL
         empty.manifold.normal = kg_v2(0.0f, 0.0f);
         empty.friction = empty.restitution = 0.0f;
         kg_vec2 zero = kg_v2(0.0f, 0.0f);
-        *head = kg_row_head_of(&empty, 0u, 0.0f, 0.0f, 0.0f, 0.0f);
-        *in = kg_prepare_input_of(&empty.manifold, zero, zero, zero, zero, zero, 0.0f, zero, 0.0f);
+        kg_row_head_of(head, &empty, 0u, 0.0f, 0.0f, 0.0f, 0.0f);
+        kg_prepare_input_of(in, &empty.manifold, zero, zero, zero, zero, zero, 0.0f, zero, 0.0f);
         return 0;
     }
-    *head = kg_row_head_of(ct, index, a_moves ? inv_mass[ct->a] : 0.0f, a_moves ? inv_inertia[ct->a] : 0.0f,
-                           b_moves ? inv_mass[ct->b] : 0.0f, b_moves ? inv_inertia[ct->b] : 0.0f);
+    kg_row_head_of(head, ct, index, a_moves ? inv_mass[ct->a] : 0.0f, a_moves ? inv_inertia[ct->a] : 0.0f,
+                   b_moves ? inv_mass[ct->b] : 0.0f, b_moves ? inv_inertia[ct->b] : 0.0f);
     kg_side_state sa = kg_side_state_of(ct->a, bodies, xf, center), sb = kg_side_state_of(ct->b, bodies, xf, center);
-    *in = kg_prepare_input_of(&ct->manifold, sa.origin, sa.center, sb.origin, sb.center, sa.v, sa.w, sb.v, sb.w);
+    kg_prepare_input_of(in, &ct->manifold, sa.origin, sa.center, sb.origin, sb.center, sa.v, sa.w, sb.v, sb.w);
     return 1;
 }
 
