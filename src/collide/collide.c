@@ -7,6 +7,7 @@
 #include "collide/aabb.h"
 #include "collide/broadphase.h"
 #include "collide/manifold.h"
+#include "collide/pair_contact.h"
 #include "collide/recycle.h"
 #include "collide/tilemap.h"
 #include "core/alloc.h"
@@ -243,24 +244,6 @@ static kg_result kg_find_pairs(kg_world* world, int* pair_count)
     return KG_OK;
 }
 
-static int kg_pair_less(kg_u32 a0, kg_u32 b0, kg_u32 a1, kg_u32 b1) { return a0 < a1 || (a0 == a1 && b0 < b1); }
-
-/* The first of last step's body contacts [0, count) not before the pair (a, b): they are
- * sorted by (a, b). */
-static int kg_first_not_before(const kg_contact* previous, int count, kg_u32 a, kg_u32 b)
-{
-    int lo = 0, hi = count;
-    while (lo < hi) {
-        int mid = lo + (hi - lo) / 2;
-        if (kg_pair_less(previous[mid].a, previous[mid].b, a, b)) {
-            lo = mid + 1;
-        } else {
-            hi = mid;
-        }
-    }
-    return lo;
-}
-
 /* Last step's contact of the pair (a, b) (the same two bodies, not others that took over
  * their slots), or NULL, searching from *old on: pairs come in (a, b) order, as last
  * step's contacts do, so a block of pairs walks them once. */
@@ -270,10 +253,7 @@ static const kg_contact* kg_previous_of(const kg_contact* previous, int count, i
     while (*old < count && kg_pair_less(previous[*old].a, previous[*old].b, a, b)) {
         *old += 1;
     }
-    const kg_contact* prev = &previous[*old];
-    int same = *old < count && prev->a == a && prev->b == b && prev->generation_a == p->generation[a] &&
-               prev->generation_b == p->generation[b];
-    return same ? prev : NULL;
+    return kg_is_contact_of(previous, count, *old, a, b, p->generation) ? &previous[*old] : NULL;
 }
 
 /* Between two static or sleeping bodies: last step's contact whole. Nothing has moved or
@@ -287,18 +267,6 @@ static void kg_keep_contact(kg_contact* ct, const kg_contact* prev)
     } else {
         ct->manifold.point_count = 0;
     }
-}
-
-static void kg_set_contact_bodies(kg_contact* ct, const kg_body_pool* p, kg_u32 a, kg_u32 b)
-{
-    ct->a = a;
-    ct->b = b;
-    ct->tile = KG_NULL_INDEX;
-    ct->generation_a = p->generation[a];
-    ct->generation_b = p->generation[b];
-    ct->friction = sqrtf(p->friction[a] * p->friction[b]);
-    ct->restitution = kg_maxf(p->restitution[a], p->restitution[b]);
-    ct->pad = 0u;
 }
 
 typedef struct kg_narrowphase_job {
@@ -338,9 +306,8 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
             n += ct->manifold.point_count > 0;
             continue;
         }
-        float speculative = kg_pair_speculative(job->speculative, p->velocity[a], p->velocity[b], job->dt);
-        int kept = kg_collide_or_recycle(&p->shape[a], p->xf[a], &p->shape[b], p->xf[b], speculative, prev,
-                                         &ct->manifold, &ct->base);
+        int kept = kg_pair_manifold(a, b, p->shape, p->xf, p->velocity, job->speculative, job->dt, prev,
+                                    &ct->manifold, &ct->base);
         if (ct->manifold.point_count == 0) {
             continue;
         }
@@ -350,7 +317,7 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
             carried += matched;
             missed += ct->manifold.point_count - matched;
         }
-        kg_set_contact_bodies(ct, p, a, b);
+        kg_contact_set_bodies(ct, a, b, p->generation, p->friction, p->restitution);
         n += 1;
     }
     *carried_sum += carried;

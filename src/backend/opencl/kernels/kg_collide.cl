@@ -10,6 +10,7 @@
 #include "core/kg_layout.h"
 #include "collide/aabb.h"
 #include "collide/manifold.h"
+#include "collide/pair_contact.h"
 #include "collide/recycle.h"
 #include "collide/tile_pass.h"
 #include "solve/coloring.h"
@@ -513,30 +514,15 @@ __kernel void kg_bp_sort_runs(int count, __global const uint* run_start, __globa
 
 /* ---- narrowphase and persistence ------------------------------------------------------ */
 
-/* kg_narrowphase_range of collide/collide.c: the manifold of pair k, and whether it
- * touches (within its speculative distance). */
-/* Last step's contact of pair (a, b) among its body contacts (sorted by (a, b)), or -1;
- * only a contact between the same two bodies, not others that took over their slots. */
-KG_FN int kg_find_previous(__global const kg_contact* previous, int count, kg_u32 a, kg_u32 b,
-                           __global const kg_u32* generation)
+/* Last step's contact of pair (a, b) among its body contacts, or -1. */
+KG_FN int kg_previous_contact(__global const kg_contact* previous, int count, kg_u32 a, kg_u32 b,
+                              __global const kg_u32* generation)
 {
-    int lo = 0, hi = count;
-    while (lo < hi) {
-        int mid = lo + (hi - lo) / 2;
-        kg_u32 ma = previous[mid].a, mb = previous[mid].b;
-        if (ma < a || (ma == a && mb < b)) {
-            lo = mid + 1;
-        } else {
-            hi = mid;
-        }
-    }
-    int same = lo < count && previous[lo].a == a && previous[lo].b == b &&
-               previous[lo].generation_a == generation[a] && previous[lo].generation_b == generation[b];
-    return same ? lo : -1;
+    int at = kg_first_not_before(previous, count, a, b);
+    return kg_is_contact_of(previous, count, at, a, b, generation) ? at : -1;
 }
 
-/* kg_narrowphase_range of collide/collide.c: pair k's manifold, kept from last step's
- * contact of the pair (collide/recycle.h) or computed, and its base. */
+/* Pair k's manifold and base (collide/pair_contact.h), and whether it touches. */
 __kernel void kg_narrowphase(int count, float speculative_distance, float dt, __global const uint2* pairs,
                              __global const kg_shape* shape, __global const kg_xf* xf,
                              __global const kg_vec2* velocity, __global const kg_contact* previous,
@@ -548,23 +534,21 @@ __kernel void kg_narrowphase(int count, float speculative_distance, float dt, __
         return;
     }
     uint2 p = pairs[k];
-    kg_shape a = shape[p.x], b = shape[p.y];
-    float speculative = kg_pair_speculative(speculative_distance, velocity[p.x], velocity[p.y], dt);
-    int old = kg_find_previous(previous, previous_count, p.x, p.y, generation);
+    int old = kg_previous_contact(previous, previous_count, p.x, p.y, generation);
     kg_contact last;
     if (old >= 0) {
         last = previous[old];
     }
     kg_manifold m;
     kg_contact_base base;
-    kg_collide_or_recycle(&a, xf[p.x], &b, xf[p.y], speculative, old >= 0 ? &last : 0, &m, &base);
+    kg_pair_manifold(p.x, p.y, shape, xf, velocity, speculative_distance, dt, old >= 0 ? &last : 0, &m, &base);
     manifolds[k] = m;
     bases[k] = base;
     touching[k] = m.point_count > 0 ? 1u : 0u;
 }
 
-/* kg_build_contacts of collide/collide.c: touching pair k becomes contact index[k] (the
- * prefix sum of touching keeps the pairs' order), with last step's impulses carried. */
+/* Touching pair k becomes contact index[k] (the prefix sum of touching keeps the pairs'
+ * order), with last step's impulses carried. */
 __kernel void kg_build_contacts(int count, __global const uint2* pairs, __global const kg_manifold* manifolds,
                                 __global const kg_contact_base* bases, __global const uint* index,
                                 __global const kg_contact* previous,
@@ -579,20 +563,13 @@ __kernel void kg_build_contacts(int count, __global const uint2* pairs, __global
     uint2 p = pairs[k];
     kg_contact c;
     c.manifold = manifolds[k];
-    int old = kg_find_previous(previous, previous_count, p.x, p.y, generation);
-    if (old >= 0) {
-        kg_manifold carried = previous[old].manifold;
-        kg_contact_carry_impulses(&c.manifold, &carried);
-    }
-    c.a = p.x;
-    c.b = p.y;
-    c.tile = KG_NULL_INDEX;
-    c.friction = sqrtf(friction[p.x] * friction[p.y]);
-    c.restitution = kg_maxf(restitution[p.x], restitution[p.y]);
-    c.generation_a = generation[p.x];
-    c.generation_b = generation[p.y];
-    c.pad = 0u;
     c.base = bases[k];
+    int old = kg_previous_contact(previous, previous_count, p.x, p.y, generation);
+    if (old >= 0) {
+        KG_PRIVATE_VIEW(kg_manifold, carried, previous[old].manifold);
+        kg_contact_carry_impulses(&c.manifold, carried);
+    }
+    kg_contact_set_bodies(&c, p.x, p.y, generation, friction, restitution);
     contacts[index[k]] = c;
 }
 
