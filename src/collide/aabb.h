@@ -2,6 +2,7 @@
 #ifndef KG_AABB_H
 #define KG_AABB_H
 
+#include "core/body_flags.h"
 #include "core/kg_layout.h"
 
 KG_FN kg_aabb kg_shape_aabb(const kg_shape* shape, kg_xf xf)
@@ -51,6 +52,23 @@ KG_FN kg_aabb kg_aabb_sweep(kg_aabb box, kg_vec2 displacement)
 KG_FN float kg_pair_speculative(float base, kg_vec2 va, kg_vec2 vb, float dt)
 {
     return kg_minf(base + dt * kg_length(kg_sub(vb, va)), KG_MAX_SPECULATIVE_SCALE * base);
+}
+
+/* A body's broadphase box: its bounds fattened by margin. Returns whether it takes part:
+ * alive, with finite bounds. A frozen body stays where it froze, as solid as a static
+ * one; a sleeping one keeps its contacts, so that its stack wakes warm. */
+KG_FN int kg_broadphase_box(kg_u32 flags, kg_aabb bounds, float margin, kg_aabb* box)
+{
+    *box = kg_aabb_fatten(bounds, margin);
+    return kg_flags_alive(flags) && kg_vec_is_finite(box->lower) && kg_vec_is_finite(box->upper);
+}
+
+/* Whether two broadphase boxes make a pair: one of them moves, they overlap, and each
+ * one's filter accepts the other's category. */
+KG_FN int kg_boxes_pair(int moves_p, kg_aabb box_p, kg_u32 category_p, kg_u32 mask_p, int moves_q, kg_aabb box_q,
+                        kg_u32 category_q, kg_u32 mask_q)
+{
+    return (moves_p || moves_q) && kg_aabb_overlap(box_p, box_q) && (category_p & mask_q) && (category_q & mask_p);
 }
 
 #endif

@@ -266,11 +266,8 @@ static void kg_gather_proxies(kg_broadphase* bp, const kg_body_pool* bodies, flo
     for (int i = 0; i < bodies->high_water; ++i) {
         bp->run_count[i] = 0;
         bp->seen[i].state = KG_SEEN_OUT;
-        if (!kg_pool_alive(bodies, i)) {
-            continue;
-        }
-        kg_aabb box = kg_aabb_fatten(bodies->aabb[i], margin);
-        if (!kg_vec_is_finite(box.lower) || !kg_vec_is_finite(box.upper)) {
+        kg_aabb box;
+        if (!kg_broadphase_box(bodies->flags[i], bodies->aabb[i], margin, &box)) {
             continue;
         }
         kg_proxy* p = &bp->proxies[n++];
@@ -278,9 +275,7 @@ static void kg_gather_proxies(kg_broadphase* bp, const kg_body_pool* bodies, flo
         p->body = (kg_u32)i;
         p->category = bodies->category[i];
         p->mask = bodies->mask[i];
-        /* a frozen body stays where it froze, as solid as a static one; a sleeping one
-         * keeps its contacts, so that its stack wakes warm */
-        p->moves = kg_pool_collides(bodies, i);
+        p->moves = (kg_u32)kg_flags_collide(bodies->flags[i]);
         bp->seen[i] = kg_seen_of(p);
         bp->histogram[kg_extent_bin(kg_extent(box))] += 1;
     }
@@ -443,8 +438,7 @@ static void kg_emit(kg_broadphase* bp, kg_u32 p, kg_u32 q)
 
 static void kg_consider(kg_broadphase* bp, const kg_proxy* p, const kg_proxy* q)
 {
-    if ((p->moves | q->moves) && kg_aabb_overlap(p->box, q->box) && (p->category & q->mask) &&
-        (q->category & p->mask)) {
+    if (kg_boxes_pair((int)p->moves, p->box, p->category, p->mask, (int)q->moves, q->box, q->category, q->mask)) {
         kg_emit(bp, p->body, q->body);
     }
 }

@@ -177,8 +177,8 @@ __kernel void kg_bp_clear(int table_size, __global uint* heads, __global uint* h
     }
 }
 
-/* The proxy of slot i (kg_gather_proxies of collide/broadphase.c), its extent binned;
- * the slot's per-step counters and marks zeroed for the stages after. */
+/* The proxy of slot i (collide/aabb.h's broadphase box), its extent binned; the slot's
+ * per-step counters and marks zeroed for the stages after. */
 __kernel void kg_bp_proxies(int count, float margin, __global const kg_u32* flags, __global const kg_aabb* aabb,
                             __global const kg_u32* category, __global const kg_u32* mask,
                             __global kg_bp_proxy* proxies, __global uint* histogram, __global uint* run_count,
@@ -194,7 +194,7 @@ __kernel void kg_bp_proxies(int count, float margin, __global const kg_u32* flag
     wake_marks[i] = 0u;
     kg_u32 f = flags[i];
     kg_bp_proxy p;
-    p.box = kg_aabb_fatten(aabb[i], margin);
+    int candidate = kg_broadphase_box(f, aabb[i], margin, &p.box);
     p.category = category[i];
     p.mask = mask[i];
     p.cell_x = 0;
@@ -202,9 +202,6 @@ __kernel void kg_bp_proxies(int count, float margin, __global const kg_u32* flag
     p.level = 0u;
     p.next = KG_NULL_INDEX;
     p.pad = 0u;
-    /* a frozen body stays where it froze, as solid as a static one; a sleeping one keeps
-     * its contacts, so that its stack wakes warm */
-    int candidate = kg_flags_alive(f) && kg_vec_is_finite(p.box.lower) && kg_vec_is_finite(p.box.upper);
     p.flags = (candidate ? KG_BP_CANDIDATE : 0u) | (kg_flags_collide(f) ? KG_BP_MOVES : 0u);
     proxies[i] = p;
     if (candidate) {
@@ -321,12 +318,10 @@ __kernel void kg_bp_plan(__global uint* plan, __global const uint* counts)
     }
 }
 
-/* kg_consider of collide/broadphase.c: one of them moves, the boxes overlap, the filters
- * accept each other. */
 KG_FN int kg_bp_pairs_with(const kg_bp_proxy* p, const kg_bp_proxy* q)
 {
-    return ((p->flags | q->flags) & KG_BP_MOVES) && kg_aabb_overlap(p->box, q->box) && (p->category & q->mask) &&
-           (q->category & p->mask);
+    return kg_boxes_pair((p->flags & KG_BP_MOVES) != 0u, p->box, p->category, p->mask, (q->flags & KG_BP_MOVES) != 0u,
+                         q->box, q->category, q->mask);
 }
 
 /* Pairs found by one work-item, appended to the shared list a batch at a time. */
