@@ -397,10 +397,10 @@ static void bench_measure(bench_session* s, int engine, kg_scene* scene, const b
     const bench_stop* stop = info->size > 0 ? bench_find_stop(s, engine, info->family) : NULL;
     if (!e->available) {
         r->status = BENCH_MISSING;
-        snprintf(r->message, sizeof r->message, "%s", e->about);
+        snprintf(r->message, sizeof r->message, "%.*s", (int)sizeof r->message - 1, e->about); /* cut if long */
     } else if (stop) {
         r->status = BENCH_SKIPPED;
-        snprintf(r->message, sizeof r->message, "%s", stop->why);
+        snprintf(r->message, sizeof r->message, "%.*s", (int)sizeof r->message - 1, stop->why);
     } else {
         bench_run(e, scene, info, &s->options.config, r);
         bench_note_stop(s, engine, info, r);
