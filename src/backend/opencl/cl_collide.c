@@ -1,22 +1,7 @@
-/* The collision stage on the device (kernels in kernels/kg_collide.cl), giving the
- * contacts collide/collide.c gives, in the same order, with the colouring
- * solve/graph_color.c gives:
- *
- *   broadphase   clear, proxies (and extent histogram), grid size, insert into the hash
- *                grid, find pairs; [read: pair count]; prefix sum of the runs, scatter,
- *                sort each run                                     -> pairs sorted by (a, b)
- *   narrowphase  manifold per pair; prefix sum of the touching ones; contacts built in
- *                pair order with last step's impulses carried       -> contacts
- *   tiles        per colliding body, its tile contacts counted; prefix sum; written after
- *                the body contacts, in (body, key) order, impulses carried   -> contacts
- *   wake         the sleeping islands the touching pairs reach from a body in motion
- *                woken (cl_sleep.c), so that the colouring sees them awake   -> flags
- *   colouring    greedy in contact order, by one work-item            -> order, color_start
- *   [read: contact count and colour ranges, for the solver's launches]
- *
- * Two small reads per step (the pair count, to grow the pool when it overflows, and the
- * counters at the end); no contact crosses the bus. Kernels are labelled by stage in the
- * profile (kg_broadphase, kg_narrowphase, kg_color; the wake's kg_sleep), prefix sums included. */
+/* The collision stage on the device, and the colouring that opens the solve stage
+ * (kernels in kernels/kg_collide.cl): the contacts collide/collide.c gives, in the same
+ * order, coloured as solve/coloring.h colours. The kernels in order, and what is read
+ * back, are in docs/design.md, "The OpenCL pipeline". */
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_backend.h"
 #include "collide/collide.h"

@@ -1,31 +1,10 @@
-/* The stages of the step (core/step.h) on the device:
- *
- *   begin      upload what the host changed; checkpoint the state (on the device)
- *   forces     built-in and device force applicators as kernels; C callbacks on the host
- *   collide    on the device (cl_collide.c): broadphase, narrowphase, persistence, tile
- *              maps (their contacts after the body pairs), into the contact list not
- *              holding last step's contacts. On the host instead in the step that finds
- *              more pairs than the contact pool holds (the host's stage grows it): last
- *              step's contacts and one-way platform state read back, transforms, bounds,
- *              flags and velocities read back, contacts built by collide/collide.c and
- *              uploaded
- *   wake       on the device (cl_sleep.c), or on the host after a host collide
- *   solve      contacts coloured (solve/coloring.h: one work-item on the device, or on the
- *              host after a host collide); solver bodies loaded, constraints prepared,
- *              sub-steps of warm start, solve and relax colour by colour (one launch per
- *              colour, or all colours in one single-group launch for small worlds),
- *              restitution, impulses and motion stored
- *   finalize   on the device
- *   sleep      on the device (cl_sleep.c): islands at rest fall asleep
- *   end        the queue drained, so errors surface inside the step
- *
- * Only then does the step's contact list become the current one; the host's copy of it
- * is read back when asked for (kg_cl_read_contacts). Until then last step's contacts stay
- * untouched on both sides, so a step that fails is redone on the CPU exactly.
- *
- * Each kernel calls the shared per-element function the CPU loop calls, so the state
- * agrees bit for bit with the CPU backend's. Each launch sets all of its kernel's
- * arguments, in order, where it is launched (KG_LAUNCH of cl_world.h). */
+/* The stages of the step (core/step.h) on the device: what each runs, what crosses the
+ * bus and what runs on the host instead is told once, in docs/design.md, "The OpenCL
+ * pipeline". Until the step's end the step's contact list does not become the current
+ * one, and last step's contacts stay untouched on both sides, so a step that fails is
+ * redone on the CPU exactly. Each kernel calls the shared per-element function the CPU
+ * loop calls; each launch sets all of its kernel's arguments, in order, where it is
+ * launched (KG_LAUNCH of cl_world.h). */
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_backend.h"
 #include "collide/collide.h"
