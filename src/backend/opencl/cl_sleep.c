@@ -52,7 +52,7 @@ kg_result kg_cl_sleep_on_device(kg_world* world, kg_cl_backend* b, int count)
     kg_cl_world* w = b->w;
     int slots = world->bodies.high_water;
     cl_mem contacts = w->contacts[w->current ^ 1];
-    KG_LAUNCH(w, FIND_ISLANDS, 1, kLabel, KG_INT(slots), KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+    KG_LAUNCH(w, FIND_ISLANDS, (int)w->group_size[KG_CL_K_FIND_ISLANDS], kLabel, KG_INT(slots), KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
               KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(SLEEP_TIME)), KG_MEM(w->island_parent),
               KG_MEM(w->island_least));
     KG_LAUNCH(w, FALL_ASLEEP, slots, kLabel, KG_INT(slots), KG_FLOAT(world->def.time_to_sleep),
