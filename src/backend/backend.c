@@ -9,7 +9,7 @@
  *   auto    the first OpenCL GPU or accelerator, silently the CPU backend when there is
  *           none: an OpenCL CPU device is no faster than the CPU backend */
 #include "backend/backend.h"
-#include "backend/opencl/backend_state.h"
+#include "backend/backend_state.h"
 #include "core/error.h"
 
 #include <math.h>
@@ -20,7 +20,7 @@
 #include "backend/opencl/cl_backend.h"
 #endif
 
-void kg_backend_use_cpu(kg_world* world) { world->backend = &kg_cpu_hosted_backend; }
+void kg_backend_use_cpu(kg_world* world) { world->backend = &kg_cpu_backend; }
 
 /* The backend asked for, and the device index for OpenCL. */
 static kg_backend kg_requested_backend(const kg_world_def* def, int* device_index)

@@ -28,7 +28,6 @@ typedef struct kg_backend_ops {
 } kg_backend_ops;
 
 extern const kg_backend_ops kg_cpu_backend;
-extern const kg_backend_ops kg_cpu_hosted_backend;
 
 /* Starts the backend the definition and KGYRO_BACKEND ask for, falling back to the CPU
  * with one warning when OpenCL cannot be used. */

@@ -735,15 +735,12 @@ static int kg_box_within(kg_aabb inner, kg_aabb outer)
            inner.upper.y <= outer.upper.y;
 }
 
-/* Whether slot i, as it is now (box fattened by margin), pairs with nothing the last
- * search's view of it would not have paired it with. */
-static int kg_seen_covers(const kg_seen* seen, const kg_body_pool* bodies, int i, kg_aabb box)
+/* Whether slot i, as it is now (box fattened by margin; takes_part: kg_broadphase_box's
+ * answer), pairs with nothing the last search's view of it would not have paired it with. */
+static int kg_seen_covers(const kg_seen* seen, const kg_body_pool* bodies, int i, kg_aabb box, int takes_part)
 {
-    if (!kg_pool_alive(bodies, i)) {
-        return seen->state == KG_SEEN_OUT;
-    }
-    if (seen->state == KG_SEEN_OUT) { /* alive then and not finite, or born since */
-        return !kg_vec_is_finite(box.lower) || !kg_vec_is_finite(box.upper);
+    if (!takes_part || seen->state == KG_SEEN_OUT) { /* out then and now, or not both */
+        return !takes_part && seen->state == KG_SEEN_OUT;
     }
     kg_u32 state = kg_pool_collides(bodies, i) ? KG_SEEN_MOVES : KG_SEEN_STILL;
     return seen->state == state && seen->category == bodies->category[i] && seen->mask == bodies->mask[i] &&
@@ -756,8 +753,9 @@ int kg_broadphase_covers(kg_broadphase* bp, const kg_body_pool* bodies, float ma
         return 0;
     }
     for (int i = 0; i < bodies->high_water; ++i) {
-        kg_aabb box = kg_aabb_fatten(bodies->aabb[i], margin);
-        if (!kg_seen_covers(&bp->seen[i], bodies, i, box)) {
+        kg_aabb box;
+        int takes_part = kg_broadphase_box(bodies->flags[i], bodies->aabb[i], margin, &box);
+        if (!kg_seen_covers(&bp->seen[i], bodies, i, box, takes_part)) {
             return 0;
         }
         bp->proxies[i].box = box;

@@ -2,7 +2,7 @@
  * A backend brackets them (the OpenCL backend uploads what the host changed and keeps a
  * checkpoint before, drains its queue after) and runs each one its own way: a loop over
  * the shared per-element code on the CPU, kernels on a device. docs/design.md, "The
- * step", tells the whole. */
+ * stages of a step", tells the whole. */
 #include "backend/backend.h"
 #include "core/error.h"
 #include "core/step.h"

@@ -94,6 +94,25 @@ KG_FN int kg_load_body(kg_u32 i, KG_GLOBAL kg_u32* flags, KG_GLOBAL kg_vec2* vel
     return freeze;
 }
 
+/* Body i loaded for the solve (kg_load_body) and, if it takes impulses, the velocity
+ * step of its sub-steps made. Returns 1 when it froze the body. */
+KG_FN int kg_load_body_for_step(kg_u32 i, KG_GLOBAL kg_u32* flags, KG_GLOBAL kg_vec2* velocity, KG_GLOBAL float* omega,
+                                KG_GLOBAL kg_vec2* force, KG_GLOBAL float* torque, KG_GLOBAL kg_rot* rot,
+                                KG_GLOBAL kg_vec2* center, KG_GLOBAL const kg_xf* xf,
+                                KG_GLOBAL const kg_vec2* local_center, KG_GLOBAL kg_solver_body* bodies,
+                                KG_GLOBAL const float* drag, KG_GLOBAL const float* inv_mass,
+                                KG_GLOBAL const float* inv_inertia, KG_GLOBAL const float* linear_damping,
+                                KG_GLOBAL const float* angular_damping, kg_integrate_params prm,
+                                KG_GLOBAL kg_velocity_step* steps)
+{
+    int froze = kg_load_body(i, flags, velocity, omega, force, torque, rot, center, xf, local_center, bodies);
+    if (bodies[i].moves) {
+        steps[i] = kg_body_velocity_step(i, force, torque, drag, inv_mass, inv_inertia, linear_damping,
+                                         angular_damping, prm);
+    }
+    return froze;
+}
+
 /* Body i's velocities back to the pool and the step's motion applied to its pose; with
  * sleeping on, its rest timer advanced over the step's motion (dt: the whole step's). */
 KG_FN void kg_store_body(kg_u32 i, int sleep, float dt, float sleep_speed, KG_GLOBAL const kg_u32* flags,

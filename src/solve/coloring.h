@@ -79,4 +79,14 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL const kg_contact* contacts,
     }
 }
 
+/* How many colours are in use (the overflow not counted): one past the last non-empty. */
+KG_FN int kg_colors_in_use(const int* color_start)
+{
+    int count = 0;
+    for (int c = 0; c < KG_COLOR_COUNT; ++c) {
+        count = color_start[c + 1] > color_start[c] ? c + 1 : count;
+    }
+    return count;
+}
+
 #endif

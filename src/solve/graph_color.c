@@ -34,10 +34,5 @@ void kg_graph_color(kg_graph_coloring* g, const kg_contact* contacts, int count,
     for (int i = 0; i < count; ++i) {
         g->rank[g->order[i]] = i;
     }
-    g->color_count = 0;
-    for (int c = 0; c < KG_COLOR_COUNT; ++c) {
-        if (g->color_start[c + 1] > g->color_start[c]) {
-            g->color_count = c + 1;
-        }
-    }
+    g->color_count = kg_colors_in_use(g->color_start);
 }

@@ -133,14 +133,10 @@ static void kg_load_bodies(void* context, int begin, int end)
     kg_body_job* job = context;
     kg_body_pool* p = job->pool;
     for (int i = begin; i < end; ++i) {
-        if (kg_load_body((kg_u32)i, p->flags, p->velocity, p->omega, p->force, p->torque, p->rot, p->center, p->xf,
-                         p->local_center, job->bodies)) {
+        if (kg_load_body_for_step((kg_u32)i, p->flags, p->velocity, p->omega, p->force, p->torque, p->rot, p->center,
+                                  p->xf, p->local_center, job->bodies, p->drag, p->inv_mass, p->inv_inertia,
+                                  p->linear_damping, p->angular_damping, job->prm, job->velocity_steps)) {
             kg_warn_frozen(i);
-        }
-        if (job->bodies[i].moves) {
-            job->velocity_steps[i] = kg_body_velocity_step((kg_u32)i, p->force, p->torque, p->drag, p->inv_mass,
-                                                           p->inv_inertia, p->linear_damping, p->angular_damping,
-                                                           job->prm);
         }
     }
 }
@@ -228,11 +224,8 @@ static void kg_prepare_source_of(const kg_constraint_job* job, int k, kg_row_hea
 {
     const kg_body_pool* p = job->pool;
     kg_u32 still = job->solver->still;
-    if (!kg_prepare_source(&job->contacts[k], (kg_u32)k, job->bodies, p->inv_mass, p->inv_inertia, p->xf, p->center,
-                           head, in)) {
-        kg_empty_source(still, head, in);
-        return;
-    }
+    kg_prepare_source(&job->contacts[k], (kg_u32)k, job->bodies, p->inv_mass, p->inv_inertia, p->xf, p->center, head,
+                      in);
     head->a = head->a != KG_NULL_INDEX ? head->a : still;
     head->b = head->b != KG_NULL_INDEX ? head->b : still;
     if (head->restitution != 0.0f) {

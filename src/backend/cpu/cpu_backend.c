@@ -1,7 +1,7 @@
 /* The CPU backend: each stage of the step (core/step.h) a loop over the shared
  * per-element code, on the world's thread pool. */
 #include "backend/backend.h"
-#include "backend/opencl/backend_state.h"
+#include "backend/backend_state.h"
 #include "collide/collide.h"
 #include "solve/forces.h"
 #include "solve/sleep.h"
@@ -28,9 +28,7 @@ static kg_result kg_cpu_run_stage(kg_world* world, kg_stage stage, float dt)
     return KG_OK;
 }
 
-const kg_backend_ops kg_cpu_backend = {.kind = KG_BACKEND_CPU, .name = "cpu", .run_stage = kg_cpu_run_stage};
-
-/* What a world runs on after the OpenCL backend fell back: the CPU backend, freeing the
- * backend state (device forces, profiling switch) with the world. */
-const kg_backend_ops kg_cpu_hosted_backend = {.kind = KG_BACKEND_CPU, .name = "cpu", .run_stage = kg_cpu_run_stage,
-                                              .destroy = kg_backend_state_free};
+/* The backend state (device forces, profiling switch) that every world has is freed with
+ * the world. */
+const kg_backend_ops kg_cpu_backend = {.kind = KG_BACKEND_CPU, .name = "cpu", .run_stage = kg_cpu_run_stage,
+                                       .destroy = kg_backend_state_free};

@@ -20,13 +20,13 @@
  * the first step after warm starts from zero.
  *
  * When. A fallback takes effect at once between steps, and at the end of the step inside
- * one. The step's own failures unwind it (KG_TRY) to kg_opencl_step; a failure the step
+ * one. The step's own failures unwind it (KG_TRY) to kg_opencl_end_step; a failure the step
  * cannot see, of a read for a getter (or a transform read, a device force's build) that a
  * force callback calls, only records that a fallback is wanted, with its message
  * (kg_cl_request_fallback); the callback's later getters answer from the host's copy
  * without calling the device (the values of the last read, or of the part of the failed
  * one that arrived), and once the callback returns the step unwinds with KG_ERROR_BACKEND,
- * calling the device no more. Then, and only then, kg_opencl_step reads the state back,
+ * calling the device no more. Then, and only then, kg_opencl_end_step reads the state back,
  * stops the OpenCL backend and redoes the step on the CPU: nothing is freed while the step
  * uses it (test_callback_forces_fallback_mid_step, under ASan). */
 #ifdef KG_HAVE_OPENCL
@@ -183,7 +183,7 @@ void kg_cl_request_fallback(kg_cl_backend* b)
 
 /* Hands the world to the CPU backend after the OpenCL failure described by the pending
  * request, else by the current error. in_step: the failure happened inside a step, whose
- * start state is wanted; called only once the step has unwound (kg_opencl_step), so that
+ * start state is wanted; called only once the step has unwound (kg_opencl_end_step), so that
  * nothing it frees is in use, and the start state can go straight into the world's pool
  * (no callback is running any more to write forces over it). */
 static void kg_fall_back(kg_world* world, int in_step)

@@ -4,7 +4,7 @@
 #define KG_CL_BACKEND_H
 
 #include "backend/backend.h"
-#include "backend/opencl/backend_state.h"
+#include "backend/backend_state.h"
 #include "backend/opencl/cl_world.h"
 #include "backend/opencl/kernels/kg_collide_shared.h"
 #include "solve/graph_color.h"

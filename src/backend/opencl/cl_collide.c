@@ -264,13 +264,10 @@ static kg_result kg_read_counters(kg_cl_backend* b, int words)
 static void kg_take_color_ranges(kg_cl_backend* b)
 {
     kg_graph_coloring* g = &b->coloring;
-    g->color_count = 0;
     for (int c = 0; c < KG_COLOR_COUNT + 2; ++c) {
         g->color_start[c] = (int)b->counters[KG_CC_COLOR_START + c];
-        if (c > 0 && c <= KG_COLOR_COUNT && g->color_start[c] > g->color_start[c - 1]) {
-            g->color_count = c;
-        }
     }
+    g->color_count = kg_colors_in_use(g->color_start);
 }
 
 kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits)

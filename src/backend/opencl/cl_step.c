@@ -279,13 +279,6 @@ static kg_result kg_reserve_coloring(kg_world* world, kg_cl_backend* b, int coun
     return KG_OK;
 }
 
-/* The colouring the CPU solver computes (solve/graph_color.c, greedy in contact order),
- * from the contacts' bodies: the colours must be the same for the passes to be. */
-static void kg_color_contacts(kg_world* world, kg_cl_backend* b, const kg_contact* contacts, int count)
-{
-    kg_graph_color(&b->coloring, contacts, count, &world->bodies, b->color_scratch);
-}
-
 /* One pass over all constraints: the colours one launch each, then the overflow by one
  * work-item; or, when there are few constraints, all of it in one single-group launch. */
 static kg_result kg_run_pass(kg_cl_backend* b, int pass)
@@ -324,7 +317,7 @@ static kg_result kg_color_on_host(kg_world* world, kg_cl_backend* b)
     int count = 0;
     const kg_contact* contacts = kg_collision_contacts(world, &count);
     KG_TRY(kg_reserve_coloring(world, b, count));
-    kg_color_contacts(world, b, contacts, count);
+    kg_graph_color(&b->coloring, contacts, count, &world->bodies, b->color_scratch); /* the CPU solver's colours */
     KG_TRY(kg_cl_write(b->w, b->w->color_start, 0, sizeof b->coloring.color_start, b->coloring.color_start, 0));
     return kg_cl_write(b->w, b->w->order, 0, (size_t)count * sizeof(int), b->coloring.order, 0);
 }

@@ -3,7 +3,7 @@
  * (forces.c keeps its slot, its body list and its place in the order) whose callback runs
  * the C function; the OpenCL backend recognises it by that callback and launches the
  * compiled source instead. */
-#include "backend/opencl/backend_state.h"
+#include "backend/backend_state.h"
 #include "core/alloc.h"
 #include "core/error.h"
 #include "kgyro/force.h"

@@ -42,10 +42,9 @@ __kernel void kg_load_bodies(int count, float gx, float gy, float h, __global kg
 {
     int i = (int)get_global_id(0);
     if (i < count) {
-        kg_load_body((kg_u32)i, flags, velocity, omega, force, torque, rot, center, xf, local_center, bodies);
         kg_integrate_params prm = {kg_v2(gx, gy), h, 0.0f};
-        steps[i] = kg_body_velocity_step((kg_u32)i, force, torque, drag, inv_mass, inv_inertia, linear_damping,
-                                         angular_damping, prm);
+        kg_load_body_for_step((kg_u32)i, flags, velocity, omega, force, torque, rot, center, xf, local_center, bodies,
+                              drag, inv_mass, inv_inertia, linear_damping, angular_damping, prm, steps);
     }
 }
 
