@@ -67,7 +67,8 @@ int kg_broadphase_covers(kg_broadphase* bp, const kg_body_pool* bodies, float ma
  * returned). The other conditions of a pair are unchanged, so only the boxes are tested. */
 int kg_broadphase_keep_pairs(const kg_broadphase* bp, const kg_pair* found, int count, kg_pair* out, int capacity);
 
-/* The grid of the last call, for tests and benchmarks: cell size (m) and how many boxes
+/* The grid of the last search, for tests and benchmarks (a step served by kept pairs
+ * searches nothing): cell size (m) and how many boxes
  * were small (keyed in the grid) and large (handled apart). */
 typedef struct kg_broadphase_stats {
     float cell_size;

@@ -14,7 +14,7 @@ static const char* const kg_stage_names[KG_STAGE_COUNT] = {"forces", "collide", 
 
 const char* kg_stage_name(kg_stage stage) { return kg_stage_names[stage]; }
 
-static double kg_now_ms(void)
+double kg_now_ms(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);

@@ -15,5 +15,7 @@ typedef enum kg_stage {
 
 /* "forces", "collide", ...: the name its time is reported under. */
 const char* kg_stage_name(kg_stage stage);
+/* A monotonic clock in milliseconds, for stage times. */
+double kg_now_ms(void);
 
 #endif

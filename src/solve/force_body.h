@@ -9,7 +9,8 @@
 #include "core/kg_math.h"
 
 #ifdef __OPENCL_VERSION__
-/* kgyro/opencl.h's, which a kernel cannot include */
+/* kgyro/opencl.h's, field for field (only its size is checked on both sides: keep the
+ * two in step), which a kernel cannot include */
 typedef struct kg_force_body {
     kg_vec2 position;
     kg_vec2 rotation;

@@ -17,7 +17,6 @@
 
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 
 /* Up to this many contacts, each solver pass is one single-group launch: a world that
@@ -26,13 +25,6 @@
 #define KG_CL_SINGLE_GROUP_CONTACTS 1024
 
 /* ---- timing ----------------------------------------------------------------------- */
-
-static double kg_now_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
-}
 
 /* The begin and end of the step, timed on the host when not profiling (the kernels are
  * timed by their events then). */

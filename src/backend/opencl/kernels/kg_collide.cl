@@ -1,6 +1,6 @@
-/* The collision stage's kernels: broadphase, narrowphase, persistent contacts and the
- * constraint graph colouring, with the prefix sums they share. Built in one program after
- * kg_step.cl, whose body flag helpers (kg_flags_alive, kg_flags_collide, kg_flags_simulated) they use.
+/* The collision stage's kernels: broadphase, narrowphase, persistent contacts, tile maps
+ * and the constraint graph colouring, with the prefix sums they share; the per-element
+ * code is the shared headers'.
  *
  * Each stage ends in the exact list the CPU backend builds, in the same order, although
  * the broadphase appends pairs with integer atomics in whatever order work-items run:
@@ -190,7 +190,7 @@ __kernel void kg_bp_proxies(int count, float margin, __global const kg_u32* flag
     }
     run_count[i] = 0u;
     run_fill[i] = 0u;
-    colors_used[i] = 0u;
+    colors_used[i] = 0u; /* solve/coloring.h leaves it zero; zeroed here too for a buffer just grown */
     wake_marks[i] = 0u;
     kg_u32 f = flags[i];
     kg_bp_proxy p;

@@ -60,7 +60,4 @@ KG_STATIC_ASSERT(sizeof(kg_bp_proxy) == 48, bp_proxy_size);
 #define KG_SCAN_MAX_BLOCKS 256
 #define KG_SCAN_MIN_BLOCK 256
 
-/* A contact's colour before the colouring has decided it. */
-#define KG_COLOR_UNDECIDED 0xFFu
-
 #endif
