@@ -663,15 +663,6 @@ static kg_map* kg_live_map(const kg_world* world, int live_index)
     return &world->tilemaps->maps[world->tilemaps->order[live_index]];
 }
 
-void kg_tilemaps_view(const kg_world* world, int live_index, kg_tilemap_view* out)
-{
-    const kg_map* m = kg_live_map(world, live_index);
-    out->def = &m->def;
-    out->cells = m->cells;
-    out->cell_count = (int)m->key_count;
-    out->key_base = m->key_base;
-}
-
 void kg_tilemaps_arrays(const kg_world* world, kg_tilemap_arrays* out)
 {
     const struct kg_tilemaps* t = world->tilemaps;

@@ -45,13 +45,6 @@ void kg_tilemaps_destroy(kg_world* world);
 kg_u32 kg_tilemaps_layout_version(const kg_world* world);
 /* The live maps in key order (the order the collision visits them). */
 int kg_tilemaps_live_count(const kg_world* world);
-typedef struct kg_tilemap_view {
-    const kg_tilemap_def* def;
-    const kg_u32* cells; /* cell_count words (layer_count * height * width) */
-    int cell_count;
-    kg_u32 key_base;
-} kg_tilemap_view;
-void kg_tilemaps_view(const kg_world* world, int live_index, kg_tilemap_view* out);
 /* The live maps as the tile pass reads them, the same arrays on the host and the device
  * (collide/tile_pass.h): valid until a map is created or destroyed. */
 typedef struct kg_tilemap_arrays {

@@ -103,11 +103,12 @@ static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
 
 /* ---- tile maps -------------------------------------------------------------------------- */
 
-static kg_result kg_write_map_cells(kg_cl_world* w, const kg_tilemap_view* v, size_t offset)
+/* Map m's cells, from the host's arrays to the device's, at the same place. */
+static kg_result kg_write_map_cells(kg_cl_world* w, const kg_tilemap_arrays* a, const kg_tile_map_info* m)
 {
+    size_t first = m->cell_offset, count = (size_t)m->width * (size_t)m->height * (size_t)m->layer_count;
     /* blocking: kg_tilemap_set_tile may change the host's cells as soon as the step ends */
-    return kg_cl_write(w, w->collide.tile_cells, offset * sizeof(kg_u32), (size_t)v->cell_count * sizeof(kg_u32),
-                       v->cells, 1);
+    return kg_cl_write(w, w->collide.tile_cells, first * sizeof(kg_u32), count * sizeof(kg_u32), a->cells + first, 1);
 }
 
 /* The host's tile arrays (collide/tilemap.h) into new buffers of their size. */
@@ -145,18 +146,16 @@ static kg_result kg_sync_tiles(kg_world* world, kg_cl_world* w, int maps)
     if (!c->tiles_built || c->tile_layout != kg_tilemaps_layout_version(world) || c->tile_map_count != maps) {
         return kg_build_tile_buffers(world, w, maps);
     }
-    size_t offset = 0;
+    kg_tilemap_arrays a;
+    kg_tilemaps_arrays(world, &a);
     for (int i = 0; i < maps; ++i) {
-        kg_tilemap_view v;
-        kg_tilemaps_view(world, i, &v);
         if (kg_tilemaps_take_dirty(world, i)) {
-            kg_result r = kg_write_map_cells(w, &v, offset);
+            kg_result r = kg_write_map_cells(w, &a, &a.maps[i]);
             if (r != KG_OK) {
                 c->tiles_built = 0; /* written again in whole next time */
                 return r;
             }
         }
-        offset += (size_t)v.cell_count;
     }
     return KG_OK;
 }
