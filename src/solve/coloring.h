@@ -41,12 +41,12 @@ KG_FN int kg_pick_color(KG_GLOBAL kg_u32* used, kg_u32 a, kg_u32 b, int a_moves,
 
 /* Colours the constraints of contacts [0, count): colors[k] is contact k's colour (or
  * KG_COLOR_COUNT), order lists the contact indices grouped by colour, overflow last, in
- * contact order within each, and colour c is order[color_start[c], color_start[c + 1])
- * (color_start holds KG_COLOR_COUNT + 2 ints). used (per body slot) is all zeros before
- * and after. */
+ * contact order within each, rank (unless NULL) each contact's place in order, and
+ * colour c is order[color_start[c], color_start[c + 1]) (color_start holds
+ * KG_COLOR_COUNT + 2 ints). used (per body slot) is all zeros before and after. */
 KG_FN void kg_color_constraints(int count, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
                                 KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors, KG_GLOBAL int* order,
-                                KG_GLOBAL int* color_start)
+                                KG_GLOBAL int* rank, KG_GLOBAL int* color_start)
 {
     int next[KG_COLOR_COUNT + 1];
     for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
@@ -67,7 +67,11 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL const kg_contact* contacts,
     }
     color_start[KG_COLOR_COUNT + 1] = count;
     for (int k = 0; k < count; ++k) {
-        order[next[colors[k]]++] = k;
+        int at = next[colors[k]]++;
+        order[at] = k;
+        if (rank) {
+            rank[k] = at;
+        }
         /* cleared by the constraints, so the cost follows them, not the bodies */
         kg_u32 a = contacts[k].a, b = contacts[k].b;
         if (a != KG_NULL_INDEX) {

@@ -220,10 +220,10 @@ KG_FN kg_side_state kg_side_state_of(kg_u32 slot, KG_GLOBAL const kg_solver_body
 
 /* The head and prepare input of the constraint of contact ct (the index-th): the
  * masses of the bodies that take impulses, anchors from the body origins, velocities
- * from the solver bodies. An empty head (no bodies, no points, no masses) and zero
- * inputs when neither body takes impulses (both asleep or frozen): nothing to solve, the
- * contact's impulses kept as they are. */
-KG_FN_INLINE void kg_prepare_source(const kg_contact* ct, kg_u32 index, KG_GLOBAL const kg_solver_body* bodies,
+ * from the solver bodies. Returns 0, with an empty head (no bodies, no points) and zero
+ * inputs, when neither body takes impulses (both asleep or frozen): nothing to solve,
+ * the contact's impulses kept as they are. */
+KG_FN_INLINE int kg_prepare_source(const kg_contact* ct, kg_u32 index, KG_GLOBAL const kg_solver_body* bodies,
                                    KG_GLOBAL const float* inv_mass, KG_GLOBAL const float* inv_inertia,
                                    KG_GLOBAL const kg_xf* xf, KG_GLOBAL const kg_vec2* center, kg_row_head* head,
                                    kg_prepare_input* in)
@@ -239,12 +239,13 @@ KG_FN_INLINE void kg_prepare_source(const kg_contact* ct, kg_u32 index, KG_GLOBA
         kg_vec2 zero = kg_v2(0.0f, 0.0f);
         kg_row_head_of(head, &empty, 0u, 0.0f, 0.0f, 0.0f, 0.0f);
         kg_prepare_input_of(in, &empty.manifold, zero, zero, zero, zero, zero, 0.0f, zero, 0.0f);
-        return;
+        return 0;
     }
     kg_row_head_of(head, ct, index, a_moves ? inv_mass[ct->a] : 0.0f, a_moves ? inv_inertia[ct->a] : 0.0f,
                    b_moves ? inv_mass[ct->b] : 0.0f, b_moves ? inv_inertia[ct->b] : 0.0f);
     kg_side_state sa = kg_side_state_of(ct->a, bodies, xf, center), sb = kg_side_state_of(ct->b, bodies, xf, center);
     kg_prepare_input_of(in, &ct->manifold, sa.origin, sa.center, sb.origin, sb.center, sa.v, sa.w, sb.v, sb.w);
+    return 1;
 }
 
 #endif

@@ -30,9 +30,6 @@ void kg_graph_coloring_free(kg_graph_coloring* g)
 void kg_graph_color(kg_graph_coloring* g, const kg_contact* contacts, int count, const kg_body_pool* bodies,
                     int* scratch_colors)
 {
-    kg_color_constraints(count, contacts, bodies->flags, g->used, scratch_colors, g->order, g->color_start);
-    for (int i = 0; i < count; ++i) {
-        g->rank[g->order[i]] = i;
-    }
+    kg_color_constraints(count, contacts, bodies->flags, g->used, scratch_colors, g->order, g->rank, g->color_start);
     g->color_count = kg_colors_in_use(g->color_start);
 }

@@ -224,8 +224,11 @@ static void kg_prepare_source_of(const kg_constraint_job* job, int k, kg_row_hea
 {
     const kg_body_pool* p = job->pool;
     kg_u32 still = job->solver->still;
-    kg_prepare_source(&job->contacts[k], (kg_u32)k, job->bodies, p->inv_mass, p->inv_inertia, p->xf, p->center, head,
-                      in);
+    if (!kg_prepare_source(&job->contacts[k], (kg_u32)k, job->bodies, p->inv_mass, p->inv_inertia, p->xf, p->center,
+                           head, in)) {
+        kg_empty_source(still, head, in);
+        return;
+    }
     head->a = head->a != KG_NULL_INDEX ? head->a : still;
     head->b = head->b != KG_NULL_INDEX ? head->b : still;
     if (head->restitution != 0.0f) {

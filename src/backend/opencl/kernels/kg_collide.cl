@@ -630,7 +630,7 @@ __kernel void kg_color_contacts(__global uint* counts, __global const kg_contact
     if (get_global_id(0) != 0) {
         return;
     }
-    kg_color_constraints((int)counts[KG_CC_CONTACTS], contacts, flags, used, colors, order, color_start);
+    kg_color_constraints((int)counts[KG_CC_CONTACTS], contacts, flags, used, colors, order, 0, color_start);
     for (int c = 0; c < KG_COLOR_COUNT + 2; ++c) {
         counts[KG_CC_COLOR_START + c] = (uint)color_start[c];
     }
