@@ -63,8 +63,9 @@ static void kg_lift_highest(kg_world* world, const kg_body* bodies, int count, v
     }
 }
 
-/* An empty world on backend, with the faults injected. */
-static kg_world* kg_make_empty_world(kg_backend backend, const char* faults)
+/* An empty world on backend, with the faults injected and a contact pool of
+ * max_contacts (0: the default). */
+static kg_world* kg_make_empty_world(kg_backend backend, const char* faults, int max_contacts)
 {
     if (faults) {
         setenv("KGYRO_CL_FAIL", faults, 1);
@@ -74,6 +75,7 @@ static kg_world* kg_make_empty_world(kg_backend backend, const char* faults)
     kg_world_def def = kg_default_world_def();
     def.backend = backend;
     def.max_bodies = 64;
+    def.max_contacts = max_contacts;
     kg_world* world = NULL;
     KG_CHECK_OK(kg_create_world(&def, &world));
     unsetenv("KGYRO_CL_FAIL");
@@ -84,7 +86,7 @@ static kg_world* kg_make_empty_world(kg_backend backend, const char* faults)
  * every stage has work. */
 static kg_world* kg_make_world_calling(kg_backend backend, const char* faults, kg_force_fn* fn, void* user_data)
 {
-    kg_world* world = kg_make_empty_world(backend, faults);
+    kg_world* world = kg_make_empty_world(backend, faults, 0);
     if (!world) {
         return NULL;
     }
@@ -316,7 +318,7 @@ static void test_bad_spec_is_ignored(void) { kg_expect_intact("nonsense,build", 
  * falling from high up that wakes two of them at about step 80. */
 static kg_world* kg_make_sleeping_world(kg_backend backend, const char* faults)
 {
-    kg_world* world = kg_make_empty_world(backend, faults);
+    kg_world* world = kg_make_empty_world(backend, faults, 0);
     if (!world) {
         return NULL;
     }
@@ -520,6 +522,98 @@ static void test_callback_forces_fallback_mid_step(void)
     }
 }
 
+/* Six boxes thrown up through the one-way platforms of a tile map above the ground and
+ * the stack of kg_make_world, in a world whose contact pool starts at 2 slots: the pairs
+ * outgrow it in several steps, whose collide stage then runs on the host (it grows the
+ * pool) while the rest of the step runs on the device. */
+static kg_world* kg_make_growing_world(kg_backend backend, const char* faults)
+{
+    static kg_tile_shape shapes[3];
+    static uint16_t tiles[8 * 6];
+    kg_world* world = kg_make_empty_world(backend, faults, 2);
+    if (!world) {
+        return NULL;
+    }
+    kg_add_box(world, KG_BODY_STATIC, 0.0f, -0.5f, 20.0f, 1.0f);
+    for (int i = 0; i < 12; ++i) {
+        kg_add_box(world, KG_BODY_DYNAMIC, 0.3f * (float)(i % 3), 0.6f + 1.1f * (float)i, 1.0f, 0.8f);
+    }
+    shapes[0] = kg_tile_empty();
+    shapes[1] = kg_tile_box();
+    shapes[2] = kg_tile_platform();
+    for (int x = 0; x < 8; ++x) {
+        tiles[x] = 1;
+        tiles[3 * 8 + x] = 2;
+    }
+    kg_tilemap_def map = kg_default_tilemap_def();
+    map.width = 8;
+    map.height = 6;
+    map.origin = (kg_vec2){-8.0f, 2.0f};
+    map.shapes = shapes;
+    map.shape_count = 3;
+    map.tiles = tiles;
+    kg_tilemap handle;
+    KG_CHECK_OK(kg_create_tilemap(world, &map, &handle));
+    for (int i = 0; i < 6; ++i) {
+        kg_body_def def = kg_default_body_def();
+        def.position = (kg_vec2){-7.0f + 1.1f * (float)i, 4.0f + 0.3f * (float)i};
+        def.velocity = (kg_vec2){0.0f, 6.0f};
+        def.shape = kg_box_shape(0.3f, 0.3f);
+        kg_body body;
+        KG_CHECK_OK(kg_create_body(world, &def, &body));
+    }
+    return world;
+}
+
+/* Steps the growing world with the faults injected; the number of its steps whose
+ * collide stage ran on the host. */
+static int kg_run_growing(const char* faults, int steps, uint64_t* final_hash)
+{
+    kg_world* world = kg_make_growing_world(faults ? KG_BACKEND_OPENCL : KG_BACKEND_CPU, faults);
+    int on_host = 0;
+    for (int s = 0; world && s < steps; ++s) {
+        KG_CHECK_OK(kg_world_step(world, KG_DT));
+        kg_stage_times t;
+        KG_CHECK_OK(kg_world_get_stage_times(world, &t));
+        for (int k = 0; k < t.count; ++k) {
+            on_host += strcmp(t.names[k], "collide (host)") == 0;
+        }
+    }
+    *final_hash = world ? kg_state_hash(world) : 0u;
+    kg_destroy_world(world);
+    return on_host;
+}
+
+/* A failure of any command in a step whose collide stage ran on the host (after the
+ * host's contact lists and one-way platform state have moved on), or around it, leaves
+ * the world bitwise where the CPU-only world is: the fallback reads last step's contacts
+ * and one-way state back from the device. */
+static void test_failures_around_host_collide(void)
+{
+    enum { STEPS = 90 };
+    uint64_t reference = 0, hash = 0;
+    kg_run_growing(NULL, STEPS, &reference);
+    int on_host = kg_run_growing("", STEPS, &hash);
+    KG_CHECK(on_host > 0 && hash == reference);
+    static const struct {
+        const char* site;
+        int first, last, stride;
+    } sweeps[] = {{"enqueue", 1, 600, 5}, {"finish", 1, 60, 1}, {"read", 1, 120, 2}};
+    int runs = 0, different = 0;
+    for (int w = 0; w < (int)(sizeof sweeps / sizeof sweeps[0]); ++w) {
+        for (int n = sweeps[w].first; n <= sweeps[w].last; n += sweeps[w].stride) {
+            char spec[32];
+            snprintf(spec, sizeof spec, "%s:%d", sweeps[w].site, n);
+            kg_run_growing(spec, STEPS, &hash);
+            different += hash != reference;
+            runs += 1;
+        }
+    }
+    printf("     %d steps of %d collided on the host; %d failures injected, %d runs ended off the CPU world's state\n",
+           on_host, STEPS, runs, different);
+    KG_CHECK(different == 0);
+}
+
 int main(void)
 {
     int devices = 0;
@@ -533,6 +627,6 @@ int main(void)
         KG_TEST(test_build_failure), KG_TEST(test_alloc_failure), KG_TEST(test_enqueue_failures),
         KG_TEST(test_kernel_failures), KG_TEST(test_read_failures), KG_TEST(test_contact_read_failure),
         KG_TEST(test_device_lost), KG_TEST(test_bad_spec_is_ignored), KG_TEST(test_sleep_state_carried_over),
-        KG_TEST(test_callback_forces_fallback_mid_step)};
+        KG_TEST(test_callback_forces_fallback_mid_step), KG_TEST(test_failures_around_host_collide)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }
