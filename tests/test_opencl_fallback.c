@@ -82,6 +82,15 @@ static kg_world* kg_make_empty_world(kg_backend backend, const char* faults, int
     return world;
 }
 
+/* A ground and twelve boxes that fall, touch and stack. */
+static void kg_add_ground_and_stack(kg_world* world)
+{
+    kg_add_box(world, KG_BODY_STATIC, 0.0f, -0.5f, 20.0f, 1.0f);
+    for (int i = 0; i < 12; ++i) {
+        kg_add_box(world, KG_BODY_DYNAMIC, 0.3f * (float)(i % 3), 0.6f + 1.1f * (float)i, 1.0f, 0.8f);
+    }
+}
+
 /* Bodies that fall, touch and stack, with a wind applicator and the force callback fn:
  * every stage has work. */
 static kg_world* kg_make_world_calling(kg_backend backend, const char* faults, kg_force_fn* fn, void* user_data)
@@ -90,10 +99,7 @@ static kg_world* kg_make_world_calling(kg_backend backend, const char* faults, k
     if (!world) {
         return NULL;
     }
-    kg_add_box(world, KG_BODY_STATIC, 0.0f, -0.5f, 20.0f, 1.0f);
-    for (int i = 0; i < 12; ++i) {
-        kg_add_box(world, KG_BODY_DYNAMIC, 0.3f * (float)(i % 3), 0.6f + 1.1f * (float)i, 1.0f, 0.8f);
-    }
+    kg_add_ground_and_stack(world);
     kg_applicator a;
     KG_CHECK_OK(kg_add_wind_applicator(world, (kg_vec2){1.0f, 0.0f}, 0.5f, 0.1f, NULL, 0, &a));
     KG_CHECK_OK(kg_add_force_applicator(world, fn, NULL, 0, user_data, &a));
@@ -534,10 +540,7 @@ static kg_world* kg_make_growing_world(kg_backend backend, const char* faults)
     if (!world) {
         return NULL;
     }
-    kg_add_box(world, KG_BODY_STATIC, 0.0f, -0.5f, 20.0f, 1.0f);
-    for (int i = 0; i < 12; ++i) {
-        kg_add_box(world, KG_BODY_DYNAMIC, 0.3f * (float)(i % 3), 0.6f + 1.1f * (float)i, 1.0f, 0.8f);
-    }
+    kg_add_ground_and_stack(world);
     shapes[0] = kg_tile_empty();
     shapes[1] = kg_tile_box();
     shapes[2] = kg_tile_platform();

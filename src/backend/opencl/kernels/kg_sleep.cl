@@ -1,7 +1,7 @@
-/* Sleeping on the device: solve/sleep.c's two stages, with the same results, from the
- * same rules (solve/island.h).
+/* Sleeping on the device: the wake and sleep stages, with the CPU's results, from the
+ * shared rules of solve/island.h.
  *
- *   wake  (in the collide stage, after the contacts, before the colouring): a contact
+ *   wake  (after the collide stage, before the colouring that opens the solve): a contact
  *         between a body in motion and a sleeping one marks the sleeping one's island,
  *         then every sleeping body of a marked island wakes. Marks are set, never
  *         cleared, within the stage, so the order work-items run in does not matter;
