@@ -1,5 +1,5 @@
 /* Constraint graph colouring, shared by the CPU backend (solve/graph_color.c) and the
- * kernels (kg_collide.cl): constraints of one colour share no moving body, so a colour
+ * kernels (kg_color.cl): constraints of one colour share no moving body, so a colour
  * can be solved in any order or all at once (threads, SIMD lanes, work-items) with the
  * same result; colours are solved one after another. Greedy in constraint order, so the
  * colouring is deterministic; constraints that fit no colour go to an overflow list,

@@ -1,5 +1,5 @@
 /* The collision stage on the device, and the colouring that opens the solve stage
- * (kernels in kernels/kg_collide.cl): the contacts collide/collide.c gives, in the same
+ * (kernels in kernels/kg_scan.cl, kg_broadphase.cl, kg_collide.cl and kg_color.cl): the contacts collide/collide.c gives, in the same
  * order, coloured as solve/coloring.h colours. The kernels in order, and what is read
  * back, are in docs/design.md, "The OpenCL pipeline". */
 #ifdef KG_HAVE_OPENCL

@@ -11,7 +11,7 @@ typedef struct kg_cl_runtime {
     const kg_cl_api* cl;
     const kg_cl_device* device;
     cl_context context;
-    cl_program step_program; /* kernels/kg_step.cl, kg_collide.cl and kg_sleep.cl */
+    cl_program step_program; /* kernels/kg_step.cl, the collision stage's and kg_sleep.cl */
     char options[768];       /* the determinism options and constants every program is built with */
 } kg_cl_runtime;
 

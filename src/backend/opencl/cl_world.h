@@ -88,7 +88,7 @@ typedef struct kg_cl_timing {
     cl_ulong ns[KG_CL_MAX_TIMED];
 } kg_cl_timing;
 
-/* The collision stage's buffers (kernels/kg_collide.cl): per body slot, sized once with
+/* The collision stage's buffers (kernels/kg_broadphase.cl, kg_collide.cl, kg_color.cl): per body slot, sized once with
  * the other body buffers... */
 typedef struct kg_cl_collide_buffers {
     cl_mem counts;         /* KG_CC_WORDS counters: what the host reads back of the stage */

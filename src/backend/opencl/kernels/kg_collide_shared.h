@@ -1,4 +1,4 @@
-/* What the collision stage's kernels (kg_collide.cl) and their host code (cl_collide.c)
+/* What the collision stage's kernels (kg_scan.cl, kg_broadphase.cl, kg_collide.cl, kg_color.cl) and their host code (cl_collide.c)
  * agree on: the slots of the small counters buffer, the broadphase proxy, the grid's
  * levels and the sizes of the scan blocks. KG_COLOR_COUNT comes from solve/coloring.h. */
 #ifndef KG_COLLIDE_SHARED_H
