@@ -158,6 +158,31 @@ static void kg_sizes_scene(kg_world* world)
     KG_CHECK_OK(kg_create_body(world, &bullet, &body));
 }
 
+/* What stresses the device broadphase's grid and sorts beyond the sizes scene: piles of
+ * bodies created overlapping (crowded cells, long runs of partners, more pairs than the
+ * first contact pool holds), tall and wide walls among them, tiny particles, a kinematic
+ * slab crossing the piles, and a pile a million metres out where float cells are coarse. */
+static void kg_piles_scene(kg_world* world)
+{
+    uint32_t seed = 4242u;
+    kg_ground(world, 300.0f);
+    kg_add(world, KG_BODY_STATIC, (kg_vec2){1.0e6f, -0.5f}, 0.0f, kg_box_shape(40.0f, 1.0f));
+    for (int w = -1; w <= 1; w += 2) {
+        kg_add(world, KG_BODY_STATIC, (kg_vec2){45.0f * (float)w, 50.0f}, 0.0f, kg_box_shape(1.0f, 100.0f));
+    }
+    for (int pile = 0; pile < 5; ++pile) {
+        kg_vec2 centre = {pile == 4 ? 1.0e6f : -30.0f + 15.0f * (float)pile, 3.0f};
+        for (int i = 0; i < 300; ++i) {
+            float size = kg_log_uniform(&seed, 0.005f, 2.0f);
+            kg_vec2 p = {centre.x + kg_uniform(&seed, -1.0f, 1.0f), centre.y + kg_uniform(&seed, 0.0f, 2.0f)};
+            kg_shape_def shape = i % 3 == 0 ? kg_circle_shape(0.5f * size) : kg_box_shape(size, 0.5f * size);
+            kg_add(world, i % 5 == 0 ? KG_BODY_PARTICLE : KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
+        }
+    }
+    kg_body slab = kg_add(world, KG_BODY_KINEMATIC, (kg_vec2){-40.0f, 1.5f}, 0.0f, kg_box_shape(20.0f, 0.5f));
+    KG_CHECK_OK(kg_body_set_velocity(world, slab, (kg_vec2){6.0f, 0.0f}));
+}
+
 /* Pushes every body towards the origin in proportion to its height: a C callback that
  * reads state through the getters and writes forces through the body API. */
 static void kg_pull_down(kg_world* world, const kg_body* bodies, int count, void* user_data)
@@ -445,6 +470,7 @@ static void test_stack(void) { kg_compare_scene("stack", kg_stack_scene); }
 static void test_pyramid_20(void) { kg_compare_scene("pyramid 20", kg_pyramid_scene); }
 static void test_rain_2000(void) { kg_compare_scene("rain 2000", kg_rain_scene); }
 static void test_sizes(void) { kg_compare_scene("sizes", kg_sizes_scene); }
+static void test_piles(void) { kg_compare_scene("piles", kg_piles_scene); }
 static void test_tiles(void) { kg_compare_scene("tiles", kg_tiles_scene); }
 
 /* With a tile map, the collide stage runs on the device: no "collide (host)" in the
@@ -489,7 +515,7 @@ int main(void)
     printf("device 0: %s (%s), %d steps, bitwise agreement %s\n", info.name, info.platform_name, g_steps,
            g_bitwise_expected ? "required" : "not required (no correctly rounded divide/sqrt)");
     static const kg_test_case tests[] = {KG_TEST(test_projectile), KG_TEST(test_applicators), KG_TEST(test_stack),
-                                         KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_sizes),
+                                         KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_sizes), KG_TEST(test_piles),
                                          KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device),
                                          KG_TEST(test_sleep_and_wake)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));

@@ -14,25 +14,25 @@
  *    order, then moved in place into their slot's run (prefix-summed offsets), and each
  *    slot's short run is sorted by the upper slot: the output is sorted by (a, b) without
  *    a global sort of the pairs, and without a second pair buffer. When the pairs do not
- *    all fit the caller's buffer, the search runs a second time to place those that fit
- *    (no allocation).
+ *    all fit the caller's buffer, the search runs again to count them per slot, to place
+ *    those that fit, and to find the partners of the run the capacity cuts (no
+ *    allocation).
+ *  - Each step is a function of one element (collide/broadphase_grid.h), shared with the
+ *    OpenCL kernels, which run the same algorithm; pairs go through a sink that counts
+ *    them or writes them at an offset, so a device pass can count, sum and write.
  *  - Each search notes what it saw of every slot (box, filter, whether it moves), so that a
  *    search made with boxes enlarged beyond the margin can serve the next steps: while
  *    kg_broadphase_covers says every box is still within what was seen, its pairs hold
  *    every pair a search now would find, and kg_broadphase_keep_pairs picks those.
  * Everything is integer keyed, so the output depends only on the input.
- * Memory: 132 bytes per body of capacity (proxies twice and what was seen of each slot,
- * 32 each; six sort buffers and three run arrays, 4 each), all allocated by
- * kg_broadphase_create. */
+ * Memory: 140 bytes per body of capacity (proxies twice and what was seen of each slot,
+ * 32 each; six sort buffers and three run arrays, 4 each; room for a cut run's partners,
+ * 8), all allocated by kg_broadphase_create. */
 #ifndef KG_BROADPHASE_H
 #define KG_BROADPHASE_H
 
+#include "collide/broadphase_grid.h"
 #include "core/body_pool.h"
-
-/* Two body slots whose fattened boxes overlap, a < b. */
-typedef struct kg_pair {
-    kg_u32 a, b;
-} kg_pair;
 
 typedef struct kg_broadphase kg_broadphase;
 

@@ -21,11 +21,12 @@ KG_FN int kg_sort_chunk_end(int count, int chunk_size, int chunk)
 
 KG_FN kg_u32 kg_sort_digit(kg_u32 key, int shift, int bits) { return (key >> shift) & ((1u << bits) - 1u); }
 
-/* Counts the digits of chunk's keys into counts[digit * chunks + chunk], 1 << bits of them. */
-KG_FN void kg_sort_count_chunk(KG_GLOBAL const kg_u32* keys, int count, int chunk_size, int chunk, int shift,
-                               int bits, KG_GLOBAL kg_u32* counts)
+/* Counts the digits of chunk's keys into counts[digit * chunks + chunk], 1 << bits of them.
+ * chunks is kg_sort_chunks(count, chunk_size), passed so that a caller of one chunk gets
+ * loops of constant stride. */
+KG_FN void kg_sort_count_chunk(KG_GLOBAL const kg_u32* keys, int count, int chunk_size, int chunk, int chunks,
+                               int shift, int bits, KG_GLOBAL kg_u32* counts)
 {
-    int chunks = kg_sort_chunks(count, chunk_size);
     int end = kg_sort_chunk_end(count, chunk_size, chunk);
     for (int d = 0; d < 1 << bits; ++d) {
         counts[d * chunks + chunk] = 0u;
@@ -38,10 +39,9 @@ KG_FN void kg_sort_count_chunk(KG_GLOBAL const kg_u32* keys, int count, int chun
 /* Moves chunk's keys and items to their places: offsets is the exclusive prefix sum of
  * the counts above, and each (digit, chunk) entry is advanced as it is used. */
 KG_FN void kg_sort_scatter_chunk(KG_GLOBAL const kg_u32* keys, KG_GLOBAL const kg_u32* items, int count,
-                                 int chunk_size, int chunk, int shift, int bits, KG_GLOBAL kg_u32* offsets,
-                                 KG_GLOBAL kg_u32* keys_out, KG_GLOBAL kg_u32* items_out)
+                                 int chunk_size, int chunk, int chunks, int shift, int bits,
+                                 KG_GLOBAL kg_u32* offsets, KG_GLOBAL kg_u32* keys_out, KG_GLOBAL kg_u32* items_out)
 {
-    int chunks = kg_sort_chunks(count, chunk_size);
     int end = kg_sort_chunk_end(count, chunk_size, chunk);
     for (int k = chunk * chunk_size; k < end; ++k) {
         kg_u32 place = offsets[(int)kg_sort_digit(keys[k], shift, bits) * chunks + chunk]++;

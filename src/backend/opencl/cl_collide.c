@@ -12,37 +12,35 @@
 
 /* ---- broadphase --------------------------------------------------------------------- */
 
-/* The hash table's row stride: odd, and about the square root of its size. */
-static cl_uint kg_row_stride(int table_size)
-{
-    cl_uint root = 1u;
-    while ((size_t)root * root < (size_t)table_size) {
-        root *= 2u;
-    }
-    return root + 1u;
-}
-
+/* collide/broadphase.c's search on the device: the proxies and their extents, the grid,
+ * the boxes sorted by cell (small) and by lower x (large), then each small and each large
+ * entry's pairs counted, summed (the total to counts[KG_CC_PAIRS]) and written, within
+ * capacity. */
 static kg_result kg_find_pairs(kg_world* world, kg_cl_world* w, int capacity)
 {
     kg_cl_collide_buffers* c = &w->collide;
     const char* label = "kg_broadphase";
     int slots = world->bodies.high_water;
-    cl_uint table_mask = (cl_uint)c->table_size - 1u, row_stride = kg_row_stride(c->table_size);
-    KG_LAUNCH(w, BP_CLEAR, c->table_size, label, KG_INT(c->table_size), KG_MEM(c->heads), KG_MEM(c->histogram),
-              KG_MEM(c->plan), KG_MEM(c->counts));
+    KG_LAUNCH(w, BP_CLEAR, KG_BP_EXTENT_BINS, label, KG_MEM(c->histogram), KG_MEM(c->counts), KG_MEM(c->bounds));
     KG_LAUNCH(w, BP_PROXIES, slots, label, KG_INT(slots), KG_FLOAT(world->def.speculative_distance), KG_MEM(KG_A(FLAGS)),
               KG_MEM(KG_A(AABB)), KG_MEM(KG_A(CATEGORY)), KG_MEM(KG_A(MASK)), KG_MEM(c->proxies),
               KG_MEM(c->histogram), KG_MEM(c->run), KG_MEM(c->run_fill), KG_MEM(c->colors_used),
               KG_MEM(w->wake_marks));
-    KG_LAUNCH(w, BP_GRID, 1, label, KG_MEM(c->histogram), KG_MEM(c->grid));
-    KG_LAUNCH(w, BP_INSERT, slots, label, KG_INT(slots), KG_UINT(table_mask), KG_UINT(row_stride), KG_MEM(c->grid),
-              KG_MEM(c->proxies), KG_MEM(c->heads), KG_MEM(c->plan), KG_MEM(c->counts));
-    KG_LAUNCH(w, BP_MEASURE, slots, label, KG_INT(slots), KG_MEM(c->grid), KG_MEM(c->proxies), KG_MEM(c->plan),
-              KG_MEM(c->counts));
-    KG_LAUNCH(w, BP_PLAN, 1, label, KG_MEM(c->plan), KG_MEM(c->counts));
-    KG_LAUNCH(w, BP_FIND, slots, label, KG_INT(slots), KG_INT(capacity), KG_UINT(table_mask), KG_UINT(row_stride),
-              KG_MEM(c->grid), KG_MEM(c->proxies), KG_MEM(c->heads), KG_MEM(c->plan), KG_MEM(c->counts),
-              KG_MEM(c->raw_pairs), KG_MEM(c->run));
+    KG_LAUNCH(w, BP_CELLS, 1, label, KG_MEM(c->histogram), KG_MEM(c->grid));
+    KG_LAUNCH(w, BP_BOUNDS, slots, label, KG_INT(slots), KG_MEM(c->proxies), KG_MEM(c->grid), KG_MEM(c->bounds));
+    KG_LAUNCH(w, BP_BUILD_GRID, 1, label, KG_MEM(c->grid), KG_MEM(c->bounds));
+    KG_LAUNCH(w, BP_KEYS, slots, label, KG_INT(slots), KG_MEM(c->grid), KG_MEM(c->proxies), KG_MEM(c->keys),
+              KG_MEM(c->items), KG_MEM(c->large_keys), KG_MEM(c->large_items));
+    KG_TRY(kg_cl_sort(w, c->keys, c->items, c->key_scratch, c->item_scratch, slots, 32, label));
+    KG_TRY(kg_cl_sort(w, c->large_keys, c->large_items, c->key_scratch, c->item_scratch, slots, 32, label));
+    KG_LAUNCH(w, BP_GATHER, slots, label, KG_INT(slots), KG_MEM(c->keys), KG_MEM(c->items), KG_MEM(c->proxies),
+              KG_MEM(c->sorted));
+    KG_LAUNCH(w, BP_COUNT_PAIRS, 2 * slots, label, KG_INT(slots), KG_MEM(c->grid), KG_MEM(c->keys), KG_MEM(c->sorted),
+              KG_MEM(c->large_keys), KG_MEM(c->large_items), KG_MEM(c->proxies), KG_MEM(c->found));
+    KG_TRY(kg_cl_scan(w, c->found, c->found, 2 * slots, KG_CC_PAIRS, label));
+    KG_LAUNCH(w, BP_WRITE_PAIRS, 2 * slots, label, KG_INT(slots), KG_INT(capacity), KG_MEM(c->grid), KG_MEM(c->keys),
+              KG_MEM(c->sorted), KG_MEM(c->large_keys), KG_MEM(c->large_items), KG_MEM(c->proxies),
+              KG_MEM(c->found), KG_MEM(c->raw_pairs));
     return KG_OK;
 }
 
@@ -53,6 +51,7 @@ static kg_result kg_order_pairs(kg_world* world, kg_cl_world* w, int pairs)
     kg_cl_collide_buffers* c = &w->collide;
     const char* label = "kg_broadphase";
     int slots = world->bodies.high_water;
+    KG_LAUNCH(w, BP_COUNT_RUNS, pairs, label, KG_INT(pairs), KG_MEM(c->raw_pairs), KG_MEM(c->run));
     KG_TRY(kg_cl_scan(w, c->run, c->run, slots, -1, label));
     KG_LAUNCH(w, BP_SCATTER, pairs, label, KG_INT(pairs), KG_MEM(c->raw_pairs), KG_MEM(c->run), KG_MEM(c->run_fill),
               KG_MEM(c->pairs));
@@ -252,8 +251,8 @@ kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits)
     kg_cl_world* w = b->w;
     int capacity = kg_device_contact_capacity(world, w);
     KG_TRY(kg_find_pairs(world, w, capacity));
-    KG_TRY(kg_read_counters(b, KG_CC_OVERFLOW + 1)); /* the pair count and the overflow flag */
-    *fits = b->counters[KG_CC_OVERFLOW] == 0u;
+    KG_TRY(kg_read_counters(b, KG_CC_PAIRS + 1)); /* the pair count */
+    *fits = b->counters[KG_CC_PAIRS] <= (cl_uint)capacity;
     if (!*fits) {
         return KG_OK;
     }

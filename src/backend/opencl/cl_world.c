@@ -424,30 +424,25 @@ static kg_result kg_cl_buffers(kg_cl_world* w, const kg_cl_sized_buffer* list, i
     return KG_OK;
 }
 
-/* The smallest power of two at least twice slots (and at least the extent bins, which the
- * clearing kernel covers with the same work-items). */
-static int kg_cl_table_size(int slots)
-{
-    int size = KG_BP_EXTENT_BINS;
-    while (size < 2 * slots) {
-        size *= 2;
-    }
-    return size;
-}
-
 /* The collision stage's buffers of one entry per body slot or fewer. */
 static kg_result kg_cl_create_collide_buffers(kg_cl_world* w, int slots)
 {
     kg_cl_collide_buffers* c = &w->collide;
     size_t n = (size_t)slots, words = sizeof(cl_uint);
-    c->table_size = kg_cl_table_size(slots);
     const kg_cl_sized_buffer list[] = {
         {&c->counts, KG_CC_WORDS * words},
         {&c->proxies, n * sizeof(kg_bp_proxy)},
-        {&c->heads, (size_t)c->table_size * words},
+        {&c->sorted, n * sizeof(kg_bp_proxy)},
+        {&c->keys, n * words},
+        {&c->items, n * words},
+        {&c->large_keys, n * words},
+        {&c->large_items, n * words},
+        {&c->key_scratch, n * words},
+        {&c->item_scratch, n * words},
+        {&c->found, (2 * n + 1) * words},
         {&c->histogram, KG_BP_EXTENT_BINS * words},
-        {&c->grid, 2 * sizeof(cl_float)},
-        {&c->plan, KG_BP_PLAN_WORDS * words},
+        {&c->grid, sizeof(kg_bp_grid)},
+        {&c->bounds, 4 * words},
         {&c->run, (n + 1) * words},
         {&c->run_fill, n * words},
         {&c->colors_used, n * words},
@@ -605,8 +600,9 @@ void kg_cl_world_destroy(kg_cl_world* w)
     kg_cl_release(w, &w->island_least);
     kg_cl_release_contact_buffers(w);
     kg_cl_collide_buffers* c = &w->collide;
-    cl_mem* list[] = {&c->counts, &c->proxies, &c->heads, &c->histogram, &c->grid, &c->plan,
-                      &c->run, &c->run_fill, &c->colors_used, &c->block_sums, &c->sort_counts, &c->tile_run,
+    cl_mem* list[] = {&c->counts, &c->proxies, &c->sorted, &c->keys, &c->items, &c->large_keys,
+                      &c->large_items, &c->key_scratch, &c->item_scratch, &c->found, &c->histogram, &c->grid,
+                      &c->bounds, &c->run, &c->run_fill, &c->colors_used, &c->block_sums, &c->sort_counts, &c->tile_run,
                       &c->last_origin[0], &c->last_origin[1], &c->last_generation[0], &c->last_generation[1],
                       &c->tile_maps, &c->tile_cells, &c->tile_protos};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {

@@ -52,10 +52,11 @@ typedef enum kg_cl_array {
     X(FINALIZE, kg_finalize, 14)                                                                  \
     X(SCAN_BLOCKS, kg_scan_blocks, 4) X(SCAN_APPLY, kg_scan_apply, 7)                             \
     X(SORT_COUNT, kg_sort_count, 6) X(SORT_SCATTER, kg_sort_scatter, 9)                           \
-    X(BP_CLEAR, kg_bp_clear, 5) X(BP_PROXIES, kg_bp_proxies, 12) X(BP_GRID, kg_bp_grid, 2)         \
-    X(BP_INSERT, kg_bp_insert, 8) X(BP_MEASURE, kg_bp_measure, 5) X(BP_PLAN, kg_bp_plan, 2)        \
-    X(BP_FIND, kg_bp_find, 11) X(BP_SCATTER, kg_bp_scatter, 5)                                     \
-    X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 13)                         \
+    X(BP_CLEAR, kg_bp_clear, 3) X(BP_PROXIES, kg_bp_proxies, 12) X(BP_CELLS, kg_bp_cells, 2)        \
+    X(BP_BOUNDS, kg_bp_bounds, 4) X(BP_BUILD_GRID, kg_bp_build_grid, 2) X(BP_KEYS, kg_bp_keys, 7)  \
+    X(BP_GATHER, kg_bp_gather, 5) X(BP_COUNT_PAIRS, kg_bp_count_pairs, 8)                         \
+    X(BP_WRITE_PAIRS, kg_bp_write_pairs, 10) X(BP_COUNT_RUNS, kg_bp_count_runs, 3)                 \
+    X(BP_SCATTER, kg_bp_scatter, 5) X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 13)                         \
     X(BUILD_CONTACTS, kg_build_contacts, 11) X(COLOR_CONTACTS, kg_color_contacts, 7)               \
     X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 29) X(TILE_TOTAL, kg_tile_total, 2)             \
     X(WAKE_TOUCHED, kg_wake_touched, 8) X(WAKE_MARKED, kg_wake_marked, 5)                          \
@@ -94,11 +95,14 @@ typedef struct kg_cl_timing {
 typedef struct kg_cl_collide_buffers {
     cl_mem counts;         /* KG_CC_WORDS counters: what the host reads back of the stage */
     cl_mem proxies;        /* kg_bp_proxy per slot */
-    cl_mem heads;          /* hash table of the grid: first slot of each bucket */
-    int table_size;        /* a power of two, at least twice the slots */
+    cl_mem sorted;         /* the small proxies in key order */
+    cl_mem keys, items;    /* per slot: cell keys (KG_BP_NOT_KEYED last) and slots, sorted */
+    cl_mem large_keys, large_items; /* per slot: lower x of the large boxes, and slots, sorted */
+    cl_mem key_scratch, item_scratch; /* the sorts' other halves */
+    cl_mem found;          /* per search element (2 per slot): pairs, then their prefix sum */
     cl_mem histogram;      /* box extents, KG_BP_EXTENT_BINS */
-    cl_mem grid;           /* level 0's cell size and its inverse */
-    cl_mem plan;           /* how the grid's levels search each other, KG_BP_PLAN_WORDS */
+    cl_mem grid;           /* kg_bp_grid */
+    cl_mem bounds;         /* the grid's bounds, 4 words (collide/broadphase_grid.h) */
     cl_mem run;            /* pairs per lower slot, then their prefix sum (slots + 1) */
     cl_mem run_fill;
     cl_mem colors_used;    /* per slot, the colours its contacts took so far */

@@ -36,7 +36,7 @@ __kernel void kg_sort_count(int count, int chunk_size, int shift, int bits, __gl
 {
     int g = (int)get_global_id(0);
     if (g < kg_sort_chunks(count, chunk_size)) {
-        kg_sort_count_chunk(keys, count, chunk_size, g, shift, bits, counts);
+        kg_sort_count_chunk(keys, count, chunk_size, g, kg_sort_chunks(count, chunk_size), shift, bits, counts);
     }
 }
 
@@ -47,6 +47,7 @@ __kernel void kg_sort_scatter(int count, int chunk_size, int shift, int bits, __
 {
     int g = (int)get_global_id(0);
     if (g < kg_sort_chunks(count, chunk_size)) {
-        kg_sort_scatter_chunk(keys, items, count, chunk_size, g, shift, bits, offsets, keys_out, items_out);
+        kg_sort_scatter_chunk(keys, items, count, chunk_size, g, kg_sort_chunks(count, chunk_size), shift, bits,
+                              offsets, keys_out, items_out);
     }
 }
