@@ -131,10 +131,9 @@ static kg_result kg_run_builtin_force(kg_world* world, kg_cl_backend* b, const k
     kg_cl_world* w = b->w;
     int count = 0, all = 0;
     KG_TRY(kg_write_targets(world, b, a, used, &count, &all));
-    KG_LAUNCH(w, APPLY_BUILTIN_FORCE, count, NULL, KG_INT(count), KG_INT(all), KG_MEM(w->targets),
-              KG_INT(a->kind == KG_APPLICATOR_GRAVITY), KG_FLOAT(a->vector.x), KG_FLOAT(a->vector.y),
-              KG_FLOAT(a->strength), KG_FLOAT(a->drag), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(MASS)), KG_MEM(KG_A(FORCE)),
-              KG_MEM(KG_A(DRAG)));
+    kg_builtin_force f = kg_builtin_force_of(a);
+    KG_LAUNCH(w, APPLY_BUILTIN_FORCE, count, NULL, KG_INT(count), KG_INT(all), KG_MEM(w->targets), KG_VALUE(f),
+              KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(MASS)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(DRAG)));
     return KG_OK;
 }
 
@@ -144,14 +143,10 @@ static kg_result kg_run_device_force(kg_world* world, kg_cl_backend* b, int slot
     if (!b->force_kernels[slot]) {
         KG_TRY(kg_cl_prepare_device_force(world, b, slot));
     }
-    if (f->params_changed) {
-        KG_TRY(kg_cl_write(w, b->force_params[slot], 0, sizeof f->params, f->params, 1));
-        f->params_changed = 0;
-    }
     int count = 0, all = 0;
     KG_TRY(kg_write_targets(world, b, &world->applicators[slot], used, &count, &all));
     KG_LAUNCH_DEVICE_FORCE(w, b->force_kernels[slot], b->force_group_sizes[slot], count, f->function_name,
-                           KG_INT(count), KG_INT(all), KG_MEM(w->targets), KG_MEM(b->force_params[slot]),
+                           KG_INT(count), KG_INT(all), KG_MEM(w->targets), KG_VALUE(f->params),
                            KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(VELOCITY)),
                            KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(MASS)), KG_MEM(KG_A(INERTIA)), KG_MEM(KG_A(FORCE)),
                            KG_MEM(KG_A(TORQUE)));
@@ -295,10 +290,10 @@ static kg_result kg_run_pass(kg_cl_backend* b, int pass)
 }
 
 /* One sub-step's velocities: gravity, forces and damping (solve/integrate.h). */
-static kg_result kg_integrate_velocities(kg_cl_world* w, int bodies, kg_integrate_params ip)
+static kg_result kg_integrate_velocities(kg_cl_world* w, int bodies, const kg_integrate_params* ip)
 {
-    KG_LAUNCH(w, INTEGRATE_VELOCITIES, bodies, NULL, KG_INT(bodies), KG_FLOAT(ip.h), KG_FLOAT(ip.max_linear_speed),
-              KG_MEM(w->solver_bodies), KG_MEM(w->velocity_steps));
+    KG_LAUNCH(w, INTEGRATE_VELOCITIES, bodies, NULL, KG_INT(bodies), KG_VALUE(*ip), KG_MEM(w->solver_bodies),
+              KG_MEM(w->velocity_steps));
     return KG_OK;
 }
 
@@ -331,19 +326,18 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     kg_integrate_params ip = {def->gravity, h, def->max_linear_speed};
     b->solver_params = kg_solver_params_of(def, h);
     KG_TRY(kg_cl_write(w, w->solver_params, 0, sizeof b->solver_params, &b->solver_params, 0));
-    KG_LAUNCH(w, LOAD_BODIES, bodies, NULL, KG_INT(bodies), KG_FLOAT(ip.gravity.x), KG_FLOAT(ip.gravity.y),
-              KG_FLOAT(ip.h), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)),
-              KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(XF)),
-              KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(w->solver_bodies), KG_MEM(KG_A(DRAG)), KG_MEM(KG_A(INV_MASS)),
-              KG_MEM(KG_A(INV_INERTIA)), KG_MEM(KG_A(LINEAR_DAMPING)), KG_MEM(KG_A(ANGULAR_DAMPING)),
-              KG_MEM(w->velocity_steps));
+    KG_LAUNCH(w, LOAD_BODIES, bodies, NULL, KG_INT(bodies), KG_VALUE(ip), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)),
+              KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(CENTER)),
+              KG_MEM(KG_A(XF)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(w->solver_bodies), KG_MEM(KG_A(DRAG)),
+              KG_MEM(KG_A(INV_MASS)), KG_MEM(KG_A(INV_INERTIA)), KG_MEM(KG_A(LINEAR_DAMPING)),
+              KG_MEM(KG_A(ANGULAR_DAMPING)), KG_MEM(w->velocity_steps));
     KG_LAUNCH(w, PREPARE_CONTACTS, count, NULL, KG_INT(count), KG_MEM(w->solver_params), KG_MEM(contacts),
               KG_MEM(w->constraints), KG_MEM(w->solver_bodies), KG_MEM(KG_A(INV_MASS)), KG_MEM(KG_A(INV_INERTIA)),
               KG_MEM(KG_A(XF)), KG_MEM(KG_A(CENTER)));
     KG_LAUNCH(w, GATHER_COLORED, count, NULL, KG_INT(count), KG_MEM(w->order), KG_MEM(w->constraints),
               KG_MEM(w->colored));
     for (int step = 0; step < n; ++step) {
-        KG_TRY(kg_integrate_velocities(w, bodies, ip));
+        KG_TRY(kg_integrate_velocities(w, bodies, &ip));
         KG_TRY(kg_run_pass(b, KG_PASS_WARM_START));
         KG_TRY(kg_run_pass(b, KG_PASS_SOLVE));
         KG_LAUNCH(w, INTEGRATE_POSITIONS, bodies, NULL, KG_INT(bodies), KG_FLOAT(h), KG_MEM(KG_A(FLAGS)),
@@ -352,11 +346,10 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     }
     KG_TRY(kg_run_pass(b, KG_PASS_RESTITUTION));
     KG_LAUNCH(w, STORE_IMPULSES, count, NULL, KG_INT(count), KG_MEM(w->colored), KG_MEM(contacts));
-    /* the rest timers advance by dt of the whole step (solve/island.h) */
-    KG_LAUNCH(w, STORE_BODIES, bodies, NULL, KG_INT(bodies), KG_INT(def->enable_sleep), KG_FLOAT(dt),
-              KG_FLOAT(def->sleep_speed), KG_MEM(KG_A(FLAGS)), KG_MEM(w->solver_bodies), KG_MEM(KG_A(VELOCITY)),
-              KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(SHAPE)),
-              KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(KG_A(SLEEP_TIME)));
+    kg_rest_params rest = kg_rest_params_of(def, dt);
+    KG_LAUNCH(w, STORE_BODIES, bodies, NULL, KG_INT(bodies), KG_VALUE(rest), KG_MEM(KG_A(FLAGS)),
+              KG_MEM(w->solver_bodies), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(CENTER)),
+              KG_MEM(KG_A(ROT)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(KG_A(SLEEP_TIME)));
     return KG_OK;
 }
 

@@ -43,9 +43,9 @@ typedef enum kg_cl_array {
  * count differs from the built kernel's (CL_KERNEL_NUM_ARGS) stops the backend's start,
  * naming the kernel. */
 #define KG_CL_KERNELS(X)                                                                          \
-    X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force, 12) X(INTEGRATE_VELOCITIES, kg_integrate_velocities, 5) \
-    X(INTEGRATE_POSITIONS, kg_integrate_positions, 4) X(LOAD_BODIES, kg_load_bodies, 20)            \
-    X(STORE_BODIES, kg_store_bodies, 13)                                                          \
+    X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force, 8) X(INTEGRATE_VELOCITIES, kg_integrate_velocities, 4)  \
+    X(INTEGRATE_POSITIONS, kg_integrate_positions, 4) X(LOAD_BODIES, kg_load_bodies, 18)            \
+    X(STORE_BODIES, kg_store_bodies, 11)                                                          \
     X(PREPARE_CONTACTS, kg_prepare_contacts, 9) X(GATHER_COLORED, kg_gather_colored, 4)            \
     X(SOLVE_COLOR, kg_solve_color, 7)                                                             \
     X(SOLVE_COLORS_IN_GROUP, kg_solve_colors_in_group, 5) X(STORE_IMPULSES, kg_store_impulses, 3)  \
@@ -208,6 +208,8 @@ typedef struct kg_cl_kernel_arg {
 #define KG_INT(v) {sizeof(cl_int), &(cl_int){(v)}}
 #define KG_UINT(v) {sizeof(cl_uint), &(cl_uint){(v)}}
 #define KG_FLOAT(v) {sizeof(cl_float), &(cl_float){(v)}}
+/* a struct passed by value (a shared header's, laid out alike on both sides) */
+#define KG_VALUE(lvalue) {sizeof(lvalue), &(lvalue)}
 
 /* The launch convention, the only one: every argument of the kernel set in order at the
  * call site, then the kernel launched over items work-items (rounded up to its work-group
