@@ -216,20 +216,20 @@ static kg_result kg_collide_tiles(kg_world* world, kg_cl_backend* b, int capacit
     kg_collision_contacts(world, &previous_count);
     cl_mem previous = w->contacts[w->current], next = w->contacts[w->current ^ 1];
     int in = c->tile_state, out = c->tile_state ^ 1;
-    for (int write = 0; write < 2; ++write) {
-        if (write) {
+    kg_tile_pass_params prm = {maps, world->def.speculative_distance, world->def.linear_slop, b->body_contact_count,
+                               previous_count, (kg_u32)capacity, 0};
+    for (prm.write = 0; prm.write < 2; ++prm.write) {
+        if (prm.write) {
             KG_TRY(kg_scan(w, c->tile_run, c->tile_run, slots, KG_CC_TILES, label));
             KG_LAUNCH(w, TILE_TOTAL, 1, label, KG_INT(capacity), KG_MEM(c->counts));
         }
-        KG_LAUNCH(w, TILE_COLLIDE_BODIES, slots, label, KG_INT(slots), KG_INT(write),
-                  KG_FLOAT(world->def.speculative_distance), KG_FLOAT(world->def.linear_slop), KG_INT(maps),
-                  KG_MEM(c->tile_maps), KG_MEM(c->tile_cells), KG_MEM(c->tile_protos), KG_MEM(KG_A(FLAGS)),
-                  KG_MEM(KG_A(AABB)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(CENTER)),
-                  KG_MEM(KG_A(CATEGORY)), KG_MEM(KG_A(MASK)), KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FRICTION)),
-                  KG_MEM(KG_A(RESTITUTION)), KG_MEM(previous), KG_INT(b->body_contact_count), KG_INT(previous_count),
-                  KG_MEM(c->last_origin[in]), KG_MEM(c->last_generation[in]), KG_MEM(c->last_origin[out]),
-                  KG_MEM(c->last_generation[out]), KG_MEM(c->tile_run), KG_MEM(c->counts), KG_INT(capacity),
-                  KG_MEM(next));
+        KG_LAUNCH(w, TILE_COLLIDE_BODIES, slots, label, KG_INT(slots), KG_VALUE(prm), KG_MEM(c->tile_maps),
+                  KG_MEM(c->tile_cells), KG_MEM(c->tile_protos), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(AABB)),
+                  KG_MEM(KG_A(XF)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(CATEGORY)),
+                  KG_MEM(KG_A(MASK)), KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)),
+                  KG_MEM(previous), KG_MEM(c->last_origin[in]), KG_MEM(c->last_generation[in]),
+                  KG_MEM(c->last_origin[out]), KG_MEM(c->last_generation[out]), KG_MEM(c->tile_run),
+                  KG_MEM(c->counts), KG_MEM(next));
     }
     b->tiles_ran = 1;
     return KG_OK;
