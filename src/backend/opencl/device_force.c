@@ -27,8 +27,8 @@ void kg_device_force_on_cpu(kg_world* world, const kg_body* bodies, int count, v
     kg_body_pool* p = &world->bodies;
     for (int k = 0; k < count; ++k) {
         kg_force_target t = {bodies[k].index, 1u};
-        kg_apply_device_force(t, f->cpu_fn, f->params.values, p->flags, p->center, p->rot, p->velocity, p->omega, p->mass,
-                              p->inertia, p->force, p->torque);
+        kg_apply_device_force(t, f->cpu_fn, f->params.values, p->flags, p->center, p->rot, p->velocity, p->omega,
+                              p->mass, p->inertia, p->force, p->torque);
     }
 }
 

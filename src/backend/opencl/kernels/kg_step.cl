@@ -61,10 +61,11 @@ __kernel void kg_store_bodies(int count, kg_rest_params rest, __global const kg_
     }
 }
 
-__kernel void kg_prepare_contacts(int count, __global const kg_solver_params* params, __global const kg_contact* contacts,
-                                  __global kg_contact_constraint* constraints, __global const kg_solver_body* bodies,
-                                  __global const float* inv_mass, __global const float* inv_inertia,
-                                  __global const kg_xf* xf, __global const kg_vec2* center)
+__kernel void kg_prepare_contacts(int count, __global const kg_solver_params* params,
+                                  __global const kg_contact* contacts, __global kg_contact_constraint* constraints,
+                                  __global const kg_solver_body* bodies, __global const float* inv_mass,
+                                  __global const float* inv_inertia, __global const kg_xf* xf,
+                                  __global const kg_vec2* center)
 {
     int k = (int)get_global_id(0);
     if (k < count) {
