@@ -450,6 +450,8 @@ static kg_result kg_cl_create_collide_buffers(kg_cl_world* w, int slots)
         {&c->run, (n + 1) * words},
         {&c->run_fill, n * words},
         {&c->colors_used, n * words},
+        {&c->color_bids[0], n * words},
+        {&c->color_bids[1], n * words},
         {&c->block_sums, KG_SCAN_MAX_BLOCKS * words},
         {&c->tile_run, (n + 1) * words},
         {&c->last_origin[0], n * sizeof(kg_vec2)},
@@ -501,7 +503,8 @@ static void kg_cl_release_contact_buffers(kg_cl_world* w)
 {
     kg_cl_collide_buffers* c = &w->collide;
     cl_mem* list[] = {&w->contacts[0], &w->contacts[1], &w->constraints, &w->colored, &w->order,
-                      &c->raw_pairs, &c->pairs, &c->manifolds, &c->bases, &c->touching, &c->colors};
+                      &c->raw_pairs, &c->pairs, &c->manifolds, &c->bases, &c->touching, &c->colors,
+                      &c->color_items, &c->sorted_colors};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
         kg_cl_release(w, list[k]);
     }
@@ -530,6 +533,8 @@ kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
         {&c->bases, n * sizeof(kg_contact_base)},
         {&c->touching, (n + 1) * words},
         {&c->colors, n * words},
+        {&c->color_items, n * words},
+        {&c->sorted_colors, n * words},
     };
     kg_result r = kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
     if (r == KG_OK) {
@@ -604,7 +609,7 @@ void kg_cl_world_destroy(kg_cl_world* w)
     kg_cl_release_contact_buffers(w);
     kg_cl_collide_buffers* c = &w->collide;
     cl_mem* list[] = {&c->counts, &c->proxies, &c->heads, &c->histogram, &c->grid, &c->plan,
-                      &c->run, &c->run_fill, &c->colors_used, &c->block_sums, &c->tile_run,
+                      &c->run, &c->run_fill, &c->colors_used, &c->color_bids[0], &c->color_bids[1], &c->block_sums, &c->tile_run,
                       &c->last_origin[0], &c->last_origin[1], &c->last_generation[0], &c->last_generation[1],
                       &c->tile_maps, &c->tile_cells, &c->tile_protos};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
