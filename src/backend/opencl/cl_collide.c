@@ -10,29 +10,6 @@
 #include "core/alloc.h"
 #include "core/error.h"
 
-/* ---- prefix sums ------------------------------------------------------------------ */
-
-static int kg_block_size(int count)
-{
-    int block = (count + KG_SCAN_MAX_BLOCKS - 1) / KG_SCAN_MAX_BLOCKS;
-    return block > KG_SCAN_MIN_BLOCK ? block : KG_SCAN_MIN_BLOCK;
-}
-
-static int kg_block_count(int count, int block) { return count > 0 ? (count + block - 1) / block : 1; }
-
-/* Exclusive prefix sum of values[0, count) into offsets[0, count] (may be values), the
- * total also into counters[total_slot] unless total_slot < 0. */
-static kg_result kg_scan(kg_cl_world* w, cl_mem values, cl_mem offsets, int count, int total_slot, const char* label)
-{
-    kg_cl_collide_buffers* c = &w->collide;
-    int block = kg_block_size(count);
-    int blocks = kg_block_count(count, block);
-    KG_LAUNCH(w, SCAN_BLOCKS, blocks, label, KG_INT(count), KG_INT(block), KG_MEM(values), KG_MEM(c->block_sums));
-    KG_LAUNCH(w, SCAN_APPLY, blocks, label, KG_INT(count), KG_INT(block), KG_MEM(values), KG_MEM(offsets),
-              KG_MEM(c->block_sums), KG_MEM(c->counts), KG_INT(total_slot));
-    return KG_OK;
-}
-
 /* ---- broadphase --------------------------------------------------------------------- */
 
 /* The hash table's row stride: odd, and about the square root of its size. */
@@ -76,7 +53,7 @@ static kg_result kg_order_pairs(kg_world* world, kg_cl_world* w, int pairs)
     kg_cl_collide_buffers* c = &w->collide;
     const char* label = "kg_broadphase";
     int slots = world->bodies.high_water;
-    KG_TRY(kg_scan(w, c->run, c->run, slots, -1, label));
+    KG_TRY(kg_cl_scan(w, c->run, c->run, slots, -1, label));
     KG_LAUNCH(w, BP_SCATTER, pairs, label, KG_INT(pairs), KG_MEM(c->raw_pairs), KG_MEM(c->run), KG_MEM(c->run_fill),
               KG_MEM(c->pairs));
     KG_LAUNCH(w, BP_SORT_RUNS, slots, label, KG_INT(slots), KG_MEM(c->run), KG_MEM(c->pairs));
@@ -95,7 +72,7 @@ static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
               KG_FLOAT(world->last_dt), KG_MEM(c->pairs), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)),
               KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)), KG_MEM(c->manifolds),
               KG_MEM(c->bases), KG_MEM(c->touching));
-    KG_TRY(kg_scan(w, c->touching, c->touching, pairs, KG_CC_CONTACTS, label));
+    KG_TRY(kg_cl_scan(w, c->touching, c->touching, pairs, KG_CC_CONTACTS, label));
     KG_LAUNCH(w, BUILD_CONTACTS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->manifolds),
               KG_MEM(c->bases), KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)),
               KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)), KG_MEM(next));
@@ -219,7 +196,7 @@ static kg_result kg_collide_tiles(kg_world* world, kg_cl_backend* b, int capacit
     int in = c->tile_state, out = c->tile_state ^ 1;
     for (int write = 0; write < 2; ++write) {
         if (write) {
-            KG_TRY(kg_scan(w, c->tile_run, c->tile_run, slots, KG_CC_TILES, label));
+            KG_TRY(kg_cl_scan(w, c->tile_run, c->tile_run, slots, KG_CC_TILES, label));
             KG_LAUNCH(w, TILE_TOTAL, 1, label, KG_INT(capacity), KG_MEM(c->counts));
         }
         KG_LAUNCH(w, TILE_COLLIDE_BODIES, slots, label, KG_INT(slots), KG_INT(write),

@@ -1,5 +1,6 @@
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_world.h"
+#include "backend/opencl/cl_sort.h"
 #include "backend/opencl/kernels/kg_collide_shared.h"
 #include "collide/collide.h"
 #include "core/alloc.h"
@@ -453,6 +454,7 @@ static kg_result kg_cl_create_collide_buffers(kg_cl_world* w, int slots)
         {&c->color_bids[0], n * words},
         {&c->color_bids[1], n * words},
         {&c->block_sums, KG_SCAN_MAX_BLOCKS * words},
+        {&c->sort_counts, KG_SORT_COUNT_WORDS * words},
         {&c->tile_run, (n + 1) * words},
         {&c->last_origin[0], n * sizeof(kg_vec2)},
         {&c->last_origin[1], n * sizeof(kg_vec2)},
@@ -609,7 +611,8 @@ void kg_cl_world_destroy(kg_cl_world* w)
     kg_cl_release_contact_buffers(w);
     kg_cl_collide_buffers* c = &w->collide;
     cl_mem* list[] = {&c->counts, &c->proxies, &c->heads, &c->histogram, &c->grid, &c->plan,
-                      &c->run, &c->run_fill, &c->colors_used, &c->color_bids[0], &c->color_bids[1], &c->block_sums, &c->tile_run,
+                      &c->run, &c->run_fill, &c->colors_used, &c->color_bids[0], &c->color_bids[1],
+                      &c->block_sums, &c->sort_counts, &c->tile_run,
                       &c->last_origin[0], &c->last_origin[1], &c->last_generation[0], &c->last_generation[1],
                       &c->tile_maps, &c->tile_cells, &c->tile_protos};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {

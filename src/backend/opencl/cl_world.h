@@ -51,6 +51,7 @@ typedef enum kg_cl_array {
     X(SOLVE_COLORS_IN_GROUP, kg_solve_colors_in_group, 5) X(STORE_IMPULSES, kg_store_impulses, 3)  \
     X(FINALIZE, kg_finalize, 14)                                                                  \
     X(SCAN_BLOCKS, kg_scan_blocks, 4) X(SCAN_APPLY, kg_scan_apply, 7)                             \
+    X(SORT_COUNT, kg_sort_count, 6) X(SORT_SCATTER, kg_sort_scatter, 9)                           \
     X(BP_CLEAR, kg_bp_clear, 5) X(BP_PROXIES, kg_bp_proxies, 12) X(BP_GRID, kg_bp_grid, 2)         \
     X(BP_INSERT, kg_bp_insert, 8) X(BP_MEASURE, kg_bp_measure, 5) X(BP_PLAN, kg_bp_plan, 2)        \
     X(BP_FIND, kg_bp_find, 11) X(BP_SCATTER, kg_bp_scatter, 5)                                     \
@@ -106,6 +107,7 @@ typedef struct kg_cl_collide_buffers {
     cl_mem color_bids[2];  /* per slot, the least priority bid in a colouring round, this
                             * round's and the next's */
     cl_mem block_sums;     /* KG_SCAN_MAX_BLOCKS */
+    cl_mem sort_counts;    /* a sort pass's digit counts per chunk, KG_SORT_COUNT_WORDS */
     cl_mem tile_run;       /* tile contacts per slot, then their prefix sum (slots + 1) */
     cl_mem last_origin[2]; /* one-way platforms: each slot's origin and generation at the */
     cl_mem last_generation[2]; /* last collision (collide/tilemap.c keeps the same on the
