@@ -166,8 +166,9 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL const kg_contact* contacts,
 
 /* ---- the device's rounds (see the top) ---- */
 
-/* Up to this many contacts the device colours serially (kg_color_constraints on one
- * work-item): rounds cost more launches than they save there. */
+/* Up to this many contacts a GPU colours serially (kg_color_constraints on one
+ * work-item): rounds cost more launches than they save there. A CPU device always does
+ * (backend/opencl/cl_world.c says why). */
 #define KG_COLOR_SERIAL_MAX 2048
 
 #define KG_UNCOLORED (-1)

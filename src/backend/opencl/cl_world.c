@@ -9,6 +9,8 @@
 #include "solve/graph_color.h"
 #include "solve/integrate.h"
 
+#include <limits.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* Work-group size aimed at: a multiple of every GPU's SIMD width (32 or 64), and large
@@ -545,6 +547,21 @@ kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
     return r;
 }
 
+/* How many contacts one work-item colours (solve/coloring.h), past which the device
+ * colours in rounds: on a GPU KG_COLOR_SERIAL_MAX, where rounds use its thousands of
+ * lanes; on a CPU device any number, as a work-item there runs as fast as a host thread
+ * and each round costs two launches (on PoCL, rain_4000: 1.0 ms a step more in rounds).
+ * KGYRO_CL_COLOR_SERIAL_MAX sets it, for tests of the rounds on a CPU device. */
+static int kg_cl_color_serial_max(const kg_cl_device* device)
+{
+    const char* forced = getenv("KGYRO_CL_COLOR_SERIAL_MAX");
+    if (forced && *forced) {
+        long max = strtol(forced, NULL, 10);
+        return max < 0 ? 0 : max > INT_MAX ? INT_MAX : (int)max;
+    }
+    return device->info.type == KG_OPENCL_DEVICE_CPU ? INT_MAX : KG_COLOR_SERIAL_MAX;
+}
+
 kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_faults* faults, kg_cl_world** out)
 {
     *out = NULL;
@@ -574,6 +591,7 @@ kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_fau
         kg_cl_world_destroy(w);
         return r;
     }
+    w->color_serial_max = kg_cl_color_serial_max(rt->device);
     /* everything the host has is newer than the empty buffers */
     w->device_stale = KG_CL_ALL_ARRAYS;
     *out = w;

@@ -150,6 +150,7 @@ typedef struct kg_cl_world {
     cl_mem color_start;                   /* kg_graph_coloring.color_start of the step */
     int contact_capacity;
     kg_cl_collide_buffers collide;
+    int color_serial_max;                 /* contacts coloured by one work-item at most */
     cl_mem targets;                       /* applicator targets, (slot, multiplicity), max_bodies */
     /* sleeping (kernels/kg_sleep.cl), per body slot */
     cl_mem wake_marks;                    /* per island name: to be woken this step */
