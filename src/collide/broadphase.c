@@ -1,6 +1,8 @@
 #include "collide/broadphase.h"
 #include "collide/aabb.h"
 #include "core/alloc.h"
+#include "core/counting_sort.h"
+#include "core/prefix_sum.h"
 #include "core/error.h"
 
 #include <assert.h>
@@ -94,7 +96,7 @@ struct kg_broadphase {
     int* run_next;         /* per lower slot: next output index while filling */
     kg_seen* seen;         /* per slot: what the last search saw */
     int seen_count;        /* slots the last search looked at */
-    kg_u32 histogram[KG_RADIX_BUCKETS];
+    kg_u32 histogram[KG_RADIX_BUCKETS + 1]; /* and the prefix sum's total */
 
     /* the pair sink of the current pass */
     kg_emit_mode mode;
@@ -169,42 +171,30 @@ kg_broadphase_stats kg_broadphase_get_stats(const kg_broadphase* bp)
 
 /* ---- radix sort ---- */
 
-/* Stable LSD radix sort of count keys on their low key_bits bits, carrying items along
- * (items may be NULL). Ping-pongs with the scratch buffers and swaps the pointers, so the
- * result is always in *keys. A pass whose digit is the same for every key is skipped. */
+/* Stable LSD radix sort of count keys on their low key_bits bits, carrying items along:
+ * counting-sort passes of one chunk (core/counting_sort.h, the device's passes too).
+ * Ping-pongs with the scratch buffers and swaps the pointers, so the result is always in
+ * *keys. A pass whose digit is the same for every key is skipped. */
 static void kg_radix_sort(kg_u32** keys, kg_u32** items, kg_u32** key_scratch, kg_u32** item_scratch,
                           int count, int key_bits, kg_u32* histogram)
 {
     for (int shift = 0; shift < key_bits; shift += KG_RADIX_BITS) {
-        const kg_u32* src = *keys;
-        memset(histogram, 0, KG_RADIX_BUCKETS * sizeof *histogram);
-        for (int i = 0; i < count; ++i) {
-            histogram[(src[i] >> shift) & (KG_RADIX_BUCKETS - 1)] += 1;
+        if (count == 0) {
+            return;
         }
-        if (count == 0 || histogram[(src[0] >> shift) & (KG_RADIX_BUCKETS - 1)] == (kg_u32)count) {
+        kg_sort_count_chunk(*keys, count, count, 0, shift, KG_RADIX_BITS, histogram);
+        if (histogram[kg_sort_digit((*keys)[0], shift, KG_RADIX_BITS)] == (kg_u32)count) {
             continue;
         }
-        kg_u32 offset = 0;
-        for (int d = 0; d < KG_RADIX_BUCKETS; ++d) {
-            kg_u32 c = histogram[d];
-            histogram[d] = offset;
-            offset += c;
-        }
-        kg_u32* dst = *key_scratch;
-        for (int i = 0; i < count; ++i) {
-            kg_u32 slot = histogram[(src[i] >> shift) & (KG_RADIX_BUCKETS - 1)]++;
-            dst[slot] = src[i];
-            if (items) {
-                (*item_scratch)[slot] = (*items)[i];
-            }
-        }
+        kg_scan_block_apply(histogram, histogram, KG_RADIX_BUCKETS, KG_RADIX_BUCKETS, 0, NULL);
+        kg_sort_scatter_chunk(*keys, *items, count, count, 0, shift, KG_RADIX_BITS, histogram, *key_scratch,
+                              *item_scratch);
+        kg_u32* t = *key_scratch;
         *key_scratch = *keys;
-        *keys = dst;
-        if (items) {
-            kg_u32* t = *item_scratch;
-            *item_scratch = *items;
-            *items = t;
-        }
+        *keys = t;
+        t = *item_scratch;
+        *item_scratch = *items;
+        *items = t;
     }
 }
 
@@ -630,7 +620,11 @@ static void kg_fill_output(kg_broadphase* bp, int slot_count)
 
 static void kg_sort_partners(kg_broadphase* bp, int count, int slot_bits)
 {
-    kg_radix_sort(&bp->partners, NULL, &bp->partner_scratch, NULL, count, slot_bits, bp->histogram);
+    /* the proxies' keys and items are free once the pairs are found: they carry the
+     * sort's items, which nothing reads */
+    kg_u32* items = bp->keys;
+    kg_u32* item_scratch = bp->items;
+    kg_radix_sort(&bp->partners, &items, &bp->partner_scratch, &item_scratch, count, slot_bits, bp->histogram);
 }
 
 static void kg_insertion_sort_run(kg_pair* run, int count)

@@ -1,5 +1,6 @@
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_world.h"
+#include "backend/opencl/cl_sort.h"
 #include "backend/opencl/kernels/kg_collide_shared.h"
 #include "collide/collide.h"
 #include "core/alloc.h"
@@ -8,6 +9,8 @@
 #include "solve/graph_color.h"
 #include "solve/integrate.h"
 
+#include <limits.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* Work-group size aimed at: a multiple of every GPU's SIMD width (32 or 64), and large
@@ -450,7 +453,10 @@ static kg_result kg_cl_create_collide_buffers(kg_cl_world* w, int slots)
         {&c->run, (n + 1) * words},
         {&c->run_fill, n * words},
         {&c->colors_used, n * words},
+        {&c->color_bids[0], n * words},
+        {&c->color_bids[1], n * words},
         {&c->block_sums, KG_SCAN_MAX_BLOCKS * words},
+        {&c->sort_counts, KG_SORT_COUNT_WORDS * words},
         {&c->tile_run, (n + 1) * words},
         {&c->last_origin[0], n * sizeof(kg_vec2)},
         {&c->last_origin[1], n * sizeof(kg_vec2)},
@@ -501,7 +507,8 @@ static void kg_cl_release_contact_buffers(kg_cl_world* w)
 {
     kg_cl_collide_buffers* c = &w->collide;
     cl_mem* list[] = {&w->contacts[0], &w->contacts[1], &w->constraints, &w->colored, &w->order,
-                      &c->raw_pairs, &c->pairs, &c->manifolds, &c->bases, &c->touching, &c->colors};
+                      &c->raw_pairs, &c->pairs, &c->manifolds, &c->bases, &c->touching, &c->colors,
+                      &c->color_items, &c->sorted_colors};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
         kg_cl_release(w, list[k]);
     }
@@ -530,12 +537,29 @@ kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
         {&c->bases, n * sizeof(kg_contact_base)},
         {&c->touching, (n + 1) * words},
         {&c->colors, n * words},
+        {&c->color_items, n * words},
+        {&c->sorted_colors, n * words},
     };
     kg_result r = kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
     if (r == KG_OK) {
         w->contact_capacity = (int)n;
     }
     return r;
+}
+
+/* How many contacts one work-item colours (solve/coloring.h), past which the device
+ * colours in rounds: on a GPU KG_COLOR_SERIAL_MAX, where rounds use its thousands of
+ * lanes; on a CPU device any number, as a work-item there runs as fast as a host thread
+ * and each round costs two launches (on PoCL, rain_4000: 1.0 ms a step more in rounds).
+ * KGYRO_CL_COLOR_SERIAL_MAX sets it, for tests of the rounds on a CPU device. */
+static int kg_cl_color_serial_max(const kg_cl_device* device)
+{
+    const char* forced = getenv("KGYRO_CL_COLOR_SERIAL_MAX");
+    if (forced && *forced) {
+        long max = strtol(forced, NULL, 10);
+        return max < 0 ? 0 : max > INT_MAX ? INT_MAX : (int)max;
+    }
+    return device->info.type == KG_OPENCL_DEVICE_CPU ? INT_MAX : KG_COLOR_SERIAL_MAX;
 }
 
 kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_faults* faults, kg_cl_world** out)
@@ -567,6 +591,7 @@ kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_fau
         kg_cl_world_destroy(w);
         return r;
     }
+    w->color_serial_max = kg_cl_color_serial_max(rt->device);
     /* everything the host has is newer than the empty buffers */
     w->device_stale = KG_CL_ALL_ARRAYS;
     *out = w;
@@ -604,7 +629,8 @@ void kg_cl_world_destroy(kg_cl_world* w)
     kg_cl_release_contact_buffers(w);
     kg_cl_collide_buffers* c = &w->collide;
     cl_mem* list[] = {&c->counts, &c->proxies, &c->heads, &c->histogram, &c->grid, &c->plan,
-                      &c->run, &c->run_fill, &c->colors_used, &c->block_sums, &c->tile_run,
+                      &c->run, &c->run_fill, &c->colors_used, &c->color_bids[0], &c->color_bids[1],
+                      &c->block_sums, &c->sort_counts, &c->tile_run,
                       &c->last_origin[0], &c->last_origin[1], &c->last_generation[0], &c->last_generation[1],
                       &c->tile_maps, &c->tile_cells, &c->tile_protos};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {

@@ -51,11 +51,14 @@ typedef enum kg_cl_array {
     X(SOLVE_COLORS_IN_GROUP, kg_solve_colors_in_group, 5) X(STORE_IMPULSES, kg_store_impulses, 3)  \
     X(FINALIZE, kg_finalize, 14)                                                                  \
     X(SCAN_BLOCKS, kg_scan_blocks, 4) X(SCAN_APPLY, kg_scan_apply, 7)                             \
+    X(SORT_COUNT, kg_sort_count, 6) X(SORT_SCATTER, kg_sort_scatter, 9)                           \
     X(BP_CLEAR, kg_bp_clear, 5) X(BP_PROXIES, kg_bp_proxies, 12) X(BP_GRID, kg_bp_grid, 2)         \
     X(BP_INSERT, kg_bp_insert, 8) X(BP_MEASURE, kg_bp_measure, 5) X(BP_PLAN, kg_bp_plan, 2)        \
     X(BP_FIND, kg_bp_find, 11) X(BP_SCATTER, kg_bp_scatter, 5)                                     \
     X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 13)                         \
     X(BUILD_CONTACTS, kg_build_contacts, 11) X(COLOR_CONTACTS, kg_color_contacts, 7)               \
+    X(RESET_COLORS, kg_reset_colors, 6) X(BID_COLORS, kg_bid_colors, 6) X(TAKE_COLORS, kg_take_colors, 10)   \
+    X(COLOR_RANGES, kg_color_ranges, 3)               \
     X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 23) X(TILE_TOTAL, kg_tile_total, 2)             \
     X(WAKE_TOUCHED, kg_wake_touched, 8) X(WAKE_MARKED, kg_wake_marked, 5)                          \
     X(FIND_ISLANDS, kg_find_islands, 9) X(FALL_ASLEEP, kg_fall_asleep, 14)
@@ -101,7 +104,10 @@ typedef struct kg_cl_collide_buffers {
     cl_mem run;            /* pairs per lower slot, then their prefix sum (slots + 1) */
     cl_mem run_fill;
     cl_mem colors_used;    /* per slot, the colours its contacts took so far */
+    cl_mem color_bids[2];  /* per slot, the least priority bid in a colouring round, this
+                            * round's and the next's */
     cl_mem block_sums;     /* KG_SCAN_MAX_BLOCKS */
+    cl_mem sort_counts;    /* a sort pass's digit counts per chunk, KG_SORT_COUNT_WORDS */
     cl_mem tile_run;       /* tile contacts per slot, then their prefix sum (slots + 1) */
     cl_mem last_origin[2]; /* one-way platforms: each slot's origin and generation at the */
     cl_mem last_generation[2]; /* last collision (collide/tilemap.c keeps the same on the
@@ -122,6 +128,8 @@ typedef struct kg_cl_collide_buffers {
     cl_mem bases;          /* one per pair: the manifold as computed (collide/recycle.h) */
     cl_mem touching;       /* per pair, then its prefix sum: the contact index (pairs + 1) */
     cl_mem colors;         /* colour per contact */
+    cl_mem color_items;    /* per contact, its index: what the sort by colour carries */
+    cl_mem sorted_colors;  /* the colours sorted */
 } kg_cl_collide_buffers;
 
 typedef struct kg_cl_world {
@@ -142,6 +150,7 @@ typedef struct kg_cl_world {
     cl_mem color_start;                   /* kg_graph_coloring.color_start of the step */
     int contact_capacity;
     kg_cl_collide_buffers collide;
+    int color_serial_max;                 /* contacts coloured by one work-item at most */
     cl_mem targets;                       /* applicator targets, (slot, multiplicity), max_bodies */
     /* sleeping (kernels/kg_sleep.cl), per body slot */
     cl_mem wake_marks;                    /* per island name: to be woken this step */

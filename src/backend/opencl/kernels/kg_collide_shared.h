@@ -7,15 +7,15 @@
 #include "core/kg_layout.h"
 #include "solve/coloring.h"
 
-/* The counters buffer: what the host reads back of a step, 6 + KG_COLOR_COUNT + 2 words. */
+/* The counters buffer: what the host reads back of a step. */
 #define KG_CC_PAIRS 0        /* pairs the broadphase found, counted past the capacity */
 #define KG_CC_OVERFLOW 1     /* non-zero when they did not all fit */
 #define KG_CC_CONTACTS 2     /* this step's contacts: touching pairs, then tile contacts */
 #define KG_CC_LEVELS 3       /* bit m set: some proxy is keyed at grid level m */
 #define KG_CC_TILES 4        /* tile contacts found, counted past the room left */
 #define KG_CC_BODY_CONTACTS 5 /* the touching pairs, the first contacts */
-#define KG_CC_COLOR_START 6  /* coloring.h's color_start, KG_COLOR_COUNT + 2 words */
-#define KG_CC_WORDS (KG_CC_COLOR_START + KG_COLOR_COUNT + 2)
+#define KG_CC_WAITING 6      /* contacts left uncoloured by a colouring round, 2 words */
+#define KG_CC_WORDS 8
 
 /* Grid levels: level m has cells of the base size times 2^m. A box is keyed at the
  * lowest level where it spans at most two cells per axis; the top level is one cell that

@@ -1,52 +1,52 @@
-/* Exclusive prefix sums over uint arrays, in at most KG_SCAN_MAX_BLOCKS blocks: the
- * building block of every stage that turns per-element counts into places. */
+/* The device's prefix sums and stable sorts: the building blocks of every stage that
+ * turns per-element counts into places (core/prefix_sum.h, core/counting_sort.h; the host
+ * side is cl_sort.c). */
 #include "core/kg_layout.h"
+#include "core/counting_sort.h"
+#include "core/prefix_sum.h"
 #include "kg_collide_shared.h"
 
-/* ---- prefix sums ------------------------------------------------------------------ */
-
-KG_FN int kg_scan_block_count(int count, int block) { return count > 0 ? (count + block - 1) / block : 1; }
-
-/* The sum of each block of values: work-item g sums [g * block, (g + 1) * block). */
+/* The sum of block g of values. */
 __kernel void kg_scan_blocks(int count, int block, __global const uint* values, __global uint* block_sums)
+{
+    int g = (int)get_global_id(0);
+    if (g < kg_scan_block_count(count, block)) {
+        block_sums[g] = kg_scan_block_sum(values, count, block, g);
+    }
+}
+
+/* Exclusive prefix sum of values[0, count) into offsets[0, count] (may be values), the
+ * total also into counts[total_slot] unless total_slot < 0. */
+__kernel void kg_scan_apply(int count, int block, __global const uint* values, __global uint* offsets,
+                            __global const uint* block_sums, __global uint* counts, int total_slot)
 {
     int g = (int)get_global_id(0);
     if (g >= kg_scan_block_count(count, block)) {
         return;
     }
-    int end = min(count, (g + 1) * block);
-    uint sum = 0u;
-    for (int k = g * block; k < end; ++k) {
-        sum += values[k];
+    uint total = kg_scan_block_apply(values, offsets, count, block, g, block_sums);
+    if (g == kg_scan_block_count(count, block) - 1 && total_slot >= 0) {
+        counts[total_slot] = total;
     }
-    block_sums[g] = sum;
 }
 
-/* Exclusive prefix sum of values[0, count) into offsets[0, count], offsets[count] being
- * the total, also written to counts[total_slot] unless total_slot < 0. values and offsets
- * may be the same buffer: each work-item reads an element before it writes its offset. */
-__kernel void kg_scan_apply(int count, int block, __global const uint* values, __global uint* offsets,
-                            __global const uint* block_sums, __global uint* counts, int total_slot)
+/* The digit counts of chunk g of a counting-sort pass. */
+__kernel void kg_sort_count(int count, int chunk_size, int shift, int bits, __global const uint* keys,
+                            __global uint* counts)
 {
     int g = (int)get_global_id(0);
-    int blocks = kg_scan_block_count(count, block);
-    if (g >= blocks) {
-        return;
+    if (g < kg_sort_chunks(count, chunk_size)) {
+        kg_sort_count_chunk(keys, count, chunk_size, g, shift, bits, counts);
     }
-    uint sum = 0u;
-    for (int h = 0; h < g; ++h) {
-        sum += block_sums[h];
-    }
-    int end = min(count, (g + 1) * block);
-    for (int k = g * block; k < end; ++k) {
-        uint v = values[k];
-        offsets[k] = sum;
-        sum += v;
-    }
-    if (g == blocks - 1) {
-        offsets[count] = sum;
-        if (total_slot >= 0) {
-            counts[total_slot] = sum;
-        }
+}
+
+/* Chunk g's keys and items to their places (offsets: the prefix sum of the counts). */
+__kernel void kg_sort_scatter(int count, int chunk_size, int shift, int bits, __global const uint* keys,
+                              __global const uint* items, __global uint* offsets, __global uint* keys_out,
+                              __global uint* items_out)
+{
+    int g = (int)get_global_id(0);
+    if (g < kg_sort_chunks(count, chunk_size)) {
+        kg_sort_scatter_chunk(keys, items, count, chunk_size, g, shift, bits, offsets, keys_out, items_out);
     }
 }
