@@ -9,9 +9,8 @@
 
 __kernel void kg_narrowphase(int count, float speculative_distance, float dt, __global const uint2* pairs,
                              __global const kg_shape* shape, __global const kg_xf* xf, __global const kg_vec2* velocity,
-                             __global const kg_contact* previous, int previous_count,
-                             __global const kg_u32* generation, __global kg_manifold* manifolds,
-                             __global kg_contact_base* bases, __global uint* touching)
+                             __global const kg_contact* previous, int previous_count, __global const kg_u32* generation,
+                             __global kg_manifold* manifolds, __global kg_contact_base* bases, __global uint* touching)
 {
     int k = (int)get_global_id(0);
     if (k < count) {

@@ -6,9 +6,8 @@
 /* Targets as in kg_apply_builtin_force: every slot (all != 0) or a list, each slot once. */
 __kernel void kg_device_force(int count, int all, __global const kg_force_target* targets, kg_force_params params,
                               __global const kg_u32* flags, __global const kg_vec2* center, __global const kg_rot* rot,
-                              __global const kg_vec2* velocity, __global const float* omega,
-                              __global const float* mass, __global const float* inertia, __global kg_vec2* force,
-                              __global float* torque)
+                              __global const kg_vec2* velocity, __global const float* omega, __global const float* mass,
+                              __global const float* inertia, __global kg_vec2* force, __global float* torque)
 {
     int k = (int)get_global_id(0);
     if (k < count) {

@@ -42,11 +42,11 @@ __kernel void kg_find_islands(int bodies, int count, __global const kg_contact* 
                              velocity, omega, sleep_time, parent, least);
 }
 
-__kernel void kg_fall_asleep(int count, float time_to_sleep, __global const kg_u32* parent,
-                             __global const float* least, __global kg_u32* flags, __global kg_u32* island,
-                             __global kg_vec2* velocity, __global float* omega, __global const kg_vec2* center,
-                             __global const kg_rot* rot, __global const kg_vec2* local_center,
-                             __global const kg_shape* shape, __global kg_xf* xf, __global kg_aabb* aabb)
+__kernel void kg_fall_asleep(int count, float time_to_sleep, __global const kg_u32* parent, __global const float* least,
+                             __global kg_u32* flags, __global kg_u32* island, __global kg_vec2* velocity,
+                             __global float* omega, __global const kg_vec2* center, __global const kg_rot* rot,
+                             __global const kg_vec2* local_center, __global const kg_shape* shape, __global kg_xf* xf,
+                             __global kg_aabb* aabb)
 {
     int i = (int)get_global_id(0);
     if (i < count) {

@@ -8,8 +8,8 @@
 /* A built-in applicator on every body (all != 0: work-item k is slot k) or on a list of
  * targets, each slot once. */
 __kernel void kg_apply_builtin_force(int count, int all, __global const kg_force_target* targets, kg_builtin_force f,
-                                     __global const kg_u32* flags, __global const float* mass,
-                                     __global kg_vec2* force, __global float* drag)
+                                     __global const kg_u32* flags, __global const float* mass, __global kg_vec2* force,
+                                     __global float* drag)
 {
     int k = (int)get_global_id(0);
     if (k < count) {
@@ -50,10 +50,9 @@ __kernel void kg_integrate_positions(int count, float h, __global const kg_u32* 
 }
 
 __kernel void kg_store_bodies(int count, kg_rest_params rest, __global const kg_u32* flags,
-                              __global const kg_solver_body* bodies, __global kg_vec2* velocity,
-                              __global float* omega, __global kg_vec2* center, __global kg_rot* rot,
-                              __global const kg_shape* shape, __global const kg_vec2* local_center,
-                              __global float* sleep_time)
+                              __global const kg_solver_body* bodies, __global kg_vec2* velocity, __global float* omega,
+                              __global kg_vec2* center, __global kg_rot* rot, __global const kg_shape* shape,
+                              __global const kg_vec2* local_center, __global float* sleep_time)
 {
     int i = (int)get_global_id(0);
     if (i < count) {
@@ -97,8 +96,8 @@ __kernel void kg_solve_color(int first, int count, int serial, int pass, __globa
  * between them: one launch instead of one per colour, for worlds too small to fill the
  * device, where launches cost more than the work. color_start is solve/coloring.h's. */
 __kernel void kg_solve_colors_in_group(int pass, __global const int* color_start,
-                                       __global const kg_solver_params* params,
-                                       __global kg_contact_constraint* colored, __global kg_solver_body* bodies)
+                                       __global const kg_solver_params* params, __global kg_contact_constraint* colored,
+                                       __global kg_solver_body* bodies)
 {
     for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
         kg_solve_share((int)get_local_id(0), (int)get_local_size(0), color_start[c], color_start[c + 1],
