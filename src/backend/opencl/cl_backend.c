@@ -154,7 +154,7 @@ void kg_cl_backend_stop(kg_world* world)
     kg_free(b->force_group_sizes);
     kg_free(b->start_force);
     kg_free(b->start_torque);
-    kg_free(b->target_pairs);
+    kg_free(b->targets);
     kg_free(b->color_scratch);
     kg_graph_coloring_free(&b->coloring);
     kg_free(b);

@@ -12,8 +12,8 @@
 typedef struct kg_cl_backend {
     kg_cl_world* w;
     /* host scratch, grown (never in a steady state) when a step needs more */
-    cl_uint* target_pairs;           /* (slot, multiplicity) lists of this step's applicators */
-    int target_pair_capacity;
+    kg_force_target* targets;        /* the lists of this step's applicators */
+    int target_capacity;
     int* color_scratch;
     int color_capacity;
     kg_graph_coloring coloring;

@@ -53,53 +53,51 @@ static void kg_add_kernel_times(kg_world* world, kg_cl_world* w)
 
 /* ---- forces ----------------------------------------------------------------------- */
 
-static int kg_pair_compare(const void* a, const void* b)
+static int kg_target_compare(const void* a, const void* b)
 {
-    cl_uint x = ((const cl_uint*)a)[0], y = ((const cl_uint*)b)[0];
+    kg_u32 x = ((const kg_force_target*)a)->slot, y = ((const kg_force_target*)b)->slot;
     return (x > y) - (x < y);
 }
 
-static kg_result kg_reserve_pairs(kg_cl_backend* b, int pairs)
+static kg_result kg_reserve_targets(kg_cl_backend* b, int targets)
 {
-    if (pairs <= b->target_pair_capacity) {
+    if (targets <= b->target_capacity) {
         return KG_OK;
     }
     /* earlier lists of this step may still be read by non-blocking writes */
     KG_TRY(kg_cl_finish(b->w));
-    cl_uint* grown = kg_alloc_zeroed((size_t)pairs * 2u * sizeof *grown);
+    kg_force_target* grown = kg_alloc_zeroed((size_t)targets * sizeof *grown);
     if (!grown) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate applicator targets");
     }
-    kg_free(b->target_pairs);
-    b->target_pairs = grown;
-    b->target_pair_capacity = pairs;
+    kg_free(b->targets);
+    b->targets = grown;
+    b->target_capacity = targets;
     return KG_OK;
 }
 
-/* The live bodies of an applicator's list as (slot, multiplicity) pairs sorted by slot,
- * written at pairs[*used]; *count gets how many. A body listed n times is one pair with
- * multiplicity n: the kernel adds its force n times in sequence, as the CPU loop does. */
+/* The live bodies of an applicator's list as targets sorted by slot, written at
+ * targets[*used]; *count gets how many. A body listed n times is one target repeated n
+ * times: the kernel adds its force n times in sequence, as the CPU loop does. */
 static kg_result kg_list_targets(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, int* used, int* count)
 {
-    KG_TRY(kg_reserve_pairs(b, *used + a->body_count));
-    cl_uint* out = b->target_pairs + 2 * *used;
+    KG_TRY(kg_reserve_targets(b, *used + a->body_count));
+    kg_force_target* out = b->targets + *used;
     int n = 0;
     for (int k = 0; k < a->body_count; ++k) {
         if (kg_body_is_valid(world, a->bodies[k])) {
-            out[2 * n] = a->bodies[k].index;
-            out[2 * n + 1] = 1u;
+            out[n].slot = a->bodies[k].index;
+            out[n].repeat = 1u;
             n++;
         }
     }
-    qsort(out, (size_t)n, 2 * sizeof *out, kg_pair_compare);
+    qsort(out, (size_t)n, sizeof *out, kg_target_compare);
     int unique = 0;
     for (int k = 0; k < n; ++k) {
-        if (unique > 0 && out[2 * (unique - 1)] == out[2 * k]) {
-            out[2 * (unique - 1) + 1] += 1u;
+        if (unique > 0 && out[unique - 1].slot == out[k].slot) {
+            out[unique - 1].repeat += 1u;
         } else {
-            out[2 * unique] = out[2 * k];
-            out[2 * unique + 1] = 1u;
-            unique++;
+            out[unique++] = out[k];
         }
     }
     *count = unique;
@@ -110,7 +108,7 @@ static kg_result kg_list_targets(kg_world* world, kg_cl_backend* b, const kg_app
  * targets): *all when it applies to every slot, else its list written to w->targets;
  * *count, the work-item count. Each list is written from its own range of the host
  * scratch (a non-blocking write reads it later); on the device they all go to the start
- * of the targets buffer, which the in-order queue makes safe. A list has at most one pair
+ * of the targets buffer, which the in-order queue makes safe. A list has at most one target
  * per slot, so the buffer, sized max_bodies, always holds it. */
 static kg_result kg_write_targets(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, int* used,
                                   int* count, int* all)
@@ -120,7 +118,7 @@ static kg_result kg_write_targets(kg_world* world, kg_cl_backend* b, const kg_ap
     *count = world->bodies.high_water;
     if (!*all) {
         KG_TRY(kg_list_targets(world, b, a, used, count));
-        KG_TRY(kg_cl_write(w, w->targets, 0, (size_t)*count * 2u * sizeof(cl_uint), b->target_pairs + 2 * *used, 0));
+        KG_TRY(kg_cl_write(w, w->targets, 0, (size_t)*count * sizeof *b->targets, b->targets + *used, 0));
         *used += *count;
     }
     return KG_OK;

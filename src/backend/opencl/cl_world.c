@@ -6,6 +6,7 @@
 #include "core/alloc.h"
 #include "core/error.h"
 #include "solve/contact_solver.h"
+#include "solve/force_body.h"
 #include "solve/graph_color.h"
 #include "solve/integrate.h"
 
@@ -483,7 +484,7 @@ static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
         {&w->velocity_steps, (size_t)pool->capacity * sizeof(kg_velocity_step)},
         {&w->solver_params, sizeof(kg_solver_params)},
         {&w->color_start, (KG_COLOR_COUNT + 2) * sizeof(int)},
-        {&w->targets, (size_t)pool->capacity * 2u * sizeof(cl_uint)},
+        {&w->targets, (size_t)pool->capacity * sizeof(kg_force_target)},
         {&w->wake_marks, (size_t)pool->capacity * sizeof(cl_uint)},
         {&w->island_parent, (size_t)pool->capacity * sizeof(kg_u32)},
         {&w->island_least, (size_t)pool->capacity * sizeof(float)},

@@ -151,7 +151,7 @@ typedef struct kg_cl_world {
     int contact_capacity;
     kg_cl_collide_buffers collide;
     int color_serial_max;                 /* contacts coloured by one work-item at most */
-    cl_mem targets;                       /* applicator targets, (slot, multiplicity), max_bodies */
+    cl_mem targets;                       /* applicator targets (solve/force_body.h), max_bodies */
     /* sleeping (kernels/kg_sleep.cl), per body slot */
     cl_mem wake_marks;                    /* per island name: to be woken this step */
     cl_mem island_parent;                 /* union-find of this step's islands */
