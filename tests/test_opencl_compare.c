@@ -471,6 +471,16 @@ static void test_pyramid_20(void) { kg_compare_scene("pyramid 20", kg_pyramid_sc
 static void test_rain_2000(void) { kg_compare_scene("rain 2000", kg_rain_scene); }
 static void test_sizes(void) { kg_compare_scene("sizes", kg_sizes_scene); }
 static void test_piles(void) { kg_compare_scene("piles", kg_piles_scene); }
+
+/* On a CPU device the colouring runs on one work-item at any size; a GPU colours more
+ * than a few thousand contacts in rounds (solve/coloring.h). Here the rounds run for
+ * every step with more than 16 contacts. */
+static void test_rain_2000_colored_in_rounds(void)
+{
+    setenv("KGYRO_CL_COLOR_SERIAL_MAX", "16", 1);
+    kg_compare_scene("rain rounds", kg_rain_scene);
+    unsetenv("KGYRO_CL_COLOR_SERIAL_MAX");
+}
 static void test_tiles(void) { kg_compare_scene("tiles", kg_tiles_scene); }
 
 /* With a tile map, the collide stage runs on the device: no "collide (host)" in the
@@ -515,7 +525,8 @@ int main(void)
     printf("device 0: %s (%s), %d steps, bitwise agreement %s\n", info.name, info.platform_name, g_steps,
            g_bitwise_expected ? "required" : "not required (no correctly rounded divide/sqrt)");
     static const kg_test_case tests[] = {KG_TEST(test_projectile), KG_TEST(test_applicators), KG_TEST(test_stack),
-                                         KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_sizes), KG_TEST(test_piles),
+                                         KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_rain_2000_colored_in_rounds),
+                                         KG_TEST(test_sizes), KG_TEST(test_piles),
                                          KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device),
                                          KG_TEST(test_sleep_and_wake)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));

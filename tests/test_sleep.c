@@ -3,12 +3,14 @@
  * bouncing ball and a slowly sliding box stay awake; a sleeping stack wakes when a ball
  * lands on it, stands, and sleeps again; the API wakes what it changes (velocity, destroy,
  * gravity); a moving kinematic platform wakes what sleeps on it; enable_sleep = 0 never
- * sleeps; and a scene of 400 sleeping boxes still answers a falling body.
+ * sleeps; a scene of 400 sleeping boxes still answers a falling body; and the device's
+ * islands (found by one work-group, run here as a group of one) are the CPU's.
  *
  * CPU backend, world defaults (gravity -10, 4 sub-steps) unless a test says otherwise,
  * dt = 1/60. Every test prints its measured numbers ("measured: ..."). */
 #include "kg_test.h"
 #include "kgyro/kgyro.h"
+#include "solve/island.h" /* white box: the two ways of finding islands */
 
 #include <math.h>
 #include <string.h>
@@ -524,9 +526,59 @@ static void test_grid_of_400_sleeps_and_still_responds(void)
     kg_destroy_world(w);
 }
 
+static kg_u32 next_random(kg_u32* state)
+{
+    *state = *state * 1664525u + 1013904223u;
+    return *state >> 8;
+}
+
+/* Random bodies of every type (some frozen, some asleep, kinematic ones moving or not)
+ * and random contacts among them, tile contacts included: kg_find_islands_in_group, the
+ * kernel's algorithm, gives kg_link_islands' parents and least rest times bit for bit. */
+static void test_islands_by_group_are_the_serial_ones(void)
+{
+    enum { BODIES = 300, CONTACTS = 400, ROUNDS = 20 };
+    static kg_u32 flags[BODIES], parent[2][BODIES];
+    static kg_vec2 velocity[BODIES];
+    static float omega[BODIES], sleep_time[BODIES], least[2][BODIES];
+    static kg_contact contacts[CONTACTS];
+    kg_u32 seed = 7u;
+    int differing = 0, islands = 0;
+    for (int round = 0; round < ROUNDS; ++round) {
+        for (int i = 0; i < BODIES; ++i) {
+            kg_u32 r = next_random(&seed);
+            flags[i] = KG_FLAG_ALIVE | ((r % 4u) << KG_TYPE_SHIFT) | (r % 23u == 0u ? KG_FLAG_FROZEN : 0u) |
+                       (r % 5u == 0u ? KG_FLAG_ASLEEP : 0u);
+            velocity[i] = (kg_vec2){r % 3u == 0u ? 1.0f : 0.0f, 0.0f};
+            omega[i] = 0.0f;
+            sleep_time[i] = (float)(next_random(&seed) % 100u) * 0.01f;
+        }
+        int count = CONTACTS * (round + 1) / ROUNDS;
+        for (int k = 0; k < count; ++k) {
+            kg_u32 a = next_random(&seed) % BODIES, b = next_random(&seed) % BODIES;
+            contacts[k].a = a < b ? a : b;
+            contacts[k].b = a == b || next_random(&seed) % 10u == 0u ? KG_NULL_INDEX : (a < b ? b : a);
+        }
+        int hooked = 0;
+        kg_link_islands(BODIES, count, contacts, flags, velocity, omega, sleep_time, parent[0], least[0]);
+        kg_find_islands_in_group(0, 1, &hooked, BODIES, count, contacts, flags, velocity, omega, sleep_time,
+                                 parent[1], least[1]);
+        differing += memcmp(parent[0], parent[1], sizeof parent[0]) != 0 ||
+                     memcmp(least[0], least[1], sizeof least[0]) != 0;
+        for (int i = 0; i < BODIES; ++i) {
+            islands += kg_flags_collide(flags[i]) && parent[0][i] == (kg_u32)i;
+        }
+    }
+    measured("measured: %d rounds of %d bodies and up to %d contacts, %d islands in all, %d rounds differing\n",
+             ROUNDS, BODIES, CONTACTS, islands, differing);
+    KG_CHECK(differing == 0);
+    KG_CHECK(islands > ROUNDS);
+}
+
 KG_TEST_MAIN(KG_TEST(test_resting_box_sleeps_on_time_and_is_frozen_bitwise),
              KG_TEST(test_bouncing_ball_stays_awake_until_it_stops), KG_TEST(test_box_sliding_slowly_never_sleeps),
              KG_TEST(test_ball_wakes_sleeping_stack_which_stands_and_sleeps_again),
              KG_TEST(test_api_wakes_set_velocity_destroy_gravity),
              KG_TEST(test_moving_kinematic_platform_wakes_and_carries_box), KG_TEST(test_sleep_disabled_never_sleeps),
-             KG_TEST(test_grid_of_400_sleeps_and_still_responds))
+             KG_TEST(test_grid_of_400_sleeps_and_still_responds),
+             KG_TEST(test_islands_by_group_are_the_serial_ones))

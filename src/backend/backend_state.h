@@ -7,14 +7,14 @@
 
 #include "core/world.h"
 #include "kgyro/opencl.h"
+#include "solve/force_body.h"
 
 /* One per applicator slot; live while its slot holds the applicator registered with it. */
 typedef struct kg_device_force {
     kg_device_force_fn* cpu_fn;
     char* source;
     char* function_name;
-    float params[KG_DEVICE_FORCE_MAX_PARAMS];
-    int params_changed; /* to upload before the next device step */
+    kg_force_params params; /* passed to the kernel by value at each launch */
 } kg_device_force;
 
 struct kg_cl_backend;

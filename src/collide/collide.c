@@ -399,9 +399,8 @@ kg_result kg_stage_collide(kg_world* world)
     if (tiles > room) {
         kg_warn_once("tile-contacts-full", "more tile contacts (%d) than room left in max_contacts (%d): "
                      "the extra ones were dropped this step; raise kg_world_def.max_contacts", tiles, room);
-        tiles = room;
     }
-    c->count += tiles;
+    c->count = (int)kg_contacts_with_tiles((kg_u32)c->count, (kg_u32)tiles, (kg_u32)c->capacity);
     return KG_OK;
 }
 

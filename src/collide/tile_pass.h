@@ -253,4 +253,63 @@ KG_FN void kg_tile_remember_origin(kg_u32 i, KG_GLOBAL const kg_xf* xf, KG_GLOBA
     last_generation[i] = generation[i];
 }
 
+/* The step's contacts once the tile pass's follow the body contacts: the tile contacts
+ * within the capacity kept, the rest dropped (the host warns). */
+KG_FN kg_u32 kg_contacts_with_tiles(kg_u32 body_contacts, kg_u32 tiles, kg_u32 capacity)
+{
+    kg_u32 room = capacity - body_contacts;
+    return body_contacts + (tiles < room ? tiles : room);
+}
+
+/* ---- on the device: one work-item per body slot ---- */
+
+/* The pass's scalars, passed to its kernel by value: kg_tile_terrain's, last step's tile
+ * contacts' range, the capacity of the contact list, and whether the pass writes. */
+typedef struct kg_tile_pass_params {
+    kg_i32 map_count;
+    float speculative;
+    float linear_slop;
+    kg_i32 previous_begin, previous_end;
+    kg_u32 capacity;
+    kg_i32 write;
+} kg_tile_pass_params;
+
+KG_STATIC_ASSERT(sizeof(kg_tile_pass_params) == 28, tile_pass_params_size);
+
+/* Slot i's share of the pass, run twice: counting (run[i] = its contacts), then, after
+ * the prefix sum of run, writing them at first + run[i] (those within capacity), and
+ * remembering the slot's origin into next_origin and next_generation. */
+KG_FN void kg_tile_pass_slot(kg_u32 i, kg_tile_pass_params prm, KG_GLOBAL const kg_tile_map_info* maps,
+                             KG_GLOBAL const kg_u32* cells, KG_GLOBAL const kg_tile_proto* protos,
+                             KG_GLOBAL const kg_u32* flags, KG_GLOBAL const kg_aabb* aabb, KG_GLOBAL const kg_xf* xf,
+                             KG_GLOBAL const kg_shape* shape, KG_GLOBAL const kg_vec2* center,
+                             KG_GLOBAL const kg_u32* category, KG_GLOBAL const kg_u32* mask,
+                             KG_GLOBAL const kg_u32* generation, KG_GLOBAL const float* friction,
+                             KG_GLOBAL const float* restitution, KG_GLOBAL const kg_contact* previous,
+                             KG_GLOBAL const kg_vec2* last_origin, KG_GLOBAL const kg_u32* last_generation,
+                             KG_GLOBAL kg_vec2* next_origin, KG_GLOBAL kg_u32* next_generation, KG_GLOBAL kg_u32* run,
+                             kg_u32 first, KG_GLOBAL kg_contact* contacts)
+{
+    kg_tile_terrain terrain = {maps, cells, protos, prm.map_count, prm.speculative, prm.linear_slop};
+    kg_tile_contacts found = {previous, prm.previous_begin, prm.previous_end, contacts,
+                              prm.write ? first + run[i] : 0u, prm.write ? prm.capacity : 0u, 0u, 0, 0};
+    kg_tile_bodies bodies = {flags, aabb,       xf,       shape,       center,      category,
+                             mask,  generation, friction, restitution, last_origin, last_generation};
+    kg_tile_collide_body(i, &terrain, &bodies, &found);
+    if (prm.write) {
+        kg_tile_remember_origin(i, xf, generation, next_origin, next_generation);
+    } else {
+        run[i] = found.found;
+    }
+}
+
+/* The device's counters after the prefix sum of the tile contacts: the body contacts'
+ * count kept, the step's made kg_contacts_with_tiles'. */
+KG_FN void kg_count_tile_contacts(KG_GLOBAL kg_u32* contacts, KG_GLOBAL kg_u32* body_contacts, kg_u32 tiles,
+                                  kg_u32 capacity)
+{
+    *body_contacts = *contacts;
+    *contacts = kg_contacts_with_tiles(*contacts, tiles, capacity);
+}
+
 #endif

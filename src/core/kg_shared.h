@@ -23,6 +23,12 @@ typedef int kg_i32;
 #define KG_PRIVATE_VIEW(type, name, element) \
     type name##_copy = (element);           \
     const type* name = &name##_copy
+/* a work-group's shared variable, barrier and atomic minima (of floats never negative:
+ * their bits order as they do) */
+#define KG_LOCAL __local
+#define kg_group_barrier() barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE)
+#define kg_atomic_min_u32(p, v) atomic_min((p), (v))
+#define kg_atomic_min_unsigned_float(p, v) atomic_min((__global uint*)(p), as_uint(v))
 typedef struct kg_vec2 {
     float x, y;
 } kg_vec2;
@@ -49,6 +55,12 @@ typedef int32_t kg_i32;
 /* A pointer to an array element for a shared function that takes a private pointer: in a
  * kernel a private copy of the global element, in C the element itself. */
 #define KG_PRIVATE_VIEW(type, name, element) const type* name = &(element)
+/* A work-group's code run in C as a group of one work-item: there is nothing to wait for,
+ * and nothing races. */
+#define KG_LOCAL
+#define kg_group_barrier() ((void)0)
+static inline void kg_atomic_min_u32(kg_u32* p, kg_u32 v) { *p = v < *p ? v : *p; }
+static inline void kg_atomic_min_unsigned_float(float* p, float v) { *p = v < *p ? v : *p; }
 #endif
 
 /* A compile-time check usable in C99 and OpenCL C alike; both sides assert the same

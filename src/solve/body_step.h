@@ -7,25 +7,38 @@
 #include "collide/aabb.h"
 #include "core/body_flags.h"
 #include "solve/contact_solver.h"
+#include "solve/force_body.h"
 #include "solve/integrate.h"
 #include "solve/island.h"
 
-/* A built-in applicator's force on body i, `repeat` times over (a body listed twice in
- * an applicator gets it twice, in sequence): gravity pulls by the body's mass, wind
- * pushes by its strength and adds its drag (integrated implicitly, solve/integrate.h). */
-KG_FN void kg_builtin_force_on(kg_u32 i, kg_u32 repeat, int gravity, kg_vec2 vector, float strength, float wind_drag,
-                               KG_GLOBAL const kg_u32* flags, KG_GLOBAL const float* mass, KG_GLOBAL kg_vec2* force,
-                               KG_GLOBAL float* drag)
+/* A built-in applicator, passed to its kernel by value: gravity accelerates by vector,
+ * wind pushes along vector by strength and adds its drag (integrated implicitly,
+ * solve/integrate.h). */
+typedef struct kg_builtin_force {
+    kg_vec2 vector;
+    float strength;
+    float wind_drag;
+    kg_i32 gravity;
+    kg_i32 pad;
+} kg_builtin_force;
+
+KG_STATIC_ASSERT(sizeof(kg_builtin_force) == 24, builtin_force_size);
+
+/* Applicator f's force on target t's body, t.repeat times over (a body listed twice in an
+ * applicator gets it twice, in sequence): gravity pulls by the body's mass. */
+KG_FN void kg_builtin_force_on(kg_force_target t, kg_builtin_force f, KG_GLOBAL const kg_u32* flags,
+                               KG_GLOBAL const float* mass, KG_GLOBAL kg_vec2* force, KG_GLOBAL float* drag)
 {
+    kg_u32 i = t.slot;
     if (!kg_flags_simulated(flags[i])) {
         return;
     }
-    kg_vec2 f = kg_scale(gravity ? mass[i] : strength, vector);
+    kg_vec2 push = kg_scale(f.gravity ? mass[i] : f.strength, f.vector);
     kg_vec2 sum = force[i];
     float drag_sum = drag[i];
-    for (kg_u32 r = 0u; r < repeat; ++r) {
-        sum = kg_add(sum, f);
-        drag_sum += gravity ? 0.0f : wind_drag;
+    for (kg_u32 r = 0u; r < t.repeat; ++r) {
+        sum = kg_add(sum, push);
+        drag_sum += f.gravity ? 0.0f : f.wind_drag;
     }
     force[i] = sum;
     drag[i] = drag_sum;
@@ -67,6 +80,18 @@ KG_FN void kg_integrate_body_velocity(kg_u32 i, KG_GLOBAL kg_solver_body* bodies
         kg_apply_velocity_step(&m.v, &m.w, steps[i], prm);
         bodies[i].motion.v = m.v;
         bodies[i].motion.w = m.w;
+    }
+}
+
+/* One sub-step's motion of body i, if it moves, from its velocities. */
+KG_FN void kg_integrate_body_position(kg_u32 i, float h, KG_GLOBAL const kg_u32* flags,
+                                      KG_GLOBAL kg_solver_body* bodies)
+{
+    if (kg_flags_move(flags[i])) {
+        kg_body_motion m = bodies[i].motion;
+        kg_integrate_position(&m.dp, &m.dq, m.v, m.w, h);
+        bodies[i].motion.dp = m.dp;
+        bodies[i].motion.dq = m.dq;
     }
 }
 
@@ -113,9 +138,18 @@ KG_FN int kg_load_body_for_step(kg_u32 i, KG_GLOBAL kg_u32* flags, KG_GLOBAL kg_
     return froze;
 }
 
+/* How the end of the solve keeps the rest timers (passed to its kernel by value). */
+typedef struct kg_rest_params {
+    float dt;          /* of the whole step */
+    float sleep_speed; /* kg_world_def's */
+    kg_i32 sleep;      /* kg_world_def.enable_sleep: rest timers are kept */
+} kg_rest_params;
+
+KG_STATIC_ASSERT(sizeof(kg_rest_params) == 12, rest_params_size);
+
 /* Body i's velocities back to the pool and the step's motion applied to its pose; with
- * sleeping on, its rest timer advanced over the step's motion (dt: the whole step's). */
-KG_FN void kg_store_body(kg_u32 i, int sleep, float dt, float sleep_speed, KG_GLOBAL const kg_u32* flags,
+ * sleeping on, its rest timer advanced over the step's motion. */
+KG_FN void kg_store_body(kg_u32 i, kg_rest_params rest, KG_GLOBAL const kg_u32* flags,
                          KG_GLOBAL const kg_solver_body* bodies, KG_GLOBAL kg_vec2* velocity, KG_GLOBAL float* omega,
                          KG_GLOBAL kg_vec2* center, KG_GLOBAL kg_rot* rot, KG_GLOBAL const kg_shape* shape,
                          KG_GLOBAL const kg_vec2* local_center, KG_GLOBAL float* sleep_time)
@@ -128,10 +162,10 @@ KG_FN void kg_store_body(kg_u32 i, int sleep, float dt, float sleep_speed, KG_GL
     omega[i] = m.w;
     center[i] = kg_add(center[i], m.dp);
     rot[i] = kg_rot_normalize(kg_rot_mul(m.dq, rot[i]));
-    if (sleep && bodies[i].moves) {
+    if (rest.sleep && bodies[i].moves) {
         KG_PRIVATE_VIEW(kg_shape, s, shape[i]);
         float extent = kg_shape_extent(s, local_center[i]);
-        sleep_time[i] = kg_rest_timer(sleep_time[i], m, extent, dt, sleep_speed);
+        sleep_time[i] = kg_rest_timer(sleep_time[i], m, extent, rest.dt, rest.sleep_speed);
     }
 }
 

@@ -1,10 +1,21 @@
 /* Constraint graph colouring, shared by the CPU backend (solve/graph_color.c) and the
  * kernels (kg_color.cl): constraints of one colour share no moving body, so a colour
  * can be solved in any order or all at once (threads, SIMD lanes, work-items) with the
- * same result; colours are solved one after another. Greedy in constraint order, so the
- * colouring is deterministic; constraints that fit no colour go to an overflow list,
- * solved serially, in order, after the colours. Serial by nature: on the device it runs
- * as one work-item. */
+ * same result; colours are solved one after another.
+ *
+ * Greedy, in the order of a fixed scramble of the constraint indices (kg_color_priority):
+ * each constraint takes the lowest colour that no constraint before it in that order on one
+ * of its moving bodies took; those that fit no colour go to an overflow list, solved
+ * serially, in constraint order, after the colours. The result depends only on the
+ * constraints' bodies.
+ *
+ * Why the scramble: the device colours large worlds in rounds (Jones-Plassmann): in each
+ * round every constraint that comes first, in that order, among the uncoloured ones on each
+ * of its moving bodies takes its colour (kg_color_bid, kg_color_take). It then sees exactly
+ * the colours of the constraints before it, so the rounds give the serial greedy's colours
+ * bit for bit, in as many rounds as the longest chain of constraints waiting for each
+ * other. In constraint order (pairs sorted by body) a row of boxes is one such chain; in a
+ * scrambled order chains stay a few constraints long. */
 #ifndef KG_COLORING_H
 #define KG_COLORING_H
 
@@ -39,24 +50,64 @@ KG_FN int kg_pick_color(KG_GLOBAL kg_u32* used, kg_u32 a, kg_u32 b, int a_moves,
     return c;
 }
 
-/* Colours the constraints of contacts [0, count): colors[k] is contact k's colour (or
- * KG_COLOR_COUNT), order lists the contact indices grouped by colour, overflow last, in
- * contact order within each, rank (unless NULL) each contact's place in order, and
- * colour c is order[color_start[c], color_start[c + 1]) (color_start holds
- * KG_COLOR_COUNT + 2 ints). used (per body slot) is all zeros before and after. */
-KG_FN void kg_color_constraints(int count, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
-                                KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors, KG_GLOBAL int* order,
-                                KG_GLOBAL int* rank, KG_GLOBAL int* color_start)
+/* A constraint's priority: a bijection of [0, 2^bits) (kg_priority_bits), two rounds of a
+ * multiplication by an odd constant and a xor-shift by at least half the bits, each of
+ * which is invertible modulo 2^bits. */
+#define KG_PRIORITY_MUL1 0x9E3779B1u
+#define KG_PRIORITY_MUL2 0x85EBCA77u
+#define KG_PRIORITY_INV1 0x0E8B2F51u /* KG_PRIORITY_MUL1 * KG_PRIORITY_INV1 == 1 mod 2^32 */
+#define KG_PRIORITY_INV2 0xB6C92F47u
+
+/* The bits that number count constraints: 2^bits >= count (count < 2^31). */
+KG_FN int kg_priority_bits(int count)
+{
+    int bits = 0;
+    while (bits < 31 && (1 << bits) < count) {
+        bits += 1;
+    }
+    return bits;
+}
+
+/* x ^ (x >> s) with 2 s >= bits: its own inverse on [0, 2^bits). */
+KG_FN kg_u32 kg_priority_shuffle(kg_u32 x, int bits) { return x ^ (x >> ((bits + 1) / 2)); }
+
+KG_FN kg_u32 kg_color_priority(kg_u32 k, int bits)
+{
+    kg_u32 mask = (1u << bits) - 1u;
+    k = kg_priority_shuffle((k * KG_PRIORITY_MUL1) & mask, bits);
+    return kg_priority_shuffle((k * KG_PRIORITY_MUL2) & mask, bits);
+}
+
+/* The constraint of priority p: kg_color_priority's inverse. */
+KG_FN kg_u32 kg_color_constraint_at(kg_u32 p, int bits)
+{
+    kg_u32 mask = (1u << bits) - 1u;
+    p = (kg_priority_shuffle(p, bits) * KG_PRIORITY_INV2) & mask;
+    return (kg_priority_shuffle(p, bits) * KG_PRIORITY_INV1) & mask;
+}
+
+/* Contact k's colour, taken from used (kg_pick_color). */
+KG_FN int kg_color_contact(kg_u32 k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                           KG_GLOBAL kg_u32* used)
+{
+    kg_u32 a = contacts[k].a, b = contacts[k].b;
+    return kg_pick_color(used, a, b, kg_slot_takes_impulses(flags, a), kg_slot_takes_impulses(flags, b));
+}
+
+/* Lists the contacts [0, count) by colour: order holds the contact indices grouped by
+ * colour, overflow last, in contact order within each, rank (unless NULL) each contact's
+ * place in order, and colour c is order[color_start[c], color_start[c + 1])
+ * (color_start holds KG_COLOR_COUNT + 2 ints). Clears the bodies' used colours. */
+KG_FN void kg_order_by_color(int count, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL kg_u32* used,
+                             KG_GLOBAL const int* colors, KG_GLOBAL int* order, KG_GLOBAL int* rank,
+                             KG_GLOBAL int* color_start)
 {
     int next[KG_COLOR_COUNT + 1];
     for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
         next[c] = 0;
     }
     for (int k = 0; k < count; ++k) {
-        kg_u32 a = contacts[k].a, b = contacts[k].b;
-        int c = kg_pick_color(used, a, b, kg_slot_takes_impulses(flags, a), kg_slot_takes_impulses(flags, b));
-        colors[k] = c;
-        next[c] += 1;
+        next[colors[k]] += 1;
     }
     int start = 0;
     for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
@@ -81,6 +132,126 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL const kg_contact* contacts,
             used[b] = 0u;
         }
     }
+}
+
+/* The contacts are read in a scrambled order, from memory that would not be in the cache
+ * yet: each is asked for this many contacts ahead (some 0.4 ms a step on large_pyramid
+ * without). Priorities past the last wrap around, which only wastes a request. */
+#define KG_COLOR_LOOKAHEAD 16u
+#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
+#define kg_prefetch(address) ((void)0)
+#else
+#define kg_prefetch(address) __builtin_prefetch(address)
+#endif
+
+/* Colours the constraints of contacts [0, count), serially: colors[k] is contact k's
+ * colour (or KG_COLOR_COUNT), and the lists are kg_order_by_color's. used (per body slot)
+ * is all zeros before and after. */
+KG_FN void kg_color_constraints(int count, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                                KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors, KG_GLOBAL int* order,
+                                KG_GLOBAL int* rank, KG_GLOBAL int* color_start)
+{
+    int bits = kg_priority_bits(count);
+    for (kg_u32 p = 0u; p < (1u << bits); ++p) {
+        kg_u32 k = kg_color_constraint_at(p, bits), ahead = kg_color_constraint_at(p + KG_COLOR_LOOKAHEAD, bits);
+        if (ahead < (kg_u32)count) {
+            kg_prefetch(&contacts[ahead].a);
+        }
+        if (k < (kg_u32)count) {
+            colors[k] = kg_color_contact(k, contacts, flags, used);
+        }
+    }
+    kg_order_by_color(count, contacts, used, colors, order, rank, color_start);
+}
+
+/* ---- the device's rounds (see the top) ---- */
+
+/* Up to this many contacts a GPU colours serially (kg_color_constraints on one
+ * work-item): rounds cost more launches than they save there. A CPU device always does
+ * (backend/opencl/cl_world.c says why). */
+#define KG_COLOR_SERIAL_MAX 2048
+
+#define KG_UNCOLORED (-1)
+#define KG_NO_BID 0xFFFFFFFFu
+
+#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
+#define kg_keep_least(p, v) atomic_min((p), (v))
+#else
+/* Serial rounds (the tests replay the device's rounds on the CPU with these functions). */
+KG_FN void kg_keep_least(kg_u32* p, kg_u32 v) { *p = v < *p ? v : *p; }
+#endif
+
+/* Before the first round: contact k uncoloured, its bodies with no colour and no bid. */
+KG_FN void kg_color_reset(kg_u32 k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL int* colors,
+                          KG_GLOBAL kg_u32* used, KG_GLOBAL kg_u32* bids)
+{
+    kg_u32 a = contacts[k].a, b = contacts[k].b;
+    colors[k] = KG_UNCOLORED;
+    if (a != KG_NULL_INDEX) {
+        used[a] = 0u;
+        bids[a] = KG_NO_BID;
+    }
+    if (b != KG_NULL_INDEX) {
+        used[b] = 0u;
+        bids[b] = KG_NO_BID;
+    }
+}
+
+/* An uncoloured contact's bid: its priority on each of its moving bodies, the least kept. */
+KG_FN void kg_color_bid(kg_u32 k, int bits, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                        KG_GLOBAL const int* colors, KG_GLOBAL kg_u32* bids)
+{
+    if (colors[k] != KG_UNCOLORED) {
+        return;
+    }
+    kg_u32 a = contacts[k].a, b = contacts[k].b, p = kg_color_priority(k, bits);
+    if (kg_slot_takes_impulses(flags, a)) {
+        kg_keep_least(&bids[a], p);
+    }
+    if (kg_slot_takes_impulses(flags, b)) {
+        kg_keep_least(&bids[b], p);
+    }
+}
+
+/* After the bids: an uncoloured contact that won on each of its moving bodies takes its
+ * colour (the only one to touch their used colours this round), and clears its bodies'
+ * bids for the next round (next_bids). Returns 1 when it waits for another round. */
+KG_FN int kg_color_take(kg_u32 k, int bits, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                        KG_GLOBAL int* colors, KG_GLOBAL const kg_u32* bids, KG_GLOBAL kg_u32* next_bids,
+                        KG_GLOBAL kg_u32* used)
+{
+    if (colors[k] != KG_UNCOLORED) {
+        return 0;
+    }
+    kg_u32 a = contacts[k].a, b = contacts[k].b, p = kg_color_priority(k, bits);
+    int a_moves = kg_slot_takes_impulses(flags, a), b_moves = kg_slot_takes_impulses(flags, b);
+    int wins = (!a_moves || bids[a] == p) && (!b_moves || bids[b] == p);
+    if (a_moves) {
+        next_bids[a] = KG_NO_BID;
+    }
+    if (b_moves) {
+        next_bids[b] = KG_NO_BID;
+    }
+    if (wins) {
+        colors[k] = kg_pick_color(used, a, b, a_moves, b_moves);
+    }
+    return !wins;
+}
+
+/* Where colour c (up to KG_COLOR_COUNT + 1, one past the overflow) starts among count
+ * colours sorted in increasing order: the first place not below c. */
+KG_FN int kg_color_range_start(int c, int count, KG_GLOBAL const kg_u32* sorted_colors)
+{
+    int lo = 0, hi = count;
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (sorted_colors[mid] < (kg_u32)c) {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
 }
 
 /* How many colours are in use (the overflow not counted): one past the last non-empty. */

@@ -248,4 +248,70 @@ KG_FN_INLINE int kg_prepare_source(const kg_contact* ct, kg_u32 index, KG_GLOBAL
     return 1;
 }
 
+/* ---- constraints of width 1, one per work-item (the CPU runs rows of SIMD lanes) ---- */
+
+/* Constraint k prepared from contact k (kg_prepare_source's, its bodies as the contact
+ * names them). */
+KG_FN void kg_prepare_contact(kg_u32 k, kg_solver_params prm, KG_GLOBAL const kg_contact* contacts,
+                              KG_GLOBAL kg_contact_constraint* constraints, KG_GLOBAL const kg_solver_body* bodies,
+                              KG_GLOBAL const float* inv_mass, KG_GLOBAL const float* inv_inertia,
+                              KG_GLOBAL const kg_xf* xf, KG_GLOBAL const kg_vec2* center)
+{
+    KG_PRIVATE_VIEW(kg_contact, ct, contacts[k]);
+    kg_row_head head;
+    kg_prepare_input in;
+    kg_prepare_source(ct, k, bodies, inv_mass, inv_inertia, xf, center, &head, &in);
+    kg_contact_constraint c;
+    kg_constraint_head(&c, &head);
+    kg_contact_prepare_lanes(&c, &in, prm);
+    constraints[k] = c;
+}
+
+/* A pass's velocities back to a body slot, if it takes impulses. */
+KG_FN void kg_store_motion(KG_GLOBAL kg_solver_body* bodies, kg_u32 slot, kg_body_motion m)
+{
+    if (kg_slot_moves(bodies, slot)) {
+        bodies[slot].motion.v = m.v;
+        bodies[slot].motion.w = m.w;
+    }
+}
+
+/* One pass over constraints[index] and its bodies. */
+KG_FN void kg_solve_constraint(KG_GLOBAL kg_contact_constraint* constraints, int index,
+                               KG_GLOBAL kg_solver_body* bodies, kg_solver_params prm, int pass)
+{
+    kg_contact_constraint c = constraints[index];
+    if (c.point_count == 0) {
+        return; /* between sleeping or frozen bodies: nothing moves */
+    }
+    kg_body_motion a = kg_motion_of(bodies, c.a), b = kg_motion_of(bodies, c.b);
+    kg_contact_pass(&c, &a, &b, prm, pass);
+    kg_store_motion(bodies, c.a, a);
+    kg_store_motion(bodies, c.b, b);
+    constraints[index] = c;
+}
+
+/* Work-item `item` of `items` in a pass over the constraints [begin, end) of a colour:
+ * every items-th from begin + item (they share no moving body); or, serial (the
+ * overflow, whose constraints may), all of them in order by work-item 0. */
+KG_FN void kg_solve_share(int item, int items, int begin, int end, int serial,
+                          KG_GLOBAL kg_contact_constraint* constraints, KG_GLOBAL kg_solver_body* bodies,
+                          kg_solver_params prm, int pass)
+{
+    int step = serial ? 1 : items;
+    for (int j = begin + item; (!serial || item == 0) && j < end; j += step) {
+        kg_solve_constraint(constraints, j, bodies, prm, pass);
+    }
+}
+
+/* Constraint c's impulses back into its contact. */
+KG_FN void kg_store_impulses_of(KG_GLOBAL const kg_contact_constraint* c, KG_GLOBAL kg_contact* contacts)
+{
+    for (int j = 0; j < c->point_count; ++j) {
+        KG_GLOBAL const kg_constraint_point* p = &c->points[j];
+        kg_store_point(&contacts[c->contact].manifold.points[j], p->normal_impulse, p->tangent_impulse,
+                       p->relative_velocity);
+    }
+}
+
 #endif

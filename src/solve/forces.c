@@ -1,7 +1,6 @@
 #include "solve/forces.h"
 #include "core/alloc.h"
 #include "core/error.h"
-#include "solve/body_step.h"
 
 #include <math.h>
 #include <string.h>
@@ -122,12 +121,18 @@ int kg_applicator_targets(kg_world* world, const kg_applicator_slot* a)
     return n;
 }
 
+kg_builtin_force kg_builtin_force_of(const kg_applicator_slot* a)
+{
+    kg_builtin_force f = {a->vector, a->strength, a->drag, a->kind == KG_APPLICATOR_GRAVITY, 0};
+    return f;
+}
+
 static void kg_apply_builtin(kg_body_pool* p, const kg_applicator_slot* a, const kg_body* targets, int count)
 {
-    int gravity = a->kind == KG_APPLICATOR_GRAVITY;
+    kg_builtin_force f = kg_builtin_force_of(a);
     for (int k = 0; k < count; ++k) {
-        kg_builtin_force_on(targets[k].index, 1u, gravity, a->vector, a->strength, a->drag, p->flags, p->mass,
-                            p->force, p->drag);
+        kg_force_target t = {targets[k].index, 1u};
+        kg_builtin_force_on(t, f, p->flags, p->mass, p->force, p->drag);
     }
 }
 

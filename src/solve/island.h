@@ -1,7 +1,8 @@
 /* Islands and rest: sleeping's rules, shared by the CPU backend (solve/sleep.c) and the
  * kernels (backend/opencl/kernels/kg_sleep.cl): when a body counts as at rest, which
  * contacts wake a sleeping island, and the union-find that groups bodies into islands
- * (bodies linked by contacts). docs/design.md, "Sleeping", tells the whole. */
+ * (bodies linked by contacts), serially on the CPU, by one work-group on the device.
+ * docs/design.md, "Sleeping", tells the whole. */
 #ifndef KG_ISLAND_H
 #define KG_ISLAND_H
 
@@ -91,6 +92,27 @@ KG_FN int kg_stirring_kinematic(KG_GLOBAL const kg_u32* flags, KG_GLOBAL const k
            kg_flags_stir(flags[slot], velocity[slot], omega[slot]);
 }
 
+/* Slot i before the islands are found: an island of its own, no rest time yet. */
+KG_FN void kg_island_reset(kg_u32 i, KG_GLOBAL kg_u32* parent, KG_GLOBAL float* least)
+{
+    parent[i] = i;
+    least[i] = KG_FLT_MAX;
+}
+
+/* Contact k, once every islander's parent is its island's root: a moving kinematic body
+ * keeps the island it touches awake (its least rest time zero) without joining it. */
+KG_FN void kg_kinematic_stirs(int k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                              KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
+                              KG_GLOBAL const kg_u32* parent, KG_GLOBAL float* least)
+{
+    kg_u32 a = contacts[k].a, b = contacts[k].b;
+    if (kg_stirring_kinematic(flags, velocity, omega, a) && kg_islander(flags, b)) {
+        least[parent[b]] = 0.0f;
+    } else if (kg_stirring_kinematic(flags, velocity, omega, b) && kg_islander(flags, a)) {
+        least[parent[a]] = 0.0f;
+    }
+}
+
 /* The islands of a step's contacts, serially, in contact and slot order: every colliding
  * body's parent becomes its island's root (the lowest slot), and least[root] the
  * shortest rest time of the island's bodies; a moving kinematic body keeps what it
@@ -100,8 +122,7 @@ KG_FN void kg_link_islands(int bodies, int count, KG_GLOBAL const kg_contact* co
                            KG_GLOBAL const float* sleep_time, KG_GLOBAL kg_u32* parent, KG_GLOBAL float* least)
 {
     for (int i = 0; i < bodies; ++i) {
-        parent[i] = (kg_u32)i;
-        least[i] = KG_FLT_MAX;
+        kg_island_reset((kg_u32)i, parent, least);
     }
     for (int k = 0; k < count; ++k) {
         kg_u32 a = contacts[k].a, b = contacts[k].b;
@@ -117,19 +138,76 @@ KG_FN void kg_link_islands(int bodies, int count, KG_GLOBAL const kg_contact* co
         }
     }
     for (int k = 0; k < count; ++k) {
-        kg_u32 a = contacts[k].a, b = contacts[k].b;
-        if (kg_stirring_kinematic(flags, velocity, omega, a) && kg_islander(flags, b)) {
-            least[kg_island_root(parent, b)] = 0.0f;
-        } else if (kg_stirring_kinematic(flags, velocity, omega, b) && kg_islander(flags, a)) {
-            least[kg_island_root(parent, a)] = 0.0f;
-        }
+        kg_kinematic_stirs(k, contacts, flags, velocity, omega, parent, least);
     }
 }
 
-/* After kg_link_islands: an awake body whose whole island rested time_to_sleep. */
-KG_FN int kg_falls_asleep(kg_u32 f, kg_u32 root, KG_GLOBAL const float* least, float time_to_sleep)
+/* The root above slot i, read only (on the device hooks may be moving it meanwhile:
+ * every value read is an ancestor, so the walk ends). */
+KG_FN kg_u32 kg_island_top(KG_GLOBAL const kg_u32* parent, kg_u32 i)
 {
-    return kg_flags_simulated(f) && least[root] >= time_to_sleep;
+    while (parent[i] != i) {
+        i = parent[i];
+    }
+    return i;
+}
+
+/* Contact k between two islanders hooks their islands, the higher root under the lower
+ * (an atomic min): roots only move down, so no cycle forms, and an island's root ends as
+ * its lowest slot whatever the order. Returns whether it hooked. */
+KG_FN int kg_hook_islands(int k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                          KG_GLOBAL kg_u32* parent)
+{
+    kg_u32 a = contacts[k].a, b = contacts[k].b;
+    if (!kg_islander(flags, a) || !kg_islander(flags, b)) {
+        return 0;
+    }
+    kg_u32 ra = kg_island_top(parent, a), rb = kg_island_top(parent, b);
+    if (ra != rb) {
+        kg_atomic_min_u32(&parent[ra > rb ? ra : rb], ra < rb ? ra : rb);
+    }
+    return ra != rb;
+}
+
+/* kg_link_islands' results by one work-group (work-item `item` of `items`; hooked: the
+ * group's shared flag): rounds of hooks, each followed by every path shortened to its
+ * root, until a round hooks nothing; then each island's least rest time by atomic
+ * minima, and zero where a moving kinematic body touches the island. */
+KG_FN void kg_find_islands_in_group(int item, int items, KG_LOCAL int* hooked, int bodies, int count,
+                                    KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                                    KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
+                                    KG_GLOBAL const float* sleep_time, KG_GLOBAL kg_u32* parent,
+                                    KG_GLOBAL float* least)
+{
+    for (int i = item; i < bodies; i += items) {
+        kg_island_reset((kg_u32)i, parent, least);
+    }
+    do {
+        kg_group_barrier(); /* every work-item has read last round's flag */
+        *hooked = 0;
+        kg_group_barrier();
+        int mine = 0;
+        for (int k = item; k < count; k += items) {
+            mine |= kg_hook_islands(k, contacts, flags, parent);
+        }
+        if (mine) {
+            *hooked = 1;
+        }
+        kg_group_barrier();
+        for (int i = item; i < bodies; i += items) {
+            parent[i] = kg_island_top(parent, (kg_u32)i);
+        }
+    } while (*hooked);
+    kg_group_barrier();
+    for (int i = item; i < bodies; i += items) {
+        if (kg_flags_collide(flags[i])) {
+            kg_atomic_min_unsigned_float(&least[parent[i]], sleep_time[i]);
+        }
+    }
+    kg_group_barrier();
+    for (int k = item; k < count; k += items) {
+        kg_kinematic_stirs(k, contacts, flags, velocity, omega, parent, least);
+    }
 }
 
 /* Body i wakes: awake, its rest timer restarted. */
@@ -154,6 +232,29 @@ KG_FN void kg_sleep_body(kg_u32 i, kg_u32 island_id, KG_GLOBAL kg_u32* flags, KG
     KG_PRIVATE_VIEW(kg_shape, s, shape[i]);
     xf[i] = t;
     aabb[i] = kg_shape_aabb(s, t);
+}
+
+/* Body i, asleep, wakes when its island is marked. */
+KG_FN void kg_wake_if_marked(kg_u32 i, KG_GLOBAL kg_u32* flags, KG_GLOBAL const kg_u32* island,
+                             KG_GLOBAL const kg_u32* marks, KG_GLOBAL float* sleep_time)
+{
+    if (kg_flags_asleep(flags[i]) && marks[island[i]]) {
+        kg_wake_body(i, flags, sleep_time);
+    }
+}
+
+/* Once the islands are found (parent: each body's root, least: per root): an awake body
+ * whose whole island rested time_to_sleep falls asleep. */
+KG_FN void kg_fall_asleep_if_rested(kg_u32 i, float time_to_sleep, KG_GLOBAL const kg_u32* parent,
+                                    KG_GLOBAL const float* least, KG_GLOBAL kg_u32* flags, KG_GLOBAL kg_u32* island,
+                                    KG_GLOBAL kg_vec2* velocity, KG_GLOBAL float* omega,
+                                    KG_GLOBAL const kg_vec2* center, KG_GLOBAL const kg_rot* rot,
+                                    KG_GLOBAL const kg_vec2* local_center, KG_GLOBAL const kg_shape* shape,
+                                    KG_GLOBAL kg_xf* xf, KG_GLOBAL kg_aabb* aabb)
+{
+    if (kg_flags_simulated(flags[i]) && least[parent[i]] >= time_to_sleep) {
+        kg_sleep_body(i, parent[i], flags, island, velocity, omega, center, rot, local_center, shape, xf, aabb);
+    }
 }
 
 #endif

@@ -85,9 +85,7 @@ void kg_stage_wake(kg_world* world)
         kg_mark_woken(contacts[k].a, contacts[k].b, p->flags, p->velocity, p->omega, p->island, s->wake);
     }
     for (int i = 0; i < p->high_water; ++i) {
-        if (kg_pool_asleep(p, i) && s->wake[p->island[i]]) {
-            kg_wake_slot(p, i);
-        }
+        kg_wake_if_marked((kg_u32)i, p->flags, p->island, s->wake, p->sleep_time);
     }
     for (int i = 0; i < p->high_water; ++i) {
         s->wake[i] = 0u;
@@ -106,9 +104,7 @@ void kg_stage_sleep(kg_world* world)
     kg_link_islands(p->high_water, count, contacts, p->flags, p->velocity, p->omega, p->sleep_time, s->parent,
                     s->least);
     for (int i = 0; i < p->high_water; ++i) {
-        if (kg_falls_asleep(p->flags[i], s->parent[i], s->least, world->def.time_to_sleep)) {
-            kg_sleep_body((kg_u32)i, s->parent[i], p->flags, p->island, p->velocity, p->omega, p->center, p->rot,
-                          p->local_center, p->shape, p->xf, p->aabb);
-        }
+        kg_fall_asleep_if_rested((kg_u32)i, world->def.time_to_sleep, s->parent, s->least, p->flags, p->island,
+                                 p->velocity, p->omega, p->center, p->rot, p->local_center, p->shape, p->xf, p->aabb);
     }
 }

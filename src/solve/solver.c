@@ -121,9 +121,7 @@ typedef struct kg_body_job {
     kg_solver_body* bodies;
     kg_velocity_step* velocity_steps;
     kg_integrate_params prm;
-    float dt; /* of the whole step */
-    int sleep; /* kg_world_def.enable_sleep: rest timers are kept */
-    float sleep_speed;
+    kg_rest_params rest;
 } kg_body_job;
 
 static void kg_warn_frozen(int i) { kg_warn_once("non-finite", "body %d got a non-finite state and was frozen", i); }
@@ -152,12 +150,8 @@ static void kg_integrate_velocities(void* context, int begin, int end)
 static void kg_integrate_positions(void* context, int begin, int end)
 {
     kg_body_job* job = context;
-    const kg_body_pool* p = job->pool;
     for (int i = begin; i < end; ++i) {
-        if (kg_pool_moves(p, i)) {
-            kg_body_motion* m = &job->bodies[i].motion;
-            kg_integrate_position(&m->dp, &m->dq, m->v, m->w, job->prm.h);
-        }
+        kg_integrate_body_position((kg_u32)i, job->prm.h, job->pool->flags, job->bodies);
     }
 }
 
@@ -166,8 +160,8 @@ static void kg_store_bodies(void* context, int begin, int end)
     kg_body_job* job = context;
     kg_body_pool* p = job->pool;
     for (int i = begin; i < end; ++i) {
-        kg_store_body((kg_u32)i, job->sleep, job->dt, job->sleep_speed, p->flags, job->bodies, p->velocity, p->omega,
-                      p->center, p->rot, p->shape, p->local_center, p->sleep_time);
+        kg_store_body((kg_u32)i, job->rest, p->flags, job->bodies, p->velocity, p->omega, p->center, p->rot, p->shape,
+                      p->local_center, p->sleep_time);
     }
 }
 
@@ -344,6 +338,12 @@ static kg_result kg_plan_blocks(struct kg_solver* s)
     return r;
 }
 
+kg_rest_params kg_rest_params_of(const kg_world_def* def, float dt)
+{
+    kg_rest_params rest = {dt, def->sleep_speed, def->enable_sleep};
+    return rest;
+}
+
 kg_solver_params kg_solver_params_of(const kg_world_def* def, float h)
 {
     kg_solver_params prm;
@@ -373,8 +373,8 @@ void kg_stage_solve(kg_world* world, float dt)
     int n = world->def.substeps;
     float h = dt / (float)n;
     kg_body_pool* p = &world->bodies;
-    kg_body_job bjob = {p, s->bodies, s->velocity_steps, {world->def.gravity, h, world->def.max_linear_speed}, dt,
-                        world->def.enable_sleep, world->def.sleep_speed};
+    kg_body_job bjob = {p, s->bodies, s->velocity_steps, {world->def.gravity, h, world->def.max_linear_speed},
+                        kg_rest_params_of(&world->def, dt)};
     atomic_int bounces = 0;
     kg_constraint_job cjob = {p, s->bodies, contacts, s, 0, &bounces, kg_solver_params_of(&world->def, h), KG_PASS_SOLVE};
 

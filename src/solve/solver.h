@@ -4,7 +4,7 @@
 #define KG_SOLVER_H
 
 #include "core/world.h"
-#include "solve/contact_solver.h"
+#include "solve/body_step.h"
 
 kg_result kg_solver_create(kg_world* world);
 void kg_solver_destroy(kg_world* world);
@@ -12,6 +12,8 @@ void kg_stage_solve(kg_world* world, float dt);
 
 /* The solver's parameters for sub-steps of length h: both backends use this one. */
 kg_solver_params kg_solver_params_of(const kg_world_def* def, float h);
+/* How the end of a step of dt keeps the rest timers: both backends use this one. */
+kg_rest_params kg_rest_params_of(const kg_world_def* def, float dt);
 
 /* Stage 4: derived state (origin transforms, bounds), forces cleared, and bodies whose
  * state became non-finite frozen so they cannot poison their neighbours. */

@@ -152,10 +152,9 @@ void kg_cl_backend_stop(kg_world* world)
     kg_cl_world_destroy(b->w);
     kg_free(b->force_kernels);
     kg_free(b->force_group_sizes);
-    kg_free(b->force_params);
     kg_free(b->start_force);
     kg_free(b->start_torque);
-    kg_free(b->target_pairs);
+    kg_free(b->targets);
     kg_free(b->color_scratch);
     kg_graph_coloring_free(&b->coloring);
     kg_free(b);
@@ -370,10 +369,9 @@ static kg_result kg_cl_backend_alloc(const kg_world* world, kg_cl_backend** out)
     size_t slots = (size_t)world->def.max_applicators + 1u, bodies = (size_t)world->def.max_bodies;
     b->force_kernels = kg_alloc_zeroed(slots * sizeof *b->force_kernels);
     b->force_group_sizes = kg_alloc_zeroed(slots * sizeof *b->force_group_sizes);
-    b->force_params = kg_alloc_zeroed(slots * sizeof *b->force_params);
     b->start_force = kg_alloc_zeroed(bodies * sizeof *b->start_force);
     b->start_torque = kg_alloc_zeroed(bodies * sizeof *b->start_torque);
-    int ok = b->force_kernels && b->force_group_sizes && b->force_params && b->start_force && b->start_torque;
+    int ok = b->force_kernels && b->force_group_sizes && b->start_force && b->start_torque;
     return ok ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the OpenCL backend");
 }
 
@@ -408,10 +406,6 @@ void kg_cl_release_device_force(kg_cl_backend* b, int slot)
         b->w->cl->ReleaseKernel(b->force_kernels[slot]);
         b->force_kernels[slot] = NULL;
     }
-    if (b->force_params[slot]) {
-        b->w->cl->ReleaseMemObject(b->force_params[slot]);
-        b->force_params[slot] = NULL;
-    }
 }
 
 kg_result kg_cl_prepare_device_force(kg_world* world, kg_cl_backend* b, int slot)
@@ -431,18 +425,10 @@ kg_result kg_cl_prepare_device_force(kg_world* world, kg_cl_backend* b, int slot
     }
     b->force_group_sizes[slot] = kg_cl_pick_group_size(b->w, b->force_kernels[slot]);
     r = kg_cl_check_arg_count(b->w, b->force_kernels[slot], KG_CL_DEVICE_FORCE_KERNEL, KG_CL_DEVICE_FORCE_ARGS);
-    if (r == KG_OK) {
-        r = kg_cl_buffer(b->w, sizeof f->params, &b->force_params[slot]);
-    }
-    if (r == KG_OK) {
-        r = kg_cl_write(b->w, b->force_params[slot], 0, sizeof f->params, f->params, 1);
-    }
     if (r != KG_OK) {
         kg_cl_release_device_force(b, slot);
-        return r;
     }
-    f->params_changed = 0;
-    return KG_OK;
+    return r;
 }
 
 /* Compiles a newly registered device force on the world's device: a build error is the

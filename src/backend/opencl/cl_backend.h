@@ -12,15 +12,14 @@
 typedef struct kg_cl_backend {
     kg_cl_world* w;
     /* host scratch, grown (never in a steady state) when a step needs more */
-    cl_uint* target_pairs;           /* (slot, multiplicity) lists of this step's applicators */
-    int target_pair_capacity;
+    kg_force_target* targets;        /* the lists of this step's applicators */
+    int target_capacity;
     int* color_scratch;
     int color_capacity;
     kg_graph_coloring coloring;
     kg_solver_params solver_params;  /* the step's, read by a non-blocking write */
     cl_kernel* force_kernels;        /* per applicator slot, for device forces */
     size_t* force_group_sizes;
-    cl_mem* force_params;
     int steps_since_snapshot;        /* steps since the host last had the whole state */
     int frozen_count;                /* frozen bodies the host knows of, to warn of new ones */
     int checkpoint_valid;            /* this step's start state is saved on the device */
@@ -85,9 +84,9 @@ void kg_cl_commit_tile_state(kg_cl_backend* b);
 /* Reads the last step's contacts into the host's list, if it lacks them. */
 kg_result kg_cl_read_contacts(kg_world* world, kg_cl_backend* b);
 
-/* Builds the program of the device force in slot, its kernel and its parameter buffer. */
+/* Builds the program of the device force in slot and its kernel. */
 kg_result kg_cl_prepare_device_force(kg_world* world, kg_cl_backend* b, int slot);
-/* The device forces' kernels and buffers of slots no longer holding one are released. */
+/* The device forces' kernels of slots no longer holding one are released. */
 void kg_cl_release_device_force(kg_cl_backend* b, int slot);
 
 /* Warns, as the CPU backend does, of bodies the device froze (non-finite state) since the

@@ -193,20 +193,20 @@ static kg_result kg_collide_tiles(kg_world* world, kg_cl_backend* b, int capacit
     kg_collision_contacts(world, &previous_count);
     cl_mem previous = w->contacts[w->current], next = w->contacts[w->current ^ 1];
     int in = c->tile_state, out = c->tile_state ^ 1;
-    for (int write = 0; write < 2; ++write) {
-        if (write) {
+    kg_tile_pass_params prm = {maps, world->def.speculative_distance, world->def.linear_slop, b->body_contact_count,
+                               previous_count, (kg_u32)capacity, 0};
+    for (prm.write = 0; prm.write < 2; ++prm.write) {
+        if (prm.write) {
             KG_TRY(kg_cl_scan(w, c->tile_run, c->tile_run, slots, KG_CC_TILES, label));
             KG_LAUNCH(w, TILE_TOTAL, 1, label, KG_INT(capacity), KG_MEM(c->counts));
         }
-        KG_LAUNCH(w, TILE_COLLIDE_BODIES, slots, label, KG_INT(slots), KG_INT(write),
-                  KG_FLOAT(world->def.speculative_distance), KG_FLOAT(world->def.linear_slop), KG_INT(maps),
-                  KG_MEM(c->tile_maps), KG_MEM(c->tile_cells), KG_MEM(c->tile_protos), KG_MEM(KG_A(FLAGS)),
-                  KG_MEM(KG_A(AABB)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(CENTER)),
-                  KG_MEM(KG_A(CATEGORY)), KG_MEM(KG_A(MASK)), KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FRICTION)),
-                  KG_MEM(KG_A(RESTITUTION)), KG_MEM(previous), KG_INT(b->body_contact_count), KG_INT(previous_count),
-                  KG_MEM(c->last_origin[in]), KG_MEM(c->last_generation[in]), KG_MEM(c->last_origin[out]),
-                  KG_MEM(c->last_generation[out]), KG_MEM(c->tile_run), KG_MEM(c->counts), KG_INT(capacity),
-                  KG_MEM(next));
+        KG_LAUNCH(w, TILE_COLLIDE_BODIES, slots, label, KG_INT(slots), KG_VALUE(prm), KG_MEM(c->tile_maps),
+                  KG_MEM(c->tile_cells), KG_MEM(c->tile_protos), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(AABB)),
+                  KG_MEM(KG_A(XF)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(CATEGORY)),
+                  KG_MEM(KG_A(MASK)), KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)),
+                  KG_MEM(previous), KG_MEM(c->last_origin[in]), KG_MEM(c->last_generation[in]),
+                  KG_MEM(c->last_origin[out]), KG_MEM(c->last_generation[out]), KG_MEM(c->tile_run),
+                  KG_MEM(c->counts), KG_MEM(next));
     }
     b->tiles_ran = 1;
     return KG_OK;
@@ -214,11 +214,52 @@ static kg_result kg_collide_tiles(kg_world* world, kg_cl_backend* b, int capacit
 
 /* ---- colouring ------------------------------------------------------------------------ */
 
-static kg_result kg_color(kg_cl_world* w, cl_mem contacts)
+/* Colouring rounds between two looks at how many contacts still wait: each look waits for
+ * the queue, and most worlds need 5 to 20 rounds (tests/test_coloring.c). */
+#define KG_COLOR_ROUNDS_PER_LOOK 4
+
+/* The rounds of solve/coloring.h until no contact waits. Every round colours at least
+ * the contact of least priority still waiting, so count rounds always end them. */
+static kg_result kg_color_in_rounds(kg_cl_world* w, cl_mem contacts, int count)
 {
     kg_cl_collide_buffers* c = &w->collide;
-    KG_LAUNCH(w, COLOR_CONTACTS, 1, "kg_color", KG_MEM(c->counts), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
-              KG_MEM(c->colors_used), KG_MEM(c->colors), KG_MEM(w->order), KG_MEM(w->color_start));
+    int bits = kg_priority_bits(count);
+    for (int round = 0; round <= count;) {
+        for (int end = round + KG_COLOR_ROUNDS_PER_LOOK; round < end; ++round) {
+            cl_mem bids = c->color_bids[round & 1], next_bids = c->color_bids[(round + 1) & 1];
+            KG_LAUNCH(w, BID_COLORS, count, "kg_color", KG_INT(count), KG_INT(bits), KG_MEM(contacts),
+                      KG_MEM(KG_A(FLAGS)), KG_MEM(c->colors), KG_MEM(bids));
+            KG_LAUNCH(w, TAKE_COLORS, count, "kg_color", KG_INT(count), KG_INT(bits), KG_INT(round),
+                      KG_MEM(contacts), KG_MEM(KG_A(FLAGS)), KG_MEM(c->colors), KG_MEM(bids), KG_MEM(next_bids),
+                      KG_MEM(c->colors_used), KG_MEM(c->counts));
+        }
+        cl_uint waiting = 0u;
+        size_t at = (size_t)(KG_CC_WAITING + ((round - 1) & 1)) * sizeof waiting;
+        KG_TRY(kg_cl_read(w, c->counts, at, sizeof waiting, &waiting));
+        if (waiting == 0u) {
+            return KG_OK;
+        }
+    }
+    return kg_fail(KG_ERROR_BACKEND, "the device's colouring did not end in %d rounds", count);
+}
+
+/* Colours count contacts: serially when they are few (w->color_serial_max), else in
+ * rounds and then sorted by colour (stable: contact order within a colour). */
+static kg_result kg_color(kg_cl_world* w, cl_mem contacts, int count)
+{
+    kg_cl_collide_buffers* c = &w->collide;
+    KG_LAUNCH(w, RESET_COLORS, count, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(c->colors),
+              KG_MEM(c->colors_used), KG_MEM(c->color_bids[0]), KG_MEM(c->color_items));
+    if (count <= w->color_serial_max) {
+        KG_LAUNCH(w, COLOR_CONTACTS, 1, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+                  KG_MEM(c->colors_used), KG_MEM(c->colors), KG_MEM(w->order), KG_MEM(w->color_start));
+        return KG_OK;
+    }
+    KG_TRY(kg_color_in_rounds(w, contacts, count));
+    KG_TRY(kg_cl_sort_pass(w, c->colors, c->color_items, c->sorted_colors, w->order, count, 0,
+                           kg_priority_bits(KG_COLOR_COUNT + 1), "kg_color"));
+    KG_LAUNCH(w, COLOR_RANGES, KG_COLOR_COUNT + 2, "kg_color", KG_INT(count), KG_MEM(c->sorted_colors),
+              KG_MEM(w->color_start));
     return KG_OK;
 }
 
@@ -236,14 +277,13 @@ static kg_result kg_read_counters(kg_cl_backend* b, int words)
     return kg_cl_read(b->w, b->w->collide.counts, 0, (size_t)words * sizeof(cl_uint), b->counters);
 }
 
-/* The colour ranges the solver's launches need, from the counters read back. */
-static void kg_take_color_ranges(kg_cl_backend* b)
+/* The colour ranges the solver's launches need, read back. */
+static kg_result kg_take_color_ranges(kg_cl_backend* b)
 {
     kg_graph_coloring* g = &b->coloring;
-    for (int c = 0; c < KG_COLOR_COUNT + 2; ++c) {
-        g->color_start[c] = (int)b->counters[KG_CC_COLOR_START + c];
-    }
+    KG_TRY(kg_cl_read(b->w, b->w->color_start, 0, sizeof g->color_start, g->color_start));
     g->color_count = kg_colors_in_use(g->color_start);
+    return KG_OK;
 }
 
 kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits)
@@ -265,7 +305,6 @@ kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits)
 kg_result kg_cl_color_on_device(kg_world* world, kg_cl_backend* b, int* count, int* body_count)
 {
     kg_cl_world* w = b->w;
-    KG_TRY(kg_color(w, w->contacts[w->current ^ 1]));
     KG_TRY(kg_read_counters(b, KG_CC_WORDS));
     *count = (int)b->counters[KG_CC_CONTACTS];
     *body_count = *count;
@@ -279,8 +318,8 @@ kg_result kg_cl_color_on_device(kg_world* world, kg_cl_backend* b, int* count, i
                          capacity - bodies);
         }
     }
-    kg_take_color_ranges(b);
-    return KG_OK;
+    KG_TRY(kg_color(w, w->contacts[w->current ^ 1], *count));
+    return kg_take_color_ranges(b);
 }
 
 kg_result kg_cl_read_contacts(kg_world* world, kg_cl_backend* b)

@@ -53,53 +53,51 @@ static void kg_add_kernel_times(kg_world* world, kg_cl_world* w)
 
 /* ---- forces ----------------------------------------------------------------------- */
 
-static int kg_pair_compare(const void* a, const void* b)
+static int kg_target_compare(const void* a, const void* b)
 {
-    cl_uint x = ((const cl_uint*)a)[0], y = ((const cl_uint*)b)[0];
+    kg_u32 x = ((const kg_force_target*)a)->slot, y = ((const kg_force_target*)b)->slot;
     return (x > y) - (x < y);
 }
 
-static kg_result kg_reserve_pairs(kg_cl_backend* b, int pairs)
+static kg_result kg_reserve_targets(kg_cl_backend* b, int targets)
 {
-    if (pairs <= b->target_pair_capacity) {
+    if (targets <= b->target_capacity) {
         return KG_OK;
     }
     /* earlier lists of this step may still be read by non-blocking writes */
     KG_TRY(kg_cl_finish(b->w));
-    cl_uint* grown = kg_alloc_zeroed((size_t)pairs * 2u * sizeof *grown);
+    kg_force_target* grown = kg_alloc_zeroed((size_t)targets * sizeof *grown);
     if (!grown) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate applicator targets");
     }
-    kg_free(b->target_pairs);
-    b->target_pairs = grown;
-    b->target_pair_capacity = pairs;
+    kg_free(b->targets);
+    b->targets = grown;
+    b->target_capacity = targets;
     return KG_OK;
 }
 
-/* The live bodies of an applicator's list as (slot, multiplicity) pairs sorted by slot,
- * written at pairs[*used]; *count gets how many. A body listed n times is one pair with
- * multiplicity n: the kernel adds its force n times in sequence, as the CPU loop does. */
+/* The live bodies of an applicator's list as targets sorted by slot, written at
+ * targets[*used]; *count gets how many. A body listed n times is one target repeated n
+ * times: the kernel adds its force n times in sequence, as the CPU loop does. */
 static kg_result kg_list_targets(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, int* used, int* count)
 {
-    KG_TRY(kg_reserve_pairs(b, *used + a->body_count));
-    cl_uint* out = b->target_pairs + 2 * *used;
+    KG_TRY(kg_reserve_targets(b, *used + a->body_count));
+    kg_force_target* out = b->targets + *used;
     int n = 0;
     for (int k = 0; k < a->body_count; ++k) {
         if (kg_body_is_valid(world, a->bodies[k])) {
-            out[2 * n] = a->bodies[k].index;
-            out[2 * n + 1] = 1u;
+            out[n].slot = a->bodies[k].index;
+            out[n].repeat = 1u;
             n++;
         }
     }
-    qsort(out, (size_t)n, 2 * sizeof *out, kg_pair_compare);
+    qsort(out, (size_t)n, sizeof *out, kg_target_compare);
     int unique = 0;
     for (int k = 0; k < n; ++k) {
-        if (unique > 0 && out[2 * (unique - 1)] == out[2 * k]) {
-            out[2 * (unique - 1) + 1] += 1u;
+        if (unique > 0 && out[unique - 1].slot == out[k].slot) {
+            out[unique - 1].repeat += 1u;
         } else {
-            out[2 * unique] = out[2 * k];
-            out[2 * unique + 1] = 1u;
-            unique++;
+            out[unique++] = out[k];
         }
     }
     *count = unique;
@@ -110,7 +108,7 @@ static kg_result kg_list_targets(kg_world* world, kg_cl_backend* b, const kg_app
  * targets): *all when it applies to every slot, else its list written to w->targets;
  * *count, the work-item count. Each list is written from its own range of the host
  * scratch (a non-blocking write reads it later); on the device they all go to the start
- * of the targets buffer, which the in-order queue makes safe. A list has at most one pair
+ * of the targets buffer, which the in-order queue makes safe. A list has at most one target
  * per slot, so the buffer, sized max_bodies, always holds it. */
 static kg_result kg_write_targets(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, int* used,
                                   int* count, int* all)
@@ -120,7 +118,7 @@ static kg_result kg_write_targets(kg_world* world, kg_cl_backend* b, const kg_ap
     *count = world->bodies.high_water;
     if (!*all) {
         KG_TRY(kg_list_targets(world, b, a, used, count));
-        KG_TRY(kg_cl_write(w, w->targets, 0, (size_t)*count * 2u * sizeof(cl_uint), b->target_pairs + 2 * *used, 0));
+        KG_TRY(kg_cl_write(w, w->targets, 0, (size_t)*count * sizeof *b->targets, b->targets + *used, 0));
         *used += *count;
     }
     return KG_OK;
@@ -131,10 +129,9 @@ static kg_result kg_run_builtin_force(kg_world* world, kg_cl_backend* b, const k
     kg_cl_world* w = b->w;
     int count = 0, all = 0;
     KG_TRY(kg_write_targets(world, b, a, used, &count, &all));
-    KG_LAUNCH(w, APPLY_BUILTIN_FORCE, count, NULL, KG_INT(count), KG_INT(all), KG_MEM(w->targets),
-              KG_INT(a->kind == KG_APPLICATOR_GRAVITY), KG_FLOAT(a->vector.x), KG_FLOAT(a->vector.y),
-              KG_FLOAT(a->strength), KG_FLOAT(a->drag), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(MASS)), KG_MEM(KG_A(FORCE)),
-              KG_MEM(KG_A(DRAG)));
+    kg_builtin_force f = kg_builtin_force_of(a);
+    KG_LAUNCH(w, APPLY_BUILTIN_FORCE, count, NULL, KG_INT(count), KG_INT(all), KG_MEM(w->targets), KG_VALUE(f),
+              KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(MASS)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(DRAG)));
     return KG_OK;
 }
 
@@ -144,14 +141,10 @@ static kg_result kg_run_device_force(kg_world* world, kg_cl_backend* b, int slot
     if (!b->force_kernels[slot]) {
         KG_TRY(kg_cl_prepare_device_force(world, b, slot));
     }
-    if (f->params_changed) {
-        KG_TRY(kg_cl_write(w, b->force_params[slot], 0, sizeof f->params, f->params, 1));
-        f->params_changed = 0;
-    }
     int count = 0, all = 0;
     KG_TRY(kg_write_targets(world, b, &world->applicators[slot], used, &count, &all));
     KG_LAUNCH_DEVICE_FORCE(w, b->force_kernels[slot], b->force_group_sizes[slot], count, f->function_name,
-                           KG_INT(count), KG_INT(all), KG_MEM(w->targets), KG_MEM(b->force_params[slot]),
+                           KG_INT(count), KG_INT(all), KG_MEM(w->targets), KG_VALUE(f->params),
                            KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(VELOCITY)),
                            KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(MASS)), KG_MEM(KG_A(INERTIA)), KG_MEM(KG_A(FORCE)),
                            KG_MEM(KG_A(TORQUE)));
@@ -295,10 +288,10 @@ static kg_result kg_run_pass(kg_cl_backend* b, int pass)
 }
 
 /* One sub-step's velocities: gravity, forces and damping (solve/integrate.h). */
-static kg_result kg_integrate_velocities(kg_cl_world* w, int bodies, kg_integrate_params ip)
+static kg_result kg_integrate_velocities(kg_cl_world* w, int bodies, const kg_integrate_params* ip)
 {
-    KG_LAUNCH(w, INTEGRATE_VELOCITIES, bodies, NULL, KG_INT(bodies), KG_FLOAT(ip.h), KG_FLOAT(ip.max_linear_speed),
-              KG_MEM(w->solver_bodies), KG_MEM(w->velocity_steps));
+    KG_LAUNCH(w, INTEGRATE_VELOCITIES, bodies, NULL, KG_INT(bodies), KG_VALUE(*ip), KG_MEM(w->solver_bodies),
+              KG_MEM(w->velocity_steps));
     return KG_OK;
 }
 
@@ -331,19 +324,18 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     kg_integrate_params ip = {def->gravity, h, def->max_linear_speed};
     b->solver_params = kg_solver_params_of(def, h);
     KG_TRY(kg_cl_write(w, w->solver_params, 0, sizeof b->solver_params, &b->solver_params, 0));
-    KG_LAUNCH(w, LOAD_BODIES, bodies, NULL, KG_INT(bodies), KG_FLOAT(ip.gravity.x), KG_FLOAT(ip.gravity.y),
-              KG_FLOAT(ip.h), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)),
-              KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(XF)),
-              KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(w->solver_bodies), KG_MEM(KG_A(DRAG)), KG_MEM(KG_A(INV_MASS)),
-              KG_MEM(KG_A(INV_INERTIA)), KG_MEM(KG_A(LINEAR_DAMPING)), KG_MEM(KG_A(ANGULAR_DAMPING)),
-              KG_MEM(w->velocity_steps));
+    KG_LAUNCH(w, LOAD_BODIES, bodies, NULL, KG_INT(bodies), KG_VALUE(ip), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)),
+              KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(CENTER)),
+              KG_MEM(KG_A(XF)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(w->solver_bodies), KG_MEM(KG_A(DRAG)),
+              KG_MEM(KG_A(INV_MASS)), KG_MEM(KG_A(INV_INERTIA)), KG_MEM(KG_A(LINEAR_DAMPING)),
+              KG_MEM(KG_A(ANGULAR_DAMPING)), KG_MEM(w->velocity_steps));
     KG_LAUNCH(w, PREPARE_CONTACTS, count, NULL, KG_INT(count), KG_MEM(w->solver_params), KG_MEM(contacts),
               KG_MEM(w->constraints), KG_MEM(w->solver_bodies), KG_MEM(KG_A(INV_MASS)), KG_MEM(KG_A(INV_INERTIA)),
               KG_MEM(KG_A(XF)), KG_MEM(KG_A(CENTER)));
     KG_LAUNCH(w, GATHER_COLORED, count, NULL, KG_INT(count), KG_MEM(w->order), KG_MEM(w->constraints),
               KG_MEM(w->colored));
     for (int step = 0; step < n; ++step) {
-        KG_TRY(kg_integrate_velocities(w, bodies, ip));
+        KG_TRY(kg_integrate_velocities(w, bodies, &ip));
         KG_TRY(kg_run_pass(b, KG_PASS_WARM_START));
         KG_TRY(kg_run_pass(b, KG_PASS_SOLVE));
         KG_LAUNCH(w, INTEGRATE_POSITIONS, bodies, NULL, KG_INT(bodies), KG_FLOAT(h), KG_MEM(KG_A(FLAGS)),
@@ -352,11 +344,10 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     }
     KG_TRY(kg_run_pass(b, KG_PASS_RESTITUTION));
     KG_LAUNCH(w, STORE_IMPULSES, count, NULL, KG_INT(count), KG_MEM(w->colored), KG_MEM(contacts));
-    /* the rest timers advance by dt of the whole step (solve/island.h) */
-    KG_LAUNCH(w, STORE_BODIES, bodies, NULL, KG_INT(bodies), KG_INT(def->enable_sleep), KG_FLOAT(dt),
-              KG_FLOAT(def->sleep_speed), KG_MEM(KG_A(FLAGS)), KG_MEM(w->solver_bodies), KG_MEM(KG_A(VELOCITY)),
-              KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(SHAPE)),
-              KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(KG_A(SLEEP_TIME)));
+    kg_rest_params rest = kg_rest_params_of(def, dt);
+    KG_LAUNCH(w, STORE_BODIES, bodies, NULL, KG_INT(bodies), KG_VALUE(rest), KG_MEM(KG_A(FLAGS)),
+              KG_MEM(w->solver_bodies), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(CENTER)),
+              KG_MEM(KG_A(ROT)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(KG_A(SLEEP_TIME)));
     return KG_OK;
 }
 

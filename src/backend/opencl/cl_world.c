@@ -6,9 +6,12 @@
 #include "core/alloc.h"
 #include "core/error.h"
 #include "solve/contact_solver.h"
+#include "solve/force_body.h"
 #include "solve/graph_color.h"
 #include "solve/integrate.h"
 
+#include <limits.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* Work-group size aimed at: a multiple of every GPU's SIMD width (32 or 64), and large
@@ -446,6 +449,8 @@ static kg_result kg_cl_create_collide_buffers(kg_cl_world* w, int slots)
         {&c->run, (n + 1) * words},
         {&c->run_fill, n * words},
         {&c->colors_used, n * words},
+        {&c->color_bids[0], n * words},
+        {&c->color_bids[1], n * words},
         {&c->block_sums, KG_SCAN_MAX_BLOCKS * words},
         {&c->sort_counts, KG_SORT_COUNT_WORDS * words},
         {&c->tile_run, (n + 1) * words},
@@ -474,7 +479,7 @@ static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
         {&w->velocity_steps, (size_t)pool->capacity * sizeof(kg_velocity_step)},
         {&w->solver_params, sizeof(kg_solver_params)},
         {&w->color_start, (KG_COLOR_COUNT + 2) * sizeof(int)},
-        {&w->targets, (size_t)pool->capacity * 2u * sizeof(cl_uint)},
+        {&w->targets, (size_t)pool->capacity * sizeof(kg_force_target)},
         {&w->wake_marks, (size_t)pool->capacity * sizeof(cl_uint)},
         {&w->island_parent, (size_t)pool->capacity * sizeof(kg_u32)},
         {&w->island_least, (size_t)pool->capacity * sizeof(float)},
@@ -498,7 +503,8 @@ static void kg_cl_release_contact_buffers(kg_cl_world* w)
 {
     kg_cl_collide_buffers* c = &w->collide;
     cl_mem* list[] = {&w->contacts[0], &w->contacts[1], &w->constraints, &w->colored, &w->order,
-                      &c->raw_pairs, &c->pairs, &c->manifolds, &c->bases, &c->touching, &c->colors};
+                      &c->raw_pairs, &c->pairs, &c->manifolds, &c->bases, &c->touching, &c->colors,
+                      &c->color_items, &c->sorted_colors};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
         kg_cl_release(w, list[k]);
     }
@@ -527,12 +533,29 @@ kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
         {&c->bases, n * sizeof(kg_contact_base)},
         {&c->touching, (n + 1) * words},
         {&c->colors, n * words},
+        {&c->color_items, n * words},
+        {&c->sorted_colors, n * words},
     };
     kg_result r = kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
     if (r == KG_OK) {
         w->contact_capacity = (int)n;
     }
     return r;
+}
+
+/* How many contacts one work-item colours (solve/coloring.h), past which the device
+ * colours in rounds: on a GPU KG_COLOR_SERIAL_MAX, where rounds use its thousands of
+ * lanes; on a CPU device any number, as a work-item there runs as fast as a host thread
+ * and each round costs two launches (on PoCL, rain_4000: 1.0 ms a step more in rounds).
+ * KGYRO_CL_COLOR_SERIAL_MAX sets it, for tests of the rounds on a CPU device. */
+static int kg_cl_color_serial_max(const kg_cl_device* device)
+{
+    const char* forced = getenv("KGYRO_CL_COLOR_SERIAL_MAX");
+    if (forced && *forced) {
+        long max = strtol(forced, NULL, 10);
+        return max < 0 ? 0 : max > INT_MAX ? INT_MAX : (int)max;
+    }
+    return device->info.type == KG_OPENCL_DEVICE_CPU ? INT_MAX : KG_COLOR_SERIAL_MAX;
 }
 
 kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_faults* faults, kg_cl_world** out)
@@ -564,6 +587,7 @@ kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_fau
         kg_cl_world_destroy(w);
         return r;
     }
+    w->color_serial_max = kg_cl_color_serial_max(rt->device);
     /* everything the host has is newer than the empty buffers */
     w->device_stale = KG_CL_ALL_ARRAYS;
     *out = w;
@@ -602,7 +626,8 @@ void kg_cl_world_destroy(kg_cl_world* w)
     kg_cl_collide_buffers* c = &w->collide;
     cl_mem* list[] = {&c->counts, &c->proxies, &c->sorted, &c->keys, &c->items, &c->large_keys,
                       &c->large_items, &c->key_scratch, &c->item_scratch, &c->found, &c->histogram, &c->grid,
-                      &c->bounds, &c->run, &c->run_fill, &c->colors_used, &c->block_sums, &c->sort_counts, &c->tile_run,
+                      &c->bounds, &c->run, &c->run_fill, &c->colors_used, &c->color_bids[0], &c->color_bids[1],
+                      &c->block_sums, &c->sort_counts, &c->tile_run,
                       &c->last_origin[0], &c->last_origin[1], &c->last_generation[0], &c->last_generation[1],
                       &c->tile_maps, &c->tile_cells, &c->tile_protos};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {

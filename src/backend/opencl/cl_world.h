@@ -43,9 +43,9 @@ typedef enum kg_cl_array {
  * count differs from the built kernel's (CL_KERNEL_NUM_ARGS) stops the backend's start,
  * naming the kernel. */
 #define KG_CL_KERNELS(X)                                                                          \
-    X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force, 12) X(INTEGRATE_VELOCITIES, kg_integrate_velocities, 5) \
-    X(INTEGRATE_POSITIONS, kg_integrate_positions, 4) X(LOAD_BODIES, kg_load_bodies, 20)            \
-    X(STORE_BODIES, kg_store_bodies, 13)                                                          \
+    X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force, 8) X(INTEGRATE_VELOCITIES, kg_integrate_velocities, 4)  \
+    X(INTEGRATE_POSITIONS, kg_integrate_positions, 4) X(LOAD_BODIES, kg_load_bodies, 18)            \
+    X(STORE_BODIES, kg_store_bodies, 11)                                                          \
     X(PREPARE_CONTACTS, kg_prepare_contacts, 9) X(GATHER_COLORED, kg_gather_colored, 4)            \
     X(SOLVE_COLOR, kg_solve_color, 7)                                                             \
     X(SOLVE_COLORS_IN_GROUP, kg_solve_colors_in_group, 5) X(STORE_IMPULSES, kg_store_impulses, 3)  \
@@ -58,7 +58,9 @@ typedef enum kg_cl_array {
     X(BP_WRITE_PAIRS, kg_bp_write_pairs, 10) X(BP_COUNT_RUNS, kg_bp_count_runs, 3)                 \
     X(BP_SCATTER, kg_bp_scatter, 5) X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 13)                         \
     X(BUILD_CONTACTS, kg_build_contacts, 11) X(COLOR_CONTACTS, kg_color_contacts, 7)               \
-    X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 29) X(TILE_TOTAL, kg_tile_total, 2)             \
+    X(RESET_COLORS, kg_reset_colors, 6) X(BID_COLORS, kg_bid_colors, 6) X(TAKE_COLORS, kg_take_colors, 10)   \
+    X(COLOR_RANGES, kg_color_ranges, 3)               \
+    X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 23) X(TILE_TOTAL, kg_tile_total, 2)             \
     X(WAKE_TOUCHED, kg_wake_touched, 8) X(WAKE_MARKED, kg_wake_marked, 5)                          \
     X(FIND_ISLANDS, kg_find_islands, 9) X(FALL_ASLEEP, kg_fall_asleep, 14)
 
@@ -106,6 +108,8 @@ typedef struct kg_cl_collide_buffers {
     cl_mem run;            /* pairs per lower slot, then their prefix sum (slots + 1) */
     cl_mem run_fill;
     cl_mem colors_used;    /* per slot, the colours its contacts took so far */
+    cl_mem color_bids[2];  /* per slot, the least priority bid in a colouring round, this
+                            * round's and the next's */
     cl_mem block_sums;     /* KG_SCAN_MAX_BLOCKS */
     cl_mem sort_counts;    /* a sort pass's digit counts per chunk, KG_SORT_COUNT_WORDS */
     cl_mem tile_run;       /* tile contacts per slot, then their prefix sum (slots + 1) */
@@ -128,6 +132,8 @@ typedef struct kg_cl_collide_buffers {
     cl_mem bases;          /* one per pair: the manifold as computed (collide/recycle.h) */
     cl_mem touching;       /* per pair, then its prefix sum: the contact index (pairs + 1) */
     cl_mem colors;         /* colour per contact */
+    cl_mem color_items;    /* per contact, its index: what the sort by colour carries */
+    cl_mem sorted_colors;  /* the colours sorted */
 } kg_cl_collide_buffers;
 
 typedef struct kg_cl_world {
@@ -148,7 +154,8 @@ typedef struct kg_cl_world {
     cl_mem color_start;                   /* kg_graph_coloring.color_start of the step */
     int contact_capacity;
     kg_cl_collide_buffers collide;
-    cl_mem targets;                       /* applicator targets, (slot, multiplicity), max_bodies */
+    int color_serial_max;                 /* contacts coloured by one work-item at most */
+    cl_mem targets;                       /* applicator targets (solve/force_body.h), max_bodies */
     /* sleeping (kernels/kg_sleep.cl), per body slot */
     cl_mem wake_marks;                    /* per island name: to be woken this step */
     cl_mem island_parent;                 /* union-find of this step's islands */
@@ -214,6 +221,8 @@ typedef struct kg_cl_kernel_arg {
 #define KG_INT(v) {sizeof(cl_int), &(cl_int){(v)}}
 #define KG_UINT(v) {sizeof(cl_uint), &(cl_uint){(v)}}
 #define KG_FLOAT(v) {sizeof(cl_float), &(cl_float){(v)}}
+/* a struct passed by value (a shared header's, laid out alike on both sides) */
+#define KG_VALUE(lvalue) {sizeof(lvalue), &(lvalue)}
 
 /* The launch convention, the only one: every argument of the kernel set in order at the
  * call site, then the kernel launched over items work-items (rounded up to its work-group

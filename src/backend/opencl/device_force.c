@@ -26,14 +26,9 @@ void kg_device_force_on_cpu(kg_world* world, const kg_body* bodies, int count, v
     const kg_device_force* f = user_data;
     kg_body_pool* p = &world->bodies;
     for (int k = 0; k < count; ++k) {
-        int i = (int)bodies[k].index;
-        if (!kg_pool_is_simulated(p, i)) {
-            continue;
-        }
-        kg_force_body body = kg_force_body_of((kg_u32)i, p->center, p->rot, p->velocity, p->omega, p->mass, p->inertia,
-                                              p->force, p->torque);
-        f->cpu_fn(&body, f->params);
-        kg_force_body_store((kg_u32)i, &body, p->force, p->torque);
+        kg_force_target t = {bodies[k].index, 1u};
+        kg_apply_device_force(t, f->cpu_fn, f->params.values, p->flags, p->center, p->rot, p->velocity, p->omega,
+                              p->mass, p->inertia, p->force, p->torque);
     }
 }
 
@@ -125,7 +120,7 @@ kg_result kg_add_device_force_applicator(kg_world* world, const kg_device_force_
     f->cpu_fn = def->cpu_fn;
     f->source = source;
     f->function_name = name;
-    memcpy(f->params, def->params, (size_t)def->param_count * sizeof *f->params);
+    memcpy(f->params.values, def->params, (size_t)def->param_count * sizeof *def->params);
     world->applicators[out->index].user_data = f;
     r = kg_backend_prepare_device_force(world, (int)out->index);
     if (r != KG_OK) {
@@ -147,9 +142,8 @@ kg_result kg_set_device_force_params(kg_world* world, kg_applicator applicator, 
                        KG_DEVICE_FORCE_MAX_PARAMS);
     }
     kg_device_force* f = kg_device_force_of(world, (int)applicator.index);
-    memset(f->params, 0, sizeof f->params);
-    memcpy(f->params, params, (size_t)count * sizeof *params);
-    f->params_changed = 1;
+    memset(&f->params, 0, sizeof f->params);
+    memcpy(f->params.values, params, (size_t)count * sizeof *params);
     return KG_OK;
 }
 

@@ -9,14 +9,13 @@
 #include "core/kg_layout.h"
 #include "solve/coloring.h"
 
-/* The counters buffer: what the host reads back of a step, 6 + KG_COLOR_COUNT + 2 words
- * (1 and 3 unused). */
+/* The counters buffer: what the host reads back of a step (1 and 3 unused). */
 #define KG_CC_PAIRS 0        /* pairs the broadphase found, counted past the capacity */
 #define KG_CC_CONTACTS 2     /* this step's contacts: touching pairs, then tile contacts */
 #define KG_CC_TILES 4        /* tile contacts found, counted past the room left */
 #define KG_CC_BODY_CONTACTS 5 /* the touching pairs, the first contacts */
-#define KG_CC_COLOR_START 6  /* coloring.h's color_start, KG_COLOR_COUNT + 2 words */
-#define KG_CC_WORDS (KG_CC_COLOR_START + KG_COLOR_COUNT + 2)
+#define KG_CC_WAITING 6      /* contacts left uncoloured by a colouring round, 2 words */
+#define KG_CC_WORDS 8
 
 /* Prefix sums run in at most this many blocks, each summed serially by one work-item. */
 #define KG_SCAN_MAX_BLOCKS 256

@@ -3,17 +3,57 @@
 #include "solve/coloring.h"
 #include "kg_collide_shared.h"
 
-/* Colours this step's contacts (solve/coloring.h), also copying color_start into the
- * counters for the host. One work-item: greedy colouring is serial. */
-__kernel void kg_color_contacts(__global uint* counts, __global const kg_contact* contacts,
+/* Few contacts: coloured serially (solve/coloring.h). One work-item, for at most
+ * KG_COLOR_SERIAL_MAX contacts. */
+__kernel void kg_color_contacts(int count, __global const kg_contact* contacts,
                                 __global const kg_u32* flags, __global uint* used, __global int* colors,
                                 __global int* order, __global int* color_start)
 {
-    if (get_global_id(0) != 0) {
-        return;
+    if (get_global_id(0) == 0) {
+        kg_color_constraints(count, contacts, flags, used, colors, order, 0, color_start);
     }
-    kg_color_constraints((int)counts[KG_CC_CONTACTS], contacts, flags, used, colors, order, 0, color_start);
-    for (int c = 0; c < KG_COLOR_COUNT + 2; ++c) {
-        counts[KG_CC_COLOR_START + c] = (uint)color_start[c];
+}
+
+/* Many contacts: coloured in rounds (solve/coloring.h), then ordered by colour. */
+__kernel void kg_reset_colors(int count, __global const kg_contact* contacts, __global int* colors,
+                              __global uint* used, __global uint* bids, __global uint* items)
+{
+    int k = (int)get_global_id(0);
+    if (k < count) {
+        kg_color_reset((kg_u32)k, contacts, colors, used, bids);
+        items[k] = (uint)k;
+    }
+}
+
+__kernel void kg_bid_colors(int count, int bits, __global const kg_contact* contacts, __global const kg_u32* flags,
+                            __global const int* colors, __global uint* bids)
+{
+    int k = (int)get_global_id(0);
+    if (k < count) {
+        kg_color_bid((kg_u32)k, bits, contacts, flags, colors, bids);
+    }
+}
+
+/* Counts the contacts left waiting in counts[KG_CC_WAITING + round % 2], the other word
+ * cleared for the next round. */
+__kernel void kg_take_colors(int count, int bits, int round, __global const kg_contact* contacts,
+                             __global const kg_u32* flags, __global int* colors, __global const uint* bids,
+                             __global uint* next_bids, __global uint* used, __global uint* counts)
+{
+    int k = (int)get_global_id(0);
+    if (k == 0) {
+        counts[KG_CC_WAITING + ((round + 1) & 1)] = 0u;
+    }
+    if (k < count && kg_color_take((kg_u32)k, bits, contacts, flags, colors, bids, next_bids, used)) {
+        atomic_inc(&counts[KG_CC_WAITING + (round & 1)]);
+    }
+}
+
+/* Colour c's first place in the contacts sorted by colour. */
+__kernel void kg_color_ranges(int count, __global const uint* sorted_colors, __global int* color_start)
+{
+    int c = (int)get_global_id(0);
+    if (c < KG_COLOR_COUNT + 2) {
+        color_start[c] = kg_color_range_start(c, count, sorted_colors);
     }
 }

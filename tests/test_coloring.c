@@ -1,0 +1,207 @@
+/* The constraint graph colouring (solve/coloring.h) on random contact graphs: a valid
+ * colouring (no two constraints of a colour share a moving body), the greedy rule in
+ * priority order checked against a brute-force reference, and the device's rounds
+ * (replayed here with the same functions, one contact after another) giving the serial
+ * colours bit for bit in few rounds. */
+#include "kg_test.h"
+#include "solve/coloring.h"
+
+#include "core/body_flags.h"
+
+#include <stdint.h>
+
+#define MAX_BODIES 4096
+#define MAX_CONTACTS 20000
+
+typedef struct graph {
+    int body_count, contact_count;
+    kg_u32 flags[MAX_BODIES];
+    kg_contact contacts[MAX_CONTACTS];
+} graph;
+
+static graph g_graph;
+static kg_u32 g_used[MAX_BODIES];
+static int g_colors[MAX_CONTACTS], g_round_colors[MAX_CONTACTS], g_order[MAX_CONTACTS], g_rank[MAX_CONTACTS];
+static int g_color_start[KG_COLOR_COUNT + 2];
+static kg_u32 g_bids[2][MAX_BODIES];
+
+static uint32_t g_seed = 12345u;
+static uint32_t next_random(void)
+{
+    g_seed = g_seed * 1664525u + 1013904223u;
+    return g_seed >> 8;
+}
+
+/* body_count bodies, one in static_every static (0: none), contacts between random
+ * bodies near each other in slot order (a pile's contacts are local), sorted by (a, b)
+ * as collide lists them, each pair once. */
+static void make_graph(graph* g, int body_count, int contact_count, int static_every, int reach)
+{
+    memset(g, 0, sizeof *g);
+    g->body_count = body_count;
+    for (int i = 0; i < body_count; ++i) {
+        g->flags[i] = (static_every && i % static_every == 0) ? KG_FLAG_ALIVE : KG_FLAG_ALIVE | ((kg_u32)KG_BODY_DYNAMIC << KG_TYPE_SHIFT);
+    }
+    int n = 0;
+    for (kg_u32 a = 0; a < (kg_u32)body_count && n < contact_count; ++a) {
+        int per_body = (int)(next_random() % 5u);
+        for (int j = 0; j < per_body && n < contact_count; ++j) {
+            kg_u32 b = a + 1u + next_random() % (kg_u32)reach;
+            int duplicate = 0;
+            for (int k = n - 1; k >= 0 && g->contacts[k].a == a; --k) {
+                duplicate |= g->contacts[k].b == b;
+            }
+            if (b < (kg_u32)body_count && !duplicate) {
+                g->contacts[n].a = a;
+                g->contacts[n].b = b;
+                n += 1;
+            }
+        }
+    }
+    /* sort each body's run by b: insertion sort, the runs are short */
+    for (int k = 1; k < n; ++k) {
+        kg_contact c = g->contacts[k];
+        int j = k - 1;
+        while (j >= 0 && g->contacts[j].a == c.a && g->contacts[j].b > c.b) {
+            g->contacts[j + 1] = g->contacts[j];
+            j -= 1;
+        }
+        g->contacts[j + 1] = c;
+    }
+    g->contact_count = n;
+}
+
+static int moves(const graph* g, kg_u32 slot) { return kg_slot_takes_impulses(g->flags, slot); }
+
+/* The brute-force reference: contacts in priority order, each the lowest colour that no
+ * earlier contact on one of its moving bodies took. */
+static int reference_color(const graph* g, int k, const int* colors)
+{
+    int bits = kg_priority_bits(g->contact_count);
+    kg_u32 taken = 0u, mine = kg_color_priority((kg_u32)k, bits);
+    for (int j = 0; j < g->contact_count; ++j) {
+        if (kg_color_priority((kg_u32)j, bits) >= mine || colors[j] >= KG_COLOR_COUNT) {
+            continue;
+        }
+        kg_u32 a = g->contacts[j].a, b = g->contacts[j].b;
+        kg_u32 ka = g->contacts[k].a, kb = g->contacts[k].b;
+        int shares = (moves(g, a) && (a == ka || a == kb)) || (moves(g, b) && (b == ka || b == kb));
+        taken |= shares ? 1u << colors[j] : 0u;
+    }
+    kg_u32 free = ~taken & KG_ALL_COLORS;
+    return free ? kg_lowest_bit(free) : KG_COLOR_COUNT;
+}
+
+/* The device's rounds, one contact after another; returns the number of rounds. */
+static int color_in_rounds(const graph* g, int* colors)
+{
+    int count = g->contact_count, bits = kg_priority_bits(count), round = 0;
+    for (kg_u32 k = 0; k < (kg_u32)count; ++k) {
+        kg_color_reset(k, g->contacts, colors, g_used, g_bids[0]);
+    }
+    for (int waiting = 1; waiting; ++round) {
+        waiting = 0;
+        for (kg_u32 k = 0; k < (kg_u32)count; ++k) {
+            kg_color_bid(k, bits, g->contacts, g->flags, colors, g_bids[round & 1]);
+        }
+        for (kg_u32 k = 0; k < (kg_u32)count; ++k) {
+            waiting += kg_color_take(k, bits, g->contacts, g->flags, colors, g_bids[round & 1],
+                                     g_bids[(round + 1) & 1], g_used);
+        }
+    }
+    for (kg_u32 k = 0; k < (kg_u32)count; ++k) {
+        g_used[g->contacts[k].a] = 0u;
+        g_used[g->contacts[k].b] = 0u;
+    }
+    return round;
+}
+
+static void check_valid(const graph* g)
+{
+    int count = g->contact_count, overflow = 0;
+    for (int k = 0; k < count; ++k) {
+        overflow += g_colors[k] == KG_COLOR_COUNT;
+        KG_CHECK(g_order[g_rank[k]] == k);
+        KG_CHECK(g_rank[k] >= g_color_start[g_colors[k]] && g_rank[k] < g_color_start[g_colors[k] + 1]);
+    }
+    KG_CHECK(g_color_start[KG_COLOR_COUNT + 1] == count);
+    /* no colour holds two contacts on one moving body */
+    static int last_seen[MAX_BODIES];
+    for (int c = 0; c < KG_COLOR_COUNT; ++c) {
+        for (int i = 0; i < g->body_count; ++i) {
+            last_seen[i] = -1;
+        }
+        for (int at = g_color_start[c]; at < g_color_start[c + 1]; ++at) {
+            const kg_contact* ct = &g->contacts[g_order[at]];
+            kg_u32 ends[2] = {ct->a, ct->b};
+            for (int e = 0; e < 2; ++e) {
+                if (moves(g, ends[e])) {
+                    KG_CHECK(last_seen[ends[e]] != c);
+                    last_seen[ends[e]] = c;
+                }
+            }
+        }
+        for (int at = g_color_start[c] + 1; at < g_color_start[c + 1]; ++at) {
+            KG_CHECK(g_order[at - 1] < g_order[at]); /* contact order within a colour */
+        }
+    }
+    KG_CHECK(overflow == 0);
+}
+
+static void test_priority_is_a_bijection(void)
+{
+    for (int bits = 0; bits <= 16; ++bits) {
+        kg_u32 size = 1u << bits;
+        static unsigned char hit[1 << 16];
+        memset(hit, 0, size);
+        for (kg_u32 k = 0; k < size; ++k) {
+            kg_u32 p = kg_color_priority(k, bits);
+            KG_CHECK(p < size && !hit[p]);
+            hit[p < size ? p : 0] = 1;
+            KG_CHECK(kg_color_constraint_at(p, bits) == k);
+        }
+    }
+}
+
+static void test_serial_coloring_matches_the_reference(void)
+{
+    for (int trial = 0; trial < 6; ++trial) {
+        graph* g = &g_graph;
+        make_graph(g, 300 + trial * 150, MAX_CONTACTS, trial % 3 == 0 ? 0 : 7, 3 + trial * 4);
+        kg_color_constraints(g->contact_count, g->contacts, g->flags, g_used, g_colors, g_order, g_rank,
+                             g_color_start);
+        check_valid(g);
+        int mismatches = 0;
+        for (int k = 0; k < g->contact_count; ++k) {
+            mismatches += g_colors[k] != reference_color(g, k, g_colors);
+        }
+        KG_CHECK(mismatches == 0);
+        for (int i = 0; i < g->body_count; ++i) {
+            KG_CHECK(g_used[i] == 0u);
+        }
+    }
+}
+
+static void test_rounds_give_the_serial_colors(void)
+{
+    int most_rounds = 0, most_colors = 0;
+    for (int trial = 0; trial < 8; ++trial) {
+        graph* g = &g_graph;
+        make_graph(g, MAX_BODIES, MAX_CONTACTS, trial % 2 ? 9 : 0, 1 + trial * 3);
+        kg_color_constraints(g->contact_count, g->contacts, g->flags, g_used, g_colors, g_order, g_rank,
+                             g_color_start);
+        int rounds = color_in_rounds(g, g_round_colors);
+        KG_CHECK(memcmp(g_colors, g_round_colors, (size_t)g->contact_count * sizeof *g_colors) == 0);
+        most_rounds = rounds > most_rounds ? rounds : most_rounds;
+        int colors = kg_colors_in_use(g_color_start);
+        most_colors = colors > most_colors ? colors : most_colors;
+    }
+    /* a chain of contacts (reach 1: each body touches the next) in slot order would need
+     * thousands of rounds */
+    measured("colouring rounds: at most %d for up to %d contacts, %d colours\n", most_rounds, MAX_CONTACTS,
+             most_colors);
+    KG_CHECK(most_rounds <= 40);
+}
+
+KG_TEST_MAIN(KG_TEST(test_priority_is_a_bijection), KG_TEST(test_serial_coloring_matches_the_reference),
+             KG_TEST(test_rounds_give_the_serial_colors))
