@@ -173,8 +173,8 @@ static void kg_piles_scene(kg_world* world)
     for (int pile = 0; pile < 5; ++pile) {
         kg_vec2 centre = {pile == 4 ? 1.0e6f : -30.0f + 15.0f * (float)pile, 3.0f};
         for (int i = 0; i < 300; ++i) {
-            float size = kg_log_uniform(&seed, 0.005f, 2.0f);
-            kg_vec2 p = {centre.x + kg_uniform(&seed, -1.0f, 1.0f), centre.y + kg_uniform(&seed, 0.0f, 2.0f)};
+            float size = kg_log_uniform(&seed, 0.02f, 2.0f);
+            kg_vec2 p = {centre.x + kg_uniform(&seed, -2.0f, 2.0f), centre.y + kg_uniform(&seed, 0.0f, 4.0f)};
             kg_shape_def shape = i % 3 == 0 ? kg_circle_shape(0.5f * size) : kg_box_shape(size, 0.5f * size);
             kg_add(world, i % 5 == 0 ? KG_BODY_PARTICLE : KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
         }

@@ -234,14 +234,8 @@ static void kg_sort_proxies(kg_broadphase* bp)
 /* Every pair into sink: those the small entries find, then those the large ones find. */
 static void kg_find_all_pairs(const kg_broadphase* bp, kg_bp_sink* sink)
 {
-    kg_bp_view v;
-    v.grid = bp->grid;
-    v.keys = bp->keys;
-    v.sorted = bp->sorted;
-    v.small_count = bp->small_count;
-    v.large_items = bp->large_items;
-    v.proxies = bp->proxies;
-    v.large_count = bp->large_count;
+    kg_bp_view v = kg_bp_view_make(bp->grid, bp->keys, bp->sorted, bp->small_count, bp->large_items, bp->proxies,
+                                   bp->large_count);
     for (int i = 0, above = 0; i < bp->small_count; ++i) {
         above = kg_bp_find_small(sink, &v, i, above);
     }

@@ -361,21 +361,19 @@ KG_FN void kg_bp_find_large(kg_bp_sink* s, const kg_bp_view* v, int i)
     }
 }
 
-/* The view of a search over slots entries sorted with KG_BP_NOT_KEYED last (the
- * device's): the small and large counts are where those begin. */
-KG_FN kg_bp_view kg_bp_view_of_slots(kg_bp_grid grid, KG_GLOBAL const kg_u32* keys, KG_GLOBAL const kg_bp_proxy* sorted,
-                                     KG_GLOBAL const kg_u32* large_keys, KG_GLOBAL const kg_u32* large_items,
-                                     KG_GLOBAL const kg_bp_proxy* proxies, int slots)
+KG_FN kg_bp_view kg_bp_view_make(kg_bp_grid grid, KG_GLOBAL const kg_u32* keys, KG_GLOBAL const kg_bp_proxy* sorted,
+                                 int small_count, KG_GLOBAL const kg_u32* large_items,
+                                 KG_GLOBAL const kg_bp_proxy* proxies, int large_count)
 {
-    kg_bp_view v;
-    v.grid = grid;
-    v.keys = keys;
-    v.sorted = sorted;
-    v.small_count = kg_bp_lower_bound(keys, 0, slots, KG_BP_NOT_KEYED);
-    v.large_items = large_items;
-    v.proxies = proxies;
-    v.large_count = kg_bp_lower_bound(large_keys, 0, slots, KG_BP_NOT_KEYED);
+    kg_bp_view v = {grid, keys, sorted, small_count, large_items, proxies, large_count};
     return v;
+}
+
+/* Whether entry i of keys sorted with KG_BP_NOT_KEYED last (the device's lists of every
+ * slot) is the last one keyed: then i + 1 entries are. */
+KG_FN int kg_bp_last_keyed(KG_GLOBAL const kg_u32* keys, int i, int count)
+{
+    return keys[i] != KG_BP_NOT_KEYED && (i + 1 == count || keys[i + 1] == KG_BP_NOT_KEYED);
 }
 
 /* The pairs of element e of 2 * slots: small entry e, then large entry e - slots. */

@@ -21,26 +21,26 @@ static kg_result kg_find_pairs(kg_world* world, kg_cl_world* w, int capacity)
     kg_cl_collide_buffers* c = &w->collide;
     const char* label = "kg_broadphase";
     int slots = world->bodies.high_water;
-    KG_LAUNCH(w, BP_CLEAR, KG_BP_EXTENT_BINS, label, KG_MEM(c->histogram), KG_MEM(c->counts), KG_MEM(c->bounds));
+    KG_LAUNCH(w, BP_CLEAR, KG_BP_EXTENT_BINS, label, KG_MEM(c->histogram), KG_MEM(c->counts), KG_MEM(c->bp_words));
     KG_LAUNCH(w, BP_PROXIES, slots, label, KG_INT(slots), KG_FLOAT(world->def.speculative_distance), KG_MEM(KG_A(FLAGS)),
               KG_MEM(KG_A(AABB)), KG_MEM(KG_A(CATEGORY)), KG_MEM(KG_A(MASK)), KG_MEM(c->proxies),
               KG_MEM(c->histogram), KG_MEM(c->run), KG_MEM(c->run_fill), KG_MEM(c->colors_used),
               KG_MEM(w->wake_marks));
     KG_LAUNCH(w, BP_CELLS, 1, label, KG_MEM(c->histogram), KG_MEM(c->grid));
-    KG_LAUNCH(w, BP_BOUNDS, slots, label, KG_INT(slots), KG_MEM(c->proxies), KG_MEM(c->grid), KG_MEM(c->bounds));
-    KG_LAUNCH(w, BP_BUILD_GRID, 1, label, KG_MEM(c->grid), KG_MEM(c->bounds));
+    KG_LAUNCH(w, BP_BOUNDS, slots, label, KG_INT(slots), KG_MEM(c->proxies), KG_MEM(c->grid), KG_MEM(c->bp_words));
+    KG_LAUNCH(w, BP_BUILD_GRID, 1, label, KG_MEM(c->grid), KG_MEM(c->bp_words));
     KG_LAUNCH(w, BP_KEYS, slots, label, KG_INT(slots), KG_MEM(c->grid), KG_MEM(c->proxies), KG_MEM(c->keys),
               KG_MEM(c->items), KG_MEM(c->large_keys), KG_MEM(c->large_items));
     KG_TRY(kg_cl_sort(w, c->keys, c->items, c->key_scratch, c->item_scratch, slots, 32, label));
     KG_TRY(kg_cl_sort(w, c->large_keys, c->large_items, c->key_scratch, c->item_scratch, slots, 32, label));
-    KG_LAUNCH(w, BP_GATHER, slots, label, KG_INT(slots), KG_MEM(c->keys), KG_MEM(c->items), KG_MEM(c->proxies),
-              KG_MEM(c->sorted));
+    KG_LAUNCH(w, BP_GATHER, slots, label, KG_INT(slots), KG_MEM(c->keys), KG_MEM(c->items), KG_MEM(c->large_keys),
+              KG_MEM(c->proxies), KG_MEM(c->sorted), KG_MEM(c->bp_words));
     KG_LAUNCH(w, BP_COUNT_PAIRS, 2 * slots, label, KG_INT(slots), KG_MEM(c->grid), KG_MEM(c->keys), KG_MEM(c->sorted),
-              KG_MEM(c->large_keys), KG_MEM(c->large_items), KG_MEM(c->proxies), KG_MEM(c->found));
+              KG_MEM(c->large_items), KG_MEM(c->proxies), KG_MEM(c->bp_words), KG_MEM(c->found));
     KG_TRY(kg_cl_scan(w, c->found, c->found, 2 * slots, KG_CC_PAIRS, label));
     KG_LAUNCH(w, BP_WRITE_PAIRS, 2 * slots, label, KG_INT(slots), KG_INT(capacity), KG_MEM(c->grid), KG_MEM(c->keys),
-              KG_MEM(c->sorted), KG_MEM(c->large_keys), KG_MEM(c->large_items), KG_MEM(c->proxies),
-              KG_MEM(c->found), KG_MEM(c->raw_pairs));
+              KG_MEM(c->sorted), KG_MEM(c->large_items), KG_MEM(c->proxies), KG_MEM(c->bp_words), KG_MEM(c->found),
+              KG_MEM(c->raw_pairs));
     return KG_OK;
 }
 

@@ -445,7 +445,7 @@ static kg_result kg_cl_create_collide_buffers(kg_cl_world* w, int slots)
         {&c->found, (2 * n + 1) * words},
         {&c->histogram, KG_BP_EXTENT_BINS * words},
         {&c->grid, sizeof(kg_bp_grid)},
-        {&c->bounds, 4 * words},
+        {&c->bp_words, KG_BP_WORDS * words},
         {&c->run, (n + 1) * words},
         {&c->run_fill, n * words},
         {&c->colors_used, n * words},
@@ -626,7 +626,7 @@ void kg_cl_world_destroy(kg_cl_world* w)
     kg_cl_collide_buffers* c = &w->collide;
     cl_mem* list[] = {&c->counts, &c->proxies, &c->sorted, &c->keys, &c->items, &c->large_keys,
                       &c->large_items, &c->key_scratch, &c->item_scratch, &c->found, &c->histogram, &c->grid,
-                      &c->bounds, &c->run, &c->run_fill, &c->colors_used, &c->color_bids[0], &c->color_bids[1],
+                      &c->bp_words, &c->run, &c->run_fill, &c->colors_used, &c->color_bids[0], &c->color_bids[1],
                       &c->block_sums, &c->sort_counts, &c->tile_run,
                       &c->last_origin[0], &c->last_origin[1], &c->last_generation[0], &c->last_generation[1],
                       &c->tile_maps, &c->tile_cells, &c->tile_protos};

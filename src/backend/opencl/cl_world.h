@@ -54,7 +54,7 @@ typedef enum kg_cl_array {
     X(SORT_COUNT, kg_sort_count, 6) X(SORT_SCATTER, kg_sort_scatter, 9)                           \
     X(BP_CLEAR, kg_bp_clear, 3) X(BP_PROXIES, kg_bp_proxies, 12) X(BP_CELLS, kg_bp_cells, 2)        \
     X(BP_BOUNDS, kg_bp_bounds, 4) X(BP_BUILD_GRID, kg_bp_build_grid, 2) X(BP_KEYS, kg_bp_keys, 7)  \
-    X(BP_GATHER, kg_bp_gather, 5) X(BP_COUNT_PAIRS, kg_bp_count_pairs, 8)                         \
+    X(BP_GATHER, kg_bp_gather, 7) X(BP_COUNT_PAIRS, kg_bp_count_pairs, 8)                         \
     X(BP_WRITE_PAIRS, kg_bp_write_pairs, 10) X(BP_COUNT_RUNS, kg_bp_count_runs, 3)                 \
     X(BP_SCATTER, kg_bp_scatter, 5) X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 13)                         \
     X(BUILD_CONTACTS, kg_build_contacts, 11) X(COLOR_CONTACTS, kg_color_contacts, 7)               \
@@ -104,7 +104,7 @@ typedef struct kg_cl_collide_buffers {
     cl_mem found;          /* per search element (2 per slot): pairs, then their prefix sum */
     cl_mem histogram;      /* box extents, KG_BP_EXTENT_BINS */
     cl_mem grid;           /* kg_bp_grid */
-    cl_mem bounds;         /* the grid's bounds, 4 words (collide/broadphase_grid.h) */
+    cl_mem bp_words;       /* KG_BP_WORDS: the grid's bounds, the small and large counts */
     cl_mem run;            /* pairs per lower slot, then their prefix sum (slots + 1) */
     cl_mem run_fill;
     cl_mem colors_used;    /* per slot, the colours its contacts took so far */

@@ -5,8 +5,9 @@
 #include "collide/broadphase_grid.h"
 #include "kg_collide_shared.h"
 
-/* Empties the extent histogram and the counters; the grid bounds start empty. */
-__kernel void kg_bp_clear(__global uint* histogram, __global uint* counts, __global uint* bounds)
+/* Empties the extent histogram, the counters and the small and large counts; the grid
+ * bounds start empty. */
+__kernel void kg_bp_clear(__global uint* histogram, __global uint* counts, __global uint* words)
 {
     int i = (int)get_global_id(0);
     if (i < KG_BP_EXTENT_BINS) {
@@ -15,8 +16,8 @@ __kernel void kg_bp_clear(__global uint* histogram, __global uint* counts, __glo
     if (i < KG_CC_WORDS) {
         counts[i] = 0u;
     }
-    if (i < 4) {
-        bounds[i] = i < 2 ? KG_BP_BOUNDS_EMPTY_MIN : KG_BP_BOUNDS_EMPTY_MAX;
+    if (i < KG_BP_WORDS) {
+        words[i] = i < 2 ? KG_BP_BOUNDS_EMPTY_MIN : i < 4 ? KG_BP_BOUNDS_EMPTY_MAX : 0u;
     }
 }
 
@@ -51,13 +52,14 @@ __kernel void kg_bp_cells(__global const uint* histogram, __global kg_bp_grid* g
 /* Slot i's lower corner into the grid bounds (sortable bits: the same bits in any order;
  * read first, so that few work-items need the atomics). */
 __kernel void kg_bp_bounds(int count, __global const kg_bp_proxy* proxies, __global const kg_bp_grid* grid,
-                           __global uint* bounds)
+                           __global uint* words)
 {
     int i = (int)get_global_id(0);
     if (i >= count || proxies[i].body == KG_NULL_INDEX || !kg_bp_bounds_grid(proxies[i].box, grid->cell_size)) {
         return;
     }
     uint x = kg_bp_sortable_bits(proxies[i].box.lower.x), y = kg_bp_sortable_bits(proxies[i].box.lower.y);
+    __global uint* bounds = words + KG_BP_BOUNDS;
     if (x < bounds[0]) atomic_min(&bounds[0], x);
     if (y < bounds[1]) atomic_min(&bounds[1], y);
     if (x > bounds[2]) atomic_max(&bounds[2], x);
@@ -65,10 +67,10 @@ __kernel void kg_bp_bounds(int count, __global const kg_bp_proxy* proxies, __glo
 }
 
 /* The grid over the bounds. One work-item. */
-__kernel void kg_bp_build_grid(__global kg_bp_grid* grid, __global const uint* bounds)
+__kernel void kg_bp_build_grid(__global kg_bp_grid* grid, __global const uint* words)
 {
     if (get_global_id(0) == 0) {
-        *grid = kg_bp_grid_make(grid->cell_size, bounds);
+        *grid = kg_bp_grid_make(grid->cell_size, words + KG_BP_BOUNDS);
     }
 }
 
@@ -87,25 +89,33 @@ __kernel void kg_bp_keys(int count, __global const kg_bp_grid* grid, __global co
     }
 }
 
-/* The small proxies in key order. */
+/* The small proxies in key order; where the small and the large keys end. */
 __kernel void kg_bp_gather(int count, __global const uint* keys, __global const uint* items,
-                           __global const kg_bp_proxy* proxies, __global kg_bp_proxy* sorted)
+                           __global const uint* large_keys, __global const kg_bp_proxy* proxies,
+                           __global kg_bp_proxy* sorted, __global uint* words)
 {
     int i = (int)get_global_id(0);
     if (i < count && keys[i] != KG_BP_NOT_KEYED) {
         sorted[i] = proxies[items[i]];
     }
+    if (i < count && kg_bp_last_keyed(keys, i, count)) {
+        words[KG_BP_SMALL] = (uint)i + 1u;
+    }
+    if (i < count && kg_bp_last_keyed(large_keys, i, count)) {
+        words[KG_BP_LARGE] = (uint)i + 1u;
+    }
 }
 
 /* How many pairs element e finds (kg_bp_find_element). */
 __kernel void kg_bp_count_pairs(int slots, __global const kg_bp_grid* grid, __global const uint* keys,
-                                __global const kg_bp_proxy* sorted, __global const uint* large_keys,
-                                __global const uint* large_items, __global const kg_bp_proxy* proxies,
+                                __global const kg_bp_proxy* sorted, __global const uint* large_items,
+                                __global const kg_bp_proxy* proxies, __global const uint* words,
                                 __global uint* found)
 {
     int e = (int)get_global_id(0);
     if (e < 2 * slots) {
-        kg_bp_view v = kg_bp_view_of_slots(*grid, keys, sorted, large_keys, large_items, proxies, slots);
+        kg_bp_view v = kg_bp_view_make(*grid, keys, sorted, (int)words[KG_BP_SMALL], large_items, proxies,
+                                       (int)words[KG_BP_LARGE]);
         kg_bp_sink s = kg_bp_sink_make(0, 0u, 0u, 0);
         kg_bp_find_element(&s, &v, e, slots);
         found[e] = s.at;
@@ -114,13 +124,14 @@ __kernel void kg_bp_count_pairs(int slots, __global const kg_bp_grid* grid, __gl
 
 /* Element e's pairs at its place (offsets: the prefix sum of the counts), within capacity. */
 __kernel void kg_bp_write_pairs(int slots, int capacity, __global const kg_bp_grid* grid, __global const uint* keys,
-                                __global const kg_bp_proxy* sorted, __global const uint* large_keys,
-                                __global const uint* large_items, __global const kg_bp_proxy* proxies,
+                                __global const kg_bp_proxy* sorted, __global const uint* large_items,
+                                __global const kg_bp_proxy* proxies, __global const uint* words,
                                 __global const uint* offsets, __global kg_pair* raw)
 {
     int e = (int)get_global_id(0);
     if (e < 2 * slots) {
-        kg_bp_view v = kg_bp_view_of_slots(*grid, keys, sorted, large_keys, large_items, proxies, slots);
+        kg_bp_view v = kg_bp_view_make(*grid, keys, sorted, (int)words[KG_BP_SMALL], large_items, proxies,
+                                       (int)words[KG_BP_LARGE]);
         kg_bp_sink s = kg_bp_sink_make(raw, offsets[e], (uint)capacity, 0);
         kg_bp_find_element(&s, &v, e, slots);
     }

@@ -17,6 +17,13 @@
 #define KG_CC_WAITING 6      /* contacts left uncoloured by a colouring round, 2 words */
 #define KG_CC_WORDS 8
 
+/* The broadphase's words on the device: the grid's bounds (collide/broadphase_grid.h),
+ * then how many boxes are small and how many large (where their sorted keys end). */
+#define KG_BP_BOUNDS 0
+#define KG_BP_SMALL 4
+#define KG_BP_LARGE 5
+#define KG_BP_WORDS 6
+
 /* Prefix sums run in at most this many blocks, each summed serially by one work-item. */
 #define KG_SCAN_MAX_BLOCKS 256
 #define KG_SCAN_MIN_BLOCK 256
