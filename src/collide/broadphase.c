@@ -180,17 +180,21 @@ static void kg_gather_proxies(kg_broadphase* bp, const kg_body_pool* bodies, flo
 static void kg_build_grid(kg_broadphase* bp)
 {
     float cell_size = kg_bp_cell_size(bp->histogram);
+    kg_vec2 lower = kg_v2(KG_FLT_MAX, KG_FLT_MAX), upper = kg_v2(-KG_FLT_MAX, -KG_FLT_MAX);
+    for (int i = 0; i < bp->proxy_count; ++i) {
+        if (kg_bp_bounds_grid(bp->proxies[i].box, cell_size)) {
+            kg_vec2 corner = kg_bp_corner(bp->proxies[i].box);
+            lower = kg_vmin(lower, corner);
+            upper = kg_vmax(upper, corner);
+        }
+    }
     kg_u32 bounds[4] = {KG_BP_BOUNDS_EMPTY_MIN, KG_BP_BOUNDS_EMPTY_MIN, KG_BP_BOUNDS_EMPTY_MAX,
                         KG_BP_BOUNDS_EMPTY_MAX};
-    for (int i = 0; i < bp->proxy_count; ++i) {
-        kg_aabb box = bp->proxies[i].box;
-        if (kg_bp_bounds_grid(box, cell_size)) {
-            kg_u32 x = kg_bp_sortable_bits(box.lower.x), y = kg_bp_sortable_bits(box.lower.y);
-            bounds[0] = x < bounds[0] ? x : bounds[0];
-            bounds[1] = y < bounds[1] ? y : bounds[1];
-            bounds[2] = x > bounds[2] ? x : bounds[2];
-            bounds[3] = y > bounds[3] ? y : bounds[3];
-        }
+    if (lower.x <= upper.x) {
+        bounds[0] = kg_bp_sortable_bits(lower.x);
+        bounds[1] = kg_bp_sortable_bits(lower.y);
+        bounds[2] = kg_bp_sortable_bits(upper.x);
+        bounds[3] = kg_bp_sortable_bits(upper.y);
     }
     bp->grid = kg_bp_grid_make(cell_size, bounds);
 }

@@ -130,6 +130,11 @@ KG_FN float kg_bp_cell_size(KG_GLOBAL const kg_u32* histogram)
  * are mostly large, and a huge wall would stretch the grid). */
 KG_FN int kg_bp_bounds_grid(kg_aabb box, float cell_size) { return kg_bp_extent(box) < cell_size; }
 
+/* The lower corner that bounds the grid, -0 made +0: then the floats' order and their
+ * sortable bits' order agree, and a minimum of the floats (the CPU's) and one of their
+ * bits (the device's atomics) pick the same bits. */
+KG_FN kg_vec2 kg_bp_corner(kg_aabb box) { return kg_v2(box.lower.x + 0.0f, box.lower.y + 0.0f); }
+
 /* The grid's bounds, kg_bp_sortable_bits of the lower corners: min x, min y, max x,
  * max y, from these when no corner counts. */
 #define KG_BP_BOUNDS_EMPTY_MIN 0xFFFFFFFFu

@@ -58,7 +58,8 @@ __kernel void kg_bp_bounds(int count, __global const kg_bp_proxy* proxies, __glo
     if (i >= count || proxies[i].body == KG_NULL_INDEX || !kg_bp_bounds_grid(proxies[i].box, grid->cell_size)) {
         return;
     }
-    uint x = kg_bp_sortable_bits(proxies[i].box.lower.x), y = kg_bp_sortable_bits(proxies[i].box.lower.y);
+    kg_vec2 corner = kg_bp_corner(proxies[i].box);
+    uint x = kg_bp_sortable_bits(corner.x), y = kg_bp_sortable_bits(corner.y);
     __global uint* bounds = words + KG_BP_BOUNDS;
     if (x < bounds[0]) atomic_min(&bounds[0], x);
     if (y < bounds[1]) atomic_min(&bounds[1], y);
