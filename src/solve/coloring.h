@@ -152,10 +152,15 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL const kg_contact* contacts,
                                 KG_GLOBAL int* rank, KG_GLOBAL int* color_start)
 {
     int bits = kg_priority_bits(count);
+    kg_u32 ahead[KG_COLOR_LOOKAHEAD]; /* the contacts of priorities p to p + lookahead - 1 */
+    for (kg_u32 p = 0u; p < KG_COLOR_LOOKAHEAD; ++p) {
+        ahead[p] = kg_color_constraint_at(p, bits);
+    }
     for (kg_u32 p = 0u; p < (1u << bits); ++p) {
-        kg_u32 k = kg_color_constraint_at(p, bits), ahead = kg_color_constraint_at(p + KG_COLOR_LOOKAHEAD, bits);
-        if (ahead < (kg_u32)count) {
-            kg_prefetch(&contacts[ahead].a);
+        kg_u32 k = ahead[p % KG_COLOR_LOOKAHEAD], later = kg_color_constraint_at(p + KG_COLOR_LOOKAHEAD, bits);
+        ahead[p % KG_COLOR_LOOKAHEAD] = later;
+        if (later < (kg_u32)count) {
+            kg_prefetch(&contacts[later].a);
         }
         if (k < (kg_u32)count) {
             colors[k] = kg_color_contact(k, contacts, flags, used);
