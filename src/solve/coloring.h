@@ -143,9 +143,8 @@ KG_FN int kg_color_contact(kg_u32 k, KG_GLOBAL kg_contact* contacts, KG_GLOBAL c
 /* Lists the contacts [0, count) by colour: order holds the contact indices grouped by
  * colour, overflow last, in contact order within each, rank (unless NULL) each contact's
  * place in order, and colour c is order[color_start[c], color_start[c + 1])
- * (color_start holds KG_COLOR_COUNT + 2 ints). Clears the bodies' used colours. */
-KG_FN void kg_order_by_color(int count, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL kg_u32* used,
-                             KG_GLOBAL const int* colors, KG_GLOBAL int* order, KG_GLOBAL int* rank,
+ * (color_start holds KG_COLOR_COUNT + 2 ints). */
+KG_FN void kg_order_by_color(int count, KG_GLOBAL const int* colors, KG_GLOBAL int* order, KG_GLOBAL int* rank,
                              KG_GLOBAL int* color_start)
 {
     int next[KG_COLOR_COUNT + 1];
@@ -168,14 +167,6 @@ KG_FN void kg_order_by_color(int count, KG_GLOBAL const kg_contact* contacts, KG
         order[at] = k;
         if (rank) {
             rank[k] = at;
-        }
-        /* cleared by the constraints, so the cost follows them, not the bodies */
-        kg_u32 a = contacts[k].a, b = contacts[k].b;
-        if (a != KG_NULL_INDEX) {
-            used[a] = 0u;
-        }
-        if (b != KG_NULL_INDEX) {
-            used[b] = 0u;
         }
     }
 }
@@ -213,7 +204,9 @@ KG_FN void kg_color_in_priority_order(int count, KG_GLOBAL kg_contact* contacts,
 
 /* Colours the constraints of contacts [0, count), serially: colors[k] is contact k's
  * colour (or KG_COLOR_COUNT), also in its colour word, and the lists are
- * kg_order_by_color's. used (per body slot) is all zeros before and after. */
+ * kg_order_by_color's. used (per body slot: the colours its contacts took) must be zero
+ * for the contacts' bodies before; it is left as the colouring made it (clearing it
+ * through the contacts would read them a third time). */
 KG_FN void kg_color_constraints(int count, KG_GLOBAL kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
                                 KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors, KG_GLOBAL int* order,
                                 KG_GLOBAL int* rank, KG_GLOBAL int* color_start)
@@ -227,7 +220,7 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL kg_contact* contacts, KG_GL
     if (waiting > 0) {
         kg_color_in_priority_order(count, contacts, flags, used, colors);
     }
-    kg_order_by_color(count, contacts, used, colors, order, rank, color_start);
+    kg_order_by_color(count, colors, order, rank, color_start);
 }
 
 /* ---- the device's rounds (see the top) ---- */
