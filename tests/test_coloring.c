@@ -1,8 +1,8 @@
 /* The constraint graph colouring (solve/coloring.h) on random contact graphs: a valid
- * colouring (no two constraints of a colour share a moving body), the greedy rule in
- * priority order checked against a brute-force reference, and the device's rounds
- * (replayed here with the same functions, one contact after another) giving the serial
- * colours bit for bit in few rounds. */
+ * colouring (no two constraints of a colour share a moving body), kept colours kept, the
+ * greedy rule in priority order checked against a brute-force reference, and the device's
+ * rounds (replayed here with the same functions, one contact after another) giving the
+ * serial colours bit for bit in few rounds. */
 #include "kg_test.h"
 #include "solve/coloring.h"
 
@@ -19,9 +19,10 @@ typedef struct graph {
     kg_contact contacts[MAX_CONTACTS];
 } graph;
 
-static graph g_graph;
+static graph g_graph, g_twin;
 static kg_u32 g_used[MAX_BODIES];
-static int g_colors[MAX_CONTACTS], g_round_colors[MAX_CONTACTS], g_order[MAX_CONTACTS], g_rank[MAX_CONTACTS];
+static int g_colors[MAX_CONTACTS], g_round_colors[MAX_CONTACTS], g_kept[MAX_CONTACTS];
+static int g_order[MAX_CONTACTS], g_rank[MAX_CONTACTS];
 static int g_color_start[KG_COLOR_COUNT + 2];
 static kg_u32 g_bids[2][MAX_BODIES];
 
@@ -54,6 +55,7 @@ static void make_graph(graph* g, int body_count, int contact_count, int static_e
             if (b < (kg_u32)body_count && !duplicate) {
                 g->contacts[n].a = a;
                 g->contacts[n].b = b;
+                g->contacts[n].color = KG_NO_COLOR;
                 n += 1;
             }
         }
@@ -71,16 +73,50 @@ static void make_graph(graph* g, int body_count, int contact_count, int static_e
     g->contact_count = n;
 }
 
+/* A wall of width x rows boxes on a static ground (slot 0): each box touches the one on
+ * its right and the one above, the bottom row the ground; sorted by (a, b). */
+static void make_wall(graph* g, int width, int rows)
+{
+    memset(g, 0, sizeof *g);
+    g->body_count = 1 + width * rows;
+    g->flags[0] = KG_FLAG_ALIVE;
+    for (int i = 1; i < g->body_count; ++i) {
+        g->flags[i] = KG_FLAG_ALIVE | ((kg_u32)KG_BODY_DYNAMIC << KG_TYPE_SHIFT);
+    }
+    int n = 0;
+    for (int i = 1; i <= width; ++i) {
+        g->contacts[n].a = 0u;
+        g->contacts[n++].b = (kg_u32)i;
+    }
+    for (int i = 1; i < g->body_count; ++i) {
+        int column = (i - 1) % width;
+        if (column + 1 < width) {
+            g->contacts[n].a = (kg_u32)i;
+            g->contacts[n++].b = (kg_u32)(i + 1);
+        }
+        if (i + width < g->body_count) {
+            g->contacts[n].a = (kg_u32)i;
+            g->contacts[n++].b = (kg_u32)(i + width);
+        }
+    }
+    g->contact_count = n;
+    for (int k = 0; k < n; ++k) {
+        g->contacts[k].color = KG_NO_COLOR;
+    }
+}
+
 static int moves(const graph* g, kg_u32 slot) { return kg_slot_takes_impulses(g->flags, slot); }
 
-/* The brute-force reference: contacts in priority order, each the lowest colour that no
- * earlier contact on one of its moving bodies took. */
-static int reference_color(const graph* g, int k, const int* colors)
+/* The brute-force reference: the contacts that kept no colour (kept[k] == KG_UNCOLORED)
+ * in priority order, each the lowest colour that no kept contact and no earlier contact
+ * on one of its moving bodies took. */
+static int reference_color(const graph* g, int k, const int* colors, const int* kept)
 {
     int bits = kg_priority_bits(g->contact_count);
     kg_u32 taken = 0u, mine = kg_color_priority((kg_u32)k, bits);
     for (int j = 0; j < g->contact_count; ++j) {
-        if (kg_color_priority((kg_u32)j, bits) >= mine || colors[j] >= KG_COLOR_COUNT) {
+        int before = kept[j] != KG_UNCOLORED || kg_color_priority((kg_u32)j, bits) < mine;
+        if (!before || colors[j] >= KG_COLOR_COUNT) {
             continue;
         }
         kg_u32 a = g->contacts[j].a, b = g->contacts[j].b;
@@ -93,11 +129,14 @@ static int reference_color(const graph* g, int k, const int* colors)
 }
 
 /* The device's rounds, one contact after another; returns the number of rounds. */
-static int color_in_rounds(const graph* g, int* colors)
+static int color_in_rounds(graph* g, int* colors)
 {
     int count = g->contact_count, bits = kg_priority_bits(count), round = 0;
     for (kg_u32 k = 0; k < (kg_u32)count; ++k) {
-        kg_color_reset(k, g->contacts, colors, g_used, g_bids[0]);
+        kg_color_reset(k, g->contacts, g->flags, colors, g_used, g_bids[0]);
+    }
+    for (kg_u32 k = 0; k < (kg_u32)count; ++k) {
+        kg_mark_kept_color(k, colors[k], g->contacts, g->flags, g_used);
     }
     for (int waiting = 1; waiting; ++round) {
         waiting = 0;
@@ -109,11 +148,26 @@ static int color_in_rounds(const graph* g, int* colors)
                                      g_bids[(round + 1) & 1], g_used);
         }
     }
-    for (kg_u32 k = 0; k < (kg_u32)count; ++k) {
-        g_used[g->contacts[k].a] = 0u;
-        g_used[g->contacts[k].b] = 0u;
-    }
     return round;
+}
+
+/* Colours g serially and a copy of it in rounds: the same colours and colour words.
+ * Returns the rounds. */
+static int color_both_ways(graph* g)
+{
+    memcpy(&g_twin, g, sizeof *g);
+    for (int k = 0; k < g->contact_count; ++k) {
+        g_kept[k] = kg_kept_color((kg_u32)k, g->contacts, g->flags);
+    }
+    memset(g_used, 0, sizeof g_used);
+    kg_color_constraints(g->contact_count, g->contacts, g->flags, g_used, g_colors, g_order, g_rank, g_color_start);
+    int rounds = color_in_rounds(&g_twin, g_round_colors);
+    int differ = 0;
+    for (int k = 0; k < g->contact_count; ++k) {
+        differ += g_colors[k] != g_round_colors[k] || g->contacts[k].color != g_twin.contacts[k].color;
+    }
+    KG_CHECK(differ == 0);
+    return rounds;
 }
 
 static void check_valid(const graph* g)
@@ -168,40 +222,83 @@ static void test_serial_coloring_matches_the_reference(void)
     for (int trial = 0; trial < 6; ++trial) {
         graph* g = &g_graph;
         make_graph(g, 300 + trial * 150, MAX_CONTACTS, trial % 3 == 0 ? 0 : 7, 3 + trial * 4);
-        kg_color_constraints(g->contact_count, g->contacts, g->flags, g_used, g_colors, g_order, g_rank,
-                             g_color_start);
+        color_both_ways(g);
         check_valid(g);
         int mismatches = 0;
         for (int k = 0; k < g->contact_count; ++k) {
-            mismatches += g_colors[k] != reference_color(g, k, g_colors);
+            mismatches += g_colors[k] != reference_color(g, k, g_colors, g_kept);
         }
         KG_CHECK(mismatches == 0);
-        for (int i = 0; i < g->body_count; ++i) {
-            KG_CHECK(g_used[i] == 0u);
-        }
     }
 }
 
 static void test_rounds_give_the_serial_colors(void)
 {
     int most_rounds = 0, most_colors = 0;
-    for (int trial = 0; trial < 8; ++trial) {
+    for (int trial = 0; trial < 10; ++trial) {
         graph* g = &g_graph;
-        make_graph(g, MAX_BODIES, MAX_CONTACTS, trial % 2 ? 9 : 0, 1 + trial * 3);
-        kg_color_constraints(g->contact_count, g->contacts, g->flags, g_used, g_colors, g_order, g_rank,
-                             g_color_start);
-        int rounds = color_in_rounds(g, g_round_colors);
-        KG_CHECK(memcmp(g_colors, g_round_colors, (size_t)g->contact_count * sizeof *g_colors) == 0);
+        if (trial < 8) {
+            make_graph(g, MAX_BODIES, MAX_CONTACTS, trial % 2 ? 9 : 0, 1 + trial * 3);
+        } else {
+            make_wall(g, trial == 8 ? 64 : 4, trial == 8 ? 63 : 1000);
+        }
+        int rounds = color_both_ways(g);
         most_rounds = rounds > most_rounds ? rounds : most_rounds;
         int colors = kg_colors_in_use(g_color_start);
         most_colors = colors > most_colors ? colors : most_colors;
     }
-    /* a chain of contacts (reach 1: each body touches the next) in slot order would need
-     * thousands of rounds */
+    /* in contact order a chain of contacts (reach 1: each body touches the next, or a
+     * wall's rows and columns) would need thousands of rounds */
     measured("colouring rounds: at most %d for up to %d contacts, %d colours\n", most_rounds, MAX_CONTACTS,
              most_colors);
     KG_CHECK(most_rounds <= 40);
 }
 
+/* The next step of g: a tenth of the contacts end, new ones begin (colour words
+ * KG_NO_COLOR), one body in fifty turns static or dynamic; the rest carry their words. */
+static void next_step(graph* g)
+{
+    graph* next = &g_twin;
+    int n = 0;
+    for (int k = 0; k < g->contact_count && n + 1 < MAX_CONTACTS; ++k) {
+        kg_contact c = g->contacts[k];
+        if (next_random() % 10u != 0u) {
+            next->contacts[n++] = c;
+        }
+        if (next_random() % 10u == 0u && c.b + 1u < (kg_u32)g->body_count) {
+            next->contacts[n] = c; /* a new partner */
+            next->contacts[n].b = c.b + 1u;
+            next->contacts[n++].color = KG_NO_COLOR;
+        }
+    }
+    memcpy(g->contacts, next->contacts, (size_t)n * sizeof *g->contacts);
+    g->contact_count = n;
+    for (int i = 0; i < g->body_count; ++i) {
+        g->flags[i] ^= next_random() % 50u == 0u ? (kg_u32)KG_BODY_DYNAMIC << KG_TYPE_SHIFT : 0u;
+    }
+}
+
+static void test_kept_colors(void)
+{
+    graph* g = &g_graph;
+    make_graph(g, 2000, 6000, 0, 12);
+    color_both_ways(g);
+    int kept = 0, new_contacts = 0, mismatches = 0;
+    for (int step = 0; step < 5; ++step) {
+        next_step(g);
+        color_both_ways(g);
+        check_valid(g);
+        for (int k = 0; k < g->contact_count; ++k) {
+            kept += g_kept[k] != KG_UNCOLORED;
+            new_contacts += g_kept[k] == KG_UNCOLORED;
+            KG_CHECK(g_kept[k] == KG_UNCOLORED || g_colors[k] == g_kept[k]);
+            mismatches += g_kept[k] == KG_UNCOLORED && g_colors[k] != reference_color(g, k, g_colors, g_kept);
+        }
+    }
+    measured("kept colours: %d kept, %d coloured again over 5 steps\n", kept, new_contacts);
+    KG_CHECK(kept > 4 * new_contacts && new_contacts > 0);
+    KG_CHECK(mismatches == 0);
+}
+
 KG_TEST_MAIN(KG_TEST(test_priority_is_a_bijection), KG_TEST(test_serial_coloring_matches_the_reference),
-             KG_TEST(test_rounds_give_the_serial_colors))
+             KG_TEST(test_rounds_give_the_serial_colors), KG_TEST(test_kept_colors))

@@ -311,13 +311,14 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
         if (ct->manifold.point_count == 0) {
             continue;
         }
+        kg_contact_set_bodies(ct, a, b, p->generation, p->friction, p->restitution);
         if (prev) {
             int matched = kept ? kg_carry_kept_impulses(&ct->manifold, &prev->manifold)
                                : kg_contact_carry_impulses(&ct->manifold, &prev->manifold);
             carried += matched;
             missed += ct->manifold.point_count - matched;
+            ct->color = prev->color;
         }
-        kg_contact_set_bodies(ct, a, b, p->generation, p->friction, p->restitution);
         n += 1;
     }
     *carried_sum += carried;

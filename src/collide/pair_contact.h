@@ -61,7 +61,7 @@ KG_FN void kg_contact_set_bodies(kg_contact* c, kg_u32 a, kg_u32 b, KG_GLOBAL co
     c->generation_b = generation[b];
     c->friction = sqrtf(friction[a] * friction[b]);
     c->restitution = kg_maxf(restitution[a], restitution[b]);
-    c->pad = 0u;
+    c->color = KG_NO_COLOR;
 }
 
 /* Last step's contact of pair (a, b) among its body contacts [0, count), or -1. */
@@ -97,7 +97,7 @@ KG_FN void kg_narrowphase_pair(int k, kg_u32 a, kg_u32 b, float speculative_dist
 }
 
 /* Pair k, (a, b), on the device, if it touches: contact index[k] (the prefix sum keeps the
- * pairs' order), with last step's impulses carried. */
+ * pairs' order), with last step's impulses and colour carried. */
 KG_FN void kg_build_pair_contact(int k, kg_u32 a, kg_u32 b, KG_GLOBAL const kg_manifold* manifolds,
                                  KG_GLOBAL const kg_contact_base* bases, KG_GLOBAL const kg_u32* index,
                                  KG_GLOBAL const kg_contact* previous, int previous_count,
@@ -111,11 +111,12 @@ KG_FN void kg_build_pair_contact(int k, kg_u32 a, kg_u32 b, KG_GLOBAL const kg_m
     c.manifold = manifolds[k];
     c.base = bases[k];
     int old = kg_previous_contact(previous, previous_count, a, b, generation);
+    kg_contact_set_bodies(&c, a, b, generation, friction, restitution);
     if (old >= 0) {
         KG_PRIVATE_VIEW(kg_manifold, carried, previous[old].manifold);
         kg_contact_carry_impulses(&c.manifold, carried);
+        c.color = previous[old].color;
     }
-    kg_contact_set_bodies(&c, a, b, generation, friction, restitution);
     contacts[index[k]] = c;
 }
 

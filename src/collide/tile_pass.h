@@ -146,7 +146,7 @@ KG_FN int kg_one_way_accepts(const kg_tile_bodies* b, kg_u32 i, const kg_manifol
 
 /* Counts the body's contact with the tile of key, and writes it if there is room: the
  * manifold (cell frame, the body's pose in it xf) moved to the world, last step's
- * impulses (previous[old], unless -1) carried over. */
+ * impulses and colour (previous[old], unless -1) carried over. */
 KG_FN void kg_tile_emit(kg_tile_contacts* c, const kg_tile_bodies* b, kg_u32 i, const kg_tile_map_info* m,
                         kg_u32 key, const kg_manifold* in_cell, kg_vec2 cell_origin, kg_xf xf, int old)
 {
@@ -157,10 +157,12 @@ KG_FN void kg_tile_emit(kg_tile_contacts* c, const kg_tile_bodies* b, kg_u32 i, 
     }
     kg_contact ct;
     ct.manifold = kg_contact_manifold(in_cell, cell_origin, xf, b->xf[i].p, b->center[i]);
+    ct.color = KG_NO_COLOR;
     if (old >= 0) {
         KG_PRIVATE_VIEW(kg_manifold, carried, c->previous[old].manifold);
         c->points += ct.manifold.point_count;
         c->carried += kg_contact_carry_impulses(&ct.manifold, carried);
+        ct.color = c->previous[old].color;
     }
     ct.a = i;
     ct.b = KG_NULL_INDEX;
@@ -169,7 +171,6 @@ KG_FN void kg_tile_emit(kg_tile_contacts* c, const kg_tile_bodies* b, kg_u32 i, 
     ct.restitution = fmaxf(b->restitution[i], m->restitution);
     ct.generation_a = b->generation[i];
     ct.generation_b = 0u;
-    ct.pad = 0u;
     ct.base = kg_no_contact_base();
     c->out[at] = ct;
 }

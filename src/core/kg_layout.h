@@ -66,9 +66,12 @@ typedef struct kg_contact {
     float restitution;  /* mixed: max(ra, rb) */
     kg_u32 generation_a, generation_b; /* of the bodies when the contact was made: a slot
                                         * reused by a new body is not mistaken for the old */
-    kg_u32 pad;         /* a multiple of 16 bytes, as device buffers prefer */
+    kg_u32 color;       /* the colour it took and its bodies' motion then (solve/coloring.h's
+                         * kg_color_word), carried from step to step; KG_NO_COLOR when new */
     kg_contact_base base;
 } kg_contact;
+
+#define KG_NO_COLOR 0xFFFFFFFFu
 
 /* Carries last step's accumulated impulses over to m, point by point, where the feature
  * ids match: the warm start of a persistent contact. Returns how many points matched. */

@@ -3,11 +3,14 @@
  * can be solved in any order or all at once (threads, SIMD lanes, work-items) with the
  * same result; colours are solved one after another.
  *
- * Greedy, in the order of a fixed scramble of the constraint indices (kg_color_priority):
- * each constraint takes the lowest colour that no constraint before it in that order on one
- * of its moving bodies took; those that fit no colour go to an overflow list, solved
- * serially, in constraint order, after the colours. The result depends only on the
- * constraints' bodies.
+ * A contact keeps the colour it took while it lives and its bodies move as they did then
+ * (kg_kept_color: the colour is carried with its impulses from step to step). The others,
+ * new ones first of all, are coloured greedily, in the order of a fixed scramble of the
+ * constraint indices (kg_color_priority): each takes the lowest colour that no kept
+ * constraint and no constraint before it in that order on one of its moving bodies took;
+ * those that fit no colour go to an overflow list, solved serially, in constraint order,
+ * after the colours. The result depends only on the contacts (bodies and carried colours)
+ * and the bodies' motion.
  *
  * Why the scramble: the device colours large worlds in rounds (Jones-Plassmann): in each
  * round every constraint that comes first, in that order, among the uncoloured ones on each
@@ -24,6 +27,16 @@
 
 #define KG_COLOR_COUNT 24
 #define KG_ALL_COLORS ((1u << KG_COLOR_COUNT) - 1u)
+#define KG_UNCOLORED (-1)
+
+#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
+#define kg_keep_least(p, v) atomic_min((p), (v))
+#define kg_mark_colors(p, v) atomic_or((p), (v))
+#else
+/* Serial on the CPU (the tests replay the device's rounds on the CPU with them). */
+KG_FN void kg_keep_least(kg_u32* p, kg_u32 v) { *p = v < *p ? v : *p; }
+KG_FN void kg_mark_colors(kg_u32* p, kg_u32 v) { *p |= v; }
+#endif
 
 /* A body takes part in colouring only if the solver writes to it. */
 KG_FN int kg_slot_takes_impulses(KG_GLOBAL const kg_u32* flags, kg_u32 slot)
@@ -86,20 +99,52 @@ KG_FN kg_u32 kg_color_constraint_at(kg_u32 p, int bits)
     return (kg_priority_shuffle(p, bits) * KG_PRIORITY_INV1) & mask;
 }
 
-/* Contact k's colour, taken from used (kg_pick_color). */
-KG_FN int kg_color_contact(kg_u32 k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+/* A contact's colour word: its colour, and whether each body moved when it took it. */
+KG_FN kg_u32 kg_color_word(int color, int a_moves, int b_moves)
+{
+    return (kg_u32)color | (kg_u32)a_moves << 5 | (kg_u32)b_moves << 6;
+}
+
+/* The colour contact k keeps from the last step, or KG_UNCOLORED: one of the colours (the
+ * overflow is coloured again) taken while each of its bodies moved as it does now. Kept
+ * colours stay a valid colouring: two contacts on a moving body that keep theirs took them
+ * while it moved, each avoiding the other's. */
+KG_FN int kg_kept_color(kg_u32 k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags)
+{
+    kg_u32 a = contacts[k].a, b = contacts[k].b, word = contacts[k].color, color = word & 31u;
+    int a_moves = kg_slot_takes_impulses(flags, a), b_moves = kg_slot_takes_impulses(flags, b);
+    return color < KG_COLOR_COUNT && word == kg_color_word((int)color, a_moves, b_moves) ? (int)color : KG_UNCOLORED;
+}
+
+/* Marks kept colour c as taken by contact k's moving bodies. */
+KG_FN void kg_mark_kept_color(kg_u32 k, int c, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                              KG_GLOBAL kg_u32* used)
+{
+    kg_u32 a = contacts[k].a, b = contacts[k].b;
+    if (c != KG_UNCOLORED && kg_slot_takes_impulses(flags, a)) {
+        kg_mark_colors(&used[a], 1u << c);
+    }
+    if (c != KG_UNCOLORED && kg_slot_takes_impulses(flags, b)) {
+        kg_mark_colors(&used[b], 1u << c);
+    }
+}
+
+/* Contact k's new colour, taken from used (kg_pick_color) and written to the contact. */
+KG_FN int kg_color_contact(kg_u32 k, KG_GLOBAL kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
                            KG_GLOBAL kg_u32* used)
 {
     kg_u32 a = contacts[k].a, b = contacts[k].b;
-    return kg_pick_color(used, a, b, kg_slot_takes_impulses(flags, a), kg_slot_takes_impulses(flags, b));
+    int a_moves = kg_slot_takes_impulses(flags, a), b_moves = kg_slot_takes_impulses(flags, b);
+    int c = kg_pick_color(used, a, b, a_moves, b_moves);
+    contacts[k].color = kg_color_word(c, a_moves, b_moves);
+    return c;
 }
 
 /* Lists the contacts [0, count) by colour: order holds the contact indices grouped by
  * colour, overflow last, in contact order within each, rank (unless NULL) each contact's
  * place in order, and colour c is order[color_start[c], color_start[c + 1])
- * (color_start holds KG_COLOR_COUNT + 2 ints). Clears the bodies' used colours. */
-KG_FN void kg_order_by_color(int count, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL kg_u32* used,
-                             KG_GLOBAL const int* colors, KG_GLOBAL int* order, KG_GLOBAL int* rank,
+ * (color_start holds KG_COLOR_COUNT + 2 ints). */
+KG_FN void kg_order_by_color(int count, KG_GLOBAL const int* colors, KG_GLOBAL int* order, KG_GLOBAL int* rank,
                              KG_GLOBAL int* color_start)
 {
     int next[KG_COLOR_COUNT + 1];
@@ -123,14 +168,6 @@ KG_FN void kg_order_by_color(int count, KG_GLOBAL const kg_contact* contacts, KG
         if (rank) {
             rank[k] = at;
         }
-        /* cleared by the constraints, so the cost follows them, not the bodies */
-        kg_u32 a = contacts[k].a, b = contacts[k].b;
-        if (a != KG_NULL_INDEX) {
-            used[a] = 0u;
-        }
-        if (b != KG_NULL_INDEX) {
-            used[b] = 0u;
-        }
     }
 }
 
@@ -144,24 +181,46 @@ KG_FN void kg_order_by_color(int count, KG_GLOBAL const kg_contact* contacts, KG
 #define kg_prefetch(address) __builtin_prefetch(address)
 #endif
 
-/* Colours the constraints of contacts [0, count), serially: colors[k] is contact k's
- * colour (or KG_COLOR_COUNT), and the lists are kg_order_by_color's. used (per body slot)
- * is all zeros before and after. */
-KG_FN void kg_color_constraints(int count, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
-                                KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors, KG_GLOBAL int* order,
-                                KG_GLOBAL int* rank, KG_GLOBAL int* color_start)
+/* The contacts that kept no colour (colors[k] == KG_UNCOLORED), coloured in priority order. */
+KG_FN void kg_color_in_priority_order(int count, KG_GLOBAL kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                                      KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors)
 {
     int bits = kg_priority_bits(count);
+    kg_u32 ahead[KG_COLOR_LOOKAHEAD]; /* the contacts of priorities p to p + lookahead - 1 */
+    for (kg_u32 p = 0u; p < KG_COLOR_LOOKAHEAD; ++p) {
+        ahead[p] = kg_color_constraint_at(p, bits);
+    }
     for (kg_u32 p = 0u; p < (1u << bits); ++p) {
-        kg_u32 k = kg_color_constraint_at(p, bits), ahead = kg_color_constraint_at(p + KG_COLOR_LOOKAHEAD, bits);
-        if (ahead < (kg_u32)count) {
-            kg_prefetch(&contacts[ahead].a);
+        kg_u32 k = ahead[p % KG_COLOR_LOOKAHEAD], later = kg_color_constraint_at(p + KG_COLOR_LOOKAHEAD, bits);
+        ahead[p % KG_COLOR_LOOKAHEAD] = later;
+        if (later < (kg_u32)count && colors[later] == KG_UNCOLORED) {
+            kg_prefetch(&contacts[later].a);
         }
-        if (k < (kg_u32)count) {
+        if (k < (kg_u32)count && colors[k] == KG_UNCOLORED) {
             colors[k] = kg_color_contact(k, contacts, flags, used);
         }
     }
-    kg_order_by_color(count, contacts, used, colors, order, rank, color_start);
+}
+
+/* Colours the constraints of contacts [0, count), serially: colors[k] is contact k's
+ * colour (or KG_COLOR_COUNT), also in its colour word, and the lists are
+ * kg_order_by_color's. used (per body slot: the colours its contacts took) must be zero
+ * for the contacts' bodies before; it is left as the colouring made it (clearing it
+ * through the contacts would read them a third time). */
+KG_FN void kg_color_constraints(int count, KG_GLOBAL kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                                KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors, KG_GLOBAL int* order,
+                                KG_GLOBAL int* rank, KG_GLOBAL int* color_start)
+{
+    int waiting = 0;
+    for (kg_u32 k = 0u; k < (kg_u32)count; ++k) {
+        colors[k] = kg_kept_color(k, contacts, flags);
+        kg_mark_kept_color(k, colors[k], contacts, flags, used);
+        waiting += colors[k] == KG_UNCOLORED;
+    }
+    if (waiting > 0) {
+        kg_color_in_priority_order(count, contacts, flags, used, colors);
+    }
+    kg_order_by_color(count, colors, order, rank, color_start);
 }
 
 /* ---- the device's rounds (see the top) ---- */
@@ -171,22 +230,15 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL const kg_contact* contacts,
  * (backend/opencl/cl_world.c says why). */
 #define KG_COLOR_SERIAL_MAX 2048
 
-#define KG_UNCOLORED (-1)
 #define KG_NO_BID 0xFFFFFFFFu
 
-#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
-#define kg_keep_least(p, v) atomic_min((p), (v))
-#else
-/* Serial rounds (the tests replay the device's rounds on the CPU with these functions). */
-KG_FN void kg_keep_least(kg_u32* p, kg_u32 v) { *p = v < *p ? v : *p; }
-#endif
-
-/* Before the first round: contact k uncoloured, its bodies with no colour and no bid. */
-KG_FN void kg_color_reset(kg_u32 k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL int* colors,
-                          KG_GLOBAL kg_u32* used, KG_GLOBAL kg_u32* bids)
+/* Before the rounds: contact k's kept colour (or KG_UNCOLORED), its bodies with no colour
+ * taken (kg_mark_kept_color then marks the kept ones) and no bid. */
+KG_FN void kg_color_reset(kg_u32 k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                          KG_GLOBAL int* colors, KG_GLOBAL kg_u32* used, KG_GLOBAL kg_u32* bids)
 {
     kg_u32 a = contacts[k].a, b = contacts[k].b;
-    colors[k] = KG_UNCOLORED;
+    colors[k] = kg_kept_color(k, contacts, flags);
     if (a != KG_NULL_INDEX) {
         used[a] = 0u;
         bids[a] = KG_NO_BID;
@@ -216,7 +268,7 @@ KG_FN void kg_color_bid(kg_u32 k, int bits, KG_GLOBAL const kg_contact* contacts
 /* After the bids: an uncoloured contact that won on each of its moving bodies takes its
  * colour (the only one to touch their used colours this round), and clears its bodies'
  * bids for the next round (next_bids). Returns 1 when it waits for another round. */
-KG_FN int kg_color_take(kg_u32 k, int bits, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+KG_FN int kg_color_take(kg_u32 k, int bits, KG_GLOBAL kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
                         KG_GLOBAL int* colors, KG_GLOBAL const kg_u32* bids, KG_GLOBAL kg_u32* next_bids,
                         KG_GLOBAL kg_u32* used)
 {
@@ -233,7 +285,7 @@ KG_FN int kg_color_take(kg_u32 k, int bits, KG_GLOBAL const kg_contact* contacts
         next_bids[b] = KG_NO_BID;
     }
     if (wins) {
-        colors[k] = kg_pick_color(used, a, b, a_moves, b_moves);
+        colors[k] = kg_color_contact(k, contacts, flags, used);
     }
     return !wins;
 }

@@ -27,9 +27,10 @@ void kg_graph_coloring_free(kg_graph_coloring* g)
     g->rank = NULL;
 }
 
-void kg_graph_color(kg_graph_coloring* g, const kg_contact* contacts, int count, const kg_body_pool* bodies,
+void kg_graph_color(kg_graph_coloring* g, kg_contact* contacts, int count, const kg_body_pool* bodies,
                     int* scratch_colors)
 {
+    memset(g->used, 0, (size_t)bodies->high_water * sizeof *g->used);
     kg_color_constraints(count, contacts, bodies->flags, g->used, scratch_colors, g->order, g->rank, g->color_start);
     g->color_count = kg_colors_in_use(g->color_start);
 }

@@ -18,9 +18,9 @@ typedef struct kg_graph_coloring {
 
 kg_result kg_graph_coloring_init(kg_graph_coloring* g, int body_capacity, int constraint_capacity);
 void kg_graph_coloring_free(kg_graph_coloring* g);
-/* Colours the constraints of contacts[0, count) by their bodies; scratch_colors holds
- * count ints. */
-void kg_graph_color(kg_graph_coloring* g, const kg_contact* contacts, int count, const kg_body_pool* bodies,
+/* Colours the constraints of contacts[0, count) by their bodies, each contact's colour
+ * word written (kept colours carried in it); scratch_colors holds count ints. */
+void kg_graph_color(kg_graph_coloring* g, kg_contact* contacts, int count, const kg_body_pool* bodies,
                     int* scratch_colors);
 
 #endif

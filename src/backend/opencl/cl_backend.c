@@ -11,9 +11,10 @@
  *    called by a force callback reads inside a step: that is a failure inside a step.)
  *  - if the device cannot be read at all (lost): the world continues from the last state
  *    the host read back whole: the state at creation, or as of the last getter or setter
- *    (a force callback's included), with transforms and bounds recomputed from it, and,
- *    inside a step, the forces the step began with. The steps simulated on the device
- *    since are lost, and the warning says how many.
+ *    (a force callback's included), as read (transforms and bounds are recomputed only
+ *    when a partial read left them newer than the rest), and, inside a step, the forces
+ *    the step began with. The steps simulated on the device since are lost, and the
+ *    warning says how many.
  * Contacts live on the device and are read back only when asked for (sync_contacts). A
  * fallback reads last step's back first (tried twice), so warm starting goes on
  * undisturbed; when the device cannot be read, the world goes on with no contacts, and
@@ -94,13 +95,18 @@ static kg_result kg_read_state(kg_cl_backend* b, int from_checkpoint, kg_body_po
     return from_checkpoint ? kg_cl_read_checkpoint(w, snapshot) : kg_cl_download(w, snapshot, state);
 }
 
-/* The host's own copy when the device cannot be read: transforms and bounds recomputed
- * from the centres, and inside a step the forces as they were when it began (drag only
- * ever comes from the step's applicators: none). */
-static void kg_host_state(kg_world* world, kg_cl_backend* b, int in_step, kg_body_pool* snapshot)
+/* The host's own copy when the device cannot be read, and inside a step the forces as
+ * they were when it began (drag only ever comes from the step's applicators: none).
+ * whole: every state array but the forces was read back since the device last changed
+ * it, so the copy is the device's state as it stands, bounds included: those finalize
+ * swept over the last step's motion, which the collide stage pairs from (recomputed, they
+ * miss the pairs a body is about to reach). Else the arrays may come from different reads
+ * (a partial one, of the transforms, or one that failed part way), and transforms and
+ * bounds are recomputed from the centres. */
+static void kg_host_state(kg_world* world, kg_cl_backend* b, int in_step, int whole, kg_body_pool* snapshot)
 {
     kg_body_pool* p = &world->bodies;
-    for (int i = 0; i < p->high_water; ++i) {
+    for (int i = 0; i < p->high_water && !whole; ++i) {
         if (kg_pool_alive(p, i)) {
             kg_body_update_transform(p, i); /* needs the shapes, which only the world's pool has */
         }
@@ -119,6 +125,8 @@ static void kg_host_state(kg_world* world, kg_cl_backend* b, int in_step, kg_bod
  * pool sharing the world's properties. Returns 0 when the device could not be read. */
 static int kg_recover_state(kg_world* world, kg_cl_backend* b, int in_step, kg_body_pool* snapshot)
 {
+    unsigned forces = KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE) | KG_CL_BIT(DRAG);
+    int whole = (b->w->host_stale & ~forces) == 0; /* before a read marks every array stale */
     kg_result r = KG_OK;
     if (in_step && b->checkpoint_valid) {
         r = kg_read_state(b, 1, snapshot);
@@ -131,7 +139,7 @@ static int kg_recover_state(kg_world* world, kg_cl_backend* b, int in_step, kg_b
         kg_copy_state(snapshot, &world->bodies);
     }
     if (r != KG_OK) {
-        kg_host_state(world, b, in_step, snapshot);
+        kg_host_state(world, b, in_step, whole, snapshot);
     }
     return r == KG_OK;
 }

@@ -243,18 +243,21 @@ static kg_result kg_color_in_rounds(kg_cl_world* w, cl_mem contacts, int count)
     return kg_fail(KG_ERROR_BACKEND, "the device's colouring did not end in %d rounds", count);
 }
 
-/* Colours count contacts: serially when they are few (w->color_serial_max), else in
- * rounds and then sorted by colour (stable: contact order within a colour). */
+/* Colours count contacts (kept colours first): serially when they are few
+ * (w->color_serial_max), else in rounds and then sorted by colour (stable: contact order
+ * within a colour). */
 static kg_result kg_color(kg_cl_world* w, cl_mem contacts, int count)
 {
     kg_cl_collide_buffers* c = &w->collide;
-    KG_LAUNCH(w, RESET_COLORS, count, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(c->colors),
-              KG_MEM(c->colors_used), KG_MEM(c->color_bids[0]), KG_MEM(c->color_items));
+    KG_LAUNCH(w, RESET_COLORS, count, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+              KG_MEM(c->colors), KG_MEM(c->colors_used), KG_MEM(c->color_bids[0]), KG_MEM(c->color_items));
     if (count <= w->color_serial_max) {
         KG_LAUNCH(w, COLOR_CONTACTS, 1, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
                   KG_MEM(c->colors_used), KG_MEM(c->colors), KG_MEM(w->order), KG_MEM(w->color_start));
         return KG_OK;
     }
+    KG_LAUNCH(w, KEEP_COLORS, count, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+              KG_MEM(c->colors), KG_MEM(c->colors_used));
     KG_TRY(kg_color_in_rounds(w, contacts, count));
     KG_TRY(kg_cl_sort_pass(w, c->colors, c->color_items, c->sorted_colors, w->order, count, 0,
                            kg_priority_bits(KG_COLOR_COUNT + 1), "kg_color"));

@@ -211,7 +211,7 @@ static int kg_body_contacts(const kg_contact* contacts, int count)
 }
 
 /* collide/collide.c's stage, from last step's contacts and the state it reads; its
- * contacts uploaded to the device list of this step. */
+ * contacts go to the device once coloured (kg_color_on_host). */
 static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b)
 {
     /* what collide/collide.c reads of the state: poses, bounds, flags, the velocities that
@@ -226,8 +226,7 @@ static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b)
     kg_contact* contacts = kg_collision_contacts(world, &count);
     b->step_count = count;
     b->step_body_count = kg_body_contacts(contacts, count);
-    KG_TRY(kg_cl_reserve_contacts(b->w, kg_collision_capacity(world))); /* the host's stage may have grown it */
-    return kg_cl_write(b->w, b->w->contacts[b->w->current ^ 1], 0, (size_t)count * sizeof *contacts, contacts, 0);
+    return kg_cl_reserve_contacts(b->w, kg_collision_capacity(world)); /* the host's stage may have grown it */
 }
 
 /* On the device, tile maps included, unless the pairs outgrow the contact pool. */
@@ -295,14 +294,15 @@ static kg_result kg_integrate_velocities(kg_cl_world* w, int bodies, const kg_in
     return KG_OK;
 }
 
-/* The host's contacts (after a host collide) coloured on the host, their colour ranges
- * and order to the device. */
+/* The host's contacts (after a host collide) coloured on the host, then sent to the device
+ * with their colour words (carried to the next step), colour ranges and order. */
 static kg_result kg_color_on_host(kg_world* world, kg_cl_backend* b)
 {
     int count = 0;
-    const kg_contact* contacts = kg_collision_contacts(world, &count);
+    kg_contact* contacts = kg_collision_contacts(world, &count);
     KG_TRY(kg_reserve_coloring(world, b, count));
     kg_graph_color(&b->coloring, contacts, count, &world->bodies, b->color_scratch); /* the CPU solver's colours */
+    KG_TRY(kg_cl_write(b->w, b->w->contacts[b->w->current ^ 1], 0, (size_t)count * sizeof *contacts, contacts, 0));
     KG_TRY(kg_cl_write(b->w, b->w->color_start, 0, sizeof b->coloring.color_start, b->coloring.color_start, 0));
     return kg_cl_write(b->w, b->w->order, 0, (size_t)count * sizeof(int), b->coloring.order, 0);
 }

@@ -5,7 +5,7 @@
 
 /* Few contacts: coloured serially (solve/coloring.h). One work-item, for at most
  * KG_COLOR_SERIAL_MAX contacts. */
-__kernel void kg_color_contacts(int count, __global const kg_contact* contacts,
+__kernel void kg_color_contacts(int count, __global kg_contact* contacts,
                                 __global const kg_u32* flags, __global uint* used, __global int* colors,
                                 __global int* order, __global int* color_start)
 {
@@ -14,14 +14,24 @@ __kernel void kg_color_contacts(int count, __global const kg_contact* contacts,
     }
 }
 
-/* Many contacts: coloured in rounds (solve/coloring.h), then ordered by colour. */
-__kernel void kg_reset_colors(int count, __global const kg_contact* contacts, __global int* colors,
-                              __global uint* used, __global uint* bids, __global uint* items)
+/* Before either: the kept colours, the bodies' used colours and bids cleared. */
+__kernel void kg_reset_colors(int count, __global const kg_contact* contacts, __global const kg_u32* flags,
+                              __global int* colors, __global uint* used, __global uint* bids, __global uint* items)
 {
     int k = (int)get_global_id(0);
     if (k < count) {
-        kg_color_reset((kg_u32)k, contacts, colors, used, bids);
+        kg_color_reset((kg_u32)k, contacts, flags, colors, used, bids);
         items[k] = (uint)k;
+    }
+}
+
+/* Many contacts: coloured in rounds (solve/coloring.h), then ordered by colour. */
+__kernel void kg_keep_colors(int count, __global const kg_contact* contacts, __global const kg_u32* flags,
+                             __global const int* colors, __global uint* used)
+{
+    int k = (int)get_global_id(0);
+    if (k < count) {
+        kg_mark_kept_color((kg_u32)k, colors[k], contacts, flags, used);
     }
 }
 
@@ -36,7 +46,7 @@ __kernel void kg_bid_colors(int count, int bits, __global const kg_contact* cont
 
 /* Counts the contacts left waiting in counts[KG_CC_WAITING + round % 2], the other word
  * cleared for the next round. */
-__kernel void kg_take_colors(int count, int bits, int round, __global const kg_contact* contacts,
+__kernel void kg_take_colors(int count, int bits, int round, __global kg_contact* contacts,
                              __global const kg_u32* flags, __global int* colors, __global const uint* bids,
                              __global uint* next_bids, __global uint* used, __global uint* counts)
 {
