@@ -1,5 +1,5 @@
-/* What the collision stage's kernels (kg_scan.cl, kg_broadphase.cl, kg_collide.cl, kg_color.cl) and their host code (cl_collide.c)
- * agree on: the slots of the small counters buffer and the sizes of the scan blocks (the
+/* What the collision stage's kernels (kg_scan.cl, kg_broadphase.cl, kg_collide.cl,
+ * kg_color.cl) and their host code (cl_collide.c) agree on: the slots of the small counters buffer and the sizes of the scan blocks (the
  * broadphase's structs are collide/broadphase_grid.h's). KG_COLOR_COUNT comes from
  * solve/coloring.h. */
 #ifndef KG_COLLIDE_SHARED_H
@@ -9,13 +9,13 @@
 #include "core/kg_layout.h"
 #include "solve/coloring.h"
 
-/* The counters buffer: what the host reads back of a step (1 and 3 unused). */
-#define KG_CC_PAIRS 0        /* pairs the broadphase found, counted past the capacity */
-#define KG_CC_CONTACTS 2     /* this step's contacts: touching pairs, then tile contacts */
-#define KG_CC_TILES 4        /* tile contacts found, counted past the room left */
-#define KG_CC_BODY_CONTACTS 5 /* the touching pairs, the first contacts */
-#define KG_CC_WAITING 6      /* contacts left uncoloured by a colouring round, 2 words */
-#define KG_CC_WORDS 8
+/* The counters buffer: what the host reads back of a step. */
+#define KG_CC_PAIRS 0         /* pairs the broadphase found, counted past the capacity */
+#define KG_CC_CONTACTS 1      /* this step's contacts: touching pairs, then tile contacts */
+#define KG_CC_TILES 2         /* tile contacts found, counted past the room left */
+#define KG_CC_BODY_CONTACTS 3 /* the touching pairs, the first contacts */
+#define KG_CC_WAITING 4       /* contacts left uncoloured by a colouring round, 2 words */
+#define KG_CC_WORDS 6
 
 /* The broadphase's words on the device: the grid's bounds (collide/broadphase_grid.h),
  * then how many boxes are small and how many large (where their sorted keys end). */
