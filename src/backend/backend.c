@@ -94,7 +94,7 @@ kg_result kg_world_get_transfer_stats(const kg_world* world, kg_transfer_stats* 
 #ifdef KG_HAVE_OPENCL
     const kg_backend_state* s = world->backend_state;
     if (s && s->cl) {
-        *out = s->cl->w->transfers;
+        *out = s->cl->transfers;
     }
 #endif
     return KG_OK;

@@ -63,8 +63,8 @@ void kg_cl_warn_new_frozen(kg_world* world, kg_cl_backend* b)
 
 kg_result kg_cl_flags_to_host(kg_world* world, kg_cl_backend* b)
 {
-    int stale = (b->w->host_stale & KG_CL_BIT(FLAGS)) != 0;
-    KG_TRY(kg_cl_to_host(b->w, &world->bodies, KG_CL_BIT(FLAGS)));
+    int stale = (b->host_stale & KG_CL_BIT(FLAGS)) != 0;
+    KG_TRY(kg_cl_to_host(b, &world->bodies, KG_CL_BIT(FLAGS)));
     if (stale) {
         kg_cl_warn_new_frozen(world, b);
     }
@@ -88,11 +88,10 @@ static void kg_copy_state(kg_body_pool* to, const kg_body_pool* from)
  * the step) or from the current buffers. */
 static kg_result kg_read_state(kg_cl_backend* b, int from_checkpoint, kg_body_pool* snapshot)
 {
-    kg_cl_world* w = b->w;
     unsigned state = kg_cl_state_arrays();
-    w->forces_cleared = 0;
-    w->host_stale = state;
-    return from_checkpoint ? kg_cl_read_checkpoint(w, snapshot) : kg_cl_download(w, snapshot, state);
+    b->forces_cleared = 0;
+    b->host_stale = state;
+    return from_checkpoint ? kg_cl_read_checkpoint(b, snapshot) : kg_cl_download(b, snapshot, state);
 }
 
 /* The host's own copy when the device cannot be read, and inside a step the forces as
@@ -126,11 +125,11 @@ static void kg_host_state(kg_world* world, kg_cl_backend* b, int in_step, int wh
 static int kg_recover_state(kg_world* world, kg_cl_backend* b, int in_step, kg_body_pool* snapshot)
 {
     unsigned forces = KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE) | KG_CL_BIT(DRAG);
-    int whole = (b->w->host_stale & ~forces) == 0; /* before a read marks every array stale */
+    int whole = (b->host_stale & ~forces) == 0; /* before a read marks every array stale */
     kg_result r = KG_OK;
     if (in_step && b->checkpoint_valid) {
         r = kg_read_state(b, 1, snapshot);
-    } else if (b->w->host_stale != 0) {
+    } else if (b->host_stale != 0) {
         r = kg_read_state(b, 0, snapshot);
         if (r != KG_OK) {
             r = kg_read_state(b, 0, snapshot); /* a failed read may succeed when tried again */
@@ -151,18 +150,16 @@ void kg_cl_backend_stop(kg_world* world)
     if (!b) {
         return;
     }
-    if (b->w) {
-        kg_cl_drain(b->w);
-        for (int slot = 0; b->force_kernels && slot <= world->def.max_applicators; ++slot) {
-            kg_cl_release_device_force(b, slot);
-        }
+    kg_cl_drain(b);
+    for (int slot = 0; b->force_kernels && slot <= world->def.max_applicators; ++slot) {
+        kg_cl_release_device_force(b, slot);
     }
-    kg_cl_world_destroy(b->w);
+    kg_cl_close_device(b);
     kg_free(b->force_kernels);
     kg_free(b->force_group_sizes);
     kg_free(b->start_force);
     kg_free(b->start_torque);
-    kg_free(b->targets);
+    kg_free(b->host_targets);
     kg_free(b->color_scratch);
     kg_graph_coloring_free(&b->coloring);
     kg_free(b);
@@ -277,11 +274,11 @@ static void kg_device_call_failed(kg_world* world, kg_cl_backend* b)
 static kg_result kg_opencl_sync_to_host(kg_world* world)
 {
     kg_cl_backend* b = kg_state(world)->cl;
-    if (b->w->host_stale == 0 || b->fallback_pending) {
+    if (b->host_stale == 0 || b->fallback_pending) {
         return KG_OK; /* with a fallback pending, the host's copy answers: the step is redone */
     }
-    int flags_stale = (b->w->host_stale & KG_CL_BIT(FLAGS)) != 0;
-    kg_result r = kg_cl_download(b->w, &world->bodies, b->w->host_stale);
+    int flags_stale = (b->host_stale & KG_CL_BIT(FLAGS)) != 0;
+    kg_result r = kg_cl_download(b, &world->bodies, b->host_stale);
     if (r != KG_OK) {
         kg_device_call_failed(world, b);
         return KG_OK;
@@ -306,7 +303,7 @@ static void kg_opencl_sync_contacts(kg_world* world)
 static void kg_opencl_host_changed(kg_world* world)
 {
     kg_cl_backend* b = kg_state(world)->cl;
-    b->w->device_stale = KG_CL_ALL_ARRAYS;
+    b->device_stale = KG_CL_ALL_ARRAYS;
 }
 
 static void kg_opencl_destroy(kg_world* world)
@@ -396,7 +393,7 @@ kg_result kg_cl_backend_start(kg_world* world, int device_index)
         r = kg_cl_backend_alloc(world, &kg_state(world)->cl);
     }
     if (r == KG_OK) {
-        r = kg_cl_world_create(world, rt, &faults, &kg_state(world)->cl->w);
+        r = kg_cl_open_device(world, kg_state(world)->cl, rt, &faults);
     }
     if (r != KG_OK) {
         kg_cl_backend_stop(world);
@@ -411,7 +408,7 @@ kg_result kg_cl_backend_start(kg_world* world, int device_index)
 void kg_cl_release_device_force(kg_cl_backend* b, int slot)
 {
     if (b->force_kernels[slot]) {
-        b->w->cl->ReleaseKernel(b->force_kernels[slot]);
+        b->cl->ReleaseKernel(b->force_kernels[slot]);
         b->force_kernels[slot] = NULL;
     }
 }
@@ -421,18 +418,18 @@ kg_result kg_cl_prepare_device_force(kg_world* world, kg_cl_backend* b, int slot
     kg_device_force* f = &kg_state(world)->forces[slot];
     kg_cl_release_device_force(b, slot);
     cl_program program = NULL;
-    kg_result r = kg_cl_force_program(b->w->rt, f->source, f->function_name, &program);
+    kg_result r = kg_cl_force_program(b->rt, f->source, f->function_name, &program);
     if (r != KG_OK) {
         return r;
     }
     cl_int err = CL_SUCCESS;
-    b->force_kernels[slot] = b->w->cl->CreateKernel(program, KG_CL_DEVICE_FORCE_KERNEL, &err);
+    b->force_kernels[slot] = b->cl->CreateKernel(program, KG_CL_DEVICE_FORCE_KERNEL, &err);
     if (!b->force_kernels[slot] || err != CL_SUCCESS) {
         b->force_kernels[slot] = NULL;
         return kg_fail(KG_ERROR_BACKEND, "OpenCL: no kernel in the device force program (%s)", kg_cl_error_name(err));
     }
-    b->force_group_sizes[slot] = kg_cl_pick_group_size(b->w, b->force_kernels[slot]);
-    r = kg_cl_check_arg_count(b->w, b->force_kernels[slot], KG_CL_DEVICE_FORCE_KERNEL, KG_CL_DEVICE_FORCE_ARGS);
+    b->force_group_sizes[slot] = kg_cl_pick_group_size(b, b->force_kernels[slot]);
+    r = kg_cl_check_arg_count(b, b->force_kernels[slot], KG_CL_DEVICE_FORCE_KERNEL, KG_CL_DEVICE_FORCE_ARGS);
     if (r != KG_OK) {
         kg_cl_release_device_force(b, slot);
     }
@@ -461,10 +458,10 @@ kg_result kg_backend_prepare_device_force(kg_world* world, int slot)
 kg_result kg_backend_read_transforms(kg_world* world, int first, int count)
 {
     kg_cl_backend* b = kg_state(world)->cl;
-    if (!b || b->fallback_pending || !(b->w->host_stale & KG_CL_BIT(XF)) || count <= 0) {
+    if (!b || b->fallback_pending || !(b->host_stale & KG_CL_BIT(XF)) || count <= 0) {
         return KG_OK;
     }
-    kg_result r = kg_cl_read(b->w, b->w->arrays[KG_CL_XF], (size_t)first * sizeof(kg_xf), (size_t)count * sizeof(kg_xf),
+    kg_result r = kg_cl_read(b, b->arrays[KG_CL_XF], (size_t)first * sizeof(kg_xf), (size_t)count * sizeof(kg_xf),
                              world->bodies.xf + first);
     if (r != KG_OK) {
         kg_device_call_failed(world, b);

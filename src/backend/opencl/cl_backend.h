@@ -6,43 +6,6 @@
 #include "backend/backend.h"
 #include "backend/backend_state.h"
 #include "backend/opencl/cl_world.h"
-#include "backend/opencl/kernels/kg_collide_shared.h"
-#include "solve/graph_color.h"
-
-typedef struct kg_cl_backend {
-    kg_cl_world* w;
-    /* host scratch, grown (never in a steady state) when a step needs more */
-    kg_force_target* targets;        /* the lists of this step's applicators */
-    int target_capacity;
-    int* color_scratch;
-    int color_capacity;
-    kg_graph_coloring coloring;
-    kg_solver_params solver_params;  /* the step's, read by a non-blocking write */
-    cl_kernel* force_kernels;        /* per applicator slot, for device forces */
-    size_t* force_group_sizes;
-    int steps_since_snapshot;        /* steps since the host last had the whole state */
-    int frozen_count;                /* frozen bodies the host knows of, to warn of new ones */
-    int checkpoint_valid;            /* this step's start state is saved on the device */
-    int in_step;                     /* a step is running (force callbacks run inside it) */
-    int fallback_pending;            /* a failure inside the step: it unwinds, then falls back */
-    char fallback_reason[512];       /* that failure's message */
-    kg_vec2* start_force;            /* the forces the step began with, when the host set them */
-    float* start_torque;
-    int start_forces_saved;          /* else the step began with every force zero */
-    /* contacts: the last step's are in w->contacts[w->current]; the host's list (collide.h)
-     * is filled from there only when asked for (contacts_stale) */
-    int body_contact_count;          /* the first ones, body pairs; tile contacts follow */
-    int tile_state_on_device;        /* the one-way platform state is newer on the device */
-    int tiles_ran;                   /* this step collided the tile maps on the device */
-    int contacts_stale;
-    cl_uint counters[KG_CC_WORDS];   /* the device collide stage's counters, read back */
-    /* this step's collide stage: where it ran, the pairs it found on the device, the
-     * contacts it made (the first step_body_count between bodies, tile contacts after) */
-    int step_on_device;
-    int step_pairs;
-    int step_count;
-    int step_body_count;
-} kg_cl_backend;
 
 extern const kg_backend_ops kg_opencl_backend;
 
@@ -67,7 +30,7 @@ const char* kg_cl_stage_label(const kg_world* world, const kg_cl_backend* b, kg_
  * by the current error (the first one counts). */
 void kg_cl_request_fallback(kg_cl_backend* b);
 /* The collision stage on the device (cl_collide.c), tile maps included: this step's
- * contacts built into w->contacts[!w->current], b->step_pairs set. *fits is 0 when the
+ * contacts built into b->contacts[!b->current], b->step_pairs set. *fits is 0 when the
  * pairs outgrow the contact pool: then nothing is built, and the host's stage must run
  * (it grows the pool). */
 kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits);

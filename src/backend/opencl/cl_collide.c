@@ -16,29 +16,29 @@
  * the boxes sorted by cell (small) and by lower x (large), then each small and each large
  * entry's pairs counted, summed (the total to counts[KG_CC_PAIRS]) and written, within
  * capacity. */
-static kg_result kg_find_pairs(kg_world* world, kg_cl_world* w, int capacity)
+static kg_result kg_find_pairs(kg_world* world, kg_cl_backend* b, int capacity)
 {
-    kg_cl_collide_buffers* c = &w->collide;
+    kg_cl_collide_buffers* c = &b->collide;
     const char* label = "kg_broadphase";
     int slots = world->bodies.high_water;
-    KG_LAUNCH(w, BP_CLEAR, KG_BP_EXTENT_BINS, label, KG_MEM(c->histogram), KG_MEM(c->counts), KG_MEM(c->bp_words));
-    KG_LAUNCH(w, BP_PROXIES, slots, label, KG_INT(slots), KG_FLOAT(world->def.speculative_distance), KG_MEM(KG_A(FLAGS)),
+    KG_LAUNCH(b, BP_CLEAR, KG_BP_EXTENT_BINS, label, KG_MEM(c->histogram), KG_MEM(c->counts), KG_MEM(c->bp_words));
+    KG_LAUNCH(b, BP_PROXIES, slots, label, KG_INT(slots), KG_FLOAT(world->def.speculative_distance), KG_MEM(KG_A(FLAGS)),
               KG_MEM(KG_A(AABB)), KG_MEM(KG_A(CATEGORY)), KG_MEM(KG_A(MASK)), KG_MEM(c->proxies),
               KG_MEM(c->histogram), KG_MEM(c->run), KG_MEM(c->run_fill), KG_MEM(c->colors_used),
-              KG_MEM(w->wake_marks));
-    KG_LAUNCH(w, BP_CELLS, 1, label, KG_MEM(c->histogram), KG_MEM(c->grid));
-    KG_LAUNCH(w, BP_BOUNDS, slots, label, KG_INT(slots), KG_MEM(c->proxies), KG_MEM(c->grid), KG_MEM(c->bp_words));
-    KG_LAUNCH(w, BP_BUILD_GRID, 1, label, KG_MEM(c->grid), KG_MEM(c->bp_words));
-    KG_LAUNCH(w, BP_KEYS, slots, label, KG_INT(slots), KG_MEM(c->grid), KG_MEM(c->proxies), KG_MEM(c->keys),
+              KG_MEM(b->wake_marks));
+    KG_LAUNCH(b, BP_CELLS, 1, label, KG_MEM(c->histogram), KG_MEM(c->grid));
+    KG_LAUNCH(b, BP_BOUNDS, slots, label, KG_INT(slots), KG_MEM(c->proxies), KG_MEM(c->grid), KG_MEM(c->bp_words));
+    KG_LAUNCH(b, BP_BUILD_GRID, 1, label, KG_MEM(c->grid), KG_MEM(c->bp_words));
+    KG_LAUNCH(b, BP_KEYS, slots, label, KG_INT(slots), KG_MEM(c->grid), KG_MEM(c->proxies), KG_MEM(c->keys),
               KG_MEM(c->items), KG_MEM(c->large_keys), KG_MEM(c->large_items));
-    KG_TRY(kg_cl_sort(w, c->keys, c->items, c->key_scratch, c->item_scratch, slots, 32, label));
-    KG_TRY(kg_cl_sort(w, c->large_keys, c->large_items, c->key_scratch, c->item_scratch, slots, 32, label));
-    KG_LAUNCH(w, BP_GATHER, slots, label, KG_INT(slots), KG_MEM(c->keys), KG_MEM(c->items), KG_MEM(c->large_keys),
+    KG_TRY(kg_cl_sort(b, c->keys, c->items, c->key_scratch, c->item_scratch, slots, 32, label));
+    KG_TRY(kg_cl_sort(b, c->large_keys, c->large_items, c->key_scratch, c->item_scratch, slots, 32, label));
+    KG_LAUNCH(b, BP_GATHER, slots, label, KG_INT(slots), KG_MEM(c->keys), KG_MEM(c->items), KG_MEM(c->large_keys),
               KG_MEM(c->proxies), KG_MEM(c->sorted), KG_MEM(c->bp_words));
-    KG_LAUNCH(w, BP_COUNT_PAIRS, 2 * slots, label, KG_INT(slots), KG_MEM(c->grid), KG_MEM(c->keys), KG_MEM(c->sorted),
+    KG_LAUNCH(b, BP_COUNT_PAIRS, 2 * slots, label, KG_INT(slots), KG_MEM(c->grid), KG_MEM(c->keys), KG_MEM(c->sorted),
               KG_MEM(c->large_items), KG_MEM(c->proxies), KG_MEM(c->bp_words), KG_MEM(c->found));
-    KG_TRY(kg_cl_scan(w, c->found, c->found, 2 * slots, KG_CC_PAIRS, label));
-    KG_LAUNCH(w, BP_WRITE_PAIRS, 2 * slots, label, KG_INT(slots), KG_INT(capacity), KG_MEM(c->grid), KG_MEM(c->keys),
+    KG_TRY(kg_cl_scan(b, c->found, c->found, 2 * slots, KG_CC_PAIRS, label));
+    KG_LAUNCH(b, BP_WRITE_PAIRS, 2 * slots, label, KG_INT(slots), KG_INT(capacity), KG_MEM(c->grid), KG_MEM(c->keys),
               KG_MEM(c->sorted), KG_MEM(c->large_items), KG_MEM(c->proxies), KG_MEM(c->bp_words), KG_MEM(c->found),
               KG_MEM(c->raw_pairs));
     return KG_OK;
@@ -46,16 +46,16 @@ static kg_result kg_find_pairs(kg_world* world, kg_cl_world* w, int capacity)
 
 /* The pairs found, in (a, b) order: each lower slot's run placed by the prefix sum of the
  * run lengths, then sorted by the upper slot. */
-static kg_result kg_order_pairs(kg_world* world, kg_cl_world* w, int pairs)
+static kg_result kg_order_pairs(kg_world* world, kg_cl_backend* b, int pairs)
 {
-    kg_cl_collide_buffers* c = &w->collide;
+    kg_cl_collide_buffers* c = &b->collide;
     const char* label = "kg_broadphase";
     int slots = world->bodies.high_water;
-    KG_LAUNCH(w, BP_COUNT_RUNS, pairs, label, KG_INT(pairs), KG_MEM(c->raw_pairs), KG_MEM(c->run));
-    KG_TRY(kg_cl_scan(w, c->run, c->run, slots, -1, label));
-    KG_LAUNCH(w, BP_SCATTER, pairs, label, KG_INT(pairs), KG_MEM(c->raw_pairs), KG_MEM(c->run), KG_MEM(c->run_fill),
+    KG_LAUNCH(b, BP_COUNT_RUNS, pairs, label, KG_INT(pairs), KG_MEM(c->raw_pairs), KG_MEM(c->run));
+    KG_TRY(kg_cl_scan(b, c->run, c->run, slots, -1, label));
+    KG_LAUNCH(b, BP_SCATTER, pairs, label, KG_INT(pairs), KG_MEM(c->raw_pairs), KG_MEM(c->run), KG_MEM(c->run_fill),
               KG_MEM(c->pairs));
-    KG_LAUNCH(w, BP_SORT_RUNS, slots, label, KG_INT(slots), KG_MEM(c->run), KG_MEM(c->pairs));
+    KG_LAUNCH(b, BP_SORT_RUNS, slots, label, KG_INT(slots), KG_MEM(c->run), KG_MEM(c->pairs));
     return KG_OK;
 }
 
@@ -63,16 +63,15 @@ static kg_result kg_order_pairs(kg_world* world, kg_cl_world* w, int pairs)
 
 static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
 {
-    kg_cl_world* w = b->w;
-    kg_cl_collide_buffers* c = &w->collide;
+    kg_cl_collide_buffers* c = &b->collide;
     const char* label = "kg_narrowphase";
-    cl_mem previous = w->contacts[w->current], next = w->contacts[w->current ^ 1];
-    KG_LAUNCH(w, NARROWPHASE, pairs, label, KG_INT(pairs), KG_FLOAT(world->def.speculative_distance),
+    cl_mem previous = b->contacts[b->current], next = b->contacts[b->current ^ 1];
+    KG_LAUNCH(b, NARROWPHASE, pairs, label, KG_INT(pairs), KG_FLOAT(world->def.speculative_distance),
               KG_FLOAT(world->last_dt), KG_MEM(c->pairs), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)),
               KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)), KG_MEM(c->manifolds),
               KG_MEM(c->bases), KG_MEM(c->touching));
-    KG_TRY(kg_cl_scan(w, c->touching, c->touching, pairs, KG_CC_CONTACTS, label));
-    KG_LAUNCH(w, BUILD_CONTACTS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->manifolds),
+    KG_TRY(kg_cl_scan(b, c->touching, c->touching, pairs, KG_CC_CONTACTS, label));
+    KG_LAUNCH(b, BUILD_CONTACTS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->manifolds),
               KG_MEM(c->bases), KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)),
               KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)), KG_MEM(next));
     return KG_OK;
@@ -81,20 +80,20 @@ static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
 /* ---- tile maps -------------------------------------------------------------------------- */
 
 /* Map m's cells, from the host's arrays to the device's, at the same place. */
-static kg_result kg_write_map_cells(kg_cl_world* w, const kg_tilemap_arrays* a, const kg_tile_map_info* m)
+static kg_result kg_write_map_cells(kg_cl_backend* b, const kg_tilemap_arrays* a, const kg_tile_map_info* m)
 {
     size_t first = m->cell_offset, count = (size_t)m->width * (size_t)m->height * (size_t)m->layer_count;
     /* blocking: kg_tilemap_set_tile may change the host's cells as soon as the step ends */
-    return kg_cl_write(w, w->collide.tile_cells, first * sizeof(kg_u32), count * sizeof(kg_u32), a->cells + first, 1);
+    return kg_cl_write(b, b->collide.tile_cells, first * sizeof(kg_u32), count * sizeof(kg_u32), a->cells + first, 1);
 }
 
 /* The host's tile arrays (collide/tilemap.h) into new buffers of their size. */
-static kg_result kg_build_tile_buffers(kg_world* world, kg_cl_world* w, int maps)
+static kg_result kg_build_tile_buffers(kg_world* world, kg_cl_backend* b, int maps)
 {
-    kg_cl_collide_buffers* c = &w->collide;
-    kg_cl_release(w, &c->tile_maps);
-    kg_cl_release(w, &c->tile_cells);
-    kg_cl_release(w, &c->tile_protos);
+    kg_cl_collide_buffers* c = &b->collide;
+    kg_cl_release(b, &c->tile_maps);
+    kg_cl_release(b, &c->tile_cells);
+    kg_cl_release(b, &c->tile_protos);
     c->tiles_built = 0;
     kg_tilemap_arrays a;
     kg_tilemaps_arrays(world, &a);
@@ -102,13 +101,13 @@ static kg_result kg_build_tile_buffers(kg_world* world, kg_cl_world* w, int maps
         kg_tilemaps_take_dirty(world, i);
     }
     size_t info_size = (size_t)maps * sizeof *a.maps, proto_size = a.proto_count * sizeof *a.protos;
-    KG_TRY(kg_cl_buffer(w, info_size, &c->tile_maps));
-    KG_TRY(kg_cl_buffer(w, a.cell_count * sizeof *a.cells, &c->tile_cells));
-    KG_TRY(kg_cl_buffer(w, proto_size, &c->tile_protos));
-    KG_TRY(kg_cl_write(w, c->tile_maps, 0, info_size, a.maps, 1));
-    KG_TRY(kg_cl_write(w, c->tile_protos, 0, proto_size, a.protos, 1));
+    KG_TRY(kg_cl_buffer(b, info_size, &c->tile_maps));
+    KG_TRY(kg_cl_buffer(b, a.cell_count * sizeof *a.cells, &c->tile_cells));
+    KG_TRY(kg_cl_buffer(b, proto_size, &c->tile_protos));
+    KG_TRY(kg_cl_write(b, c->tile_maps, 0, info_size, a.maps, 1));
+    KG_TRY(kg_cl_write(b, c->tile_protos, 0, proto_size, a.protos, 1));
     /* blocking: kg_tilemap_set_tile may change the host's cells as soon as the step ends */
-    KG_TRY(kg_cl_write(w, c->tile_cells, 0, a.cell_count * sizeof *a.cells, a.cells, 1));
+    KG_TRY(kg_cl_write(b, c->tile_cells, 0, a.cell_count * sizeof *a.cells, a.cells, 1));
     c->tiles_built = 1;
     c->tile_map_count = maps;
     c->tile_layout = kg_tilemaps_layout_version(world);
@@ -117,17 +116,17 @@ static kg_result kg_build_tile_buffers(kg_world* world, kg_cl_world* w, int maps
 
 /* The maps on the device: built again when a map was created or destroyed, else the
  * cells of the maps whose tiles changed written again. */
-static kg_result kg_sync_tiles(kg_world* world, kg_cl_world* w, int maps)
+static kg_result kg_sync_tiles(kg_world* world, kg_cl_backend* b, int maps)
 {
-    kg_cl_collide_buffers* c = &w->collide;
+    kg_cl_collide_buffers* c = &b->collide;
     if (!c->tiles_built || c->tile_layout != kg_tilemaps_layout_version(world) || c->tile_map_count != maps) {
-        return kg_build_tile_buffers(world, w, maps);
+        return kg_build_tile_buffers(world, b, maps);
     }
     kg_tilemap_arrays a;
     kg_tilemaps_arrays(world, &a);
     for (int i = 0; i < maps; ++i) {
         if (kg_tilemaps_take_dirty(world, i)) {
-            kg_result r = kg_write_map_cells(w, &a, &a.maps[i]);
+            kg_result r = kg_write_map_cells(b, &a, &a.maps[i]);
             if (r != KG_OK) {
                 c->tiles_built = 0; /* written again in whole next time */
                 return r;
@@ -143,11 +142,11 @@ static kg_result kg_tile_state_to_device(kg_world* world, kg_cl_backend* b)
     if (b->tile_state_on_device) {
         return KG_OK;
     }
-    kg_cl_collide_buffers* c = &b->w->collide;
+    kg_cl_collide_buffers* c = &b->collide;
     size_t n = (size_t)world->bodies.capacity;
     for (int k = 0; k < 2; ++k) {
-        KG_TRY(kg_cl_write(b->w, c->last_origin[k], 0, n * sizeof(kg_vec2), kg_tilemaps_last_origin(world), 1));
-        KG_TRY(kg_cl_write(b->w, c->last_generation[k], 0, n * sizeof(kg_u32), kg_tilemaps_last_generation(world), 1));
+        KG_TRY(kg_cl_write(b, c->last_origin[k], 0, n * sizeof(kg_vec2), kg_tilemaps_last_origin(world), 1));
+        KG_TRY(kg_cl_write(b, c->last_generation[k], 0, n * sizeof(kg_u32), kg_tilemaps_last_generation(world), 1));
     }
     b->tile_state_on_device = 1;
     return KG_OK;
@@ -158,10 +157,10 @@ kg_result kg_cl_tile_state_to_host(kg_world* world, kg_cl_backend* b)
     if (!b->tile_state_on_device || !world->tilemaps) {
         return KG_OK;
     }
-    kg_cl_collide_buffers* c = &b->w->collide;
+    kg_cl_collide_buffers* c = &b->collide;
     size_t n = (size_t)world->bodies.high_water;
-    KG_TRY(kg_cl_read(b->w, c->last_origin[c->tile_state], 0, n * sizeof(kg_vec2), kg_tilemaps_last_origin(world)));
-    KG_TRY(kg_cl_read(b->w, c->last_generation[c->tile_state], 0, n * sizeof(kg_u32),
+    KG_TRY(kg_cl_read(b, c->last_origin[c->tile_state], 0, n * sizeof(kg_vec2), kg_tilemaps_last_origin(world)));
+    KG_TRY(kg_cl_read(b, c->last_generation[c->tile_state], 0, n * sizeof(kg_u32),
                       kg_tilemaps_last_generation(world)));
     b->tile_state_on_device = 0;
     return KG_OK;
@@ -170,7 +169,7 @@ kg_result kg_cl_tile_state_to_host(kg_world* world, kg_cl_backend* b)
 void kg_cl_commit_tile_state(kg_cl_backend* b)
 {
     if (b->tiles_ran) {
-        b->w->collide.tile_state ^= 1;
+        b->collide.tile_state ^= 1;
         b->tiles_ran = 0;
     }
 }
@@ -179,28 +178,27 @@ void kg_cl_commit_tile_state(kg_cl_backend* b)
  * summed, then written; counts[KG_CC_CONTACTS] becomes the total within capacity. */
 static kg_result kg_collide_tiles(kg_world* world, kg_cl_backend* b, int capacity)
 {
-    kg_cl_world* w = b->w;
-    kg_cl_collide_buffers* c = &w->collide;
+    kg_cl_collide_buffers* c = &b->collide;
     const char* label = "kg_narrowphase";
     int maps = kg_tilemaps_live_count(world);
     b->tiles_ran = 0;
     if (maps == 0) {
         return KG_OK; /* as on the host: no contacts, the one-way state left as it is */
     }
-    KG_TRY(kg_sync_tiles(world, w, maps));
+    KG_TRY(kg_sync_tiles(world, b, maps));
     KG_TRY(kg_tile_state_to_device(world, b));
     int slots = world->bodies.high_water, previous_count = 0;
     kg_collision_contacts(world, &previous_count);
-    cl_mem previous = w->contacts[w->current], next = w->contacts[w->current ^ 1];
+    cl_mem previous = b->contacts[b->current], next = b->contacts[b->current ^ 1];
     int in = c->tile_state, out = c->tile_state ^ 1;
     kg_tile_pass_params prm = {maps, world->def.speculative_distance, world->def.linear_slop, b->body_contact_count,
                                previous_count, (kg_u32)capacity, 0};
     for (prm.write = 0; prm.write < 2; ++prm.write) {
         if (prm.write) {
-            KG_TRY(kg_cl_scan(w, c->tile_run, c->tile_run, slots, KG_CC_TILES, label));
-            KG_LAUNCH(w, TILE_TOTAL, 1, label, KG_INT(capacity), KG_MEM(c->counts));
+            KG_TRY(kg_cl_scan(b, c->tile_run, c->tile_run, slots, KG_CC_TILES, label));
+            KG_LAUNCH(b, TILE_TOTAL, 1, label, KG_INT(capacity), KG_MEM(c->counts));
         }
-        KG_LAUNCH(w, TILE_COLLIDE_BODIES, slots, label, KG_INT(slots), KG_VALUE(prm), KG_MEM(c->tile_maps),
+        KG_LAUNCH(b, TILE_COLLIDE_BODIES, slots, label, KG_INT(slots), KG_VALUE(prm), KG_MEM(c->tile_maps),
                   KG_MEM(c->tile_cells), KG_MEM(c->tile_protos), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(AABB)),
                   KG_MEM(KG_A(XF)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(CATEGORY)),
                   KG_MEM(KG_A(MASK)), KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)),
@@ -220,22 +218,22 @@ static kg_result kg_collide_tiles(kg_world* world, kg_cl_backend* b, int capacit
 
 /* The rounds of solve/coloring.h until no contact waits. Every round colours at least
  * the contact of least priority still waiting, so count rounds always end them. */
-static kg_result kg_color_in_rounds(kg_cl_world* w, cl_mem contacts, int count)
+static kg_result kg_color_in_rounds(kg_cl_backend* b, cl_mem contacts, int count)
 {
-    kg_cl_collide_buffers* c = &w->collide;
+    kg_cl_collide_buffers* c = &b->collide;
     int bits = kg_priority_bits(count);
     for (int round = 0; round <= count;) {
         for (int end = round + KG_COLOR_ROUNDS_PER_LOOK; round < end; ++round) {
             cl_mem bids = c->color_bids[round & 1], next_bids = c->color_bids[(round + 1) & 1];
-            KG_LAUNCH(w, BID_COLORS, count, "kg_color", KG_INT(count), KG_INT(bits), KG_MEM(contacts),
+            KG_LAUNCH(b, BID_COLORS, count, "kg_color", KG_INT(count), KG_INT(bits), KG_MEM(contacts),
                       KG_MEM(KG_A(FLAGS)), KG_MEM(c->colors), KG_MEM(bids));
-            KG_LAUNCH(w, TAKE_COLORS, count, "kg_color", KG_INT(count), KG_INT(bits), KG_INT(round),
+            KG_LAUNCH(b, TAKE_COLORS, count, "kg_color", KG_INT(count), KG_INT(bits), KG_INT(round),
                       KG_MEM(contacts), KG_MEM(KG_A(FLAGS)), KG_MEM(c->colors), KG_MEM(bids), KG_MEM(next_bids),
                       KG_MEM(c->colors_used), KG_MEM(c->counts));
         }
         cl_uint waiting = 0u;
         size_t at = (size_t)(KG_CC_WAITING + ((round - 1) & 1)) * sizeof waiting;
-        KG_TRY(kg_cl_read(w, c->counts, at, sizeof waiting, &waiting));
+        KG_TRY(kg_cl_read(b, c->counts, at, sizeof waiting, &waiting));
         if (waiting == 0u) {
             return KG_OK;
         }
@@ -244,75 +242,73 @@ static kg_result kg_color_in_rounds(kg_cl_world* w, cl_mem contacts, int count)
 }
 
 /* Colours count contacts (kept colours first): serially when they are few
- * (w->color_serial_max), else in rounds and then sorted by colour (stable: contact order
+ * (b->color_serial_max), else in rounds and then sorted by colour (stable: contact order
  * within a colour). */
-static kg_result kg_color(kg_cl_world* w, cl_mem contacts, int count)
+static kg_result kg_color(kg_cl_backend* b, cl_mem contacts, int count)
 {
-    kg_cl_collide_buffers* c = &w->collide;
-    KG_LAUNCH(w, RESET_COLORS, count, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+    kg_cl_collide_buffers* c = &b->collide;
+    KG_LAUNCH(b, RESET_COLORS, count, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
               KG_MEM(c->colors), KG_MEM(c->colors_used), KG_MEM(c->color_bids[0]), KG_MEM(c->color_items));
-    if (count <= w->color_serial_max) {
-        KG_LAUNCH(w, COLOR_CONTACTS, 1, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
-                  KG_MEM(c->colors_used), KG_MEM(c->colors), KG_MEM(w->order), KG_MEM(w->color_start));
+    if (count <= b->color_serial_max) {
+        KG_LAUNCH(b, COLOR_CONTACTS, 1, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+                  KG_MEM(c->colors_used), KG_MEM(c->colors), KG_MEM(b->order), KG_MEM(b->color_start));
         return KG_OK;
     }
-    KG_LAUNCH(w, KEEP_COLORS, count, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+    KG_LAUNCH(b, KEEP_COLORS, count, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
               KG_MEM(c->colors), KG_MEM(c->colors_used));
-    KG_TRY(kg_color_in_rounds(w, contacts, count));
-    KG_TRY(kg_cl_sort_pass(w, c->colors, c->color_items, c->sorted_colors, w->order, count, 0,
+    KG_TRY(kg_color_in_rounds(b, contacts, count));
+    KG_TRY(kg_cl_sort_pass(b, c->colors, c->color_items, c->sorted_colors, b->order, count, 0,
                            kg_priority_bits(KG_COLOR_COUNT + 1), "kg_color"));
-    KG_LAUNCH(w, COLOR_RANGES, KG_COLOR_COUNT + 2, "kg_color", KG_INT(count), KG_MEM(c->sorted_colors),
-              KG_MEM(w->color_start));
+    KG_LAUNCH(b, COLOR_RANGES, KG_COLOR_COUNT + 2, "kg_color", KG_INT(count), KG_MEM(c->sorted_colors),
+              KG_MEM(b->color_start));
     return KG_OK;
 }
 
 /* ---- the stage -------------------------------------------------------------------------- */
 
 /* The contacts the device lists hold this step: the world's pool, within the buffers. */
-static int kg_device_contact_capacity(kg_world* world, const kg_cl_world* w)
+static int kg_device_contact_capacity(kg_world* world, const kg_cl_backend* b)
 {
     int capacity = kg_collision_capacity(world);
-    return capacity < w->contact_capacity ? capacity : w->contact_capacity;
+    return capacity < b->contact_capacity ? capacity : b->contact_capacity;
 }
 
 static kg_result kg_read_counters(kg_cl_backend* b, int words)
 {
-    return kg_cl_read(b->w, b->w->collide.counts, 0, (size_t)words * sizeof(cl_uint), b->counters);
+    return kg_cl_read(b, b->collide.counts, 0, (size_t)words * sizeof(cl_uint), b->counters);
 }
 
 /* The colour ranges the solver's launches need, read back. */
 static kg_result kg_take_color_ranges(kg_cl_backend* b)
 {
     kg_graph_coloring* g = &b->coloring;
-    KG_TRY(kg_cl_read(b->w, b->w->color_start, 0, sizeof g->color_start, g->color_start));
+    KG_TRY(kg_cl_read(b, b->color_start, 0, sizeof g->color_start, g->color_start));
     g->color_count = kg_colors_in_use(g->color_start);
     return KG_OK;
 }
 
 kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits)
 {
-    kg_cl_world* w = b->w;
-    int capacity = kg_device_contact_capacity(world, w);
-    KG_TRY(kg_find_pairs(world, w, capacity));
+    int capacity = kg_device_contact_capacity(world, b);
+    KG_TRY(kg_find_pairs(world, b, capacity));
     KG_TRY(kg_read_counters(b, KG_CC_PAIRS + 1)); /* the pair count */
     *fits = b->counters[KG_CC_PAIRS] <= (cl_uint)capacity;
     if (!*fits) {
         return KG_OK;
     }
     b->step_pairs = (int)b->counters[KG_CC_PAIRS];
-    KG_TRY(kg_order_pairs(world, w, b->step_pairs));
+    KG_TRY(kg_order_pairs(world, b, b->step_pairs));
     KG_TRY(kg_build_contacts(world, b, b->step_pairs));
     return kg_collide_tiles(world, b, capacity);
 }
 
 kg_result kg_cl_color_on_device(kg_world* world, kg_cl_backend* b, int* count, int* body_count)
 {
-    kg_cl_world* w = b->w;
     KG_TRY(kg_read_counters(b, KG_CC_WORDS));
     *count = (int)b->counters[KG_CC_CONTACTS];
     *body_count = *count;
     if (b->tiles_ran) {
-        int capacity = kg_device_contact_capacity(world, w);
+        int capacity = kg_device_contact_capacity(world, b);
         int bodies = (int)b->counters[KG_CC_BODY_CONTACTS], tiles = (int)b->counters[KG_CC_TILES];
         *body_count = bodies;
         if (tiles > capacity - bodies) {
@@ -321,7 +317,7 @@ kg_result kg_cl_color_on_device(kg_world* world, kg_cl_backend* b, int* count, i
                          capacity - bodies);
         }
     }
-    KG_TRY(kg_color(w, w->contacts[w->current ^ 1], *count));
+    KG_TRY(kg_color(b, b->contacts[b->current ^ 1], *count));
     return kg_take_color_ranges(b);
 }
 
@@ -332,7 +328,7 @@ kg_result kg_cl_read_contacts(kg_world* world, kg_cl_backend* b)
     }
     int count = 0;
     kg_contact* host = kg_collision_contacts(world, &count);
-    KG_TRY(kg_cl_read(b->w, b->w->contacts[b->w->current], 0, (size_t)count * sizeof *host, host));
+    KG_TRY(kg_cl_read(b, b->contacts[b->current], 0, (size_t)count * sizeof *host, host));
     b->contacts_stale = 0;
     return KG_OK;
 }

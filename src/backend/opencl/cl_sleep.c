@@ -20,14 +20,13 @@ kg_result kg_cl_wake_on_device(kg_world* world, kg_cl_backend* b, int pairs)
     if (!world->def.enable_sleep) {
         return KG_OK;
     }
-    kg_cl_world* w = b->w;
-    kg_cl_collide_buffers* c = &w->collide;
+    kg_cl_collide_buffers* c = &b->collide;
     int slots = world->bodies.high_water;
-    KG_LAUNCH(w, WAKE_TOUCHED, pairs, kLabel, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->touching),
+    KG_LAUNCH(b, WAKE_TOUCHED, pairs, kLabel, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->touching),
               KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(ISLAND)),
-              KG_MEM(w->wake_marks));
-    KG_LAUNCH(w, WAKE_MARKED, slots, kLabel, KG_INT(slots), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(ISLAND)),
-              KG_MEM(w->wake_marks), KG_MEM(KG_A(SLEEP_TIME)));
+              KG_MEM(b->wake_marks));
+    KG_LAUNCH(b, WAKE_MARKED, slots, kLabel, KG_INT(slots), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(ISLAND)),
+              KG_MEM(b->wake_marks), KG_MEM(KG_A(SLEEP_TIME)));
     return KG_OK;
 }
 
@@ -38,10 +37,10 @@ kg_result kg_cl_wake_on_host(kg_world* world, kg_cl_backend* b)
     }
     unsigned reads = KG_CL_BIT(ISLAND) | KG_CL_BIT(VELOCITY) | KG_CL_BIT(OMEGA) | KG_CL_BIT(SLEEP_TIME);
     KG_TRY(kg_cl_flags_to_host(world, b));
-    KG_TRY(kg_cl_to_host(b->w, &world->bodies, reads));
+    KG_TRY(kg_cl_to_host(b, &world->bodies, reads));
     kg_stage_wake(world);
     /* the solver's kernels read the woken flags and advance the restarted timers */
-    return kg_cl_upload(b->w, &world->bodies, KG_CL_BIT(FLAGS) | KG_CL_BIT(SLEEP_TIME));
+    return kg_cl_upload(b, &world->bodies, KG_CL_BIT(FLAGS) | KG_CL_BIT(SLEEP_TIME));
 }
 
 kg_result kg_cl_sleep_on_device(kg_world* world, kg_cl_backend* b, int count)
@@ -49,14 +48,13 @@ kg_result kg_cl_sleep_on_device(kg_world* world, kg_cl_backend* b, int count)
     if (!world->def.enable_sleep) {
         return KG_OK;
     }
-    kg_cl_world* w = b->w;
     int slots = world->bodies.high_water;
-    cl_mem contacts = w->contacts[w->current ^ 1];
-    KG_LAUNCH(w, FIND_ISLANDS, (int)w->group_size[KG_CL_K_FIND_ISLANDS], kLabel, KG_INT(slots), KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
-              KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(SLEEP_TIME)), KG_MEM(w->island_parent),
-              KG_MEM(w->island_least));
-    KG_LAUNCH(w, FALL_ASLEEP, slots, kLabel, KG_INT(slots), KG_FLOAT(world->def.time_to_sleep),
-              KG_MEM(w->island_parent), KG_MEM(w->island_least), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(ISLAND)),
+    cl_mem contacts = b->contacts[b->current ^ 1];
+    KG_LAUNCH(b, FIND_ISLANDS, (int)b->group_size[KG_CL_K_FIND_ISLANDS], kLabel, KG_INT(slots), KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+              KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(SLEEP_TIME)), KG_MEM(b->island_parent),
+              KG_MEM(b->island_least));
+    KG_LAUNCH(b, FALL_ASLEEP, slots, kLabel, KG_INT(slots), KG_FLOAT(world->def.time_to_sleep),
+              KG_MEM(b->island_parent), KG_MEM(b->island_least), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(ISLAND)),
               KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)),
               KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(AABB)));
     return KG_OK;

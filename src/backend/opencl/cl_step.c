@@ -39,16 +39,16 @@ static void kg_time_bracket(kg_world* world, const char* name, double start)
     }
 }
 
-static void kg_add_kernel_times(kg_world* world, kg_cl_world* w)
+static void kg_add_kernel_times(kg_world* world, kg_cl_backend* b)
 {
-    kg_cl_collect_timing(w);
+    kg_cl_collect_timing(b);
     kg_stage_times* t = &world->times;
-    for (int k = 0; k < w->timing.count && t->count < KG_MAX_STAGE_TIMES; ++k) {
-        t->names[t->count] = w->timing.names[k];
-        t->ms[t->count] = (double)w->timing.ns[k] * 1e-6;
+    for (int k = 0; k < b->timing.count && t->count < KG_MAX_STAGE_TIMES; ++k) {
+        t->names[t->count] = b->timing.names[k];
+        t->ms[t->count] = (double)b->timing.ns[k] * 1e-6;
         t->count += 1;
     }
-    memset(&w->timing, 0, sizeof w->timing);
+    memset(&b->timing, 0, sizeof b->timing);
 }
 
 /* ---- forces ----------------------------------------------------------------------- */
@@ -65,13 +65,13 @@ static kg_result kg_reserve_targets(kg_cl_backend* b, int targets)
         return KG_OK;
     }
     /* earlier lists of this step may still be read by non-blocking writes */
-    KG_TRY(kg_cl_finish(b->w));
+    KG_TRY(kg_cl_finish(b));
     kg_force_target* grown = kg_alloc_zeroed((size_t)targets * sizeof *grown);
     if (!grown) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate applicator targets");
     }
-    kg_free(b->targets);
-    b->targets = grown;
+    kg_free(b->host_targets);
+    b->host_targets = grown;
     b->target_capacity = targets;
     return KG_OK;
 }
@@ -82,7 +82,7 @@ static kg_result kg_reserve_targets(kg_cl_backend* b, int targets)
 static kg_result kg_list_targets(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, int* used, int* count)
 {
     KG_TRY(kg_reserve_targets(b, *used + a->body_count));
-    kg_force_target* out = b->targets + *used;
+    kg_force_target* out = b->host_targets + *used;
     int n = 0;
     for (int k = 0; k < a->body_count; ++k) {
         if (kg_body_is_valid(world, a->bodies[k])) {
@@ -105,7 +105,7 @@ static kg_result kg_list_targets(kg_world* world, kg_cl_backend* b, const kg_app
 }
 
 /* The targets of applicator a, for the first three arguments of its kernel (count, all,
- * targets): *all when it applies to every slot, else its list written to w->targets;
+ * targets): *all when it applies to every slot, else its list written to b->targets;
  * *count, the work-item count. Each list is written from its own range of the host
  * scratch (a non-blocking write reads it later); on the device they all go to the start
  * of the targets buffer, which the in-order queue makes safe. A list has at most one target
@@ -113,12 +113,11 @@ static kg_result kg_list_targets(kg_world* world, kg_cl_backend* b, const kg_app
 static kg_result kg_write_targets(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, int* used,
                                   int* count, int* all)
 {
-    kg_cl_world* w = b->w;
     *all = a->bodies == NULL;
     *count = world->bodies.high_water;
     if (!*all) {
         KG_TRY(kg_list_targets(world, b, a, used, count));
-        KG_TRY(kg_cl_write(w, w->targets, 0, (size_t)*count * sizeof *b->targets, b->targets + *used, 0));
+        KG_TRY(kg_cl_write(b, b->targets, 0, (size_t)*count * sizeof *b->host_targets, b->host_targets + *used, 0));
         *used += *count;
     }
     return KG_OK;
@@ -126,25 +125,23 @@ static kg_result kg_write_targets(kg_world* world, kg_cl_backend* b, const kg_ap
 
 static kg_result kg_run_builtin_force(kg_world* world, kg_cl_backend* b, const kg_applicator_slot* a, int* used)
 {
-    kg_cl_world* w = b->w;
     int count = 0, all = 0;
     KG_TRY(kg_write_targets(world, b, a, used, &count, &all));
     kg_builtin_force f = kg_builtin_force_of(a);
-    KG_LAUNCH(w, APPLY_BUILTIN_FORCE, count, NULL, KG_INT(count), KG_INT(all), KG_MEM(w->targets), KG_VALUE(f),
+    KG_LAUNCH(b, APPLY_BUILTIN_FORCE, count, NULL, KG_INT(count), KG_INT(all), KG_MEM(b->targets), KG_VALUE(f),
               KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(MASS)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(DRAG)));
     return KG_OK;
 }
 
 static kg_result kg_run_device_force(kg_world* world, kg_cl_backend* b, int slot, kg_device_force* f, int* used)
 {
-    kg_cl_world* w = b->w;
     if (!b->force_kernels[slot]) {
         KG_TRY(kg_cl_prepare_device_force(world, b, slot));
     }
     int count = 0, all = 0;
     KG_TRY(kg_write_targets(world, b, &world->applicators[slot], used, &count, &all));
-    KG_LAUNCH_DEVICE_FORCE(w, b->force_kernels[slot], b->force_group_sizes[slot], count, f->function_name,
-                           KG_INT(count), KG_INT(all), KG_MEM(w->targets), KG_VALUE(f->params),
+    KG_LAUNCH_DEVICE_FORCE(b, b->force_kernels[slot], b->force_group_sizes[slot], count, f->function_name,
+                           KG_INT(count), KG_INT(all), KG_MEM(b->targets), KG_VALUE(f->params),
                            KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(VELOCITY)),
                            KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(MASS)), KG_MEM(KG_A(INERTIA)), KG_MEM(KG_A(FORCE)),
                            KG_MEM(KG_A(TORQUE)));
@@ -171,7 +168,7 @@ static kg_result kg_run_callback(kg_world* world, kg_cl_backend* b, const kg_app
     int count = kg_applicator_targets(world, a);
     a->fn(world, world->handle_scratch, count, a->user_data);
     KG_TRY(kg_check_fallback(b));
-    return kg_cl_to_device(b->w, &world->bodies, KG_CL_ALL_ARRAYS);
+    return kg_cl_to_device(b, &world->bodies, KG_CL_ALL_ARRAYS);
 }
 
 static kg_result kg_stage_forces(kg_world* world, kg_cl_backend* b)
@@ -184,8 +181,8 @@ static kg_result kg_stage_forces(kg_world* world, kg_cl_backend* b)
             continue;
         }
         if (a->kind != KG_APPLICATOR_USER || f) {
-            b->w->forces_cleared = 0;
-            b->w->host_stale |= KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE) | KG_CL_BIT(DRAG);
+            b->forces_cleared = 0;
+            b->host_stale |= KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE) | KG_CL_BIT(DRAG);
         }
         if (f) {
             KG_TRY(kg_run_device_force(world, b, slot, f, &used));
@@ -220,13 +217,13 @@ static kg_result kg_stage_collide_on_host(kg_world* world, kg_cl_backend* b)
     KG_TRY(kg_cl_read_contacts(world, b));
     KG_TRY(kg_cl_tile_state_to_host(world, b));
     KG_TRY(kg_cl_flags_to_host(world, b));
-    KG_TRY(kg_cl_to_host(b->w, &world->bodies, reads));
+    KG_TRY(kg_cl_to_host(b, &world->bodies, reads));
     KG_TRY(kg_stage_collide(world));
     int count = 0;
     kg_contact* contacts = kg_collision_contacts(world, &count);
     b->step_count = count;
     b->step_body_count = kg_body_contacts(contacts, count);
-    return kg_cl_reserve_contacts(b->w, kg_collision_capacity(world)); /* the host's stage may have grown it */
+    return kg_cl_reserve_contacts(b, kg_collision_capacity(world)); /* the host's stage may have grown it */
 }
 
 /* On the device, tile maps included, unless the pairs outgrow the contact pool. */
@@ -267,11 +264,10 @@ static kg_result kg_reserve_coloring(kg_world* world, kg_cl_backend* b, int coun
  * work-item; or, when there are few constraints, all of it in one single-group launch. */
 static kg_result kg_run_pass(kg_cl_backend* b, int pass)
 {
-    kg_cl_world* w = b->w;
     const kg_graph_coloring* g = &b->coloring;
     if (g->color_start[KG_COLOR_COUNT + 1] <= KG_CL_SINGLE_GROUP_CONTACTS) {
-        KG_LAUNCH(w, SOLVE_COLORS_IN_GROUP, (int)w->group_size[KG_CL_K_SOLVE_COLORS_IN_GROUP], NULL, KG_INT(pass),
-                  KG_MEM(w->color_start), KG_MEM(w->solver_params), KG_MEM(w->colored), KG_MEM(w->solver_bodies));
+        KG_LAUNCH(b, SOLVE_COLORS_IN_GROUP, (int)b->group_size[KG_CL_K_SOLVE_COLORS_IN_GROUP], NULL, KG_INT(pass),
+                  KG_MEM(b->color_start), KG_MEM(b->solver_params), KG_MEM(b->colored), KG_MEM(b->solver_bodies));
         return KG_OK;
     }
     for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
@@ -280,17 +276,17 @@ static kg_result kg_run_pass(kg_cl_backend* b, int pass)
         if (count == 0 || (!serial && c >= g->color_count)) {
             continue;
         }
-        KG_LAUNCH(w, SOLVE_COLOR, serial ? 1 : count, NULL, KG_INT(g->color_start[c]), KG_INT(count), KG_INT(serial),
-                  KG_INT(pass), KG_MEM(w->solver_params), KG_MEM(w->colored), KG_MEM(w->solver_bodies));
+        KG_LAUNCH(b, SOLVE_COLOR, serial ? 1 : count, NULL, KG_INT(g->color_start[c]), KG_INT(count), KG_INT(serial),
+                  KG_INT(pass), KG_MEM(b->solver_params), KG_MEM(b->colored), KG_MEM(b->solver_bodies));
     }
     return KG_OK;
 }
 
 /* One sub-step's velocities: gravity, forces and damping (solve/integrate.h). */
-static kg_result kg_integrate_velocities(kg_cl_world* w, int bodies, const kg_integrate_params* ip)
+static kg_result kg_integrate_velocities(kg_cl_backend* b, int bodies, const kg_integrate_params* ip)
 {
-    KG_LAUNCH(w, INTEGRATE_VELOCITIES, bodies, NULL, KG_INT(bodies), KG_VALUE(*ip), KG_MEM(w->solver_bodies),
-              KG_MEM(w->velocity_steps));
+    KG_LAUNCH(b, INTEGRATE_VELOCITIES, bodies, NULL, KG_INT(bodies), KG_VALUE(*ip), KG_MEM(b->solver_bodies),
+              KG_MEM(b->velocity_steps));
     return KG_OK;
 }
 
@@ -302,14 +298,13 @@ static kg_result kg_color_on_host(kg_world* world, kg_cl_backend* b)
     kg_contact* contacts = kg_collision_contacts(world, &count);
     KG_TRY(kg_reserve_coloring(world, b, count));
     kg_graph_color(&b->coloring, contacts, count, &world->bodies, b->color_scratch); /* the CPU solver's colours */
-    KG_TRY(kg_cl_write(b->w, b->w->contacts[b->w->current ^ 1], 0, (size_t)count * sizeof *contacts, contacts, 0));
-    KG_TRY(kg_cl_write(b->w, b->w->color_start, 0, sizeof b->coloring.color_start, b->coloring.color_start, 0));
-    return kg_cl_write(b->w, b->w->order, 0, (size_t)count * sizeof(int), b->coloring.order, 0);
+    KG_TRY(kg_cl_write(b, b->contacts[b->current ^ 1], 0, (size_t)count * sizeof *contacts, contacts, 0));
+    KG_TRY(kg_cl_write(b, b->color_start, 0, sizeof b->coloring.color_start, b->coloring.color_start, 0));
+    return kg_cl_write(b, b->order, 0, (size_t)count * sizeof(int), b->coloring.order, 0);
 }
 
 static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, float dt)
 {
-    kg_cl_world* w = b->w;
     if (b->step_on_device) {
         KG_TRY(kg_cl_color_on_device(world, b, &b->step_count, &b->step_body_count));
     } else {
@@ -320,33 +315,33 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     int n = def->substeps;
     float h = dt / (float)n;
     int bodies = world->bodies.high_water;
-    cl_mem contacts = w->contacts[w->current ^ 1];
+    cl_mem contacts = b->contacts[b->current ^ 1];
     kg_integrate_params ip = {def->gravity, h, def->max_linear_speed};
-    b->solver_params = kg_solver_params_of(def, h);
-    KG_TRY(kg_cl_write(w, w->solver_params, 0, sizeof b->solver_params, &b->solver_params, 0));
-    KG_LAUNCH(w, LOAD_BODIES, bodies, NULL, KG_INT(bodies), KG_VALUE(ip), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)),
+    b->step_params = kg_solver_params_of(def, h);
+    KG_TRY(kg_cl_write(b, b->solver_params, 0, sizeof b->step_params, &b->step_params, 0));
+    KG_LAUNCH(b, LOAD_BODIES, bodies, NULL, KG_INT(bodies), KG_VALUE(ip), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)),
               KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(CENTER)),
-              KG_MEM(KG_A(XF)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(w->solver_bodies), KG_MEM(KG_A(DRAG)),
+              KG_MEM(KG_A(XF)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(b->solver_bodies), KG_MEM(KG_A(DRAG)),
               KG_MEM(KG_A(INV_MASS)), KG_MEM(KG_A(INV_INERTIA)), KG_MEM(KG_A(LINEAR_DAMPING)),
-              KG_MEM(KG_A(ANGULAR_DAMPING)), KG_MEM(w->velocity_steps));
-    KG_LAUNCH(w, PREPARE_CONTACTS, count, NULL, KG_INT(count), KG_MEM(w->solver_params), KG_MEM(contacts),
-              KG_MEM(w->constraints), KG_MEM(w->solver_bodies), KG_MEM(KG_A(INV_MASS)), KG_MEM(KG_A(INV_INERTIA)),
+              KG_MEM(KG_A(ANGULAR_DAMPING)), KG_MEM(b->velocity_steps));
+    KG_LAUNCH(b, PREPARE_CONTACTS, count, NULL, KG_INT(count), KG_MEM(b->solver_params), KG_MEM(contacts),
+              KG_MEM(b->constraints), KG_MEM(b->solver_bodies), KG_MEM(KG_A(INV_MASS)), KG_MEM(KG_A(INV_INERTIA)),
               KG_MEM(KG_A(XF)), KG_MEM(KG_A(CENTER)));
-    KG_LAUNCH(w, GATHER_COLORED, count, NULL, KG_INT(count), KG_MEM(w->order), KG_MEM(w->constraints),
-              KG_MEM(w->colored));
+    KG_LAUNCH(b, GATHER_COLORED, count, NULL, KG_INT(count), KG_MEM(b->order), KG_MEM(b->constraints),
+              KG_MEM(b->colored));
     for (int step = 0; step < n; ++step) {
-        KG_TRY(kg_integrate_velocities(w, bodies, &ip));
+        KG_TRY(kg_integrate_velocities(b, bodies, &ip));
         KG_TRY(kg_run_pass(b, KG_PASS_WARM_START));
         KG_TRY(kg_run_pass(b, KG_PASS_SOLVE));
-        KG_LAUNCH(w, INTEGRATE_POSITIONS, bodies, NULL, KG_INT(bodies), KG_FLOAT(h), KG_MEM(KG_A(FLAGS)),
-                  KG_MEM(w->solver_bodies));
+        KG_LAUNCH(b, INTEGRATE_POSITIONS, bodies, NULL, KG_INT(bodies), KG_FLOAT(h), KG_MEM(KG_A(FLAGS)),
+                  KG_MEM(b->solver_bodies));
         KG_TRY(kg_run_pass(b, KG_PASS_RELAX));
     }
     KG_TRY(kg_run_pass(b, KG_PASS_RESTITUTION));
-    KG_LAUNCH(w, STORE_IMPULSES, count, NULL, KG_INT(count), KG_MEM(w->colored), KG_MEM(contacts));
+    KG_LAUNCH(b, STORE_IMPULSES, count, NULL, KG_INT(count), KG_MEM(b->colored), KG_MEM(contacts));
     kg_rest_params rest = kg_rest_params_of(def, dt);
-    KG_LAUNCH(w, STORE_BODIES, bodies, NULL, KG_INT(bodies), KG_VALUE(rest), KG_MEM(KG_A(FLAGS)),
-              KG_MEM(w->solver_bodies), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(CENTER)),
+    KG_LAUNCH(b, STORE_BODIES, bodies, NULL, KG_INT(bodies), KG_VALUE(rest), KG_MEM(KG_A(FLAGS)),
+              KG_MEM(b->solver_bodies), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(CENTER)),
               KG_MEM(KG_A(ROT)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(KG_A(SLEEP_TIME)));
     return KG_OK;
 }
@@ -355,20 +350,19 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
 
 static kg_result kg_stage_finalize_on_device(kg_world* world, kg_cl_backend* b, float dt)
 {
-    kg_cl_world* w = b->w;
     int bodies = world->bodies.high_water;
-    KG_LAUNCH(w, FINALIZE, bodies, NULL, KG_INT(bodies), KG_FLOAT(dt), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(CENTER)),
+    KG_LAUNCH(b, FINALIZE, bodies, NULL, KG_INT(bodies), KG_FLOAT(dt), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(CENTER)),
               KG_MEM(KG_A(ROT)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(TORQUE)),
               KG_MEM(KG_A(DRAG)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(AABB)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(LOCAL_CENTER)));
     return KG_OK;
 }
 
 /* The queue drained, so that errors surface inside the step; the state is the device's. */
-static kg_result kg_drain_step(kg_cl_world* w)
+static kg_result kg_drain_step(kg_cl_backend* b)
 {
-    KG_TRY(kg_cl_finish(w));
-    w->host_stale |= kg_cl_state_arrays();
-    w->forces_cleared = 1;
+    KG_TRY(kg_cl_finish(b));
+    b->host_stale |= kg_cl_state_arrays();
+    b->forces_cleared = 1;
     return KG_OK;
 }
 
@@ -385,7 +379,7 @@ static void kg_commit_contacts(kg_world* world, kg_cl_backend* b)
         kg_collision_begin_step(world, &previous, &previous_count);
         kg_collision_set_count(world, b->step_count, b->step_body_count);
     }
-    b->w->current ^= 1;
+    b->current ^= 1;
     kg_cl_commit_tile_state(b);
     b->body_contact_count = b->step_body_count;
     b->contacts_stale = b->step_count > 0;
@@ -396,7 +390,7 @@ static void kg_commit_contacts(kg_world* world, kg_cl_backend* b)
 static void kg_save_start_forces(kg_world* world, kg_cl_backend* b)
 {
     const kg_body_pool* p = &world->bodies;
-    b->start_forces_saved = (b->w->device_stale & (KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE))) != 0;
+    b->start_forces_saved = (b->device_stale & (KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE))) != 0;
     if (b->start_forces_saved) {
         memcpy(b->start_force, p->force, (size_t)p->high_water * sizeof *p->force);
         memcpy(b->start_torque, p->torque, (size_t)p->high_water * sizeof *p->torque);
@@ -405,7 +399,6 @@ static void kg_save_start_forces(kg_world* world, kg_cl_backend* b)
 
 kg_result kg_cl_begin_step(kg_world* world, kg_cl_backend* b)
 {
-    kg_cl_world* w = b->w;
     b->in_step = 1;
     b->fallback_pending = 0;
     b->checkpoint_valid = 0;
@@ -413,11 +406,11 @@ kg_result kg_cl_begin_step(kg_world* world, kg_cl_backend* b)
     b->step_pairs = b->step_count = b->step_body_count = 0;
     world->times.warm_starts_carried = -1; /* contacts are built on the device, uncounted */
     world->times.warm_starts_missed = -1;
-    w->profiling = ((kg_backend_state*)world->backend_state)->profiling;
+    b->profiling = ((kg_backend_state*)world->backend_state)->profiling;
     double t = kg_now_ms();
     kg_save_start_forces(world, b);
-    KG_TRY(kg_cl_to_device(w, &world->bodies, KG_CL_ALL_ARRAYS));
-    KG_TRY(kg_cl_save_checkpoint(w, &world->bodies));
+    KG_TRY(kg_cl_to_device(b, &world->bodies, KG_CL_ALL_ARRAYS));
+    KG_TRY(kg_cl_save_checkpoint(b, &world->bodies));
     b->checkpoint_valid = 1;
     kg_time_bracket(world, "upload", t);
     return KG_OK;
@@ -448,14 +441,13 @@ const char* kg_cl_stage_label(const kg_world* world, const kg_cl_backend* b, kg_
 
 kg_result kg_cl_end_step(kg_world* world, kg_cl_backend* b)
 {
-    kg_cl_world* w = b->w;
     double t = kg_now_ms();
-    KG_TRY(kg_drain_step(w));
+    KG_TRY(kg_drain_step(b));
     kg_time_bracket(world, "finish", t);
     KG_TRY(kg_check_fallback(b)); /* only callbacks request one; checked before the commit all the same */
     kg_commit_contacts(world, b);
-    if (w->profiling) {
-        kg_add_kernel_times(world, w);
+    if (b->profiling) {
+        kg_add_kernel_times(world, b);
     }
     b->steps_since_snapshot += 1;
     return KG_OK;

@@ -65,124 +65,124 @@ static kg_result kg_cl_injected(const char* what)
 
 /* The event to profile a command with, or NULL when not profiling (or the step's event
  * list is full: later commands then go untimed). */
-static cl_event* kg_cl_event_for(kg_cl_world* w, const char* name)
+static cl_event* kg_cl_event_for(kg_cl_backend* b, const char* name)
 {
-    if (!w->profiling || w->event_count >= KG_CL_MAX_EVENTS) {
+    if (!b->profiling || b->event_count >= KG_CL_MAX_EVENTS) {
         return NULL;
     }
-    w->event_names[w->event_count] = name;
-    w->events[w->event_count] = NULL;
-    return &w->events[w->event_count];
+    b->event_names[b->event_count] = name;
+    b->events[b->event_count] = NULL;
+    return &b->events[b->event_count];
 }
 
-static void kg_cl_event_done(kg_cl_world* w, cl_event* event, cl_int err)
+static void kg_cl_event_done(kg_cl_backend* b, cl_event* event, cl_int err)
 {
     if (event && err == CL_SUCCESS && *event) {
-        w->event_count += 1;
+        b->event_count += 1;
     }
 }
 
-kg_result kg_cl_buffer(kg_cl_world* w, size_t size, cl_mem* out)
+kg_result kg_cl_buffer(kg_cl_backend* b, size_t size, cl_mem* out)
 {
     *out = NULL;
-    if (kg_cl_fault(&w->faults, KG_CL_FAULT_ALLOC)) {
+    if (kg_cl_fault(&b->faults, KG_CL_FAULT_ALLOC)) {
         return kg_fail(KG_ERROR_BACKEND, "OpenCL: cannot allocate a buffer of %zu bytes "
                        "(CL_MEM_OBJECT_ALLOCATION_FAILURE injected by KGYRO_CL_FAIL)", size);
     }
     cl_int err = CL_SUCCESS;
-    *out = w->cl->CreateBuffer(w->rt->context, CL_MEM_READ_WRITE, size > 0 ? size : 4, NULL, &err);
+    *out = b->cl->CreateBuffer(b->rt->context, CL_MEM_READ_WRITE, size > 0 ? size : 4, NULL, &err);
     if (!*out || err != CL_SUCCESS) {
         *out = NULL;
         return kg_fail(KG_ERROR_BACKEND, "OpenCL: cannot allocate a buffer of %zu bytes on %s (%s)", size,
-                       w->rt->device->info.name, kg_cl_error_name(err));
+                       b->rt->device->info.name, kg_cl_error_name(err));
     }
     return KG_OK;
 }
 
-void kg_cl_release(kg_cl_world* w, cl_mem* buffer)
+void kg_cl_release(kg_cl_backend* b, cl_mem* buffer)
 {
     if (*buffer) {
-        w->cl->ReleaseMemObject(*buffer);
+        b->cl->ReleaseMemObject(*buffer);
         *buffer = NULL;
     }
 }
 
-kg_result kg_cl_write(kg_cl_world* w, cl_mem buffer, size_t offset, size_t size, const void* data, int blocking)
+kg_result kg_cl_write(kg_cl_backend* b, cl_mem buffer, size_t offset, size_t size, const void* data, int blocking)
 {
     if (size == 0) {
         return KG_OK;
     }
-    if (kg_cl_fault(&w->faults, KG_CL_FAULT_ENQUEUE)) {
+    if (kg_cl_fault(&b->faults, KG_CL_FAULT_ENQUEUE)) {
         return kg_cl_injected("a write to the device");
     }
-    cl_event* event = kg_cl_event_for(w, "upload");
-    cl_int err = w->cl->EnqueueWriteBuffer(w->queue, buffer, blocking ? CL_TRUE : CL_FALSE, offset, size, data, 0,
+    cl_event* event = kg_cl_event_for(b, "upload");
+    cl_int err = b->cl->EnqueueWriteBuffer(b->queue, buffer, blocking ? CL_TRUE : CL_FALSE, offset, size, data, 0,
                                            NULL, event);
-    kg_cl_event_done(w, event, err);
-    w->transfers.bytes_to_device += size;
-    w->transfers.writes += 1;
+    kg_cl_event_done(b, event, err);
+    b->transfers.bytes_to_device += size;
+    b->transfers.writes += 1;
     return kg_cl_check(err, "a write to the device");
 }
 
-kg_result kg_cl_read(kg_cl_world* w, cl_mem buffer, size_t offset, size_t size, void* data)
+kg_result kg_cl_read(kg_cl_backend* b, cl_mem buffer, size_t offset, size_t size, void* data)
 {
     if (size == 0) {
         return KG_OK;
     }
-    if (kg_cl_fault(&w->faults, KG_CL_FAULT_READ)) {
+    if (kg_cl_fault(&b->faults, KG_CL_FAULT_READ)) {
         return kg_cl_injected("a read from the device");
     }
-    cl_event* event = kg_cl_event_for(w, "download");
-    cl_int err = w->cl->EnqueueReadBuffer(w->queue, buffer, CL_TRUE, offset, size, data, 0, NULL, event);
-    kg_cl_event_done(w, event, err);
-    w->transfers.bytes_to_host += size;
-    w->transfers.reads += 1;
+    cl_event* event = kg_cl_event_for(b, "download");
+    cl_int err = b->cl->EnqueueReadBuffer(b->queue, buffer, CL_TRUE, offset, size, data, 0, NULL, event);
+    kg_cl_event_done(b, event, err);
+    b->transfers.bytes_to_host += size;
+    b->transfers.reads += 1;
     return kg_cl_check(err, "a read from the device");
 }
 
-kg_result kg_cl_copy(kg_cl_world* w, cl_mem from, cl_mem to, size_t size)
+kg_result kg_cl_copy(kg_cl_backend* b, cl_mem from, cl_mem to, size_t size)
 {
     if (size == 0) {
         return KG_OK;
     }
-    if (kg_cl_fault(&w->faults, KG_CL_FAULT_ENQUEUE)) {
+    if (kg_cl_fault(&b->faults, KG_CL_FAULT_ENQUEUE)) {
         return kg_cl_injected("a copy on the device");
     }
-    cl_event* event = kg_cl_event_for(w, "checkpoint");
-    cl_int err = w->cl->EnqueueCopyBuffer(w->queue, from, to, 0, 0, size, 0, NULL, event);
-    kg_cl_event_done(w, event, err);
+    cl_event* event = kg_cl_event_for(b, "checkpoint");
+    cl_int err = b->cl->EnqueueCopyBuffer(b->queue, from, to, 0, 0, size, 0, NULL, event);
+    kg_cl_event_done(b, event, err);
     return kg_cl_check(err, "a copy on the device");
 }
 
-static kg_result kg_cl_launch(kg_cl_world* w, cl_kernel kernel, size_t group_size, int count, const char* name)
+static kg_result kg_cl_launch(kg_cl_backend* b, cl_kernel kernel, size_t group_size, int count, const char* name)
 {
-    if (kg_cl_fault(&w->faults, KG_CL_FAULT_ENQUEUE)) {
+    if (kg_cl_fault(&b->faults, KG_CL_FAULT_ENQUEUE)) {
         return kg_cl_injected(name);
     }
     size_t global = ((size_t)count + group_size - 1) / group_size * group_size;
-    cl_event* event = kg_cl_event_for(w, name);
-    cl_int err = w->cl->EnqueueNDRangeKernel(w->queue, kernel, 1, NULL, &global, &group_size, 0, NULL, event);
-    kg_cl_event_done(w, event, err);
+    cl_event* event = kg_cl_event_for(b, name);
+    cl_int err = b->cl->EnqueueNDRangeKernel(b->queue, kernel, 1, NULL, &global, &group_size, 0, NULL, event);
+    kg_cl_event_done(b, event, err);
     if (err != CL_SUCCESS) {
         return kg_fail(KG_ERROR_BACKEND, "OpenCL: launching %s failed (%s)", name, kg_cl_error_name(err));
     }
     return KG_OK;
 }
 
-kg_result kg_cl_launch_kernel(kg_cl_world* w, cl_kernel kernel, size_t group_size, int items, const char* label,
+kg_result kg_cl_launch_kernel(kg_cl_backend* b, cl_kernel kernel, size_t group_size, int items, const char* label,
                               const kg_cl_kernel_arg* args, int count)
 {
     if (items <= 0) {
         return KG_OK;
     }
     for (int k = 0; k < count; ++k) {
-        cl_int err = w->cl->SetKernelArg(kernel, (cl_uint)k, args[k].size, args[k].value);
+        cl_int err = b->cl->SetKernelArg(kernel, (cl_uint)k, args[k].size, args[k].value);
         if (err != CL_SUCCESS) {
             return kg_fail(KG_ERROR_BACKEND, "OpenCL: setting argument %d of %s failed (%s)", k, label,
                            kg_cl_error_name(err));
         }
     }
-    return kg_cl_launch(w, kernel, group_size, items, label);
+    return kg_cl_launch(b, kernel, group_size, items, label);
 }
 
 static const char* const kKernelNames[KG_CL_KERNEL_COUNT] = {
@@ -197,17 +197,17 @@ static const int kKernelArgs[KG_CL_KERNEL_COUNT] = {
 #undef KG_CL_KERNEL_ARG_COUNT
 };
 
-kg_result kg_cl_launch_args(kg_cl_world* w, kg_cl_kernel_id id, int items, const char* label,
+kg_result kg_cl_launch_args(kg_cl_backend* b, kg_cl_kernel_id id, int items, const char* label,
                             const kg_cl_kernel_arg* args, int count)
 {
-    return kg_cl_launch_kernel(w, w->kernels[id], w->group_size[id], items, label ? label : kKernelNames[id], args,
+    return kg_cl_launch_kernel(b, b->kernels[id], b->group_size[id], items, label ? label : kKernelNames[id], args,
                                count);
 }
 
-kg_result kg_cl_check_arg_count(kg_cl_world* w, cl_kernel kernel, const char* name, int expected)
+kg_result kg_cl_check_arg_count(kg_cl_backend* b, cl_kernel kernel, const char* name, int expected)
 {
     cl_uint actual = 0;
-    cl_int err = w->cl->GetKernelInfo(kernel, CL_KERNEL_NUM_ARGS, sizeof actual, &actual, NULL);
+    cl_int err = b->cl->GetKernelInfo(kernel, CL_KERNEL_NUM_ARGS, sizeof actual, &actual, NULL);
     if (err != CL_SUCCESS) {
         return kg_fail(KG_ERROR_BACKEND, "OpenCL: cannot read the argument count of kernel %s (%s)", name,
                        kg_cl_error_name(err));
@@ -219,13 +219,13 @@ kg_result kg_cl_check_arg_count(kg_cl_world* w, cl_kernel kernel, const char* na
     return KG_OK;
 }
 
-kg_result kg_cl_finish(kg_cl_world* w)
+kg_result kg_cl_finish(kg_cl_backend* b)
 {
-    if (kg_cl_fault(&w->faults, KG_CL_FAULT_FINISH)) {
+    if (kg_cl_fault(&b->faults, KG_CL_FAULT_FINISH)) {
         return kg_fail(KG_ERROR_BACKEND, "OpenCL: a kernel failed while running (CL_OUT_OF_RESOURCES injected by "
                        "KGYRO_CL_FAIL)");
     }
-    return kg_cl_check(w->cl->Finish(w->queue), "waiting for the device");
+    return kg_cl_check(b->cl->Finish(b->queue), "waiting for the device");
 }
 
 /* ---- residency ---------------------------------------------------------------------- */
@@ -235,17 +235,17 @@ static size_t kg_cl_span(const kg_body_pool* pool, kg_cl_host_array a)
     return (size_t)pool->high_water * a.element_size;
 }
 
-kg_result kg_cl_upload(kg_cl_world* w, const kg_body_pool* pool, unsigned arrays)
+kg_result kg_cl_upload(kg_cl_backend* b, const kg_body_pool* pool, unsigned arrays)
 {
     for (int id = 0; id < KG_CL_ARRAY_COUNT; ++id) {
         if (arrays & (1u << id)) {
             kg_cl_host_array a = kg_cl_host_array_of(pool, (kg_cl_array)id);
             /* blocking: user code may change the pool as soon as a callback returns */
-            kg_result r = kg_cl_write(w, w->arrays[id], 0, kg_cl_span(pool, a), a.data, 1);
+            kg_result r = kg_cl_write(b, b->arrays[id], 0, kg_cl_span(pool, a), a.data, 1);
             if (r != KG_OK) {
                 return r;
             }
-            w->device_stale &= ~(1u << id);
+            b->device_stale &= ~(1u << id);
         }
     }
     return KG_OK;
@@ -264,44 +264,44 @@ static void kg_cl_clear_forces(kg_body_pool* pool)
     }
 }
 
-kg_result kg_cl_download(kg_cl_world* w, kg_body_pool* pool, unsigned arrays)
+kg_result kg_cl_download(kg_cl_backend* b, kg_body_pool* pool, unsigned arrays)
 {
     unsigned forces = KG_CL_BIT(FORCE) | KG_CL_BIT(TORQUE) | KG_CL_BIT(DRAG);
-    if (w->forces_cleared && (arrays & forces)) {
+    if (b->forces_cleared && (arrays & forces)) {
         kg_cl_clear_forces(pool);
-        w->host_stale &= ~forces;
+        b->host_stale &= ~forces;
         arrays &= ~forces;
     }
     for (int id = 0; id < KG_CL_ARRAY_COUNT; ++id) {
         if (arrays & (1u << id)) {
             kg_cl_host_array a = kg_cl_host_array_of(pool, (kg_cl_array)id);
-            kg_result r = kg_cl_read(w, w->arrays[id], 0, kg_cl_span(pool, a), a.data);
+            kg_result r = kg_cl_read(b, b->arrays[id], 0, kg_cl_span(pool, a), a.data);
             if (r != KG_OK) {
                 return r;
             }
-            w->host_stale &= ~(1u << id);
+            b->host_stale &= ~(1u << id);
         }
     }
     return KG_OK;
 }
 
-kg_result kg_cl_to_device(kg_cl_world* w, const kg_body_pool* pool, unsigned arrays)
+kg_result kg_cl_to_device(kg_cl_backend* b, const kg_body_pool* pool, unsigned arrays)
 {
-    return kg_cl_upload(w, pool, arrays & w->device_stale);
+    return kg_cl_upload(b, pool, arrays & b->device_stale);
 }
 
-kg_result kg_cl_to_host(kg_cl_world* w, kg_body_pool* pool, unsigned arrays)
+kg_result kg_cl_to_host(kg_cl_backend* b, kg_body_pool* pool, unsigned arrays)
 {
-    return kg_cl_download(w, pool, arrays & w->host_stale);
+    return kg_cl_download(b, pool, arrays & b->host_stale);
 }
 
-kg_result kg_cl_save_checkpoint(kg_cl_world* w, const kg_body_pool* pool)
+kg_result kg_cl_save_checkpoint(kg_cl_backend* b, const kg_body_pool* pool)
 {
     unsigned state = kg_cl_state_arrays();
     for (int id = 0; id < KG_CL_ARRAY_COUNT; ++id) {
         if (state & (1u << id)) {
             kg_cl_host_array a = kg_cl_host_array_of(pool, (kg_cl_array)id);
-            kg_result r = kg_cl_copy(w, w->arrays[id], w->checkpoint[id], kg_cl_span(pool, a));
+            kg_result r = kg_cl_copy(b, b->arrays[id], b->checkpoint[id], kg_cl_span(pool, a));
             if (r != KG_OK) {
                 return r;
             }
@@ -310,19 +310,19 @@ kg_result kg_cl_save_checkpoint(kg_cl_world* w, const kg_body_pool* pool)
     return KG_OK;
 }
 
-kg_result kg_cl_read_checkpoint(kg_cl_world* w, kg_body_pool* pool)
+kg_result kg_cl_read_checkpoint(kg_cl_backend* b, kg_body_pool* pool)
 {
     unsigned state = kg_cl_state_arrays();
     for (int id = 0; id < KG_CL_ARRAY_COUNT; ++id) {
         if (state & (1u << id)) {
             kg_cl_host_array a = kg_cl_host_array_of(pool, (kg_cl_array)id);
-            kg_result r = kg_cl_read(w, w->checkpoint[id], 0, kg_cl_span(pool, a), a.data);
+            kg_result r = kg_cl_read(b, b->checkpoint[id], 0, kg_cl_span(pool, a), a.data);
             if (r != KG_OK) {
                 return r;
             }
         }
     }
-    w->host_stale = 0;
+    b->host_stale = 0;
     return KG_OK;
 }
 
@@ -346,32 +346,32 @@ static void kg_cl_add_time(kg_cl_timing* t, const char* name, cl_ulong ns)
     t->ns[t->count++] = ns;
 }
 
-void kg_cl_collect_timing(kg_cl_world* w)
+void kg_cl_collect_timing(kg_cl_backend* b)
 {
-    for (int k = 0; k < w->event_count; ++k) {
+    for (int k = 0; k < b->event_count; ++k) {
         cl_ulong start = 0, end = 0;
-        if (w->cl->GetEventProfilingInfo(w->events[k], CL_PROFILING_COMMAND_START, sizeof start, &start, NULL) ==
+        if (b->cl->GetEventProfilingInfo(b->events[k], CL_PROFILING_COMMAND_START, sizeof start, &start, NULL) ==
                 CL_SUCCESS &&
-            w->cl->GetEventProfilingInfo(w->events[k], CL_PROFILING_COMMAND_END, sizeof end, &end, NULL) ==
+            b->cl->GetEventProfilingInfo(b->events[k], CL_PROFILING_COMMAND_END, sizeof end, &end, NULL) ==
                 CL_SUCCESS &&
             end >= start) {
-            kg_cl_add_time(&w->timing, w->event_names[k], end - start);
+            kg_cl_add_time(&b->timing, b->event_names[k], end - start);
         }
-        w->cl->ReleaseEvent(w->events[k]);
+        b->cl->ReleaseEvent(b->events[k]);
     }
-    w->event_count = 0;
+    b->event_count = 0;
 }
 
 /* ---- creation ----------------------------------------------------------------------- */
 
-size_t kg_cl_pick_group_size(kg_cl_world* w, cl_kernel kernel)
+size_t kg_cl_pick_group_size(kg_cl_backend* b, cl_kernel kernel)
 {
     size_t max = 1, multiple = 1;
-    cl_device_id device = w->rt->device->id;
-    if (w->cl->GetKernelWorkGroupInfo(kernel, device, CL_KERNEL_WORK_GROUP_SIZE, sizeof max, &max, NULL) != CL_SUCCESS) {
+    cl_device_id device = b->rt->device->id;
+    if (b->cl->GetKernelWorkGroupInfo(kernel, device, CL_KERNEL_WORK_GROUP_SIZE, sizeof max, &max, NULL) != CL_SUCCESS) {
         max = 1;
     }
-    if (w->cl->GetKernelWorkGroupInfo(kernel, device, CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE, sizeof multiple,
+    if (b->cl->GetKernelWorkGroupInfo(kernel, device, CL_KERNEL_PREFERRED_WORK_GROUP_SIZE_MULTIPLE, sizeof multiple,
                                       &multiple, NULL) != CL_SUCCESS || multiple == 0) {
         multiple = 1;
     }
@@ -384,30 +384,30 @@ size_t kg_cl_pick_group_size(kg_cl_world* w, cl_kernel kernel)
 
 /* The one work-group of kg_solve_colors_in_group: as large as the kernel allows, up to
  * KG_CL_SINGLE_GROUP_MAX. */
-static size_t kg_cl_single_group_size(kg_cl_world* w, cl_kernel kernel)
+static size_t kg_cl_single_group_size(kg_cl_backend* b, cl_kernel kernel)
 {
     size_t max = 1;
-    if (w->cl->GetKernelWorkGroupInfo(kernel, w->rt->device->id, CL_KERNEL_WORK_GROUP_SIZE, sizeof max, &max, NULL) !=
+    if (b->cl->GetKernelWorkGroupInfo(kernel, b->rt->device->id, CL_KERNEL_WORK_GROUP_SIZE, sizeof max, &max, NULL) !=
         CL_SUCCESS) {
         max = 1;
     }
     return max < KG_CL_SINGLE_GROUP_MAX ? max : KG_CL_SINGLE_GROUP_MAX;
 }
 
-static kg_result kg_cl_create_kernels(kg_cl_world* w)
+static kg_result kg_cl_create_kernels(kg_cl_backend* b)
 {
     for (int k = 0; k < KG_CL_KERNEL_COUNT; ++k) {
         cl_int err = CL_SUCCESS;
-        w->kernels[k] = w->cl->CreateKernel(w->rt->step_program, kKernelNames[k], &err);
-        if (!w->kernels[k] || err != CL_SUCCESS) {
-            w->kernels[k] = NULL;
+        b->kernels[k] = b->cl->CreateKernel(b->rt->step_program, kKernelNames[k], &err);
+        if (!b->kernels[k] || err != CL_SUCCESS) {
+            b->kernels[k] = NULL;
             return kg_fail(KG_ERROR_BACKEND, "OpenCL: no kernel %s in the step program (%s)", kKernelNames[k],
                            kg_cl_error_name(err));
         }
-        KG_TRY(kg_cl_check_arg_count(w, w->kernels[k], kKernelNames[k], kKernelArgs[k]));
-        w->group_size[k] = kg_cl_pick_group_size(w, w->kernels[k]);
+        KG_TRY(kg_cl_check_arg_count(b, b->kernels[k], kKernelNames[k], kKernelArgs[k]));
+        b->group_size[k] = kg_cl_pick_group_size(b, b->kernels[k]);
     }
-    w->group_size[KG_CL_K_SOLVE_COLORS_IN_GROUP] = kg_cl_single_group_size(w, w->kernels[KG_CL_K_SOLVE_COLORS_IN_GROUP]);
+    b->group_size[KG_CL_K_SOLVE_COLORS_IN_GROUP] = kg_cl_single_group_size(b, b->kernels[KG_CL_K_SOLVE_COLORS_IN_GROUP]);
     return KG_OK;
 }
 
@@ -416,10 +416,10 @@ typedef struct kg_cl_sized_buffer {
     size_t size;
 } kg_cl_sized_buffer;
 
-static kg_result kg_cl_buffers(kg_cl_world* w, const kg_cl_sized_buffer* list, int count)
+static kg_result kg_cl_buffers(kg_cl_backend* b, const kg_cl_sized_buffer* list, int count)
 {
     for (int k = 0; k < count; ++k) {
-        kg_result r = kg_cl_buffer(w, list[k].size, list[k].buffer);
+        kg_result r = kg_cl_buffer(b, list[k].size, list[k].buffer);
         if (r != KG_OK) {
             return r;
         }
@@ -428,9 +428,9 @@ static kg_result kg_cl_buffers(kg_cl_world* w, const kg_cl_sized_buffer* list, i
 }
 
 /* The collision stage's buffers of one entry per body slot or fewer. */
-static kg_result kg_cl_create_collide_buffers(kg_cl_world* w, int slots)
+static kg_result kg_cl_create_collide_buffers(kg_cl_backend* b, int slots)
 {
-    kg_cl_collide_buffers* c = &w->collide;
+    kg_cl_collide_buffers* c = &b->collide;
     size_t n = (size_t)slots, words = sizeof(cl_uint);
     const kg_cl_sized_buffer list[] = {
         {&c->counts, KG_CC_WORDS * words},
@@ -459,74 +459,74 @@ static kg_result kg_cl_create_collide_buffers(kg_cl_world* w, int slots)
         {&c->last_generation[0], n * words},
         {&c->last_generation[1], n * words},
     };
-    return kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
+    return kg_cl_buffers(b, list, (int)(sizeof list / sizeof list[0]));
 }
 
-static kg_result kg_cl_create_buffers(kg_cl_world* w, const kg_world* world)
+static kg_result kg_cl_create_buffers(kg_cl_backend* b, const kg_world* world)
 {
     const kg_body_pool* pool = &world->bodies;
     unsigned state = kg_cl_state_arrays();
     kg_result r = KG_OK;
     for (int id = 0; id < KG_CL_ARRAY_COUNT && r == KG_OK; ++id) {
         size_t size = (size_t)pool->capacity * kg_cl_host_array_of(pool, (kg_cl_array)id).element_size;
-        r = kg_cl_buffer(w, size, &w->arrays[id]);
+        r = kg_cl_buffer(b, size, &b->arrays[id]);
         if (r == KG_OK && (state & (1u << id))) {
-            r = kg_cl_buffer(w, size, &w->checkpoint[id]);
+            r = kg_cl_buffer(b, size, &b->checkpoint[id]);
         }
     }
     const kg_cl_sized_buffer list[] = {
-        {&w->solver_bodies, (size_t)pool->capacity * sizeof(kg_solver_body)},
-        {&w->velocity_steps, (size_t)pool->capacity * sizeof(kg_velocity_step)},
-        {&w->solver_params, sizeof(kg_solver_params)},
-        {&w->color_start, (KG_COLOR_COUNT + 2) * sizeof(int)},
-        {&w->targets, (size_t)pool->capacity * sizeof(kg_force_target)},
-        {&w->wake_marks, (size_t)pool->capacity * sizeof(cl_uint)},
-        {&w->island_parent, (size_t)pool->capacity * sizeof(kg_u32)},
-        {&w->island_least, (size_t)pool->capacity * sizeof(float)},
+        {&b->solver_bodies, (size_t)pool->capacity * sizeof(kg_solver_body)},
+        {&b->velocity_steps, (size_t)pool->capacity * sizeof(kg_velocity_step)},
+        {&b->solver_params, sizeof(kg_solver_params)},
+        {&b->color_start, (KG_COLOR_COUNT + 2) * sizeof(int)},
+        {&b->targets, (size_t)pool->capacity * sizeof(kg_force_target)},
+        {&b->wake_marks, (size_t)pool->capacity * sizeof(cl_uint)},
+        {&b->island_parent, (size_t)pool->capacity * sizeof(kg_u32)},
+        {&b->island_least, (size_t)pool->capacity * sizeof(float)},
     };
     if (r == KG_OK) {
-        r = kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
+        r = kg_cl_buffers(b, list, (int)(sizeof list / sizeof list[0]));
     }
     if (r == KG_OK) {
-        r = kg_cl_create_collide_buffers(w, pool->capacity);
+        r = kg_cl_create_collide_buffers(b, pool->capacity);
     }
     if (r == KG_OK) {
         /* For the budget, not the host's pool (sized from need): the device grows its
          * contact buffers only when the contacts outgrow its colouring, so pairs that
          * outgrew a smaller device pool would send every step to the host. */
-        r = kg_cl_reserve_contacts(w, kg_collision_budget(world));
+        r = kg_cl_reserve_contacts(b, kg_collision_budget(world));
     }
     return r;
 }
 
-static void kg_cl_release_contact_buffers(kg_cl_world* w)
+static void kg_cl_release_contact_buffers(kg_cl_backend* b)
 {
-    kg_cl_collide_buffers* c = &w->collide;
-    cl_mem* list[] = {&w->contacts[0], &w->contacts[1], &w->constraints, &w->colored, &w->order,
+    kg_cl_collide_buffers* c = &b->collide;
+    cl_mem* list[] = {&b->contacts[0], &b->contacts[1], &b->constraints, &b->colored, &b->order,
                       &c->raw_pairs, &c->pairs, &c->manifolds, &c->bases, &c->touching, &c->colors,
                       &c->color_items, &c->sorted_colors};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
-        kg_cl_release(w, list[k]);
+        kg_cl_release(b, list[k]);
     }
-    w->contact_capacity = 0;
+    b->contact_capacity = 0;
 }
 
 /* Both contact lists are reallocated empty: only the host's collide stage grows the pool,
  * after it has read the last step's contacts back. */
-kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
+kg_result kg_cl_reserve_contacts(kg_cl_backend* b, int capacity)
 {
-    if (capacity <= w->contact_capacity && w->contacts[0]) {
+    if (capacity <= b->contact_capacity && b->contacts[0]) {
         return KG_OK;
     }
-    kg_cl_release_contact_buffers(w);
-    kg_cl_collide_buffers* c = &w->collide;
+    kg_cl_release_contact_buffers(b);
+    kg_cl_collide_buffers* c = &b->collide;
     size_t n = (size_t)(capacity > 0 ? capacity : 1), words = sizeof(cl_uint);
     const kg_cl_sized_buffer list[] = {
-        {&w->contacts[0], n * sizeof(kg_contact)},
-        {&w->contacts[1], n * sizeof(kg_contact)},
-        {&w->constraints, n * sizeof(kg_contact_constraint)},
-        {&w->colored, n * sizeof(kg_contact_constraint)},
-        {&w->order, n * sizeof(int)},
+        {&b->contacts[0], n * sizeof(kg_contact)},
+        {&b->contacts[1], n * sizeof(kg_contact)},
+        {&b->constraints, n * sizeof(kg_contact_constraint)},
+        {&b->colored, n * sizeof(kg_contact_constraint)},
+        {&b->order, n * sizeof(int)},
         {&c->raw_pairs, n * 2u * words},
         {&c->pairs, n * 2u * words},
         {&c->manifolds, n * sizeof(kg_manifold)},
@@ -536,9 +536,9 @@ kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity)
         {&c->color_items, n * words},
         {&c->sorted_colors, n * words},
     };
-    kg_result r = kg_cl_buffers(w, list, (int)(sizeof list / sizeof list[0]));
+    kg_result r = kg_cl_buffers(b, list, (int)(sizeof list / sizeof list[0]));
     if (r == KG_OK) {
-        w->contact_capacity = (int)n;
+        b->contact_capacity = (int)n;
     }
     return r;
 }
@@ -558,72 +558,67 @@ static int kg_cl_color_serial_max(const kg_cl_device* device)
     return device->info.type == KG_OPENCL_DEVICE_CPU ? INT_MAX : KG_COLOR_SERIAL_MAX;
 }
 
-kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_faults* faults, kg_cl_world** out)
+kg_result kg_cl_open_device(kg_world* world, kg_cl_backend* b, kg_cl_runtime* rt, const kg_cl_faults* faults)
 {
-    *out = NULL;
-    kg_cl_world* w = kg_alloc_zeroed(sizeof *w);
-    if (!w) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the OpenCL world state");
-    }
-    w->cl = rt->cl;
-    w->rt = rt;
-    w->faults = *faults;
-    w->events = kg_alloc_zeroed(KG_CL_MAX_EVENTS * sizeof *w->events);
-    w->event_names = kg_alloc_zeroed(KG_CL_MAX_EVENTS * sizeof *w->event_names);
-    kg_result r = (w->events && w->event_names) ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate events");
+    b->cl = rt->cl;
+    b->rt = rt;
+    b->faults = *faults;
+    b->events = kg_alloc_zeroed(KG_CL_MAX_EVENTS * sizeof *b->events);
+    b->event_names = kg_alloc_zeroed(KG_CL_MAX_EVENTS * sizeof *b->event_names);
+    kg_result r = (b->events && b->event_names) ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate events");
     if (r == KG_OK) {
         cl_int err = CL_SUCCESS;
-        w->queue = w->cl->CreateCommandQueue(rt->context, rt->device->id, CL_QUEUE_PROFILING_ENABLE, &err);
-        r = (w->queue && err == CL_SUCCESS) ? KG_OK : kg_cl_check(err != CL_SUCCESS ? err : CL_INVALID_COMMAND_QUEUE,
+        b->queue = b->cl->CreateCommandQueue(rt->context, rt->device->id, CL_QUEUE_PROFILING_ENABLE, &err);
+        r = (b->queue && err == CL_SUCCESS) ? KG_OK : kg_cl_check(err != CL_SUCCESS ? err : CL_INVALID_COMMAND_QUEUE,
                                                                    "creating a command queue");
     }
     if (r == KG_OK) {
-        r = kg_cl_create_kernels(w);
+        r = kg_cl_create_kernels(b);
     }
     if (r == KG_OK) {
-        r = kg_cl_create_buffers(w, world);
+        r = kg_cl_create_buffers(b, world);
     }
     if (r != KG_OK) {
-        kg_cl_world_destroy(w);
+        kg_cl_close_device(b);
         return r;
     }
-    w->color_serial_max = kg_cl_color_serial_max(rt->device);
+    b->color_serial_max = kg_cl_color_serial_max(rt->device);
     /* everything the host has is newer than the empty buffers */
-    w->device_stale = KG_CL_ALL_ARRAYS;
-    *out = w;
+    b->device_stale = KG_CL_ALL_ARRAYS;
     return KG_OK;
 }
 
-void kg_cl_drain(kg_cl_world* w)
+void kg_cl_drain(kg_cl_backend* b)
 {
-    if (w->queue) {
-        w->cl->Finish(w->queue);
+    if (b->queue) {
+        b->cl->Finish(b->queue);
     }
 }
 
-void kg_cl_world_destroy(kg_cl_world* w)
+void kg_cl_close_device(kg_cl_backend* b)
 {
-    if (!w) {
+    if (!b->cl) {
         return;
     }
-    kg_cl_drain(w);
-    for (int k = 0; k < w->event_count; ++k) {
-        w->cl->ReleaseEvent(w->events[k]);
+    kg_cl_drain(b);
+    for (int k = 0; k < b->event_count; ++k) {
+        b->cl->ReleaseEvent(b->events[k]);
     }
+    b->event_count = 0;
     for (int id = 0; id < KG_CL_ARRAY_COUNT; ++id) {
-        kg_cl_release(w, &w->arrays[id]);
-        kg_cl_release(w, &w->checkpoint[id]);
+        kg_cl_release(b, &b->arrays[id]);
+        kg_cl_release(b, &b->checkpoint[id]);
     }
-    kg_cl_release(w, &w->solver_bodies);
-    kg_cl_release(w, &w->velocity_steps);
-    kg_cl_release(w, &w->solver_params);
-    kg_cl_release(w, &w->color_start);
-    kg_cl_release(w, &w->targets);
-    kg_cl_release(w, &w->wake_marks);
-    kg_cl_release(w, &w->island_parent);
-    kg_cl_release(w, &w->island_least);
-    kg_cl_release_contact_buffers(w);
-    kg_cl_collide_buffers* c = &w->collide;
+    kg_cl_release(b, &b->solver_bodies);
+    kg_cl_release(b, &b->velocity_steps);
+    kg_cl_release(b, &b->solver_params);
+    kg_cl_release(b, &b->color_start);
+    kg_cl_release(b, &b->targets);
+    kg_cl_release(b, &b->wake_marks);
+    kg_cl_release(b, &b->island_parent);
+    kg_cl_release(b, &b->island_least);
+    kg_cl_release_contact_buffers(b);
+    kg_cl_collide_buffers* c = &b->collide;
     cl_mem* list[] = {&c->counts, &c->proxies, &c->sorted, &c->keys, &c->items, &c->large_keys,
                       &c->large_items, &c->key_scratch, &c->item_scratch, &c->found, &c->histogram, &c->grid,
                       &c->bp_words, &c->run, &c->run_fill, &c->colors_used, &c->color_bids[0], &c->color_bids[1],
@@ -631,18 +626,22 @@ void kg_cl_world_destroy(kg_cl_world* w)
                       &c->last_origin[0], &c->last_origin[1], &c->last_generation[0], &c->last_generation[1],
                       &c->tile_maps, &c->tile_cells, &c->tile_protos};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
-        kg_cl_release(w, list[k]);
+        kg_cl_release(b, list[k]);
     }
     for (int k = 0; k < KG_CL_KERNEL_COUNT; ++k) {
-        if (w->kernels[k]) {
-            w->cl->ReleaseKernel(w->kernels[k]);
+        if (b->kernels[k]) {
+            b->cl->ReleaseKernel(b->kernels[k]);
+            b->kernels[k] = NULL;
         }
     }
-    if (w->queue) {
-        w->cl->ReleaseCommandQueue(w->queue);
+    if (b->queue) {
+        b->cl->ReleaseCommandQueue(b->queue);
+        b->queue = NULL;
     }
-    kg_free(w->events);
-    kg_free(w->event_names);
-    kg_free(w);
+    kg_free(b->events);
+    kg_free(b->event_names);
+    b->events = NULL;
+    b->event_names = NULL;
+    b->cl = NULL;
 }
 #endif

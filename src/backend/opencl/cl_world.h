@@ -1,5 +1,7 @@
-/* A world's OpenCL state: its queue, kernels and buffers (all sized once, when the backend
- * starts, from the world's capacities), and where the newest copy of each body array is.
+/* The OpenCL backend's state, one struct a world (kg_cl_backend): its queue, kernels and
+ * buffers (all sized once, when the backend starts, from the world's capacities), where
+ * the newest copy of each body array is, and the host's side of the step (scratch, what
+ * was read back, where the step's collide ran).
  *
  * Residency: each body pool array has a bit in host_stale (the device has newer data:
  * read it back before the host reads) and in device_stale (the host has newer data:
@@ -13,8 +15,11 @@
 
 #include "backend/opencl/cl_fault.h"
 #include "backend/opencl/cl_runtime.h"
+#include "backend/opencl/kernels/kg_collide_shared.h"
 #include "core/world.h"
 #include "kgyro/opencl.h"
+#include "solve/force_body.h"
+#include "solve/graph_color.h"
 
 /* name, pool member, 1 if a step changes it (then it is checkpointed and read back) */
 #define KG_CL_BODY_ARRAYS(X)                                                   \
@@ -136,8 +141,9 @@ typedef struct kg_cl_collide_buffers {
     cl_mem sorted_colors;  /* the colours sorted */
 } kg_cl_collide_buffers;
 
-typedef struct kg_cl_world {
-    const kg_cl_api* cl;
+typedef struct kg_cl_backend {
+    /* ---- the device (kg_cl_open_device) ---- */
+    const kg_cl_api* cl;                  /* NULL while the device is closed */
     kg_cl_runtime* rt;
     kg_cl_faults faults;
     cl_command_queue queue;
@@ -169,7 +175,39 @@ typedef struct kg_cl_world {
     int event_count;
     kg_cl_timing timing;
     kg_transfer_stats transfers;
-} kg_cl_world;
+    /* ---- the step on the host's side ---- */
+    /* host scratch, grown (never in a steady state) when a step needs more */
+    kg_force_target* host_targets;   /* the lists of this step's applicators */
+    int target_capacity;
+    int* color_scratch;
+    int color_capacity;
+    kg_graph_coloring coloring;
+    kg_solver_params step_params;    /* the step's, read by a non-blocking write */
+    cl_kernel* force_kernels;        /* per applicator slot, for device forces */
+    size_t* force_group_sizes;
+    int steps_since_snapshot;        /* steps since the host last had the whole state */
+    int frozen_count;                /* frozen bodies the host knows of, to warn of new ones */
+    int checkpoint_valid;            /* this step's start state is saved on the device */
+    int in_step;                     /* a step is running (force callbacks run inside it) */
+    int fallback_pending;            /* a failure inside the step: it unwinds, then falls back */
+    char fallback_reason[512];       /* that failure's message */
+    kg_vec2* start_force;            /* the forces the step began with, when the host set them */
+    float* start_torque;
+    int start_forces_saved;          /* else the step began with every force zero */
+    /* contacts: the last step's are in contacts[current]; the host's list (collide.h)
+     * is filled from there only when asked for (contacts_stale) */
+    int body_contact_count;          /* the first ones, body pairs; tile contacts follow */
+    int tile_state_on_device;        /* the one-way platform state is newer on the device */
+    int tiles_ran;                   /* this step collided the tile maps on the device */
+    int contacts_stale;
+    cl_uint counters[KG_CC_WORDS];   /* the device collide stage's counters, read back */
+    /* this step's collide stage: where it ran, the pairs it found on the device, the
+     * contacts it made (the first step_body_count between bodies, tile contacts after) */
+    int step_on_device;
+    int step_pairs;
+    int step_count;
+    int step_body_count;
+} kg_cl_backend;
 
 #define KG_CL_MAX_EVENTS 4096
 
@@ -182,34 +220,36 @@ typedef struct kg_cl_world {
         }                            \
     } while (0)
 
-void kg_cl_release(kg_cl_world* w, cl_mem* buffer);
+void kg_cl_release(kg_cl_backend* b, cl_mem* buffer);
 
-/* Creates the queue, kernels and buffers for world on rt. */
-kg_result kg_cl_world_create(kg_world* world, kg_cl_runtime* rt, const kg_cl_faults* faults, kg_cl_world** out);
+/* Opens b's device side: the queue, kernels and buffers for world on rt. On failure what
+ * was made is released (kg_cl_close_device). */
+kg_result kg_cl_open_device(kg_world* world, kg_cl_backend* b, kg_cl_runtime* rt, const kg_cl_faults* faults);
 /* Lets the commands still queued end before anything they use is released: after a
  * failure, non-blocking writes still read host memory about to be freed. On a lost device
  * it returns at once, with an error there is nothing more to do about. */
-void kg_cl_drain(kg_cl_world* w);
-void kg_cl_world_destroy(kg_cl_world* w);
+void kg_cl_drain(kg_cl_backend* b);
+/* Releases what kg_cl_open_device made, once (b itself stays, with its host side). */
+void kg_cl_close_device(kg_cl_backend* b);
 
 /* The work-group size to launch kernel with: what the device allows for that kernel and
  * prefers as a multiple, aiming at KG_CL_GROUP_TARGET. */
-size_t kg_cl_pick_group_size(kg_cl_world* w, cl_kernel kernel);
+size_t kg_cl_pick_group_size(kg_cl_backend* b, cl_kernel kernel);
 
 /* A buffer of size bytes (KGYRO_CL_FAIL=alloc counts here). */
-kg_result kg_cl_buffer(kg_cl_world* w, size_t size, cl_mem* out);
+kg_result kg_cl_buffer(kg_cl_backend* b, size_t size, cl_mem* out);
 /* Grows the contact buffers to hold capacity contacts (only when a step finds more than
  * ever before: the collide stage grows its pool then too). */
-kg_result kg_cl_reserve_contacts(kg_cl_world* w, int capacity);
+kg_result kg_cl_reserve_contacts(kg_cl_backend* b, int capacity);
 
 /* Writes data into buffer. A non-blocking write reads data later: it must stay unchanged
  * until the next kg_cl_finish. */
-kg_result kg_cl_write(kg_cl_world* w, cl_mem buffer, size_t offset, size_t size, const void* data, int blocking);
-kg_result kg_cl_read(kg_cl_world* w, cl_mem buffer, size_t offset, size_t size, void* data);
-kg_result kg_cl_copy(kg_cl_world* w, cl_mem from, cl_mem to, size_t size);
+kg_result kg_cl_write(kg_cl_backend* b, cl_mem buffer, size_t offset, size_t size, const void* data, int blocking);
+kg_result kg_cl_read(kg_cl_backend* b, cl_mem buffer, size_t offset, size_t size, void* data);
+kg_result kg_cl_copy(kg_cl_backend* b, cl_mem from, cl_mem to, size_t size);
 
-/* Body array name of the kg_cl_world w in scope. */
-#define KG_A(name) w->arrays[KG_CL_##name]
+/* Body array name of the kg_cl_backend b in scope. */
+#define KG_A(name) b->arrays[KG_CL_##name]
 
 /* A kernel argument: its size and where its value is. */
 typedef struct kg_cl_kernel_arg {
@@ -229,54 +269,54 @@ typedef struct kg_cl_kernel_arg {
  * size; the kernels return early past their count), labelled label in the profile. No
  * argument outlives its launch: nothing is bound once and relied on later. Nothing is
  * done when items is 0. */
-kg_result kg_cl_launch_kernel(kg_cl_world* w, cl_kernel kernel, size_t group_size, int items, const char* label,
+kg_result kg_cl_launch_kernel(kg_cl_backend* b, cl_kernel kernel, size_t group_size, int items, const char* label,
                               const kg_cl_kernel_arg* args, int count);
 /* The same for kernel id of the step program; label NULL labels it with its name. */
-kg_result kg_cl_launch_args(kg_cl_world* w, kg_cl_kernel_id id, int items, const char* label,
+kg_result kg_cl_launch_args(kg_cl_backend* b, kg_cl_kernel_id id, int items, const char* label,
                             const kg_cl_kernel_arg* args, int count);
 
 /* Launches kernel id of KG_CL_KERNELS with the arguments that follow, all of them, in
  * order; their count must be the table's, else it does not compile. */
-#define KG_LAUNCH(w, id, items, label, ...)                                                                      \
+#define KG_LAUNCH(b, id, items, label, ...)                                                                      \
     do {                                                                                                         \
         const kg_cl_kernel_arg args_[] = {__VA_ARGS__};                                                          \
         _Static_assert(sizeof args_ / sizeof args_[0] == KG_CL_ARGS_##id,                                        \
                        "KG_LAUNCH(" #id "): not as many arguments as KG_CL_KERNELS gives the kernel");           \
-        KG_TRY(kg_cl_launch_args(w, KG_CL_K_##id, items, label, args_, (int)(sizeof args_ / sizeof args_[0]))); \
+        KG_TRY(kg_cl_launch_args(b, KG_CL_K_##id, items, label, args_, (int)(sizeof args_ / sizeof args_[0]))); \
     } while (0)
 
 /* Launches a device force applicator's kernel, every argument in order, as KG_LAUNCH. */
-#define KG_LAUNCH_DEVICE_FORCE(w, kernel, group_size, items, label, ...)                                         \
+#define KG_LAUNCH_DEVICE_FORCE(b, kernel, group_size, items, label, ...)                                         \
     do {                                                                                                         \
         const kg_cl_kernel_arg args_[] = {__VA_ARGS__};                                                          \
         _Static_assert(sizeof args_ / sizeof args_[0] == KG_CL_DEVICE_FORCE_ARGS,                                \
                        "KG_LAUNCH_DEVICE_FORCE: not as many arguments as kg_device_force has");                  \
-        KG_TRY(kg_cl_launch_kernel(w, kernel, group_size, items, label, args_,                                   \
+        KG_TRY(kg_cl_launch_kernel(b, kernel, group_size, items, label, args_,                                   \
                                    (int)(sizeof args_ / sizeof args_[0])));                                      \
     } while (0)
 
 /* KG_OK when kernel (named name) takes expected arguments (CL_KERNEL_NUM_ARGS); else a
  * backend error naming the kernel and both counts. */
-kg_result kg_cl_check_arg_count(kg_cl_world* w, cl_kernel kernel, const char* name, int expected);
+kg_result kg_cl_check_arg_count(kg_cl_backend* b, cl_kernel kernel, const char* name, int expected);
 
 /* Waits for the queue; errors of kernels that failed while running surface here. */
-kg_result kg_cl_finish(kg_cl_world* w);
+kg_result kg_cl_finish(kg_cl_backend* b);
 
 /* Residency (see above). */
-kg_result kg_cl_upload(kg_cl_world* w, const kg_body_pool* pool, unsigned arrays);
-kg_result kg_cl_download(kg_cl_world* w, kg_body_pool* pool, unsigned arrays);
+kg_result kg_cl_upload(kg_cl_backend* b, const kg_body_pool* pool, unsigned arrays);
+kg_result kg_cl_download(kg_cl_backend* b, kg_body_pool* pool, unsigned arrays);
 /* Uploads what the host changed, downloads what the device changed, for the given arrays. */
-kg_result kg_cl_to_device(kg_cl_world* w, const kg_body_pool* pool, unsigned arrays);
-kg_result kg_cl_to_host(kg_cl_world* w, kg_body_pool* pool, unsigned arrays);
+kg_result kg_cl_to_device(kg_cl_backend* b, const kg_body_pool* pool, unsigned arrays);
+kg_result kg_cl_to_host(kg_cl_backend* b, kg_body_pool* pool, unsigned arrays);
 /* Copies the state arrays into the checkpoint buffers (on the device), or reads the
  * checkpoint back into the host pool. */
-kg_result kg_cl_save_checkpoint(kg_cl_world* w, const kg_body_pool* pool);
-kg_result kg_cl_read_checkpoint(kg_cl_world* w, kg_body_pool* pool);
+kg_result kg_cl_save_checkpoint(kg_cl_backend* b, const kg_body_pool* pool);
+kg_result kg_cl_read_checkpoint(kg_cl_backend* b, kg_body_pool* pool);
 
 /* The mask of the arrays a step changes. */
 unsigned kg_cl_state_arrays(void);
 
-/* Adds the device time of the step's profiled commands to w->timing, and releases them. */
-void kg_cl_collect_timing(kg_cl_world* w);
+/* Adds the device time of the step's profiled commands to b->timing, and releases them. */
+void kg_cl_collect_timing(kg_cl_backend* b);
 
 #endif
