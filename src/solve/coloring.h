@@ -175,6 +175,10 @@ KG_FN void kg_order_by_color(int count, KG_GLOBAL const int* colors, KG_GLOBAL i
  * yet: each is asked for this many contacts ahead (some 0.4 ms a step on large_pyramid
  * without). Priorities past the last wrap around, which only wastes a request. */
 #define KG_COLOR_LOOKAHEAD 16u
+/* At most count / this many contacts to colour again are sorted by priority rather than
+ * found by going through every priority (a sort costs some 40 log2(n) instructions a
+ * contact, the walk some 50 per priority, up to 2 count priorities). */
+#define KG_COLOR_FEW_WAITING 16
 #if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
 #define kg_prefetch(address) ((void)0)
 #else
@@ -202,11 +206,49 @@ KG_FN void kg_color_in_priority_order(int count, KG_GLOBAL kg_contact* contacts,
     }
 }
 
+/* Moves list[root] down the max-heap list[0, n) ordered by priority. */
+KG_FN void kg_sift_by_priority(KG_GLOBAL int* list, int root, int n, int bits)
+{
+    for (int child = 2 * root + 1; child < n; root = child, child = 2 * root + 1) {
+        if (child + 1 < n &&
+            kg_color_priority((kg_u32)list[child + 1], bits) > kg_color_priority((kg_u32)list[child], bits)) {
+            child += 1;
+        }
+        if (kg_color_priority((kg_u32)list[root], bits) > kg_color_priority((kg_u32)list[child], bits)) {
+            return;
+        }
+        int t = list[root];
+        list[root] = list[child];
+        list[child] = t;
+    }
+}
+
+/* The contacts list[0, n) coloured in priority order (a heap sort first: priorities are
+ * distinct, so any sort gives the one order). */
+KG_FN void kg_color_listed(KG_GLOBAL int* list, int n, int bits, KG_GLOBAL kg_contact* contacts,
+                           KG_GLOBAL const kg_u32* flags, KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors)
+{
+    for (int root = n / 2 - 1; root >= 0; --root) {
+        kg_sift_by_priority(list, root, n, bits);
+    }
+    for (int end = n - 1; end > 0; --end) {
+        int t = list[0];
+        list[0] = list[end];
+        list[end] = t;
+        kg_sift_by_priority(list, 0, end, bits);
+    }
+    for (int i = 0; i < n; ++i) {
+        colors[list[i]] = kg_color_contact((kg_u32)list[i], contacts, flags, used);
+    }
+}
+
 /* Colours the constraints of contacts [0, count), serially: colors[k] is contact k's
  * colour (or KG_COLOR_COUNT), also in its colour word, and the lists are
  * kg_order_by_color's. used (per body slot: the colours its contacts took) must be zero
  * for the contacts' bodies before; it is left as the colouring made it (clearing it
- * through the contacts would read them a third time). */
+ * through the contacts would read them a third time). The contacts that kept no colour
+ * are listed in order (free until the lists are made); when they are few (a settled
+ * pile: tens of 10,000), sorting them costs less than going through every priority. */
 KG_FN void kg_color_constraints(int count, KG_GLOBAL kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
                                 KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors, KG_GLOBAL int* order,
                                 KG_GLOBAL int* rank, KG_GLOBAL int* color_start)
@@ -215,9 +257,12 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL kg_contact* contacts, KG_GL
     for (kg_u32 k = 0u; k < (kg_u32)count; ++k) {
         colors[k] = kg_kept_color(k, contacts, flags);
         kg_mark_kept_color(k, colors[k], contacts, flags, used);
+        order[waiting] = (int)k;
         waiting += colors[k] == KG_UNCOLORED;
     }
-    if (waiting > 0) {
+    if (waiting > 0 && waiting <= count / KG_COLOR_FEW_WAITING) {
+        kg_color_listed(order, waiting, kg_priority_bits(count), contacts, flags, used, colors);
+    } else if (waiting > 0) {
         kg_color_in_priority_order(count, contacts, flags, used, colors);
     }
     kg_order_by_color(count, colors, order, rank, color_start);
