@@ -157,7 +157,7 @@ static int color_both_ways(graph* g)
 {
     memcpy(&g_twin, g, sizeof *g);
     for (int k = 0; k < g->contact_count; ++k) {
-        g_kept[k] = kg_kept_color((kg_u32)k, g->contacts, g->flags);
+        g_kept[k] = kg_kept_color(g->contacts[k].color, kg_color_ends_of((kg_u32)k, g->contacts, g->flags));
     }
     memset(g_used, 0, sizeof g_used);
     kg_color_constraints(g->contact_count, g->contacts, g->flags, g_used, g_colors, g_order, g_rank, g_color_start);

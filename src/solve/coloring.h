@@ -44,22 +44,45 @@ KG_FN int kg_slot_takes_impulses(KG_GLOBAL const kg_u32* flags, kg_u32 slot)
     return slot != KG_NULL_INDEX && kg_flags_simulated(flags[slot]);
 }
 
-/* The lowest colour neither moving body of a constraint has taken yet (used: per body
- * slot, a bit per colour), now taken by both, or KG_COLOR_COUNT (the overflow). */
-KG_FN int kg_pick_color(KG_GLOBAL kg_u32* used, kg_u32 a, kg_u32 b, int a_moves, int b_moves)
+/* A constraint's two body slots, and whether each takes impulses. */
+typedef struct kg_color_ends {
+    kg_u32 a, b;
+    int a_moves, b_moves;
+} kg_color_ends;
+
+KG_FN kg_color_ends kg_color_ends_of(kg_u32 k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags)
 {
-    kg_u32 taken = (a_moves ? used[a] : 0u) | (b_moves ? used[b] : 0u);
+    kg_color_ends e;
+    e.a = contacts[k].a;
+    e.b = contacts[k].b;
+    e.a_moves = kg_slot_takes_impulses(flags, e.a);
+    e.b_moves = kg_slot_takes_impulses(flags, e.b);
+    return e;
+}
+
+/* Colour c marked as taken by the moving bodies of e (used: per body slot, a bit per
+ * colour). */
+KG_FN void kg_mark_color(KG_GLOBAL kg_u32* used, kg_color_ends e, int c)
+{
+    if (e.a_moves) {
+        kg_mark_colors(&used[e.a], 1u << c);
+    }
+    if (e.b_moves) {
+        kg_mark_colors(&used[e.b], 1u << c);
+    }
+}
+
+/* The lowest colour neither moving body of e has taken yet, now taken by both, or
+ * KG_COLOR_COUNT (the overflow). */
+KG_FN int kg_pick_color(KG_GLOBAL kg_u32* used, kg_color_ends e)
+{
+    kg_u32 taken = (e.a_moves ? used[e.a] : 0u) | (e.b_moves ? used[e.b] : 0u);
     kg_u32 free = ~taken & KG_ALL_COLORS;
     if (free == 0u) {
         return KG_COLOR_COUNT;
     }
     int c = kg_lowest_bit(free);
-    if (a_moves) {
-        used[a] |= 1u << c;
-    }
-    if (b_moves) {
-        used[b] |= 1u << c;
-    }
+    kg_mark_color(used, e, c);
     return c;
 }
 
@@ -100,43 +123,26 @@ KG_FN kg_u32 kg_color_constraint_at(kg_u32 p, int bits)
 }
 
 /* A contact's colour word: its colour, and whether each body moved when it took it. */
-KG_FN kg_u32 kg_color_word(int color, int a_moves, int b_moves)
+KG_FN kg_u32 kg_color_word(int color, kg_color_ends e)
 {
-    return (kg_u32)color | (kg_u32)a_moves << 5 | (kg_u32)b_moves << 6;
+    return (kg_u32)color | (kg_u32)e.a_moves << 5 | (kg_u32)e.b_moves << 6;
 }
 
-/* The colour contact k keeps from the last step, or KG_UNCOLORED: one of the colours (the
- * overflow is coloured again) taken while each of its bodies moved as it does now. Kept
- * colours stay a valid colouring: two contacts on a moving body that keep theirs took them
- * while it moved, each avoiding the other's. */
-KG_FN int kg_kept_color(kg_u32 k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags)
+/* The colour a contact of colour word `word` keeps, or KG_UNCOLORED: one of the colours
+ * (the overflow is coloured again) taken while each of its bodies moved as it does now.
+ * Kept colours stay a valid colouring: two contacts on a moving body that keep theirs
+ * took them while it moved, each avoiding the other's. */
+KG_FN int kg_kept_color(kg_u32 word, kg_color_ends e)
 {
-    kg_u32 a = contacts[k].a, b = contacts[k].b, word = contacts[k].color, color = word & 31u;
-    int a_moves = kg_slot_takes_impulses(flags, a), b_moves = kg_slot_takes_impulses(flags, b);
-    return color < KG_COLOR_COUNT && word == kg_color_word((int)color, a_moves, b_moves) ? (int)color : KG_UNCOLORED;
-}
-
-/* Marks kept colour c as taken by contact k's moving bodies. */
-KG_FN void kg_mark_kept_color(kg_u32 k, int c, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
-                              KG_GLOBAL kg_u32* used)
-{
-    kg_u32 a = contacts[k].a, b = contacts[k].b;
-    if (c != KG_UNCOLORED && kg_slot_takes_impulses(flags, a)) {
-        kg_mark_colors(&used[a], 1u << c);
-    }
-    if (c != KG_UNCOLORED && kg_slot_takes_impulses(flags, b)) {
-        kg_mark_colors(&used[b], 1u << c);
-    }
+    int color = (int)(word & 31u);
+    return color < KG_COLOR_COUNT && word == kg_color_word(color, e) ? color : KG_UNCOLORED;
 }
 
 /* Contact k's new colour, taken from used (kg_pick_color) and written to the contact. */
-KG_FN int kg_color_contact(kg_u32 k, KG_GLOBAL kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
-                           KG_GLOBAL kg_u32* used)
+KG_FN int kg_color_contact(kg_u32 k, kg_color_ends e, KG_GLOBAL kg_contact* contacts, KG_GLOBAL kg_u32* used)
 {
-    kg_u32 a = contacts[k].a, b = contacts[k].b;
-    int a_moves = kg_slot_takes_impulses(flags, a), b_moves = kg_slot_takes_impulses(flags, b);
-    int c = kg_pick_color(used, a, b, a_moves, b_moves);
-    contacts[k].color = kg_color_word(c, a_moves, b_moves);
+    int c = kg_pick_color(used, e);
+    contacts[k].color = kg_color_word(c, e);
     return c;
 }
 
@@ -201,7 +207,7 @@ KG_FN void kg_color_in_priority_order(int count, KG_GLOBAL kg_contact* contacts,
             kg_prefetch(&contacts[later].a);
         }
         if (k < (kg_u32)count && colors[k] == KG_UNCOLORED) {
-            colors[k] = kg_color_contact(k, contacts, flags, used);
+            colors[k] = kg_color_contact(k, kg_color_ends_of(k, contacts, flags), contacts, used);
         }
     }
 }
@@ -238,7 +244,8 @@ KG_FN void kg_color_listed(KG_GLOBAL int* list, int n, int bits, KG_GLOBAL kg_co
         kg_sift_by_priority(list, 0, end, bits);
     }
     for (int i = 0; i < n; ++i) {
-        colors[list[i]] = kg_color_contact((kg_u32)list[i], contacts, flags, used);
+        kg_u32 k = (kg_u32)list[i];
+        colors[k] = kg_color_contact(k, kg_color_ends_of(k, contacts, flags), contacts, used);
     }
 }
 
@@ -255,10 +262,14 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL kg_contact* contacts, KG_GL
 {
     int waiting = 0;
     for (kg_u32 k = 0u; k < (kg_u32)count; ++k) {
-        colors[k] = kg_kept_color(k, contacts, flags);
-        kg_mark_kept_color(k, colors[k], contacts, flags, used);
+        kg_color_ends e = kg_color_ends_of(k, contacts, flags);
+        int c = kg_kept_color(contacts[k].color, e);
+        colors[k] = c;
+        if (c != KG_UNCOLORED) {
+            kg_mark_color(used, e, c);
+        }
         order[waiting] = (int)k;
-        waiting += colors[k] == KG_UNCOLORED;
+        waiting += c == KG_UNCOLORED;
     }
     if (waiting > 0 && waiting <= count / KG_COLOR_FEW_WAITING) {
         kg_color_listed(order, waiting, kg_priority_bits(count), contacts, flags, used, colors);
@@ -282,15 +293,24 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL kg_contact* contacts, KG_GL
 KG_FN void kg_color_reset(kg_u32 k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
                           KG_GLOBAL int* colors, KG_GLOBAL kg_u32* used, KG_GLOBAL kg_u32* bids)
 {
-    kg_u32 a = contacts[k].a, b = contacts[k].b;
-    colors[k] = kg_kept_color(k, contacts, flags);
-    if (a != KG_NULL_INDEX) {
-        used[a] = 0u;
-        bids[a] = KG_NO_BID;
+    kg_color_ends e = kg_color_ends_of(k, contacts, flags);
+    colors[k] = kg_kept_color(contacts[k].color, e);
+    if (e.a != KG_NULL_INDEX) {
+        used[e.a] = 0u;
+        bids[e.a] = KG_NO_BID;
     }
-    if (b != KG_NULL_INDEX) {
-        used[b] = 0u;
-        bids[b] = KG_NO_BID;
+    if (e.b != KG_NULL_INDEX) {
+        used[e.b] = 0u;
+        bids[e.b] = KG_NO_BID;
+    }
+}
+
+/* After the resets: a kept colour c marked as taken by contact k's moving bodies. */
+KG_FN void kg_mark_kept_color(kg_u32 k, int c, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                              KG_GLOBAL kg_u32* used)
+{
+    if (c != KG_UNCOLORED) {
+        kg_mark_color(used, kg_color_ends_of(k, contacts, flags), c);
     }
 }
 
@@ -301,12 +321,13 @@ KG_FN void kg_color_bid(kg_u32 k, int bits, KG_GLOBAL const kg_contact* contacts
     if (colors[k] != KG_UNCOLORED) {
         return;
     }
-    kg_u32 a = contacts[k].a, b = contacts[k].b, p = kg_color_priority(k, bits);
-    if (kg_slot_takes_impulses(flags, a)) {
-        kg_keep_least(&bids[a], p);
+    kg_color_ends e = kg_color_ends_of(k, contacts, flags);
+    kg_u32 p = kg_color_priority(k, bits);
+    if (e.a_moves) {
+        kg_keep_least(&bids[e.a], p);
     }
-    if (kg_slot_takes_impulses(flags, b)) {
-        kg_keep_least(&bids[b], p);
+    if (e.b_moves) {
+        kg_keep_least(&bids[e.b], p);
     }
 }
 
@@ -320,17 +341,17 @@ KG_FN int kg_color_take(kg_u32 k, int bits, KG_GLOBAL kg_contact* contacts, KG_G
     if (colors[k] != KG_UNCOLORED) {
         return 0;
     }
-    kg_u32 a = contacts[k].a, b = contacts[k].b, p = kg_color_priority(k, bits);
-    int a_moves = kg_slot_takes_impulses(flags, a), b_moves = kg_slot_takes_impulses(flags, b);
-    int wins = (!a_moves || bids[a] == p) && (!b_moves || bids[b] == p);
-    if (a_moves) {
-        next_bids[a] = KG_NO_BID;
+    kg_color_ends e = kg_color_ends_of(k, contacts, flags);
+    kg_u32 p = kg_color_priority(k, bits);
+    int wins = (!e.a_moves || bids[e.a] == p) && (!e.b_moves || bids[e.b] == p);
+    if (e.a_moves) {
+        next_bids[e.a] = KG_NO_BID;
     }
-    if (b_moves) {
-        next_bids[b] = KG_NO_BID;
+    if (e.b_moves) {
+        next_bids[e.b] = KG_NO_BID;
     }
     if (wins) {
-        colors[k] = kg_color_contact(k, contacts, flags, used);
+        colors[k] = kg_color_contact(k, e, contacts, used);
     }
     return !wins;
 }
