@@ -41,7 +41,8 @@ static void make_graph(graph* g, int body_count, int contact_count, int static_e
     memset(g, 0, sizeof *g);
     g->body_count = body_count;
     for (int i = 0; i < body_count; ++i) {
-        g->flags[i] = (static_every && i % static_every == 0) ? KG_FLAG_ALIVE : KG_FLAG_ALIVE | ((kg_u32)KG_BODY_DYNAMIC << KG_TYPE_SHIFT);
+        int is_static = static_every && i % static_every == 0;
+        g->flags[i] = is_static ? KG_FLAG_ALIVE : KG_FLAG_ALIVE | ((kg_u32)KG_BODY_DYNAMIC << KG_TYPE_SHIFT);
     }
     int n = 0;
     for (kg_u32 a = 0; a < (kg_u32)body_count && n < contact_count; ++a) {
@@ -112,7 +113,7 @@ static int moves(const graph* g, kg_u32 slot) { return kg_slot_takes_impulses(g-
  * on one of its moving bodies took. */
 static int reference_color(const graph* g, int k, const int* colors, const int* kept)
 {
-    int bits = kg_priority_bits(g->contact_count);
+    int bits = (int)kg_bits_for((kg_u32)g->contact_count);
     kg_u32 taken = 0u, mine = kg_color_priority((kg_u32)k, bits);
     for (int j = 0; j < g->contact_count; ++j) {
         int before = kept[j] != KG_UNCOLORED || kg_color_priority((kg_u32)j, bits) < mine;
@@ -131,7 +132,7 @@ static int reference_color(const graph* g, int k, const int* colors, const int* 
 /* The device's rounds, one contact after another; returns the number of rounds. */
 static int color_in_rounds(graph* g, int* colors)
 {
-    int count = g->contact_count, bits = kg_priority_bits(count), round = 0;
+    int count = g->contact_count, bits = (int)kg_bits_for((kg_u32)count), round = 0;
     for (kg_u32 k = 0; k < (kg_u32)count; ++k) {
         kg_color_reset(k, g->contacts, g->flags, colors, g_used, g_bids[0]);
     }

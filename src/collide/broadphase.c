@@ -222,7 +222,7 @@ static void kg_classify_proxies(kg_broadphase* bp)
 
 static void kg_sort_proxies(kg_broadphase* bp)
 {
-    int key_bits = (int)(bp->grid.x_bits + kg_bp_bits_for(bp->grid.height));
+    int key_bits = (int)(bp->grid.x_bits + kg_bits_for(bp->grid.height));
     kg_radix_sort(&bp->keys, &bp->items, &bp->key_scratch, &bp->item_scratch, bp->small_count, key_bits,
                   bp->histogram);
     /* Copied in key order so the neighbour scans read memory front to back. */

@@ -6,6 +6,7 @@
 
 #include "collide/aabb.h"
 #include "core/kg_layout.h"
+#include "core/ranges.h"
 
 /* Box extents are binned by their float bits >> 20: exponent plus 3 mantissa bits, so a
  * bin is at most 12.5% wide and a non-negative float falls in one of 2048 bins. */
@@ -74,16 +75,6 @@ KG_FN kg_u32 kg_bp_sortable_bits(float v)
 }
 
 KG_FN float kg_bp_unsortable(kg_u32 bits) { return kg_bp_bits_float((bits & 0x80000000u) ? bits & 0x7FFFFFFFu : ~bits); }
-
-/* Bits needed to number count things (0 for one thing). */
-KG_FN kg_u32 kg_bp_bits_for(kg_u32 count)
-{
-    kg_u32 bits = 0u;
-    while (bits < 32u && (count - 1u) >> bits != 0u) {
-        bits += 1u;
-    }
-    return bits;
-}
 
 /* ---- proxies and the grid ---- */
 
@@ -169,8 +160,8 @@ KG_FN kg_bp_grid kg_bp_grid_make(float cell_size, KG_GLOBAL const kg_u32* bounds
         g.inv_cell_size = 1.0f / cell_size;
         g.width = kg_bp_axis_cells(lower.x, upper.x, cell_size);
         g.height = kg_bp_axis_cells(lower.y, upper.y, cell_size);
-        g.x_bits = kg_bp_bits_for(g.width);
-        kg_u32 y_bits = kg_bp_bits_for(g.height);
+        g.x_bits = kg_bits_for(g.width);
+        kg_u32 y_bits = kg_bits_for(g.height);
         if (g.x_bits <= KG_BP_MAX_AXIS_BITS && y_bits <= KG_BP_MAX_AXIS_BITS &&
             g.x_bits + y_bits <= KG_BP_MAX_KEY_BITS) {
             return g;
@@ -270,20 +261,6 @@ typedef struct kg_bp_view {
     int large_count;
 } kg_bp_view;
 
-/* The first of keys[lo, hi) not below key. */
-KG_FN int kg_bp_lower_bound(KG_GLOBAL const kg_u32* keys, int lo, int hi, kg_u32 key)
-{
-    while (lo < hi) {
-        int mid = lo + (hi - lo) / 2;
-        if (keys[mid] < key) {
-            lo = mid + 1;
-        } else {
-            hi = mid;
-        }
-    }
-    return lo;
-}
-
 /* The first of keys[from, hi) not below key, galloping from from: cheap when it is near,
  * as the row above an entry mostly is. */
 KG_FN int kg_bp_gallop(KG_GLOBAL const kg_u32* keys, int from, int hi, kg_u32 key)
@@ -293,7 +270,7 @@ KG_FN int kg_bp_gallop(KG_GLOBAL const kg_u32* keys, int from, int hi, kg_u32 ke
         from += step;
         step *= 2;
     }
-    return kg_bp_lower_bound(keys, from, from + step < hi ? from + step : hi, key);
+    return kg_lower_bound(keys, from, from + step < hi ? from + step : hi, key);
 }
 
 /* Partners of p among the small entries [from, small_count) keyed up to last. */
@@ -337,7 +314,7 @@ KG_FN void kg_bp_query_large(kg_bp_sink* s, const kg_bp_view* v, kg_bp_proxy p)
     x0 = x0 > 0u ? x0 - 1u : 0u;
     kg_u32 row = y0 > 0u ? y0 - 1u : 0u;
     while (row <= y1) {
-        int j = kg_bp_lower_bound(v->keys, 0, v->small_count, kg_bp_cell_key(g, x0, row));
+        int j = kg_lower_bound(v->keys, 0, v->small_count, kg_bp_cell_key(g, x0, row));
         if (j == v->small_count) {
             return;
         }

@@ -9,25 +9,17 @@
 #ifndef KG_COUNTING_SORT_H
 #define KG_COUNTING_SORT_H
 
-#include "core/kg_shared.h"
-
-KG_FN int kg_sort_chunks(int count, int chunk_size) { return (count + chunk_size - 1) / chunk_size; }
-
-/* The end of chunk's range of [0, count). */
-KG_FN int kg_sort_chunk_end(int count, int chunk_size, int chunk)
-{
-    return (chunk + 1) * chunk_size < count ? (chunk + 1) * chunk_size : count;
-}
+#include "core/ranges.h"
 
 KG_FN kg_u32 kg_sort_digit(kg_u32 key, int shift, int bits) { return (key >> shift) & ((1u << bits) - 1u); }
 
 /* Counts the digits of chunk's keys into counts[digit * chunks + chunk], 1 << bits of them.
- * chunks is kg_sort_chunks(count, chunk_size), passed so that a caller of one chunk gets
+ * chunks is kg_parts(count, chunk_size), passed so that a caller of one chunk gets
  * loops of constant stride. */
 KG_FN void kg_sort_count_chunk(KG_GLOBAL const kg_u32* keys, int count, int chunk_size, int chunk, int chunks,
                                int shift, int bits, KG_GLOBAL kg_u32* counts)
 {
-    int end = kg_sort_chunk_end(count, chunk_size, chunk);
+    int end = kg_part_end(count, chunk_size, chunk);
     for (int d = 0; d < 1 << bits; ++d) {
         counts[d * chunks + chunk] = 0u;
     }
@@ -42,7 +34,7 @@ KG_FN void kg_sort_scatter_chunk(KG_GLOBAL const kg_u32* keys, KG_GLOBAL const k
                                  int chunk_size, int chunk, int chunks, int shift, int bits,
                                  KG_GLOBAL kg_u32* offsets, KG_GLOBAL kg_u32* keys_out, KG_GLOBAL kg_u32* items_out)
 {
-    int end = kg_sort_chunk_end(count, chunk_size, chunk);
+    int end = kg_part_end(count, chunk_size, chunk);
     for (int k = chunk * chunk_size; k < end; ++k) {
         kg_u32 place = offsets[(int)kg_sort_digit(keys[k], shift, bits) * chunks + chunk]++;
         keys_out[place] = keys[k];

@@ -23,11 +23,12 @@ typedef int kg_i32;
 #define KG_PRIVATE_VIEW(type, name, element) \
     type name##_copy = (element);           \
     const type* name = &name##_copy
-/* a work-group's shared variable, barrier and atomic minima (of floats never negative:
- * their bits order as they do) */
+/* a work-group's shared variable, barrier, atomic minima (of floats never negative:
+ * their bits order as they do) and atomic or */
 #define KG_LOCAL __local
 #define kg_group_barrier() barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE)
 #define kg_atomic_min_u32(p, v) atomic_min((p), (v))
+#define kg_atomic_or_u32(p, v) atomic_or((p), (v))
 #define kg_atomic_min_unsigned_float(p, v) atomic_min((__global uint*)(p), as_uint(v))
 typedef struct kg_vec2 {
     float x, y;
@@ -60,6 +61,7 @@ typedef int32_t kg_i32;
 #define KG_LOCAL
 #define kg_group_barrier() ((void)0)
 static inline void kg_atomic_min_u32(kg_u32* p, kg_u32 v) { *p = v < *p ? v : *p; }
+static inline void kg_atomic_or_u32(kg_u32* p, kg_u32 v) { *p |= v; }
 static inline void kg_atomic_min_unsigned_float(float* p, float v) { *p = v < *p ? v : *p; }
 #endif
 

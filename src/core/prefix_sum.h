@@ -5,17 +5,16 @@
 #ifndef KG_PREFIX_SUM_H
 #define KG_PREFIX_SUM_H
 
-#include "core/kg_shared.h"
+#include "core/ranges.h"
 
-KG_FN int kg_scan_block_count(int count, int block) { return count > 0 ? (count + block - 1) / block : 1; }
-
-KG_FN int kg_scan_block_end(int count, int block, int g) { return (g + 1) * block < count ? (g + 1) * block : count; }
+/* At least one block, which writes the total (0) when count is. */
+KG_FN int kg_scan_block_count(int count, int block) { return count > 0 ? kg_parts(count, block) : 1; }
 
 /* The sum of block g of values: [g * block, (g + 1) * block). */
 KG_FN kg_u32 kg_scan_block_sum(KG_GLOBAL const kg_u32* values, int count, int block, int g)
 {
     kg_u32 sum = 0u;
-    for (int k = g * block; k < kg_scan_block_end(count, block, g); ++k) {
+    for (int k = g * block; k < kg_part_end(count, block, g); ++k) {
         sum += values[k];
     }
     return sum;
@@ -31,7 +30,7 @@ KG_FN kg_u32 kg_scan_block_apply(KG_GLOBAL const kg_u32* values, KG_GLOBAL kg_u3
     for (int h = 0; h < g; ++h) {
         sum += block_sums[h];
     }
-    for (int k = g * block; k < kg_scan_block_end(count, block, g); ++k) {
+    for (int k = g * block; k < kg_part_end(count, block, g); ++k) {
         kg_u32 v = values[k];
         offsets[k] = sum;
         sum += v;

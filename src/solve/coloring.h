@@ -24,19 +24,12 @@
 
 #include "core/body_flags.h"
 #include "core/kg_layout.h"
+#include "core/ranges.h"
 
 #define KG_COLOR_COUNT 24
 #define KG_ALL_COLORS ((1u << KG_COLOR_COUNT) - 1u)
 #define KG_UNCOLORED (-1)
 
-#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
-#define kg_keep_least(p, v) atomic_min((p), (v))
-#define kg_mark_colors(p, v) atomic_or((p), (v))
-#else
-/* Serial on the CPU (the tests replay the device's rounds on the CPU with them). */
-KG_FN void kg_keep_least(kg_u32* p, kg_u32 v) { *p = v < *p ? v : *p; }
-KG_FN void kg_mark_colors(kg_u32* p, kg_u32 v) { *p |= v; }
-#endif
 
 /* A body takes part in colouring only if the solver writes to it. */
 KG_FN int kg_slot_takes_impulses(KG_GLOBAL const kg_u32* flags, kg_u32 slot)
@@ -65,10 +58,10 @@ KG_FN kg_color_ends kg_color_ends_of(kg_u32 k, KG_GLOBAL const kg_contact* conta
 KG_FN void kg_mark_color(KG_GLOBAL kg_u32* used, kg_color_ends e, int c)
 {
     if (e.a_moves) {
-        kg_mark_colors(&used[e.a], 1u << c);
+        kg_atomic_or_u32(&used[e.a], 1u << c);
     }
     if (e.b_moves) {
-        kg_mark_colors(&used[e.b], 1u << c);
+        kg_atomic_or_u32(&used[e.b], 1u << c);
     }
 }
 
@@ -86,23 +79,13 @@ KG_FN int kg_pick_color(KG_GLOBAL kg_u32* used, kg_color_ends e)
     return c;
 }
 
-/* A constraint's priority: a bijection of [0, 2^bits) (kg_priority_bits), two rounds of a
+/* A constraint's priority: a bijection of [0, 2^bits) (kg_bits_for), two rounds of a
  * multiplication by an odd constant and a xor-shift by at least half the bits, each of
  * which is invertible modulo 2^bits. */
 #define KG_PRIORITY_MUL1 0x9E3779B1u
 #define KG_PRIORITY_MUL2 0x85EBCA77u
 #define KG_PRIORITY_INV1 0x0E8B2F51u /* KG_PRIORITY_MUL1 * KG_PRIORITY_INV1 == 1 mod 2^32 */
 #define KG_PRIORITY_INV2 0xB6C92F47u
-
-/* The bits that number count constraints: 2^bits >= count (count < 2^31). */
-KG_FN int kg_priority_bits(int count)
-{
-    int bits = 0;
-    while (bits < 31 && (1 << bits) < count) {
-        bits += 1;
-    }
-    return bits;
-}
 
 /* x ^ (x >> s) with 2 s >= bits: its own inverse on [0, 2^bits). */
 KG_FN kg_u32 kg_priority_shuffle(kg_u32 x, int bits) { return x ^ (x >> ((bits + 1) / 2)); }
@@ -179,7 +162,8 @@ KG_FN void kg_order_by_color(int count, KG_GLOBAL const int* colors, KG_GLOBAL i
 
 /* The contacts are read in a scrambled order, from memory that would not be in the cache
  * yet: each is asked for this many contacts ahead (some 0.4 ms a step on large_pyramid
- * without). Priorities past the last wrap around, which only wastes a request. */
+ * without). Priorities past the last map to some other contact, which only wastes a
+ * request. */
 #define KG_COLOR_LOOKAHEAD 16u
 /* At most count / this many contacts to colour again are sorted by priority rather than
  * found by going through every priority (a sort costs some 40 log2(n) instructions a
@@ -195,7 +179,7 @@ KG_FN void kg_order_by_color(int count, KG_GLOBAL const int* colors, KG_GLOBAL i
 KG_FN void kg_color_in_priority_order(int count, KG_GLOBAL kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
                                       KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors)
 {
-    int bits = kg_priority_bits(count);
+    int bits = (int)kg_bits_for((kg_u32)count);
     kg_u32 ahead[KG_COLOR_LOOKAHEAD]; /* the contacts of priorities p to p + lookahead - 1 */
     for (kg_u32 p = 0u; p < KG_COLOR_LOOKAHEAD; ++p) {
         ahead[p] = kg_color_constraint_at(p, bits);
@@ -272,7 +256,7 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL kg_contact* contacts, KG_GL
         waiting += c == KG_UNCOLORED;
     }
     if (waiting > 0 && waiting <= count / KG_COLOR_FEW_WAITING) {
-        kg_color_listed(order, waiting, kg_priority_bits(count), contacts, flags, used, colors);
+        kg_color_listed(order, waiting, (int)kg_bits_for((kg_u32)count), contacts, flags, used, colors);
     } else if (waiting > 0) {
         kg_color_in_priority_order(count, contacts, flags, used, colors);
     }
@@ -280,11 +264,6 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL kg_contact* contacts, KG_GL
 }
 
 /* ---- the device's rounds (see the top) ---- */
-
-/* Up to this many contacts a GPU colours serially (kg_color_constraints on one
- * work-item): rounds cost more launches than they save there. A CPU device always does
- * (backend/opencl/cl_world.c says why). */
-#define KG_COLOR_SERIAL_MAX 2048
 
 #define KG_NO_BID 0xFFFFFFFFu
 
@@ -324,10 +303,10 @@ KG_FN void kg_color_bid(kg_u32 k, int bits, KG_GLOBAL const kg_contact* contacts
     kg_color_ends e = kg_color_ends_of(k, contacts, flags);
     kg_u32 p = kg_color_priority(k, bits);
     if (e.a_moves) {
-        kg_keep_least(&bids[e.a], p);
+        kg_atomic_min_u32(&bids[e.a], p);
     }
     if (e.b_moves) {
-        kg_keep_least(&bids[e.b], p);
+        kg_atomic_min_u32(&bids[e.b], p);
     }
 }
 
@@ -354,22 +333,6 @@ KG_FN int kg_color_take(kg_u32 k, int bits, KG_GLOBAL kg_contact* contacts, KG_G
         colors[k] = kg_color_contact(k, e, contacts, used);
     }
     return !wins;
-}
-
-/* Where colour c (up to KG_COLOR_COUNT + 1, one past the overflow) starts among count
- * colours sorted in increasing order: the first place not below c. */
-KG_FN int kg_color_range_start(int c, int count, KG_GLOBAL const kg_u32* sorted_colors)
-{
-    int lo = 0, hi = count;
-    while (lo < hi) {
-        int mid = lo + (hi - lo) / 2;
-        if (sorted_colors[mid] < (kg_u32)c) {
-            lo = mid + 1;
-        } else {
-            hi = mid;
-        }
-    }
-    return lo;
 }
 
 /* How many colours are in use (the overflow not counted): one past the last non-empty. */

@@ -1,6 +1,7 @@
 /* The collision stage on the device, and the colouring that opens the solve stage
- * (kernels in kernels/kg_scan.cl, kg_broadphase.cl, kg_collide.cl and kg_color.cl): the contacts collide/collide.c gives, in the same
- * order, coloured as solve/coloring.h colours. The kernels in order, and what is read
+ * (kernels in kernels/kg_scan.cl, kg_broadphase.cl, kg_collide.cl and kg_color.cl): the
+ * contacts collide/collide.c gives, in the same order, coloured as solve/coloring.h
+ * colours. The kernels in order, and what is read
  * back, are in docs/design.md, "The OpenCL pipeline". */
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_backend.h"
@@ -24,7 +25,7 @@ static kg_result kg_find_pairs(kg_world* world, kg_cl_backend* b, int capacity)
     KG_LAUNCH(b, BP_CLEAR, KG_BP_EXTENT_BINS, label, KG_MEM(c->histogram), KG_MEM(c->counts), KG_MEM(c->bp_words));
     KG_LAUNCH(b, BP_PROXIES, slots, label, KG_INT(slots), KG_FLOAT(world->def.speculative_distance), KG_MEM(KG_A(FLAGS)),
               KG_MEM(KG_A(AABB)), KG_MEM(KG_A(CATEGORY)), KG_MEM(KG_A(MASK)), KG_MEM(c->proxies),
-              KG_MEM(c->histogram), KG_MEM(c->run), KG_MEM(c->run_fill), KG_MEM(c->colors_used),
+              KG_MEM(c->histogram), KG_MEM(c->run), KG_MEM(c->run_fill),
               KG_MEM(b->wake_marks));
     KG_LAUNCH(b, BP_CELLS, 1, label, KG_MEM(c->histogram), KG_MEM(c->grid));
     KG_LAUNCH(b, BP_BOUNDS, slots, label, KG_INT(slots), KG_MEM(c->proxies), KG_MEM(c->grid), KG_MEM(c->bp_words));
@@ -221,7 +222,7 @@ static kg_result kg_collide_tiles(kg_world* world, kg_cl_backend* b, int capacit
 static kg_result kg_color_in_rounds(kg_cl_backend* b, cl_mem contacts, int count)
 {
     kg_cl_collide_buffers* c = &b->collide;
-    int bits = kg_priority_bits(count);
+    int bits = (int)kg_bits_for((kg_u32)count);
     for (int round = 0; round <= count;) {
         for (int end = round + KG_COLOR_ROUNDS_PER_LOOK; round < end; ++round) {
             cl_mem bids = c->color_bids[round & 1], next_bids = c->color_bids[(round + 1) & 1];
@@ -258,7 +259,7 @@ static kg_result kg_color(kg_cl_backend* b, cl_mem contacts, int count)
               KG_MEM(c->colors), KG_MEM(c->colors_used));
     KG_TRY(kg_color_in_rounds(b, contacts, count));
     KG_TRY(kg_cl_sort_pass(b, c->colors, c->color_items, c->sorted_colors, b->order, count, 0,
-                           kg_priority_bits(KG_COLOR_COUNT + 1), "kg_color"));
+                           (int)kg_bits_for(KG_COLOR_COUNT + 1), "kg_color"));
     KG_LAUNCH(b, COLOR_RANGES, KG_COLOR_COUNT + 2, "kg_color", KG_INT(count), KG_MEM(c->sorted_colors),
               KG_MEM(b->color_start));
     return KG_OK;

@@ -5,17 +5,17 @@
 #include "core/counting_sort.h"
 #include "core/prefix_sum.h"
 
-/* Blocks of at least KG_SCAN_MIN_BLOCK elements, at most KG_SCAN_MAX_BLOCKS of them. */
-static int kg_block_size(int count)
+/* Parts of count elements: at least min_size elements each, at most max_parts of them. */
+static int kg_part_size(int count, int max_parts, int min_size)
 {
-    int block = (count + KG_SCAN_MAX_BLOCKS - 1) / KG_SCAN_MAX_BLOCKS;
-    return block > KG_SCAN_MIN_BLOCK ? block : KG_SCAN_MIN_BLOCK;
+    int size = kg_parts(count, max_parts);
+    return size > min_size ? size : min_size;
 }
 
 kg_result kg_cl_scan(kg_cl_backend* b, cl_mem values, cl_mem offsets, int count, int total_slot, const char* label)
 {
     kg_cl_collide_buffers* c = &b->collide;
-    int block = kg_block_size(count);
+    int block = kg_part_size(count, KG_SCAN_MAX_BLOCKS, KG_SCAN_MIN_BLOCK);
     int blocks = kg_scan_block_count(count, block);
     KG_LAUNCH(b, SCAN_BLOCKS, blocks, label, KG_INT(count), KG_INT(block), KG_MEM(values), KG_MEM(c->block_sums));
     KG_LAUNCH(b, SCAN_APPLY, blocks, label, KG_INT(count), KG_INT(block), KG_MEM(values), KG_MEM(offsets),
@@ -23,19 +23,12 @@ kg_result kg_cl_scan(kg_cl_backend* b, cl_mem values, cl_mem offsets, int count,
     return KG_OK;
 }
 
-/* Chunks of at least KG_SORT_MIN_CHUNK keys, at most KG_SORT_MAX_CHUNKS of them. */
-static int kg_chunk_size(int count)
-{
-    int chunk = (count + KG_SORT_MAX_CHUNKS - 1) / KG_SORT_MAX_CHUNKS;
-    return chunk > KG_SORT_MIN_CHUNK ? chunk : KG_SORT_MIN_CHUNK;
-}
-
 kg_result kg_cl_sort_pass(kg_cl_backend* b, cl_mem keys_in, cl_mem items_in, cl_mem keys_out, cl_mem items_out,
                           int count, int shift, int bits, const char* label)
 {
     cl_mem table = b->collide.sort_counts;
-    int chunk_size = kg_chunk_size(count);
-    int chunks = kg_sort_chunks(count, chunk_size);
+    int chunk_size = kg_part_size(count, KG_SORT_MAX_CHUNKS, KG_SORT_MIN_CHUNK);
+    int chunks = kg_parts(count, chunk_size);
     KG_LAUNCH(b, SORT_COUNT, chunks, label, KG_INT(count), KG_INT(chunk_size), KG_INT(shift), KG_INT(bits),
               KG_MEM(keys_in), KG_MEM(table));
     KG_TRY(kg_cl_scan(b, table, table, chunks << bits, -1, label));

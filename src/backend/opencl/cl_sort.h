@@ -1,7 +1,7 @@
 /* Prefix sums and stable sorts on the device (kernels in kernels/kg_scan.cl, per-element
  * code in core/prefix_sum.h and core/counting_sort.h), for any stage that turns counts
  * into places or orders its elements by a key: the broadphase sorts its boxes by cell,
- * a colouring could sort contacts by colour. Every call only enqueues kernels. */
+ * the colouring sorts contacts by colour. Every call only enqueues kernels. */
 #ifndef KG_CL_SORT_H
 #define KG_CL_SORT_H
 

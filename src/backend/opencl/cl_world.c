@@ -543,6 +543,10 @@ kg_result kg_cl_reserve_contacts(kg_cl_backend* b, int capacity)
     return r;
 }
 
+/* Up to this many contacts a GPU colours serially (kg_color_constraints on one
+ * work-item): rounds cost more launches than they save there. */
+#define KG_COLOR_SERIAL_MAX 2048
+
 /* How many contacts one work-item colours (solve/coloring.h), past which the device
  * colours in rounds: on a GPU KG_COLOR_SERIAL_MAX, where rounds use its thousands of
  * lanes; on a CPU device any number, as a work-item there runs as fast as a host thread

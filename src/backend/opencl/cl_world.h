@@ -47,27 +47,27 @@ typedef enum kg_cl_array {
  * list. A launch (KG_LAUNCH) that passes another number does not compile; a table whose
  * count differs from the built kernel's (CL_KERNEL_NUM_ARGS) stops the backend's start,
  * naming the kernel. */
-#define KG_CL_KERNELS(X)                                                                          \
-    X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force, 8) X(INTEGRATE_VELOCITIES, kg_integrate_velocities, 4)  \
-    X(INTEGRATE_POSITIONS, kg_integrate_positions, 4) X(LOAD_BODIES, kg_load_bodies, 18)            \
-    X(STORE_BODIES, kg_store_bodies, 11)                                                          \
-    X(PREPARE_CONTACTS, kg_prepare_contacts, 9) X(GATHER_COLORED, kg_gather_colored, 4)            \
-    X(SOLVE_COLOR, kg_solve_color, 7)                                                             \
-    X(SOLVE_COLORS_IN_GROUP, kg_solve_colors_in_group, 5) X(STORE_IMPULSES, kg_store_impulses, 3)  \
-    X(FINALIZE, kg_finalize, 14)                                                                  \
-    X(SCAN_BLOCKS, kg_scan_blocks, 4) X(SCAN_APPLY, kg_scan_apply, 7)                             \
-    X(SORT_COUNT, kg_sort_count, 6) X(SORT_SCATTER, kg_sort_scatter, 9)                           \
-    X(BP_CLEAR, kg_bp_clear, 3) X(BP_PROXIES, kg_bp_proxies, 12) X(BP_CELLS, kg_bp_cells, 2)        \
-    X(BP_BOUNDS, kg_bp_bounds, 4) X(BP_BUILD_GRID, kg_bp_build_grid, 2) X(BP_KEYS, kg_bp_keys, 7)  \
-    X(BP_GATHER, kg_bp_gather, 7) X(BP_COUNT_PAIRS, kg_bp_count_pairs, 8)                         \
-    X(BP_WRITE_PAIRS, kg_bp_write_pairs, 10) X(BP_COUNT_RUNS, kg_bp_count_runs, 3)                 \
-    X(BP_SCATTER, kg_bp_scatter, 5) X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 13)                         \
-    X(BUILD_CONTACTS, kg_build_contacts, 11) X(COLOR_CONTACTS, kg_color_contacts, 7)               \
-    X(RESET_COLORS, kg_reset_colors, 7) X(KEEP_COLORS, kg_keep_colors, 5) X(BID_COLORS, kg_bid_colors, 6) X(TAKE_COLORS, kg_take_colors, 10)   \
-    X(COLOR_RANGES, kg_color_ranges, 3)               \
-    X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 23) X(TILE_TOTAL, kg_tile_total, 2)             \
-    X(WAKE_TOUCHED, kg_wake_touched, 8) X(WAKE_MARKED, kg_wake_marked, 5)                          \
-    X(FIND_ISLANDS, kg_find_islands, 9) X(FALL_ASLEEP, kg_fall_asleep, 14)
+#define KG_CL_KERNELS(X)                                                                                      \
+    X(APPLY_BUILTIN_FORCE, kg_apply_builtin_force, 8)                                                         \
+    X(INTEGRATE_VELOCITIES, kg_integrate_velocities, 4)                                                       \
+    X(INTEGRATE_POSITIONS, kg_integrate_positions, 4) X(LOAD_BODIES, kg_load_bodies, 18)                      \
+    X(STORE_BODIES, kg_store_bodies, 11) X(PREPARE_CONTACTS, kg_prepare_contacts, 9)                          \
+    X(GATHER_COLORED, kg_gather_colored, 4) X(SOLVE_COLOR, kg_solve_color, 7)                                 \
+    X(SOLVE_COLORS_IN_GROUP, kg_solve_colors_in_group, 5) X(STORE_IMPULSES, kg_store_impulses, 3)             \
+    X(FINALIZE, kg_finalize, 14) X(SCAN_BLOCKS, kg_scan_blocks, 4) X(SCAN_APPLY, kg_scan_apply, 7)            \
+    X(SORT_COUNT, kg_sort_count, 6) X(SORT_SCATTER, kg_sort_scatter, 9) X(BP_CLEAR, kg_bp_clear, 3)           \
+    X(BP_PROXIES, kg_bp_proxies, 11) X(BP_CELLS, kg_bp_cells, 2) X(BP_BOUNDS, kg_bp_bounds, 4)                \
+    X(BP_BUILD_GRID, kg_bp_build_grid, 2) X(BP_KEYS, kg_bp_keys, 7) X(BP_GATHER, kg_bp_gather, 7)             \
+    X(BP_COUNT_PAIRS, kg_bp_count_pairs, 8) X(BP_WRITE_PAIRS, kg_bp_write_pairs, 10)                          \
+    X(BP_COUNT_RUNS, kg_bp_count_runs, 3) X(BP_SCATTER, kg_bp_scatter, 5)                                     \
+    X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 13)                                    \
+    X(BUILD_CONTACTS, kg_build_contacts, 11) X(COLOR_CONTACTS, kg_color_contacts, 7)                          \
+    X(RESET_COLORS, kg_reset_colors, 7) X(KEEP_COLORS, kg_keep_colors, 5)                                     \
+    X(BID_COLORS, kg_bid_colors, 6) X(TAKE_COLORS, kg_take_colors, 10)                                        \
+    X(COLOR_RANGES, kg_color_ranges, 3) X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 23)                    \
+    X(TILE_TOTAL, kg_tile_total, 2) X(WAKE_TOUCHED, kg_wake_touched, 8)                                       \
+    X(WAKE_MARKED, kg_wake_marked, 5) X(FIND_ISLANDS, kg_find_islands, 9)                                     \
+    X(FALL_ASLEEP, kg_fall_asleep, 14)
 
 typedef enum kg_cl_kernel_id {
 #define KG_CL_KERNEL_ENUM(id, name, args) KG_CL_K_##id,

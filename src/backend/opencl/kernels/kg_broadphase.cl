@@ -17,7 +17,7 @@ __kernel void kg_bp_clear(__global uint* histogram, __global uint* counts, __glo
         counts[i] = 0u;
     }
     if (i < KG_BP_WORDS) {
-        words[i] = i < 2 ? KG_BP_BOUNDS_EMPTY_MIN : i < 4 ? KG_BP_BOUNDS_EMPTY_MAX : 0u;
+        words[i] = kg_bp_word_cleared(i);
     }
 }
 
@@ -26,14 +26,13 @@ __kernel void kg_bp_clear(__global uint* histogram, __global uint* counts, __glo
 __kernel void kg_bp_proxies(int count, float margin, __global const kg_u32* flags, __global const kg_aabb* aabb,
                             __global const kg_u32* category, __global const kg_u32* mask,
                             __global kg_bp_proxy* proxies, __global uint* histogram, __global uint* run_count,
-                            __global uint* run_fill, __global uint* colors_used, __global uint* wake_marks)
+                            __global uint* run_fill, __global uint* wake_marks)
 {
     int i = (int)get_global_id(0);
     if (i >= count) {
         return;
     }
     run_count[i] = run_fill[i] = wake_marks[i] = 0u;
-    colors_used[i] = 0u; /* solve/coloring.h leaves it zero; zeroed here too for a buffer just grown */
     kg_bp_proxy p = kg_bp_proxy_of(flags[i], aabb[i], category[i], mask[i], margin, (kg_u32)i);
     proxies[i] = p;
     if (p.body != KG_NULL_INDEX) {

@@ -1,7 +1,7 @@
 /* What the collision stage's kernels (kg_scan.cl, kg_broadphase.cl, kg_collide.cl,
- * kg_color.cl) and their host code (cl_collide.c) agree on: the slots of the small counters buffer and the sizes of the scan blocks (the
- * broadphase's structs are collide/broadphase_grid.h's). KG_COLOR_COUNT comes from
- * solve/coloring.h. */
+ * kg_color.cl) and their host code (cl_collide.c) agree on: the slots of the small
+ * counters buffer and the sizes of the scan blocks (the broadphase's structs are
+ * collide/broadphase_grid.h's). KG_COLOR_COUNT comes from solve/coloring.h. */
 #ifndef KG_COLLIDE_SHARED_H
 #define KG_COLLIDE_SHARED_H
 
@@ -23,6 +23,14 @@
 #define KG_BP_SMALL 4
 #define KG_BP_LARGE 5
 #define KG_BP_WORDS 6
+
+/* Word i of them before a search: the bounds empty (min x, min y, max x, max y), the
+ * counts 0. */
+KG_FN kg_u32 kg_bp_word_cleared(int i)
+{
+    int bound = i - KG_BP_BOUNDS;
+    return bound < 0 || bound >= 4 ? 0u : bound < 2 ? KG_BP_BOUNDS_EMPTY_MIN : KG_BP_BOUNDS_EMPTY_MAX;
+}
 
 /* Prefix sums run in at most this many blocks, each summed serially by one work-item. */
 #define KG_SCAN_MAX_BLOCKS 256

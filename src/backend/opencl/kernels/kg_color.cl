@@ -3,8 +3,8 @@
 #include "solve/coloring.h"
 #include "kg_collide_shared.h"
 
-/* Few contacts: coloured serially (solve/coloring.h). One work-item, for at most
- * KG_COLOR_SERIAL_MAX contacts. */
+/* Few contacts: coloured serially (solve/coloring.h). One work-item, up to the backend's
+ * color_serial_max contacts. */
 __kernel void kg_color_contacts(int count, __global kg_contact* contacts,
                                 __global const kg_u32* flags, __global uint* used, __global int* colors,
                                 __global int* order, __global int* color_start)
@@ -59,11 +59,12 @@ __kernel void kg_take_colors(int count, int bits, int round, __global kg_contact
     }
 }
 
-/* Colour c's first place in the contacts sorted by colour. */
+/* Colour c's first place in the contacts sorted by colour (c up to KG_COLOR_COUNT + 1, one
+ * past the overflow). */
 __kernel void kg_color_ranges(int count, __global const uint* sorted_colors, __global int* color_start)
 {
     int c = (int)get_global_id(0);
     if (c < KG_COLOR_COUNT + 2) {
-        color_start[c] = kg_color_range_start(c, count, sorted_colors);
+        color_start[c] = kg_lower_bound(sorted_colors, 0, count, (kg_u32)c);
     }
 }

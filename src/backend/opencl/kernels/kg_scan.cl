@@ -35,8 +35,8 @@ __kernel void kg_sort_count(int count, int chunk_size, int shift, int bits, __gl
                             __global uint* counts)
 {
     int g = (int)get_global_id(0);
-    if (g < kg_sort_chunks(count, chunk_size)) {
-        kg_sort_count_chunk(keys, count, chunk_size, g, kg_sort_chunks(count, chunk_size), shift, bits, counts);
+    if (g < kg_parts(count, chunk_size)) {
+        kg_sort_count_chunk(keys, count, chunk_size, g, kg_parts(count, chunk_size), shift, bits, counts);
     }
 }
 
@@ -46,8 +46,8 @@ __kernel void kg_sort_scatter(int count, int chunk_size, int shift, int bits, __
                               __global uint* items_out)
 {
     int g = (int)get_global_id(0);
-    if (g < kg_sort_chunks(count, chunk_size)) {
-        kg_sort_scatter_chunk(keys, items, count, chunk_size, g, kg_sort_chunks(count, chunk_size), shift, bits,
+    if (g < kg_parts(count, chunk_size)) {
+        kg_sort_scatter_chunk(keys, items, count, chunk_size, g, kg_parts(count, chunk_size), shift, bits,
                               offsets, keys_out, items_out);
     }
 }
