@@ -19,3 +19,13 @@ void* kg_alloc_zeroed(size_t size)
 }
 
 void kg_free(void* p) { free(p); }
+
+char* kg_copy_text(const char* text)
+{
+    size_t n = strlen(text) + 1;
+    char* copy = kg_alloc_zeroed(n);
+    if (copy) {
+        memcpy(copy, text, n);
+    }
+    return copy;
+}

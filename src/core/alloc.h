@@ -8,5 +8,7 @@
 
 void* kg_alloc_zeroed(size_t size);
 void kg_free(void* p);
+/* A copy of text in engine memory (kg_free it), or NULL when out of memory. */
+char* kg_copy_text(const char* text);
 
 #endif

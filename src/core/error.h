@@ -17,4 +17,13 @@ kg_result kg_last_result(void);
 /* Prints a warning to stderr once per distinct key for the whole process. */
 void kg_warn_once(const char* key, const char* fmt, ...) KG_PRINTF(2, 3);
 
+/* Returns the result of expr from the calling function unless it is KG_OK. */
+#define KG_TRY(expr)                \
+    do {                            \
+        kg_result kg_try_ = (expr); \
+        if (kg_try_ != KG_OK) {     \
+            return kg_try_;         \
+        }                           \
+    } while (0)
+
 #endif

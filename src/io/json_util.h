@@ -11,15 +11,6 @@
 #include <cjson/cJSON.h>
 #include <stdint.h>
 
-/* Returns the result of expr when it fails; the loaders' and generators' error chaining. */
-#define KG_TRY(expr)                     \
-    do {                                 \
-        kg_result kg_try_ = (expr);      \
-        if (kg_try_ != KG_OK) {          \
-            return kg_try_;              \
-        }                                \
-    } while (0)
-
 /* A JSON path such as "bodies[3].shape.radius"; "" is the document itself. */
 typedef struct kg_json_path {
     char text[192];

@@ -143,16 +143,6 @@ static kg_cl_force_program_entry* kg_cl_find_force_program(const kg_cl_runtime* 
     return NULL;
 }
 
-static char* kg_strdup(const char* s)
-{
-    size_t n = strlen(s) + 1;
-    char* copy = kg_alloc_zeroed(n);
-    if (copy) {
-        memcpy(copy, s, n);
-    }
-    return copy;
-}
-
 static kg_result kg_cl_build_force_program(kg_cl_runtime* rt, const char* source, const char* function_name,
                                            cl_program* out)
 {
@@ -189,8 +179,8 @@ kg_result kg_cl_force_program(kg_cl_runtime* rt, const char* source, const char*
         r = e ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate a device force program");
         if (r == KG_OK) {
             e->rt = rt;
-            e->source = kg_strdup(source);
-            e->function_name = kg_strdup(function_name);
+            e->source = kg_copy_text(source);
+            e->function_name = kg_copy_text(function_name);
             r = (e->source && e->function_name) ? kg_cl_build_force_program(rt, source, function_name, &e->program)
                                                 : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot copy a device force source");
         }

@@ -16,6 +16,7 @@
 #include "backend/opencl/cl_fault.h"
 #include "backend/opencl/cl_runtime.h"
 #include "backend/opencl/kernels/kg_collide_shared.h"
+#include "core/error.h"
 #include "core/world.h"
 #include "kgyro/opencl.h"
 #include "solve/force_body.h"
@@ -210,15 +211,6 @@ typedef struct kg_cl_backend {
 } kg_cl_backend;
 
 #define KG_CL_MAX_EVENTS 4096
-
-/* Returns the result of expr from the calling function unless it is KG_OK. */
-#define KG_TRY(expr)                 \
-    do {                             \
-        kg_result kg_try_ = (expr);  \
-        if (kg_try_ != KG_OK) {      \
-            return kg_try_;          \
-        }                            \
-    } while (0)
 
 void kg_cl_release(kg_cl_backend* b, cl_mem* buffer);
 

@@ -65,16 +65,6 @@ static int kg_params_finite(const float* params, int count)
     return 1;
 }
 
-static char* kg_copy_text(const char* text)
-{
-    size_t n = strlen(text) + 1;
-    char* copy = kg_alloc_zeroed(n);
-    if (copy) {
-        memcpy(copy, text, n);
-    }
-    return copy;
-}
-
 static void kg_clear_device_force(kg_device_force* f)
 {
     kg_free(f->source);
