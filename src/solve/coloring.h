@@ -12,7 +12,10 @@
  * after the colours. The result depends only on the contacts (bodies and carried colours)
  * and the bodies' motion.
  *
- * Why the scramble: the device colours large worlds in rounds (Jones-Plassmann): in each
+ * The CPU colours serially (kg_color_constraints), walking the priorities or, when few
+ * contacts wait, sorting them by priority.
+ *
+ * Why the scramble: a GPU colours large worlds in rounds (Jones-Plassmann): in each
  * round every constraint that comes first, in that order, among the uncoloured ones on each
  * of its moving bodies takes its colour (kg_color_bid, kg_color_take). It then sees exactly
  * the colours of the constraints before it, so the rounds give the serial greedy's colours
@@ -29,7 +32,6 @@
 #define KG_COLOR_COUNT 24
 #define KG_ALL_COLORS ((1u << KG_COLOR_COUNT) - 1u)
 #define KG_UNCOLORED (-1)
-
 
 /* A body takes part in colouring only if the solver writes to it. */
 KG_FN int kg_slot_takes_impulses(KG_GLOBAL const kg_u32* flags, kg_u32 slot)
