@@ -464,6 +464,15 @@ static void test_sleep_and_wake(void)
     kg_destroy_world(both[1]);
 }
 
+/* On a CPU device one work-group finds the islands of any number of bodies; a GPU uses
+ * rounds over the whole device past a few thousand. Here the rounds run every step. */
+static void test_sleep_and_wake_islands_in_rounds(void)
+{
+    setenv("KGYRO_CL_ISLAND_GROUP_MAX", "16", 1);
+    test_sleep_and_wake();
+    unsetenv("KGYRO_CL_ISLAND_GROUP_MAX");
+}
+
 static void test_projectile(void) { kg_compare_scene("projectile", kg_projectile_scene); }
 static void test_applicators(void) { kg_compare_scene("applicators", kg_applicator_scene); }
 static void test_stack(void) { kg_compare_scene("stack", kg_stack_scene); }
@@ -528,6 +537,6 @@ int main(void)
                                          KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_rain_2000_colored_in_rounds),
                                          KG_TEST(test_sizes), KG_TEST(test_piles),
                                          KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device),
-                                         KG_TEST(test_sleep_and_wake)};
+                                         KG_TEST(test_sleep_and_wake), KG_TEST(test_sleep_and_wake_islands_in_rounds)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

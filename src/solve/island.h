@@ -169,6 +169,18 @@ KG_FN int kg_hook_islands(int k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL
     return ra != rb;
 }
 
+/* Body i's path shortened to its island's root, between rounds of hooks. */
+KG_FN void kg_shorten_island_path(kg_u32 i, KG_GLOBAL kg_u32* parent) { parent[i] = kg_island_top(parent, i); }
+
+/* Body i's rest time into its island's least (an atomic min), once the islands are found. */
+KG_FN void kg_island_least_of(kg_u32 i, KG_GLOBAL const kg_u32* flags, KG_GLOBAL const float* sleep_time,
+                              KG_GLOBAL const kg_u32* parent, KG_GLOBAL float* least)
+{
+    if (kg_flags_collide(flags[i])) {
+        kg_atomic_min_unsigned_float(&least[parent[i]], sleep_time[i]);
+    }
+}
+
 /* kg_link_islands' results by one work-group (work-item `item` of `items`; hooked: the
  * group's shared flag): rounds of hooks, each followed by every path shortened to its
  * root, until a round hooks nothing; then each island's least rest time by atomic
@@ -195,14 +207,12 @@ KG_FN void kg_find_islands_in_group(int item, int items, KG_LOCAL int* hooked, i
         }
         kg_group_barrier();
         for (int i = item; i < bodies; i += items) {
-            parent[i] = kg_island_top(parent, (kg_u32)i);
+            kg_shorten_island_path((kg_u32)i, parent);
         }
     } while (*hooked);
     kg_group_barrier();
     for (int i = item; i < bodies; i += items) {
-        if (kg_flags_collide(flags[i])) {
-            kg_atomic_min_unsigned_float(&least[parent[i]], sleep_time[i]);
-        }
+        kg_island_least_of((kg_u32)i, flags, sleep_time, parent, least);
     }
     kg_group_barrier();
     for (int k = item; k < count; k += items) {

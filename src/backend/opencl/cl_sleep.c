@@ -43,6 +43,49 @@ kg_result kg_cl_wake_on_host(kg_world* world, kg_cl_backend* b)
     return kg_cl_upload(b, &world->bodies, KG_CL_BIT(FLAGS) | KG_CL_BIT(SLEEP_TIME));
 }
 
+/* Island rounds between two looks at whether the last one hooked anything (each look
+ * waits for the queue). */
+#define KG_ISLAND_ROUNDS_PER_LOOK 4
+
+/* The islands of slots bodies over count contacts in rounds over the whole device (see
+ * kernels/kg_sleep.cl): every round hooks at least two islands while any two touching
+ * ones are apart, so count + 1 rounds always end them. */
+static kg_result kg_find_islands_in_rounds(kg_cl_backend* b, int slots, int count, cl_mem contacts)
+{
+    cl_mem parent = b->island_parent, least = b->island_least, counts = b->collide.counts;
+    KG_LAUNCH(b, RESET_ISLANDS, slots, kLabel, KG_INT(slots), KG_MEM(parent), KG_MEM(least), KG_MEM(counts));
+    int round = 0;
+    for (cl_uint hooked = 1u; hooked != 0u;) {
+        if (round > count) {
+            return kg_fail(KG_ERROR_BACKEND, "the device's islands did not settle in %d rounds", count + 1);
+        }
+        for (int end = round + KG_ISLAND_ROUNDS_PER_LOOK; round < end; ++round) {
+            KG_LAUNCH(b, HOOK_ROUND, count, kLabel, KG_INT(count), KG_INT(round), KG_MEM(contacts),
+                      KG_MEM(KG_A(FLAGS)), KG_MEM(parent), KG_MEM(counts));
+            KG_LAUNCH(b, SHORTEN_ISLANDS, slots, kLabel, KG_INT(slots), KG_MEM(parent));
+        }
+        size_t at = (size_t)(KG_CC_HOOKED + ((round - 1) & 1)) * sizeof hooked;
+        KG_TRY(kg_cl_read(b, counts, at, sizeof hooked, &hooked));
+    }
+    KG_LAUNCH(b, ISLAND_LEAST, slots, kLabel, KG_INT(slots), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(SLEEP_TIME)),
+              KG_MEM(parent), KG_MEM(least));
+    KG_LAUNCH(b, ISLAND_STIRS, count, kLabel, KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
+              KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(parent), KG_MEM(least));
+    return KG_OK;
+}
+
+/* The islands: by one work-group up to b->island_group_max bodies, else in rounds. */
+static kg_result kg_find_islands(kg_cl_backend* b, int slots, int count, cl_mem contacts)
+{
+    if (slots > b->island_group_max) {
+        return kg_find_islands_in_rounds(b, slots, count, contacts);
+    }
+    KG_LAUNCH(b, FIND_ISLANDS, (int)b->group_size[KG_CL_K_FIND_ISLANDS], kLabel, KG_INT(slots), KG_INT(count),
+              KG_MEM(contacts), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)),
+              KG_MEM(KG_A(SLEEP_TIME)), KG_MEM(b->island_parent), KG_MEM(b->island_least));
+    return KG_OK;
+}
+
 kg_result kg_cl_sleep_on_device(kg_world* world, kg_cl_backend* b, int count)
 {
     if (!world->def.enable_sleep) {
@@ -50,9 +93,7 @@ kg_result kg_cl_sleep_on_device(kg_world* world, kg_cl_backend* b, int count)
     }
     int slots = world->bodies.high_water;
     cl_mem contacts = b->contacts[b->current ^ 1];
-    KG_LAUNCH(b, FIND_ISLANDS, (int)b->group_size[KG_CL_K_FIND_ISLANDS], kLabel, KG_INT(slots), KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
-              KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(SLEEP_TIME)), KG_MEM(b->island_parent),
-              KG_MEM(b->island_least));
+    KG_TRY(kg_find_islands(b, slots, count, contacts));
     KG_LAUNCH(b, FALL_ASLEEP, slots, kLabel, KG_INT(slots), KG_FLOAT(world->def.time_to_sleep),
               KG_MEM(b->island_parent), KG_MEM(b->island_least), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(ISLAND)),
               KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)),

@@ -543,23 +543,26 @@ kg_result kg_cl_reserve_contacts(kg_cl_backend* b, int capacity)
     return r;
 }
 
-/* Up to this many contacts a GPU colours serially (kg_color_constraints on one
- * work-item): rounds cost more launches than they save there. */
+/* Up to these many contacts a GPU colours them on one work-item (kg_color_constraints),
+ * and finds the islands of this many bodies with one work-group: past them, rounds of
+ * launches over the whole device (two a round) cost less than the lone work-item or
+ * group. */
 #define KG_COLOR_SERIAL_MAX 2048
+#define KG_ISLAND_GROUP_MAX 4096
 
-/* How many contacts one work-item colours (solve/coloring.h), past which the device
- * colours in rounds: on a GPU KG_COLOR_SERIAL_MAX, where rounds use its thousands of
- * lanes; on a CPU device any number, as a work-item there runs as fast as a host thread
- * and each round costs two launches (on PoCL, rain_4000: 1.0 ms a step more in rounds).
- * KGYRO_CL_COLOR_SERIAL_MAX sets it, for tests of the rounds on a CPU device. */
-static int kg_cl_color_serial_max(const kg_cl_device* device)
+/* Where a device goes from one work-item or work-group to rounds over the whole device:
+ * on a GPU gpu_max, where rounds use its thousands of lanes; on a CPU device never, as a
+ * work-item there runs as fast as a host thread and each round costs two launches (on
+ * PoCL, rain_4000: 1.0 ms a step more when colouring in rounds). The environment variable
+ * `forced` sets it, for tests of the rounds on a CPU device. */
+static int kg_cl_rounds_past(const kg_cl_device* device, const char* forced, int gpu_max)
 {
-    const char* forced = getenv("KGYRO_CL_COLOR_SERIAL_MAX");
-    if (forced && *forced) {
-        long max = strtol(forced, NULL, 10);
+    const char* value = getenv(forced);
+    if (value && *value) {
+        long max = strtol(value, NULL, 10);
         return max < 0 ? 0 : max > INT_MAX ? INT_MAX : (int)max;
     }
-    return device->info.type == KG_OPENCL_DEVICE_CPU ? INT_MAX : KG_COLOR_SERIAL_MAX;
+    return device->info.type == KG_OPENCL_DEVICE_CPU ? INT_MAX : gpu_max;
 }
 
 kg_result kg_cl_open_device(kg_world* world, kg_cl_backend* b, kg_cl_runtime* rt, const kg_cl_faults* faults)
@@ -586,7 +589,8 @@ kg_result kg_cl_open_device(kg_world* world, kg_cl_backend* b, kg_cl_runtime* rt
         kg_cl_close_device(b);
         return r;
     }
-    b->color_serial_max = kg_cl_color_serial_max(rt->device);
+    b->color_serial_max = kg_cl_rounds_past(rt->device, "KGYRO_CL_COLOR_SERIAL_MAX", KG_COLOR_SERIAL_MAX);
+    b->island_group_max = kg_cl_rounds_past(rt->device, "KGYRO_CL_ISLAND_GROUP_MAX", KG_ISLAND_GROUP_MAX);
     /* everything the host has is newer than the empty buffers */
     b->device_stale = KG_CL_ALL_ARRAYS;
     return KG_OK;

@@ -68,7 +68,9 @@ typedef enum kg_cl_array {
     X(COLOR_RANGES, kg_color_ranges, 3) X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 23)                    \
     X(TILE_TOTAL, kg_tile_total, 2) X(WAKE_TOUCHED, kg_wake_touched, 8)                                       \
     X(WAKE_MARKED, kg_wake_marked, 5) X(FIND_ISLANDS, kg_find_islands, 9)                                     \
-    X(FALL_ASLEEP, kg_fall_asleep, 14)
+    X(RESET_ISLANDS, kg_reset_islands, 4) X(HOOK_ROUND, kg_hook_round, 6)                                     \
+    X(SHORTEN_ISLANDS, kg_shorten_islands, 2) X(ISLAND_LEAST, kg_island_least, 5)                             \
+    X(ISLAND_STIRS, kg_island_stirs, 7) X(FALL_ASLEEP, kg_fall_asleep, 14)
 
 typedef enum kg_cl_kernel_id {
 #define KG_CL_KERNEL_ENUM(id, name, args) KG_CL_K_##id,
@@ -162,6 +164,7 @@ typedef struct kg_cl_backend {
     int contact_capacity;
     kg_cl_collide_buffers collide;
     int color_serial_max;                 /* contacts coloured by one work-item at most */
+    int island_group_max;                 /* bodies whose islands one work-group finds at most */
     cl_mem targets;                       /* applicator targets (solve/force_body.h), max_bodies */
     /* sleeping (kernels/kg_sleep.cl), per body slot */
     cl_mem wake_marks;                    /* per island name: to be woken this step */

@@ -15,7 +15,8 @@
 #define KG_CC_TILES 2         /* tile contacts found, counted past the room left */
 #define KG_CC_BODY_CONTACTS 3 /* the touching pairs, the first contacts */
 #define KG_CC_WAITING 4       /* contacts left uncoloured by a colouring round, 2 words */
-#define KG_CC_WORDS 6
+#define KG_CC_HOOKED 6        /* islands hooked by a round of the sleep stage, 2 words */
+#define KG_CC_WORDS 8
 
 /* The broadphase's words on the device: the grid's bounds (collide/broadphase_grid.h),
  * then how many boxes are small and how many large (where their sorted keys end). */

@@ -7,10 +7,12 @@
  *         cleared, within the stage, so the order work-items run in does not matter;
  *         kg_bp_proxies zeroes them each step.
  *   sleep (last in the step): islands over the contacts and the least rest timer of
- *         each, the CPU's, by one work-group; then every awake body of an island at rest
- *         for time_to_sleep falls asleep, one work-item per body. */
+ *         each, the CPU's, by one work-group, or on a GPU with many bodies in rounds of
+ *         hooks and shortened paths over the whole device; then every awake body of an
+ *         island at rest for time_to_sleep falls asleep, one work-item per body. */
 #include "collide/pair_contact.h"
 #include "solve/island.h"
+#include "kg_collide_shared.h"
 
 /* Pair k, if it became a contact (index: the prefix sum of the touching pairs), marks the
  * island of its sleeping body when the other stirs. */
@@ -40,6 +42,59 @@ __kernel void kg_find_islands(int bodies, int count, __global const kg_contact* 
     __local int hooked;
     kg_find_islands_in_group((int)get_local_id(0), (int)get_local_size(0), &hooked, bodies, count, contacts, flags,
                              velocity, omega, sleep_time, parent, least);
+}
+
+/* The same in rounds: reset, then hooks and shortened paths until a round hooks nothing
+ * (counted in counts[KG_CC_HOOKED + round % 2], the other word cleared for the next
+ * round), then each island's least rest time and the kinematic bodies' stirs. */
+__kernel void kg_reset_islands(int bodies, __global kg_u32* parent, __global float* least, __global uint* counts)
+{
+    int i = (int)get_global_id(0);
+    if (i < bodies) {
+        kg_island_reset((kg_u32)i, parent, least);
+    }
+    if (i == 0) {
+        counts[KG_CC_HOOKED] = 0u;
+    }
+}
+
+__kernel void kg_hook_round(int count, int round, __global const kg_contact* contacts, __global const kg_u32* flags,
+                            __global kg_u32* parent, __global uint* counts)
+{
+    int k = (int)get_global_id(0);
+    if (k == 0) {
+        counts[KG_CC_HOOKED + ((round + 1) & 1)] = 0u;
+    }
+    if (k < count && kg_hook_islands(k, contacts, flags, parent)) {
+        atomic_inc(&counts[KG_CC_HOOKED + (round & 1)]);
+    }
+}
+
+__kernel void kg_shorten_islands(int bodies, __global kg_u32* parent)
+{
+    int i = (int)get_global_id(0);
+    if (i < bodies) {
+        kg_shorten_island_path((kg_u32)i, parent);
+    }
+}
+
+__kernel void kg_island_least(int bodies, __global const kg_u32* flags, __global const float* sleep_time,
+                              __global const kg_u32* parent, __global float* least)
+{
+    int i = (int)get_global_id(0);
+    if (i < bodies) {
+        kg_island_least_of((kg_u32)i, flags, sleep_time, parent, least);
+    }
+}
+
+__kernel void kg_island_stirs(int count, __global const kg_contact* contacts, __global const kg_u32* flags,
+                              __global const kg_vec2* velocity, __global const float* omega,
+                              __global const kg_u32* parent, __global float* least)
+{
+    int k = (int)get_global_id(0);
+    if (k < count) {
+        kg_kinematic_stirs(k, contacts, flags, velocity, omega, parent, least);
+    }
 }
 
 __kernel void kg_fall_asleep(int count, float time_to_sleep, __global const kg_u32* parent, __global const float* least,
