@@ -249,7 +249,8 @@ static kg_result kg_color(kg_cl_backend* b, cl_mem contacts, int count)
 {
     kg_cl_collide_buffers* c = &b->collide;
     KG_LAUNCH(b, RESET_COLORS, count, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
-              KG_MEM(c->colors), KG_MEM(c->colors_used), KG_MEM(c->color_bids[0]), KG_MEM(c->color_items));
+              KG_MEM(c->colors), KG_MEM(c->colors_used), KG_MEM(c->color_bids[0]), KG_MEM(c->color_items),
+              KG_MEM(c->counts));
     if (count <= b->color_serial_max) {
         KG_LAUNCH(b, COLOR_CONTACTS, 1, "kg_color", KG_INT(count), KG_MEM(contacts), KG_MEM(KG_A(FLAGS)),
                   KG_MEM(c->colors_used), KG_MEM(c->colors), KG_MEM(b->order), KG_MEM(b->color_start));

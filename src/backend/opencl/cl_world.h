@@ -63,7 +63,7 @@ typedef enum kg_cl_array {
     X(BP_COUNT_RUNS, kg_bp_count_runs, 3) X(BP_SCATTER, kg_bp_scatter, 5)                                     \
     X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 13)                                    \
     X(BUILD_CONTACTS, kg_build_contacts, 11) X(COLOR_CONTACTS, kg_color_contacts, 7)                          \
-    X(RESET_COLORS, kg_reset_colors, 7) X(KEEP_COLORS, kg_keep_colors, 5)                                     \
+    X(RESET_COLORS, kg_reset_colors, 8) X(KEEP_COLORS, kg_keep_colors, 5)                                     \
     X(BID_COLORS, kg_bid_colors, 6) X(TAKE_COLORS, kg_take_colors, 10)                                        \
     X(COLOR_RANGES, kg_color_ranges, 3) X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 23)                    \
     X(TILE_TOTAL, kg_tile_total, 2) X(WAKE_TOUCHED, kg_wake_touched, 8)                                       \

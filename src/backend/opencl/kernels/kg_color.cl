@@ -16,12 +16,16 @@ __kernel void kg_color_contacts(int count, __global kg_contact* contacts,
 
 /* Before either: the kept colours, the bodies' used colours and bids cleared. */
 __kernel void kg_reset_colors(int count, __global const kg_contact* contacts, __global const kg_u32* flags,
-                              __global int* colors, __global uint* used, __global uint* bids, __global uint* items)
+                              __global int* colors, __global uint* used, __global uint* bids, __global uint* items,
+                              __global uint* counts)
 {
     int k = (int)get_global_id(0);
     if (k < count) {
         kg_color_reset((kg_u32)k, contacts, flags, colors, used, bids);
         items[k] = (uint)k;
+    }
+    if (k == 0) {
+        counts[KG_CC_WAITING] = counts[KG_CC_WAITING + 1] = 0u;
     }
 }
 

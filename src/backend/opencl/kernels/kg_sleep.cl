@@ -54,7 +54,7 @@ __kernel void kg_reset_islands(int bodies, __global kg_u32* parent, __global flo
         kg_island_reset((kg_u32)i, parent, least);
     }
     if (i == 0) {
-        counts[KG_CC_HOOKED] = 0u;
+        counts[KG_CC_HOOKED] = counts[KG_CC_HOOKED + 1] = 0u; /* no contacts: no round clears them */
     }
 }
 
