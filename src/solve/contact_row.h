@@ -1,12 +1,12 @@
 /* The contact constraint's passes, written once over a lane type and instantiated per
  * width (no include guard: included once per width).
  *
- *   KG_W 1   a lane is a float: kg_contact_constraint is one constraint. The OpenCL
- *            kernels (one work-item a constraint), and the CPU where it has no SIMD.
- *   KG_W 4/8 a lane is a GCC/Clang vector of W floats: kg_contact_constraint_wW holds W
- *            constraints of one colour (no two share a moving body), each field a vector
- *            of their W values (structure of arrays); bodies are gathered into lanes
- *            before a pass and scattered back after it (solver.c).
+ *   KG_W 1      a lane is a float: kg_contact_constraint is one constraint. The OpenCL
+ *               kernels (one work-item a constraint), and the CPU where it has no SIMD.
+ *   KG_W 4/8/16 a lane is a GCC/Clang vector of W floats: kg_contact_constraint_wW
+ *               holds W constraints of one colour (no two share a moving body), each
+ *               field a vector of their W values (structure of arrays); bodies are
+ *               gathered into lanes before a pass and scattered back after it (solver.c).
  *
  * Every lane runs the same IEEE operations in the same order whatever the width: there
  * is no branch on a lane's data, only selects, so a constraint computes the same bits in

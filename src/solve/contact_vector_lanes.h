@@ -1,6 +1,6 @@
 /* The lane types of contact_row.h for the CPU's SIMD widths: GCC/Clang vectors of KG_W
  * floats, masks of KG_W ints (what a comparison of two float vectors gives), and a
- * select that copies lanes bitwise. Define KG_W (4 or 8), then include this, then
+ * select that copies lanes bitwise. Define KG_W (4, 8 or 16), then include this, then
  * contact_row.h and contact_wide_impl.h; once per file. */
 #ifndef KG_CONTACT_VECTOR_LANES_H
 #define KG_CONTACT_VECTOR_LANES_H

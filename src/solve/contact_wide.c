@@ -15,6 +15,7 @@
 extern const kg_contact_rows kg_contact_rows_w4;
 #if defined(__x86_64__) || defined(__i386__)
 extern const kg_contact_rows kg_contact_rows_w8;
+extern const kg_contact_rows kg_contact_rows_w16;
 #endif
 
 static int kg_cpu_has_avx2(void)
@@ -26,17 +27,27 @@ static int kg_cpu_has_avx2(void)
 #endif
 }
 
+static int kg_cpu_has_avx512(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+    return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl");
+#else
+    return 0;
+#endif
+}
+
 const kg_contact_rows* kg_contact_rows_of(int width)
 {
     if (width == 0) {
         const char* forced = getenv("KGYRO_SIMD_WIDTH");
-        width = forced ? atoi(forced) : (kg_cpu_has_avx2() ? 8 : 4);
+        width = forced ? atoi(forced) : kg_cpu_has_avx512() ? 16 : kg_cpu_has_avx2() ? 8 : 4;
     }
     switch (width) {
     case 1: return &kg_contact_rows_w1;
     case 4: return &kg_contact_rows_w4;
 #if defined(__x86_64__) || defined(__i386__)
     case 8: return kg_cpu_has_avx2() ? &kg_contact_rows_w8 : NULL;
+    case 16: return kg_cpu_has_avx512() ? &kg_contact_rows_w16 : NULL;
 #endif
     default: return NULL;
     }

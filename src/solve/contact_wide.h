@@ -1,9 +1,9 @@
 /* The contact passes on the CPU, W constraints at a time (contact_row.h instantiated
  * over SIMD lanes): constraint rows in blocks of W lanes, all from one colour, so no two
  * lanes share a moving body; a colour's tail is padded with empty lanes (no body). The
- * width is chosen once, at run time: 8 (AVX2) where the CPU has it, else 4 (SSE2 on
- * x86-64, NEON on ARM, GCC's generic vectors elsewhere); 1 runs the scalar rows. Every
- * width gives the same bits (tests/test_determinism.c). */
+ * width is chosen once, at run time: 16 (AVX-512F and VL) or 8 (AVX2) where the CPU has
+ * them, else 4 (SSE2 on x86-64, NEON on ARM, GCC's generic vectors elsewhere); 1 runs
+ * the scalar rows. Every width gives the same bits (tests/test_determinism.c). */
 #ifndef KG_CONTACT_WIDE_H
 #define KG_CONTACT_WIDE_H
 
@@ -12,7 +12,7 @@
 #include <stddef.h>
 #include <string.h>
 
-#define KG_MAX_LANES 8
+#define KG_MAX_LANES 16
 
 /* What the solve leaves of a constraint lane, for its contact: how many points it solved
  * (none for an empty lane) and each point's impulses and approach speed. */
@@ -51,8 +51,8 @@ KG_STATIC_ASSERT(sizeof(kg_prepare_input) == KG_PREPARE_INPUT_FLOATS * sizeof(fl
  * velocities, and dp.x as gathered) where the body takes impulses (its `moves`, gathered
  * with it). */
 
-/* The rows of width 1, 4 or 8, or 0 for the widest this CPU runs (KGYRO_SIMD_WIDTH in
- * the environment, 1, 4 or 8, overrides it, for tests and measurements); NULL for a
+/* The rows of width 1, 4, 8 or 16, or 0 for the widest this CPU runs (KGYRO_SIMD_WIDTH
+ * in the environment, 1, 4, 8 or 16, overrides it, for tests and measurements); NULL for a
  * width this build or CPU cannot run. */
 const kg_contact_rows* kg_contact_rows_of(int width);
 

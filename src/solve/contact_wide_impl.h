@@ -128,8 +128,10 @@ static void KG_WIDE(kg_unpack_impulses)(const void* blocks, int begin, int end, 
     }
 }
 
+#if KG_W <= KG_BODY_FLOATS
 /* The solver bodies of slots, a lane each, into the columns of their motions (column k's
- * lane l is float k of lane l's body; the last column is `moves`), W floats at a time. */
+ * lane l is float k of lane l's body; the last column is `moves`), W floats at a time.
+ * (Lanes wider than a body bring their own: contact_wide16.c.) */
 static inline void KG_WIDE(kg_rows_to_columns)(const kg_solver_body* bodies, kg_lindex slots,
                                                kg_lane columns[KG_BODY_FLOATS])
 {
@@ -141,6 +143,7 @@ static inline void KG_WIDE(kg_rows_to_columns)(const kg_solver_body* bodies, kg_
         KG_WIDE(kg_rows_to_lanes)(rows, columns + f);
     }
 }
+#endif
 
 /* The motions of a block side's bodies, in lanes; a lane without a body is still. */
 static inline kg_wmotion KG_WIDE(kg_gather)(const kg_solver_body* bodies, const kg_wrow* r, int is_b,
