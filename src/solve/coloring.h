@@ -198,39 +198,41 @@ KG_FN void kg_color_in_priority_order(int count, KG_GLOBAL kg_contact* contacts,
     }
 }
 
-/* Moves list[root] down the max-heap list[0, n) ordered by priority. */
-KG_FN void kg_sift_by_priority(KG_GLOBAL int* list, int root, int n, int bits)
+/* Moves keys[root] down the max-heap keys[0, n). */
+KG_FN void kg_sift_down(KG_GLOBAL int* keys, int root, int n)
 {
     for (int child = 2 * root + 1; child < n; root = child, child = 2 * root + 1) {
-        if (child + 1 < n &&
-            kg_color_priority((kg_u32)list[child + 1], bits) > kg_color_priority((kg_u32)list[child], bits)) {
+        if (child + 1 < n && keys[child + 1] > keys[child]) {
             child += 1;
         }
-        if (kg_color_priority((kg_u32)list[root], bits) > kg_color_priority((kg_u32)list[child], bits)) {
+        if (keys[root] > keys[child]) {
             return;
         }
-        int t = list[root];
-        list[root] = list[child];
-        list[child] = t;
+        int t = keys[root];
+        keys[root] = keys[child];
+        keys[child] = t;
     }
 }
 
-/* The contacts list[0, n) coloured in priority order (a heap sort first: priorities are
- * distinct, so any sort gives the one order). */
+/* The contacts list[0, n) coloured in priority order: the list turned into their
+ * priorities (distinct, below 2^31), heap sorted, and each turned back into its contact. */
 KG_FN void kg_color_listed(KG_GLOBAL int* list, int n, int bits, KG_GLOBAL kg_contact* contacts,
                            KG_GLOBAL const kg_u32* flags, KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors)
 {
+    for (int i = 0; i < n; ++i) {
+        list[i] = (int)kg_color_priority((kg_u32)list[i], bits);
+    }
     for (int root = n / 2 - 1; root >= 0; --root) {
-        kg_sift_by_priority(list, root, n, bits);
+        kg_sift_down(list, root, n);
     }
     for (int end = n - 1; end > 0; --end) {
         int t = list[0];
         list[0] = list[end];
         list[end] = t;
-        kg_sift_by_priority(list, 0, end, bits);
+        kg_sift_down(list, 0, end);
     }
     for (int i = 0; i < n; ++i) {
-        kg_u32 k = (kg_u32)list[i];
+        kg_u32 k = kg_color_constraint_at((kg_u32)list[i], bits);
         colors[k] = kg_color_contact(k, kg_color_ends_of(k, contacts, flags), contacts, used);
     }
 }

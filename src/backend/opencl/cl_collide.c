@@ -213,10 +213,6 @@ static kg_result kg_collide_tiles(kg_world* world, kg_cl_backend* b, int capacit
 
 /* ---- colouring ------------------------------------------------------------------------ */
 
-/* Colouring rounds between two looks at how many contacts still wait: each look waits for
- * the queue, and most worlds need 5 to 20 rounds (tests/test_coloring.c). */
-#define KG_COLOR_ROUNDS_PER_LOOK 4
-
 /* The rounds of solve/coloring.h until no contact waits. Every round colours at least
  * the contact of least priority still waiting, so count rounds always end them. */
 static kg_result kg_color_in_rounds(kg_cl_backend* b, cl_mem contacts, int count)
@@ -224,7 +220,7 @@ static kg_result kg_color_in_rounds(kg_cl_backend* b, cl_mem contacts, int count
     kg_cl_collide_buffers* c = &b->collide;
     int bits = (int)kg_bits_for((kg_u32)count);
     for (int round = 0; round <= count;) {
-        for (int end = round + KG_COLOR_ROUNDS_PER_LOOK; round < end; ++round) {
+        for (int end = round + KG_CL_ROUNDS_PER_LOOK; round < end; ++round) {
             cl_mem bids = c->color_bids[round & 1], next_bids = c->color_bids[(round + 1) & 1];
             KG_LAUNCH(b, BID_COLORS, count, "kg_color", KG_INT(count), KG_INT(bits), KG_MEM(contacts),
                       KG_MEM(KG_A(FLAGS)), KG_MEM(c->colors), KG_MEM(bids));
@@ -233,8 +229,7 @@ static kg_result kg_color_in_rounds(kg_cl_backend* b, cl_mem contacts, int count
                       KG_MEM(c->colors_used), KG_MEM(c->counts));
         }
         cl_uint waiting = 0u;
-        size_t at = (size_t)(KG_CC_WAITING + ((round - 1) & 1)) * sizeof waiting;
-        KG_TRY(kg_cl_read(b, c->counts, at, sizeof waiting, &waiting));
+        KG_TRY(kg_cl_rounds_left(b, KG_CC_WAITING, round, &waiting));
         if (waiting == 0u) {
             return KG_OK;
         }

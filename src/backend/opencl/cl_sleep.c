@@ -43,10 +43,6 @@ kg_result kg_cl_wake_on_host(kg_world* world, kg_cl_backend* b)
     return kg_cl_upload(b, &world->bodies, KG_CL_BIT(FLAGS) | KG_CL_BIT(SLEEP_TIME));
 }
 
-/* Island rounds between two looks at whether the last one hooked anything (each look
- * waits for the queue). */
-#define KG_ISLAND_ROUNDS_PER_LOOK 4
-
 /* The islands of slots bodies over count contacts in rounds over the whole device (see
  * kernels/kg_sleep.cl): every round hooks at least two islands while any two touching
  * ones are apart, so count + 1 rounds always end them. */
@@ -59,13 +55,12 @@ static kg_result kg_find_islands_in_rounds(kg_cl_backend* b, int slots, int coun
         if (round > count) {
             return kg_fail(KG_ERROR_BACKEND, "the device's islands did not settle in %d rounds", count + 1);
         }
-        for (int end = round + KG_ISLAND_ROUNDS_PER_LOOK; round < end; ++round) {
+        for (int end = round + KG_CL_ROUNDS_PER_LOOK; round < end; ++round) {
             KG_LAUNCH(b, HOOK_ROUND, count, kLabel, KG_INT(count), KG_INT(round), KG_MEM(contacts),
                       KG_MEM(KG_A(FLAGS)), KG_MEM(parent), KG_MEM(counts));
             KG_LAUNCH(b, SHORTEN_ISLANDS, slots, kLabel, KG_INT(slots), KG_MEM(parent));
         }
-        size_t at = (size_t)(KG_CC_HOOKED + ((round - 1) & 1)) * sizeof hooked;
-        KG_TRY(kg_cl_read(b, counts, at, sizeof hooked, &hooked));
+        KG_TRY(kg_cl_rounds_left(b, KG_CC_HOOKED, round, &hooked));
     }
     KG_LAUNCH(b, ISLAND_LEAST, slots, kLabel, KG_INT(slots), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(SLEEP_TIME)),
               KG_MEM(parent), KG_MEM(least));

@@ -124,6 +124,12 @@ kg_result kg_cl_write(kg_cl_backend* b, cl_mem buffer, size_t offset, size_t siz
     return kg_cl_check(err, "a write to the device");
 }
 
+kg_result kg_cl_rounds_left(kg_cl_backend* b, int first, int round, cl_uint* left)
+{
+    size_t at = (size_t)(first + ((round - 1) & 1)) * sizeof *left;
+    return kg_cl_read(b, b->collide.counts, at, sizeof *left, left);
+}
+
 kg_result kg_cl_read(kg_cl_backend* b, cl_mem buffer, size_t offset, size_t size, void* data)
 {
     if (size == 0) {

@@ -241,6 +241,15 @@ kg_result kg_cl_reserve_contacts(kg_cl_backend* b, int capacity);
  * until the next kg_cl_finish. */
 kg_result kg_cl_write(kg_cl_backend* b, cl_mem buffer, size_t offset, size_t size, const void* data, int blocking);
 kg_result kg_cl_read(kg_cl_backend* b, cl_mem buffer, size_t offset, size_t size, void* data);
+
+/* Rounds over the whole device (the colouring's, the islands') run this many at a time
+ * between two looks at what the last one left to do: each look waits for the queue, and
+ * most worlds need 5 to 20 rounds (tests/test_coloring.c). */
+#define KG_CL_ROUNDS_PER_LOOK 4
+/* A round counts what it leaves to do in collide.counts[first + round % 2] (and clears
+ * the other word for the next round): what the last of rounds [0, round) left, read
+ * back. */
+kg_result kg_cl_rounds_left(kg_cl_backend* b, int first, int round, cl_uint* left);
 kg_result kg_cl_copy(kg_cl_backend* b, cl_mem from, cl_mem to, size_t size);
 
 /* Body array name of the kg_cl_backend b in scope. */
