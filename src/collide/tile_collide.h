@@ -61,7 +61,7 @@ KG_FN int kg_cell_collidable(kg_u32 word, int edge)
 typedef struct kg_tile_proto {
     kg_shape shape;
     kg_u32 flags;
-    kg_u32 pad[3];
+    kg_u32 pad;
 } kg_tile_proto;
 
 KG_STATIC_ASSERT(sizeof(kg_tile_proto) == 160, tile_proto_size);

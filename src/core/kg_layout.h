@@ -20,6 +20,8 @@ typedef struct kg_shape {
     kg_vec2 centroid;
     float radius;
     kg_i32 count;
+    kg_u32 chain; /* a chain segment's flags (collide/chain.h); 0 for every other shape */
+    kg_u32 pad;
 } kg_shape;
 
 /* Feature id of a contact point: which features of a and b made it, stable across
@@ -92,7 +94,7 @@ KG_FN int kg_contact_carry_impulses(kg_manifold* m, const kg_manifold* old)
 }
 
 KG_STATIC_ASSERT(sizeof(kg_vec2) == 8, vec2_size);
-KG_STATIC_ASSERT(sizeof(kg_shape) == 144, shape_size);
+KG_STATIC_ASSERT(sizeof(kg_shape) == 152, shape_size);
 KG_STATIC_ASSERT(sizeof(kg_manifold_point) == 48, manifold_point_size);
 KG_STATIC_ASSERT(sizeof(kg_manifold) == 112, manifold_size);
 KG_STATIC_ASSERT(sizeof(kg_contact_base) == 64, contact_base_size);

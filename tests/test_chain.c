@@ -1,0 +1,193 @@
+/* Chains (collide/chain.h): one-sided segments that know their neighbours. A body sliding
+ * along a straight run of many short segments must see only the run's normal, at every
+ * join (no ghost collision); at a convex corner of a loop exactly one segment owns each
+ * contact; a body behind a segment gets nothing from it; an open end is a free end. */
+#include "kg_test.h"
+#include "collide/chain.h"
+#include "collide/shape.h"
+
+/* Segment i of a polyline of count points (loop: it closes), as the kg_shape a chain
+ * body holds. */
+static kg_shape chain_segment(const kg_vec2* points, int count, int loop, int i)
+{
+    kg_shape s;
+    memset(&s, 0, sizeof s);
+    s.count = 2;
+    s.vertices[0] = points[i];
+    s.vertices[1] = points[(i + 1) % count];
+    s.chain = KG_CHAIN_SEGMENT;
+    if (loop || i > 0) {
+        s.vertices[2] = points[(i + count - 1) % count];
+        s.chain |= KG_CHAIN_GHOST1;
+    }
+    if (loop || i + 2 < count) {
+        s.vertices[3] = points[(i + 2) % count];
+        s.chain |= KG_CHAIN_GHOST2;
+    }
+    return s;
+}
+
+static kg_shape built(kg_shape_def def)
+{
+    kg_shape s;
+    KG_CHECK_OK(kg_shape_build(&def, &s));
+    return s;
+}
+
+static kg_xf pose(float x, float y, float angle)
+{
+    kg_xf xf;
+    xf.p = kg_v2(x, y);
+    xf.q.c = cosf(angle);
+    xf.q.s = sinf(angle);
+    return xf;
+}
+
+static const kg_xf identity = {{0.0f, 0.0f}, {1.0f, 0.0f}};
+
+/* The contacts of body at xf against every segment of the polyline: how many points, and
+ * the largest deviation of their normals from expected. */
+static void collide_along(const kg_vec2* points, int count, int loop, const kg_shape* body, kg_xf xf,
+                          kg_vec2 expected, int* point_count, double* worst)
+{
+    *point_count = 0;
+    int segments = loop ? count : count - 1;
+    for (int i = 0; i < segments; ++i) {
+        kg_shape seg = chain_segment(points, count, loop, i);
+        kg_manifold m = kg_collide_chain_segment(&seg, identity, body, xf, 0.02f);
+        *point_count += m.point_count;
+        if (m.point_count > 0) {
+            double d = fabs((double)m.normal.x - expected.x) + fabs((double)m.normal.y - expected.y);
+            *worst = d > *worst ? d : *worst;
+        }
+    }
+}
+
+enum { RUN = 1001 };
+
+/* A straight run of 1,000 segments of 0.1 m along y = 0, listed right to left: solid on
+ * the left of the direction (below), normal up. */
+static void straight_run(kg_vec2* points)
+{
+    for (int i = 0; i < RUN; ++i) {
+        points[i] = kg_v2(0.1f * (float)(RUN - 1 - i), 0.0f);
+    }
+}
+
+static void test_box_sliding_along_a_run_sees_only_its_normal(void)
+{
+    static kg_vec2 points[RUN];
+    straight_run(points);
+    kg_shape box = built(kg_box_shape(0.5f, 0.5f));
+    double worst = 0.0;
+    int touching = 0, samples = 0;
+    /* slightly sunk (1 mm), slightly tilted both ways, at positions that put its corners
+     * on and near the joins */
+    for (int k = 0; k < 2000; ++k) {
+        float x = 1.0f + 0.0437f * (float)k;
+        float angle = (k % 3 - 1) * 0.002f;
+        int points_here = 0;
+        collide_along(points, RUN, 0, &box, pose(x, 0.249f, angle), kg_v2(0.0f, 1.0f), &points_here, &worst);
+        touching += points_here > 0;
+        samples += 1;
+    }
+    measured("box on a 1000-segment run: %d of %d poses touching, largest normal deviation %.3g\n", touching,
+             samples, worst);
+    KG_CHECK(touching == samples);
+    KG_CHECK(worst < 1e-6);
+}
+
+static void test_circle_rolling_along_a_run_sees_only_its_normal(void)
+{
+    static kg_vec2 points[RUN];
+    straight_run(points);
+    kg_shape ball = built(kg_circle_shape(0.3f));
+    double worst = 0.0;
+    int most = 0;
+    for (int k = 0; k < 2000; ++k) {
+        int points_here = 0;
+        collide_along(points, RUN, 0, &ball, pose(1.0f + 0.0371f * (float)k, 0.299f, 0.0f), kg_v2(0.0f, 1.0f),
+                      &points_here, &worst);
+        most = points_here > most ? points_here : most;
+    }
+    KG_CHECK(worst < 1e-6);
+    /* at a join both segments may report the same flat contact; never more */
+    KG_CHECK(most <= 2);
+}
+
+static void test_body_behind_a_segment_gets_nothing(void)
+{
+    static kg_vec2 points[RUN];
+    straight_run(points);
+    kg_shape box = built(kg_box_shape(0.5f, 0.5f));
+    double worst = 0.0;
+    int touching = 0;
+    collide_along(points, 20, 0, &box, pose(1.0f, -0.2f, 0.3f), kg_v2(0.0f, 1.0f), &touching, &worst);
+    KG_CHECK(touching == 0);
+}
+
+/* A 2 m square loop, counter-clockwise (solid inside): a box resting on its top face next
+ * to the convex corner gets the top's normal only; a box beyond the corner, off the
+ * diagonal, touches it through exactly one segment, with a normal between the two faces'. */
+static void test_convex_corner_of_a_loop(void)
+{
+    const kg_vec2 square[4] = {{0.0f, 0.0f}, {2.0f, 0.0f}, {2.0f, 2.0f}, {0.0f, 2.0f}};
+    kg_shape box = built(kg_box_shape(0.5f, 0.5f));
+    double worst = 0.0;
+    int touching = 0;
+    collide_along(square, 4, 1, &box, pose(1.9f, 2.249f, 0.0f), kg_v2(0.0f, 1.0f), &touching, &worst);
+    KG_CHECK(touching == 2);
+    KG_CHECK(worst < 1e-6);
+
+    int owners = 0;
+    kg_xf beyond = pose(2.0f + 0.25f * 0.7071f + 0.01f, 2.0f + 0.25f * 0.7071f + 0.01f, 0.7854f);
+    for (int i = 0; i < 4; ++i) {
+        kg_shape seg = chain_segment(square, 4, 1, i);
+        kg_manifold m = kg_collide_chain_segment(&seg, identity, &box, beyond, 0.05f);
+        if (m.point_count > 0) {
+            owners += 1;
+            KG_CHECK(m.normal.x > 0.0f && m.normal.y > 0.0f);
+        }
+    }
+    KG_CHECK(owners == 1);
+}
+
+/* An open chain's end is free: a ball just past the last point, level with the run,
+ * touches the end vertex with a normal along the run. */
+static void test_open_end_is_free(void)
+{
+    const kg_vec2 line[3] = {{0.0f, 0.0f}, {1.0f, 0.0f}, {2.0f, 0.0f}};
+    kg_shape ball = built(kg_circle_shape(0.25f));
+    kg_shape last = chain_segment(line, 3, 0, 1);
+    kg_manifold m = kg_collide_chain_segment(&last, identity, &ball, pose(2.26f, 0.0f, 0.0f), 0.02f);
+    KG_CHECK(m.point_count == 1);
+    KG_CHECK_NEAR(m.normal.x, 1.0f, 1e-6);
+    KG_CHECK_NEAR(m.points[0].separation, 0.01f, 1e-5);
+}
+
+/* Far from the origin the segment's own frame keeps the arithmetic small: a box resting
+ * 1 mm deep on a run at x = 100 km reads the same depth as at the origin. */
+static void test_far_from_the_origin(void)
+{
+    const kg_vec2 far_line[3] = {{100002.0f, 0.0f}, {100001.0f, 0.0f}, {100000.0f, 0.0f}};
+    kg_shape box = built(kg_box_shape(0.5f, 0.5f));
+    kg_shape seg = chain_segment(far_line, 3, 0, 1);
+    kg_manifold m = kg_collide_chain_segment(&seg, identity, &box, pose(100000.5f, 0.249f, 0.0f), 0.02f);
+    KG_CHECK(m.point_count == 2);
+    for (int i = 0; i < m.point_count; ++i) {
+        KG_CHECK_NEAR(m.points[i].separation, -0.001f, 1e-5);
+    }
+}
+
+int main(void)
+{
+    const kg_test_case tests[] = {
+        KG_TEST(test_box_sliding_along_a_run_sees_only_its_normal),
+        KG_TEST(test_circle_rolling_along_a_run_sees_only_its_normal),
+        KG_TEST(test_body_behind_a_segment_gets_nothing),
+        KG_TEST(test_convex_corner_of_a_loop),
+        KG_TEST(test_open_end_is_free),
+        KG_TEST(test_far_from_the_origin),
+    };
+    return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
+}
