@@ -409,11 +409,15 @@ KG_FN kg_corner kg_closest_cores(const kg_shape* a, const kg_shape* b)
 
 /* A 2-vertex core has no area, and the separating axes of its pair miss the axis along it:
  * two segments in a line, end to end, look touching along their normals however far apart
- * they are. So a pair with one is checked against the cores' true distance: when they are
- * apart and the manifold's nearest point is not at that distance, the closest points make
- * one point along the line between them. (Polygons keep the separating axes alone.) */
-KG_FN kg_manifold kg_check_thin_cores(kg_manifold m, const kg_shape* a, const kg_shape* b)
+ * they are. So a pair with one whose separating axis gap (separation) does not prove them
+ * overlapping is checked against the cores' true distance: when they are apart and the
+ * manifold's nearest point is not at that distance, the closest points make one point along
+ * the line between them. (Polygons keep the separating axes alone.) */
+KG_FN kg_manifold kg_check_thin_cores(kg_manifold m, const kg_shape* a, const kg_shape* b, float separation)
 {
+    if (separation < -KG_REFERENCE_TOLERANCE) {
+        return m;
+    }
     kg_corner c = kg_closest_cores(a, b);
     if (c.distance <= KG_REFERENCE_TOLERANCE ||
         (m.point_count > 0 && fabsf(kg_min_separation(&m) - c.distance) <= KG_REFERENCE_TOLERANCE)) {
@@ -457,9 +461,10 @@ KG_FN kg_manifold kg_collide_polygons(const kg_shape* a, kg_xf xfa, const kg_sha
     const kg_shape* inc = flip ? &poly_a : &poly_b;
     kg_face_contact fc = kg_face_contact_of(ref, flip ? edge_b : edge_a, inc, flip);
 
-    kg_manifold m = kg_polygon_manifold(&fc, inc, kg_maxf(separation_a, separation_b));
+    float separation = kg_maxf(separation_a, separation_b);
+    kg_manifold m = kg_polygon_manifold(&fc, inc, separation);
     if (poly_a.count == 2 || poly_b.count == 2) {
-        m = kg_check_thin_cores(m, &poly_a, &poly_b);
+        m = kg_check_thin_cores(m, &poly_a, &poly_b, separation);
     }
     kg_round_manifold(&m, a->radius, b->radius);
     return kg_manifold_to_world(m, xfa, origin, xfb, speculative_distance);
