@@ -298,8 +298,8 @@ static void kg_tiles_scene(kg_world* world)
     KG_CHECK_OK(kg_body_set_velocity(world, slider, (kg_vec2){10.0f, 0.0f}));
 }
 
-/* Capsules and segments (issue 15): capsules, balls, boxes and two rods (segments with a
- * mass) falling on static segment ramps, a box floor and a tile-map ledge. */
+/* Capsules and segments (issue 15): capsules, balls and boxes falling on static segment
+ * ramps, a box floor, a tile-map ledge and a kinematic segment sweeping under them. */
 static void kg_capsules_scene(kg_world* world)
 {
     kg_ground(world, 40.0f);
@@ -325,15 +325,14 @@ static void kg_capsules_scene(kg_world* world)
         shape = i % 4 == 1 ? kg_circle_shape(0.4f * size) : (i % 4 == 2 ? kg_box_shape(size, 0.6f * size) : shape);
         kg_add(world, KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
     }
-    for (int i = 0; i < 2; ++i) {
-        kg_body_def rod = kg_default_body_def();
-        rod.shape = kg_segment_shape((kg_vec2){-0.6f, 0.0f}, (kg_vec2){0.6f, 0.0f});
-        rod.mass = 0.5f;
-        rod.position = (kg_vec2){-6.0f + 12.0f * (float)i, 14.0f};
-        rod.angle = 0.3f;
-        kg_body body;
-        KG_CHECK_OK(kg_create_body(world, &rod, &body));
-    }
+    kg_body_def sweeper = kg_default_body_def();
+    sweeper.type = KG_BODY_KINEMATIC;
+    sweeper.shape = kg_segment_shape((kg_vec2){-1.5f, 0.0f}, (kg_vec2){1.5f, 0.0f});
+    sweeper.position = (kg_vec2){-10.0f, 0.4f};
+    sweeper.velocity = (kg_vec2){2.0f, 0.0f};
+    sweeper.angular_velocity = 0.5f;
+    kg_body body;
+    KG_CHECK_OK(kg_create_body(world, &sweeper, &body));
 }
 
 static kg_world* kg_make_world(kg_backend backend, kg_scene_fn* scene)

@@ -120,7 +120,7 @@ static void test_capsule_and_segment(void)
     const char* json = "{\"bodies\": ["
                        "{\"shape\": {\"type\": \"capsule\", \"center1\": [-0.5, 0], \"center2\": [0.5, 0.25], \"radius\": 0.3}},"
                        "{\"type\": \"static\", \"shape\": {\"type\": \"segment\", \"point1\": [-4, 0], \"point2\": [4, -1]}},"
-                       "{\"mass\": 2, \"shape\": {\"type\": \"segment\", \"point1\": [0, 0], \"point2\": [1, 0]}}]}";
+                       "{\"type\": \"kinematic\", \"shape\": {\"type\": \"segment\", \"point1\": [0, 0], \"point2\": [1, 0]}}]}";
     kg_scene* scene = NULL;
     KG_CHECK_OK(kg_scene_parse(json, strlen(json), "inline.json", &scene));
     if (!scene) {
@@ -130,7 +130,7 @@ static void test_capsule_and_segment(void)
     kg_shape_def segment = kg_segment_shape((kg_vec2){-4.0f, 0.0f}, (kg_vec2){4.0f, -1.0f});
     KG_CHECK(same_shape(&kg_scene_body_def(scene, 0)->shape, &capsule));
     KG_CHECK(same_shape(&kg_scene_body_def(scene, 1)->shape, &segment));
-    KG_CHECK(kg_scene_body_def(scene, 2)->shape.type == KG_SHAPE_SEGMENT && kg_scene_body_def(scene, 2)->mass == 2.0f);
+    KG_CHECK(kg_scene_body_def(scene, 2)->shape.type == KG_SHAPE_SEGMENT && kg_scene_body_def(scene, 2)->type == KG_BODY_KINEMATIC);
     kg_scene_destroy(scene);
 }
 
@@ -166,7 +166,7 @@ static const error_case kErrorFiles[] = {
      "bodies[0].shape.vertices: polygon has no area (its points are collinear or coincide)"},
     {"bad_capsule_centres.json", "bodies[0].shape: capsule points coincide (closer than 0.0001 m): use a circle"},
     {"bad_capsule_radius.json", "bodies[0].shape.radius: must be > 0"},
-    {"bad_segment_no_mass.json", "bodies[0].mass: is required for a moving segment (it has no area for a density)"},
+    {"bad_dynamic_segment.json", "bodies[0].shape: a segment has no area: only static and kinematic bodies may have one"},
     {"bad_segment_field.json", "bodies[0].shape.point3: unknown field"},
     {"bad_too_many_vertices.json", "bodies[0].shape.vertices: must have 3 to 8 vertices (got 9)"},
     {"bad_duplicate_name.json", "bodies[2].name: duplicate name 'box' (also bodies[1])"},

@@ -46,11 +46,12 @@ KG_API kg_shape_def kg_polygon_shape(const kg_vec2* vertices, int count);
  * centres must be finite and at least 1e-4 m apart (nearer ones are an error: use a
  * circle), the radius finite and > 0. Its mass is a rectangle's and a disc's. */
 KG_API kg_shape_def kg_capsule_shape(kg_vec2 center1, kg_vec2 center2, float radius);
-/* A segment from point1 to point2 (finite, at least 1e-4 m apart), radius 0. It has no
- * area, so a density gives it no mass: a dynamic body whose shape is a segment needs an
- * explicit mass (kg_body_def.mass > 0), and takes a thin rod's inertia, m L^2 / 12 about
- * its middle; with only a density it is refused (KG_ERROR_INVALID_ARGUMENT), and so is
- * kg_shape_mass of a segment. Meant for static and kinematic outlines. */
+/* A segment from point1 to point2 (finite, at least 1e-4 m apart), radius 0: for static
+ * and kinematic outlines (ground lines, ramps, moving platforms). It has no area, hence no
+ * mass, and two lines of no thickness that come to lie on each other have no side to push
+ * apart to, so a dynamic body or a particle with a segment shape is refused
+ * (KG_ERROR_INVALID_ARGUMENT; give it a thin capsule or box), and so is kg_shape_mass of a
+ * segment. */
 KG_API kg_shape_def kg_segment_shape(kg_vec2 point1, kg_vec2 point2);
 
 /* Mass, centre of mass (body frame) and rotational inertia about the centre of mass. */

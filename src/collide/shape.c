@@ -353,18 +353,6 @@ static kg_mass_data kg_capsule_mass(const kg_shape* s, float density)
     return md;
 }
 
-kg_mass_data kg_rod_mass(const kg_shape* segment, float mass)
-{
-    float length = kg_distance(segment->vertices[0], segment->vertices[1]);
-    kg_mass_data md;
-    md.mass = mass;
-    md.center = segment->centroid;
-    md.inertia = mass * length * length / 12.0f;
-    return md;
-}
-
-int kg_shape_has_area(const kg_shape* shape) { return shape->count != 2 || shape->radius > 0.0f; }
-
 kg_mass_data kg_shape_mass_of(const kg_shape* shape, float density)
 {
     if (shape->count >= 3) {
@@ -394,7 +382,7 @@ kg_result kg_shape_mass(const kg_shape_def* def, float density, kg_mass_data* ou
     if (r != KG_OK) {
         return r;
     }
-    if (!kg_shape_has_area(&shape)) {
+    if (def->type == KG_SHAPE_SEGMENT) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "a segment has no area: a density gives it no mass");
     }
     *out = kg_shape_mass_of(&shape, density);

@@ -15,9 +15,5 @@ kg_result kg_shape_build(const kg_shape_def* def, kg_shape* out);
 kg_shape_def kg_shape_describe(const kg_shape* shape);
 /* Mass properties of a built shape of uniform density (zero for a segment). */
 kg_mass_data kg_shape_mass_of(const kg_shape* shape, float density);
-/* Whether density gives the shape a mass: every shape but a segment. */
-int kg_shape_has_area(const kg_shape* shape);
-/* A segment of the given mass as a thin rod: inertia m L^2 / 12 about its middle. */
-kg_mass_data kg_rod_mass(const kg_shape* segment, float mass);
 
 #endif

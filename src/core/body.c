@@ -69,6 +69,10 @@ static kg_result kg_validate_body_def(const kg_body_def* d)
     if (d->shape.type == KG_SHAPE_NONE && d->type != KG_BODY_PARTICLE) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "only particles may have no shape");
     }
+    if (d->shape.type == KG_SHAPE_SEGMENT && (d->type == KG_BODY_DYNAMIC || d->type == KG_BODY_PARTICLE)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT,
+                       "a segment has no area: only static and kinematic bodies may have one (use a thin capsule)");
+    }
     return KG_OK;
 }
 
@@ -90,17 +94,10 @@ static kg_result kg_body_mass_from_def(const kg_body_def* d, const kg_shape* sha
     if (!(d->mass > 0.0f) && !(d->density > 0.0f)) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "a moving body needs a density or a mass > 0");
     }
-    if (!kg_shape_has_area(shape)) {
-        if (!(d->mass > 0.0f)) {
-            return kg_fail(KG_ERROR_INVALID_ARGUMENT, "a moving segment has no area: it needs a mass > 0, not a density");
-        }
-        *md = kg_rod_mass(shape, d->mass);
-    } else {
-        *md = kg_shape_mass_of(shape, 1.0f);
-        float scale = d->mass > 0.0f ? d->mass / md->mass : d->density;
-        md->mass *= scale;
-        md->inertia *= scale;
-    }
+    *md = kg_shape_mass_of(shape, 1.0f);
+    float scale = d->mass > 0.0f ? d->mass / md->mass : d->density;
+    md->mass *= scale;
+    md->inertia *= scale;
     if (!(md->mass > 0.0f) || !isfinite(md->mass) || !isfinite(md->inertia) || md->inertia < 0.0f ||
         !isfinite(1.0f / md->mass) || (md->inertia > 0.0f && !isfinite(1.0f / md->inertia))) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "body mass is not representable (%g)", (double)md->mass);

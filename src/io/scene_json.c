@@ -219,10 +219,6 @@ static kg_result kg_read_mass(const kg_json_reader* reader, const cJSON* json, c
     KG_TRY(kg_json_float(reader, json, path, "density", KG_JSON_NON_NEGATIVE, &def->density));
     KG_TRY(kg_json_float(reader, json, path, "mass", KG_JSON_POSITIVE, &def->mass));
     int moves = def->type == KG_BODY_DYNAMIC || def->type == KG_BODY_PARTICLE;
-    if (moves && def->mass == 0.0f && def->shape.type == KG_SHAPE_SEGMENT) {
-        kg_json_path mass_path = kg_json_path_key(path, "mass");
-        return kg_json_fail(reader, &mass_path, "is required for a moving segment (it has no area for a density)");
-    }
     if (moves && def->mass == 0.0f && !(def->density > 0.0f)) {
         kg_json_path density_path = kg_json_path_key(path, "density");
         return kg_json_fail(reader, &density_path, "must be > 0 for a %s body", kBodyTypes[def->type]);
@@ -266,7 +262,12 @@ static kg_result kg_read_body_shape(const kg_json_reader* reader, const cJSON* j
     const cJSON* shape = cJSON_GetObjectItemCaseSensitive(json, "shape");
     if (shape) {
         kg_json_path shape_path = kg_json_path_key(path, "shape");
-        return kg_read_shape(reader, shape, &shape_path, &def->shape);
+        KG_TRY(kg_read_shape(reader, shape, &shape_path, &def->shape));
+        int moves = def->type == KG_BODY_DYNAMIC || def->type == KG_BODY_PARTICLE;
+        if (moves && def->shape.type == KG_SHAPE_SEGMENT) {
+            return kg_json_fail(reader, &shape_path, "a segment has no area: only static and kinematic bodies may have one");
+        }
+        return KG_OK;
     }
     if (def->type != KG_BODY_PARTICLE) {
         kg_json_path shape_path = kg_json_path_key(path, "shape");
