@@ -9,7 +9,8 @@
 #define KG_WELD_DISTANCE 1.0e-4f
 #define KG_MIN_AREA 1.0e-8f
 
-/* Validates def and builds the collision shape (hull for polygons). */
+/* Validates def and builds the collision shape (hull for polygons; a capsule or a segment
+ * as a 2-vertex polygon with a radius). */
 kg_result kg_shape_build(const kg_shape_def* def, kg_shape* out);
 /* Back from a collision shape to a description (for kg_body_get_shape). */
 kg_shape_def kg_shape_describe(const kg_shape* shape);
