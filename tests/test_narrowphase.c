@@ -1248,6 +1248,46 @@ static void test_speculative_margin(void)
     KG_CHECK(collide(&ball, make_xf(0, 0, 0), &ball, make_xf(1.025, 0, 0), 0.02f).point_count == 0);
 }
 
+/* A capsule (core from x = -0.5 to 0.5, radius 0.25) lying on a 4 x 1 box, 0.01 m deep:
+ * two points under its core's ends, midway between the box's top and the capsule's side,
+ * named by the ends of the box's top face and the capsule's vertices; the same ids however
+ * the two tilt by up to 1 mrad (warm starts kept); end to end with another capsule in a
+ * line, one point between the round ends, with the gap between them. */
+static void test_capsule_hand_cases(void)
+{
+    kg_shape ground = box(4.0f, 1.0f);
+    kg_shape capsule = build(kg_capsule_shape(kg_v2(-0.5f, 0.0f), kg_v2(0.5f, 0.0f), 0.25f));
+    kg_manifold m = collide(&ground, make_xf(0, 0, 0), &capsule, make_xf(0.2, 0.74, 0), 0.0f);
+    KG_CHECK(m.point_count == 2);
+    check_normal(&m, 0.0, 1.0);
+    check_point(&m, -0.3, 0.495, -0.01, ANY_ID);
+    check_point(&m, 0.7, 0.495, -0.01, ANY_ID);
+    KG_CHECK((point_near(&m, -0.3, 0.495)->id & 0xFFu) == 0u && (point_near(&m, 0.7, 0.495)->id & 0xFFu) == 1u);
+    g_rng = 0x5EED0011u;
+    int steady = 1;
+    for (int k = 0; k < 1000; ++k) {
+        kg_manifold t = collide(&ground, make_xf(0, 0, rng_uniform(-1e-3, 1e-3)), &capsule,
+                                make_xf(0.2, 0.745, rng_uniform(-1e-3, 1e-3)), 0.02f);
+        steady &= t.point_count == 2 && point_near(&t, -0.3, 0.5)->id == point_near(&m, -0.3, 0.495)->id &&
+                  point_near(&t, 0.7, 0.5)->id == point_near(&m, 0.7, 0.495)->id;
+    }
+    KG_CHECK(steady);
+
+    /* in a line, 0.1 m apart: their sides do not touch, their ends do not either */
+    kg_manifold line = collide(&capsule, make_xf(0, 0, 0), &capsule, make_xf(1.6, 0, 0), 0.2f);
+    KG_CHECK(line.point_count == 1);
+    check_normal(&line, 1.0, 0.0);
+    check_point(&line, 0.8, 0.0, 0.1, KG_FEATURE_ID(1, 0));
+    KG_CHECK(collide(&capsule, make_xf(0, 0, 0), &capsule, make_xf(1.6, 0, 0), 0.05f).point_count == 0);
+
+    /* a ball in line with a segment, beyond its end: the distance to the end decides */
+    kg_shape segment = build(kg_segment_shape(kg_v2(-1.0f, 0.0f), kg_v2(1.0f, 0.0f))), ball = circle(0.5f);
+    kg_manifold end = collide(&segment, make_xf(0, 0, 0), &ball, make_xf(1.45, 0, 0), 0.0f);
+    KG_CHECK(end.point_count == 1);
+    check_normal(&end, 1.0, 0.0);
+    check_point(&end, 0.975, 0.0, -0.05, 0u);
+}
+
 /* Far from the world origin the anchors still come out to float precision. */
 static void test_far_from_origin(void)
 {
@@ -1349,6 +1389,7 @@ int main(void)
         KG_TEST(test_particles),
         KG_TEST(test_speculative_margin),
         KG_TEST(test_far_from_origin),
+        KG_TEST(test_capsule_hand_cases),
     };
     clock_t start = clock();
     int result = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
