@@ -377,7 +377,7 @@ KG_FN void kg_closest_on_segments(kg_vec2 a1, kg_vec2 a2, kg_vec2 b1, kg_vec2 b2
 }
 
 /* The closest points of two disjoint cores, edge against edge, each named by the vertex of
- * its edge nearer to it. */
+ * its edge nearer to it: a's in on_ref and ref_vertex, b's in on_inc and inc_vertex. */
 KG_FN kg_corner kg_closest_cores(const kg_shape* a, const kg_shape* b)
 {
     kg_corner best;
