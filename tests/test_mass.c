@@ -250,7 +250,7 @@ static void test_capsule_mass_is_analytic(void)
 
 /* A segment has no area: no mass from a density, and no dynamic body or particle of it,
  * whatever mass is given; static and kinematic ones are fine. A capsule and a segment come
- * back from a body as they went in. */
+ * back from a body as they went in, and a capsule's bounds hold its round ends. */
 static void test_segment_mass_and_round_trip(void)
 {
     kg_shape_def segment = kg_segment_shape((kg_vec2){-1.0f, 0.5f}, (kg_vec2){2.0f, 0.5f});
@@ -283,6 +283,12 @@ static void test_segment_mass_and_round_trip(void)
     KG_CHECK_OK(kg_create_body(w, &bd, &b));
     KG_CHECK_OK(kg_body_get_shape(w, b, &back));
     KG_CHECK(back.type == KG_SHAPE_CAPSULE && memcmp(&back, &capsule, sizeof back) == 0);
+    kg_aabb box; /* the core's bounds grown by the radius */
+    KG_CHECK_OK(kg_body_get_aabb(w, b, &box));
+    KG_CHECK_NEAR(box.lower.x, -0.05, 1e-6);
+    KG_CHECK_NEAR(box.upper.x, 0.55, 1e-6);
+    KG_CHECK_NEAR(box.lower.y, -1.3, 1e-6);
+    KG_CHECK_NEAR(box.upper.y, 1.3, 1e-6);
     kg_destroy_world(w);
 }
 
