@@ -2,7 +2,8 @@
  * exact height and angle, on a box and on a tile map; a short capsule rolls down a 30 degree
  * slope as a wheel of its own inertia and perimeter that loses what the impacts at its flat
  * sides take; a ball rolls down a static segment and a box rests on
- * one; a capsule slides across a tile map's seams without a bump.
+ * one; a capsule slides across a tile map's seams without a bump, and an upright one, a
+ * character, jumps up through a one-way platform and stands on it.
  *
  * CPU backend, world defaults (4 sub-steps), sleeping off, dt = 1/60. Each test prints the
  * numbers it measured; the assertions use the issue's numbers. */
@@ -139,6 +140,52 @@ static void test_capsule_slides_across_tile_seams(void)
              s.velocity.x, worst_vy, worst_tilt * 180.0 / PI_D);
     KG_CHECK(worst_vy < 1e-3);
     KG_CHECK(s.velocity.x > 4.99);
+    kg_destroy_world(w);
+}
+
+/* A character: an upright capsule (core 1 m, radius 0.3 m) that never turns, on a tile
+ * floor (top y = 0) under a row of one-way platforms (the top half of row 3: surface y = 4).
+ * It jumps from the floor at 10 m/s (apex 5 m up, its feet 1.3 m over the surface), passes
+ * up through the platforms and lands on them, standing 0.8 m (half its core and its radius)
+ * above the surface. */
+static void test_character_capsule_jumps_onto_one_way_platform(void)
+{
+    kg_world* w = make_world();
+    kg_tile_shape shapes[3] = {kg_tile_empty(), kg_tile_box(), kg_tile_platform()};
+    kg_tilemap_def def = kg_default_tilemap_def();
+    def.width = 12;
+    def.height = 6;
+    def.origin = (kg_vec2){-6.0f, -1.0f};
+    def.shapes = shapes;
+    def.shape_count = 3;
+    kg_tilemap map = KG_NULL_TILEMAP_INIT;
+    KG_CHECK_OK(kg_create_tilemap(w, &def, &map));
+    for (int x = 0; x < 12; ++x) {
+        KG_CHECK_OK(kg_tilemap_set_tile(w, map, 0, x, 0, 1));
+        KG_CHECK_OK(kg_tilemap_set_tile(w, map, 0, x, 4, 2));
+    }
+    kg_body_def bd = kg_default_body_def();
+    bd.shape = kg_capsule_shape((kg_vec2){0.0f, -0.5f}, (kg_vec2){0.0f, 0.5f}, 0.3f);
+    bd.fixed_rotation = 1;
+    bd.position = (kg_vec2){0.2f, 0.8f};
+    kg_body hero = KG_NULL_BODY_INIT;
+    KG_CHECK_OK(kg_create_body(w, &bd, &hero));
+    run(w, 0.5);
+    double standing = state_of(w, hero).position.y;
+    KG_CHECK_OK(kg_body_set_velocity(w, hero, (kg_vec2){0.0f, 10.0f}));
+    double apex = standing;
+    for (int step = 0; step < 180; ++step) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+        apex = fmax(apex, state_of(w, hero).position.y);
+    }
+    kg_body_state s = state_of(w, hero);
+    measured("measured: character capsule standing at %.4f m on the floor (0.8 expected), jumped to %.3f m, came to "
+             "stand at %.4f m on the platform (4.8 expected), speed %.2g m/s\n",
+             standing, apex, s.position.y, hypot(s.velocity.x, s.velocity.y));
+    KG_CHECK_NEAR(standing, 0.8, 0.005);
+    KG_CHECK(apex > 5.5);
+    KG_CHECK_NEAR(s.position.y, 4.8, 0.005);
+    KG_CHECK(s.angle == 0.0f);
     kg_destroy_world(w);
 }
 
@@ -349,5 +396,6 @@ static void test_box_rests_on_segment(void)
 }
 
 KG_TEST_MAIN(KG_TEST(test_capsule_dropped_on_box_rests_flat), KG_TEST(test_capsule_dropped_on_tile_map_rests_flat),
-             KG_TEST(test_capsule_slides_across_tile_seams), KG_TEST(test_short_capsule_rolls_down_30_degree_slope),
+             KG_TEST(test_capsule_slides_across_tile_seams), KG_TEST(test_character_capsule_jumps_onto_one_way_platform),
+             KG_TEST(test_short_capsule_rolls_down_30_degree_slope),
              KG_TEST(test_ball_rolls_down_segment_slope), KG_TEST(test_box_rests_on_segment))
