@@ -846,25 +846,26 @@ static void check_random_rounded(const char* name, uint64_t seed, shape_maker ma
     KG_CHECK(st.reported > ROUNDED_CASES / 4 && st.empty > ROUNDED_CASES / 4 && st.apart > ROUNDED_CASES / 20);
 }
 
-/* A capsule 0.05 to 2.5 m in radius with a core 0.01 to 5 m long, off its body's origin. */
-static kg_shape random_capsule(double* size)
+/* A segment 0.01 to 5 m long at a random angle, off its body's origin by up to 0.5 m. */
+static kg_shape_def random_segment_def(double* length)
 {
-    double length = rng_size(0.01, 5.0), r = rng_size(0.05, 2.5), angle = rng_uniform(-PI, PI);
+    double angle = rng_uniform(-PI, PI);
+    *length = rng_size(0.01, 5.0);
     kg_vec2 center = kg_v2((float)rng_uniform(-0.5, 0.5), (float)rng_uniform(-0.5, 0.5));
-    kg_vec2 half = kg_v2((float)(0.5 * length * cos(angle)), (float)(0.5 * length * sin(angle)));
-    *size = length + 2.0 * r;
-    return build(kg_capsule_shape(kg_sub(center, half), kg_add(center, half), (float)r));
+    kg_vec2 half = kg_v2((float)(0.5 * *length * cos(angle)), (float)(0.5 * *length * sin(angle)));
+    return kg_segment_shape(kg_sub(center, half), kg_add(center, half));
 }
 
-/* A segment 0.01 to 5 m long, off its body's origin. */
-static kg_shape random_segment(double* size)
+/* A capsule 0.05 to 2.5 m in radius round such a segment. */
+static kg_shape random_capsule(double* size)
 {
-    double length = rng_size(0.01, 5.0), angle = rng_uniform(-PI, PI);
-    kg_vec2 center = kg_v2((float)rng_uniform(-0.5, 0.5), (float)rng_uniform(-0.5, 0.5));
-    kg_vec2 half = kg_v2((float)(0.5 * length * cos(angle)), (float)(0.5 * length * sin(angle)));
-    *size = length;
-    return build(kg_segment_shape(kg_sub(center, half), kg_add(center, half)));
+    double length, r = rng_size(0.05, 2.5);
+    kg_shape_def core = random_segment_def(&length);
+    *size = length + 2.0 * r;
+    return build(kg_capsule_shape(core.vertices[0], core.vertices[1], (float)r));
 }
+
+static kg_shape random_segment(double* size) { return build(random_segment_def(size)); }
 
 /* Random poses almost never put two cores in a line or at right angles, where the separating
  * axes of 2-vertex cores fall short (two segments in a line, end to end, touch along both
