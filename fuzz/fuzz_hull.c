@@ -1,23 +1,27 @@
 /* Fuzz target "hull": the polygon hull builder and mass properties (kg_polygon_shape,
- * kg_circle_shape, kg_shape_mass and the internal kg_shape_build), then a body made of
- * the shape, stepped in a world.
+ * kg_circle_shape, kg_capsule_shape, kg_segment_shape, kg_shape_mass and the internal
+ * kg_shape_build), then a body made of the shape, stepped in a world.
  *
- * Input bytes: type (u8, mod 4: none, circle, polygon, an unknown type), vertex count
- * (i8, may be out of range), then float32 values: density, radius, centre x, y, and up
- * to 8 vertices x, y. Missing bytes read as zeros.
+ * Input bytes: type (u8, mod 6: none, circle, polygon, an unknown type, capsule, segment),
+ * vertex count (i8, may be out of range), then float32 values: density, radius, centre x,
+ * y, and up to 8 vertices x, y (a capsule's centres and a segment's points are the first
+ * two). Missing bytes read as zeros.
  *
  * Contracts checked:
  *  - kg_shape_mass answers OK, INVALID_ARGUMENT or DEGENERATE_SHAPE, and a failure
  *    leaves a message in kg_last_error();
  *  - a success gives a finite mass > 0 (0 for a point), a finite inertia >= 0 and a
- *    finite centre;
+ *    finite centre; a segment never has a mass;
+ *  - a built capsule or segment keeps its two points and radius, with opposite unit
+ *    normals, and a segment is refused on a dynamic body;
  *  - a built polygon has 3 to 8 finite vertices, unit outward normals, turns
  *    counter-clockwise, is convex and contains every input point (to the weld
  *    distance), and its area matches an independent double-precision hull;
  *  - well-conditioned input (a hull that is not a sliver, coordinates in a sane range)
  *    is accepted;
  *  - the shape a body reports back builds again;
- *  - a dynamic body made of the shape steps with a finite state. */
+ *  - a dynamic body made of the shape (a static one for a segment, with a ball dropped on
+ *    it) steps with a finite state. */
 #include "fuzz_common.h"
 
 #include "collide/shape.h"
@@ -37,7 +41,7 @@ static hull_input read_input(const uint8_t* data, size_t size)
     fuzz_reader r = fuzz_reader_make(data, size);
     hull_input in;
     memset(&in, 0, sizeof in);
-    int type = fuzz_take_u8(&r) % 4;
+    int type = fuzz_take_u8(&r) % 6;
     int count = (int8_t)fuzz_take_u8(&r);
     in.density = fuzz_take_float(&r);
     float radius = fuzz_take_float(&r);
@@ -52,6 +56,10 @@ static hull_input read_input(const uint8_t* data, size_t size)
     } else if (type == 2) {
         in.def = kg_polygon_shape(in.points, count);
         in.point_count = count < 0 ? 0 : (count > KG_MAX_POLYGON_VERTICES ? KG_MAX_POLYGON_VERTICES : count);
+    } else if (type == 4) {
+        in.def = kg_capsule_shape(in.points[0], in.points[1], radius);
+    } else if (type == 5) {
+        in.def = kg_segment_shape(in.points[0], in.points[1]);
     } else {
         in.def = kg_circle_shape(radius);
         in.def.type = type == 0 ? KG_SHAPE_NONE : (kg_shape_type)7;
@@ -165,6 +173,14 @@ static void check_mass(const kg_mass_data* md, kg_shape_type type)
     FUZZ_REQUIRE(finite_vec(md->center), "centre of mass is finite");
 }
 
+static void check_two_point(const kg_shape* s, const kg_shape_def* def)
+{
+    FUZZ_REQUIRE(s->count == 2 && s->radius == def->radius, "a capsule or segment keeps its count and radius");
+    FUZZ_REQUIRE(memcmp(s->vertices, def->vertices, 2 * sizeof s->vertices[0]) == 0, "and its two points");
+    FUZZ_REQUIRE(fabsf(hypotf(s->normals[0].x, s->normals[0].y) - 1.0f) < 1.0e-3f, "its normal is unit");
+    FUZZ_REQUIRE(s->normals[1].x == -s->normals[0].x && s->normals[1].y == -s->normals[0].y, "its normals are opposite");
+}
+
 static void check_area_matches_reference(const kg_mass_data* md, const hull_input* in)
 {
     double area = reference_hull_area(in->points, in->point_count);
@@ -204,8 +220,19 @@ static void step_as_body(const hull_input* in, const kg_shape* built)
     ground.shape = kg_box_shape(20.0f, 1.0f);
     kg_body ground_body;
     FUZZ_REQUIRE(kg_create_body(world, &ground, &ground_body) == KG_OK, "the ground is created");
+    kg_body_def ball = kg_default_body_def();
+    ball.shape = kg_circle_shape(0.25f);
+    ball.position = (kg_vec2){0.1f, 4.0f};
+    kg_body ball_body;
+    FUZZ_REQUIRE(kg_create_body(world, &ball, &ball_body) == KG_OK, "the ball is created");
     kg_body_def bd = kg_default_body_def();
     bd.type = in->def.type == KG_SHAPE_NONE ? KG_BODY_PARTICLE : KG_BODY_DYNAMIC;
+    if (in->def.type == KG_SHAPE_SEGMENT) {
+        FUZZ_REQUIRE(kg_check_body_def(&(kg_body_def){.type = KG_BODY_DYNAMIC, .shape = in->def, .mass = 1.0f}) ==
+                         KG_ERROR_INVALID_ARGUMENT,
+                     "a segment is refused on a dynamic body");
+        bd.type = KG_BODY_STATIC;
+    }
     bd.shape = in->def;
     bd.density = in->density;
     bd.mass = bd.type == KG_BODY_PARTICLE ? 1.0f : 0.0f;
@@ -220,13 +247,33 @@ static void step_as_body(const hull_input* in, const kg_shape* built)
         }
         FUZZ_REQUIRE(body_state_finite(world, body), "the body's state stays finite");
         FUZZ_REQUIRE(body_state_finite(world, ground_body), "the ground's state stays finite");
+        FUZZ_REQUIRE(body_state_finite(world, ball_body), "the ball's state stays finite");
     }
     kg_destroy_world(world);
+}
+
+/* A segment has no mass, so it is built and stepped (as a static body) on its own. */
+static void check_segment(const hull_input* in)
+{
+    kg_mass_data md;
+    FUZZ_REQUIRE(kg_shape_mass(&in->def, in->density, &md) != KG_OK, "a segment has no mass");
+    kg_shape built;
+    kg_result r = kg_shape_build(&in->def, &built);
+    FUZZ_REQUIRE(r == KG_OK || r == KG_ERROR_INVALID_ARGUMENT || r == KG_ERROR_DEGENERATE_SHAPE,
+                 "a segment builds or is refused with a documented code");
+    if (r == KG_OK) {
+        check_two_point(&built, &in->def);
+        step_as_body(in, &built);
+    }
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
     hull_input in = read_input(data, size);
+    if (in.def.type == KG_SHAPE_SEGMENT) {
+        check_segment(&in);
+        return 0;
+    }
     kg_mass_data md;
     kg_result r = kg_shape_mass(&in.def, in.density, &md);
     FUZZ_REQUIRE(r == KG_OK || r == KG_ERROR_INVALID_ARGUMENT || r == KG_ERROR_DEGENERATE_SHAPE,
@@ -241,6 +288,9 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     FUZZ_REQUIRE(kg_shape_build(&in.def, &built) == KG_OK, "a shape with a mass builds");
     if (in.def.type == KG_SHAPE_POLYGON) {
         check_polygon(&built, &in);
+    }
+    if (in.def.type == KG_SHAPE_CAPSULE) {
+        check_two_point(&built, &in.def);
     }
     if (well_conditioned(&in)) {
         check_area_matches_reference(&md, &in);

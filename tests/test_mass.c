@@ -12,6 +12,8 @@ static double rnd(double lo, double hi)
     return lo + (hi - lo) * (double)(g_seed >> 8) / 16777216.0;
 }
 
+#define PI_D 3.14159265358979323846
+
 typedef struct ref_mass {
     double mass, cx, cy, inertia;
 } ref_mass;
@@ -185,6 +187,131 @@ static void test_explicit_mass_scales_inertia(void)
     kg_destroy_world(w);
 }
 
+/* A capsule of core length L and radius r, about its middle: the 2r by L rectangle, and two
+ * half discs, each taken about its flat side's middle (half a disc's m r^2 / 2), moved to its
+ * centroid 4r / (3 pi) out and from there to the capsule's middle (parallel axis twice). */
+static ref_mass capsule_analytic(double length, double r, double density)
+{
+    double box = density * 2.0 * r * length, disc = density * PI_D * r * r;
+    double half_disc_centroid = 4.0 * r / (3.0 * PI_D); /* from its flat side */
+    double h = 0.5 * length;
+    /* one half disc about the capsule's middle: about its centroid, then shifted out */
+    double own = 0.5 * (0.5 * disc) * r * r - 0.5 * disc * half_disc_centroid * half_disc_centroid;
+    double shifted = own + 0.5 * disc * (h + half_disc_centroid) * (h + half_disc_centroid);
+    ref_mass m;
+    m.mass = box + disc;
+    m.cx = 0.0;
+    m.cy = 0.0;
+    m.inertia = box * (length * length + 4.0 * r * r) / 12.0 + 2.0 * shifted;
+    return m;
+}
+
+/* The same capsule as a polygon of 2 x 4000 points round its outline, by Green's theorem:
+ * an independent check of the closed form (the polygon's missing slivers are of order n^-2). */
+static ref_mass capsule_outline(double length, double r, double density)
+{
+    enum { N = 4000 };
+    static double x[2 * N], y[2 * N];
+    for (int i = 0; i < N; ++i) {
+        double a = -0.5 * PI_D + PI_D * i / (N - 1);
+        x[i] = 0.5 * length + r * cos(a);
+        y[i] = r * sin(a);
+        x[N + i] = -x[i];
+        y[N + i] = -y[i];
+    }
+    return polygon_reference(x, y, 2 * N, density);
+}
+
+static void test_capsule_mass_is_analytic(void)
+{
+    const double cases[][2] = {{2.0, 0.5}, {0.1, 0.5}, {3.0, 0.05}, {0.0002, 1.0}};
+    for (int k = 0; k < 4; ++k) {
+        double length = cases[k][0], r = cases[k][1], angle = 0.6, cx = 1.5, cy = -0.25;
+        kg_vec2 half = {(float)(0.5 * length * cos(angle)), (float)(0.5 * length * sin(angle))};
+        kg_vec2 center = {(float)cx, (float)cy};
+        kg_shape_def capsule = kg_capsule_shape((kg_vec2){center.x - half.x, center.y - half.y},
+                                                (kg_vec2){center.x + half.x, center.y + half.y}, (float)r);
+        kg_mass_data md;
+        KG_CHECK_OK(kg_shape_mass(&capsule, 2.0f, &md));
+        /* the core length the float centres really have */
+        double dx = (double)capsule.vertices[1].x - capsule.vertices[0].x;
+        double dy = (double)capsule.vertices[1].y - capsule.vertices[0].y;
+        ref_mass want = capsule_analytic(hypot(dx, dy), r, 2.0);
+        ref_mass outline = capsule_outline(hypot(dx, dy), r, 2.0);
+        measured("  capsule L %g r %g: mass %.9g (analytic %.9g), inertia %.9g (analytic %.9g, outline %.9g)\n", length, r,
+                 md.mass, want.mass, md.inertia, want.inertia, outline.inertia);
+        KG_CHECK_NEAR(want.inertia, outline.inertia, 1e-6 * want.inertia);
+        KG_CHECK_NEAR(md.mass, want.mass, 1e-5 * want.mass);
+        KG_CHECK_NEAR(md.inertia, want.inertia, 1e-5 * want.inertia);
+        KG_CHECK_NEAR(md.center.x, cx, 1e-6);
+        KG_CHECK_NEAR(md.center.y, cy, 1e-6);
+    }
+}
+
+/* A segment has no area: no mass from a density, and no dynamic body or particle of it,
+ * whatever mass is given; static and kinematic ones are fine. A capsule and a segment come
+ * back from a body as they went in, and a capsule's bounds hold its round ends. */
+static void test_segment_mass_and_round_trip(void)
+{
+    kg_shape_def segment = kg_segment_shape((kg_vec2){-1.0f, 0.5f}, (kg_vec2){2.0f, 0.5f});
+    kg_mass_data md;
+    KG_CHECK(kg_shape_mass(&segment, 1.0f, &md) == KG_ERROR_INVALID_ARGUMENT);
+    kg_world_def wd = kg_default_world_def();
+    kg_world* w;
+    KG_CHECK_OK(kg_create_world(&wd, &w));
+    kg_body_def bd = kg_default_body_def();
+    bd.shape = segment;
+    bd.mass = 3.0f;
+    kg_body b;
+    KG_CHECK(kg_create_body(w, &bd, &b) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(strstr(kg_last_error(), "only static and kinematic") != NULL);
+    bd.type = KG_BODY_PARTICLE;
+    KG_CHECK(kg_create_body(w, &bd, &b) == KG_ERROR_INVALID_ARGUMENT);
+    bd.type = KG_BODY_KINEMATIC;
+    KG_CHECK_OK(kg_create_body(w, &bd, &b));
+    bd.type = KG_BODY_STATIC;
+    KG_CHECK_OK(kg_create_body(w, &bd, &b));
+    KG_CHECK_OK(kg_body_get_mass_data(w, b, &md));
+    KG_CHECK(md.mass == 0.0f && md.center.x == 0.5f && md.center.y == 0.5f);
+    kg_shape_def back;
+    KG_CHECK_OK(kg_body_get_shape(w, b, &back));
+    KG_CHECK(back.type == KG_SHAPE_SEGMENT && memcmp(&back, &segment, sizeof back) == 0);
+
+    kg_shape_def capsule = kg_capsule_shape((kg_vec2){0.25f, -1.0f}, (kg_vec2){0.25f, 1.0f}, 0.3f);
+    bd = kg_default_body_def();
+    bd.shape = capsule;
+    KG_CHECK_OK(kg_create_body(w, &bd, &b));
+    KG_CHECK_OK(kg_body_get_shape(w, b, &back));
+    KG_CHECK(back.type == KG_SHAPE_CAPSULE && memcmp(&back, &capsule, sizeof back) == 0);
+    kg_aabb box; /* the core's bounds grown by the radius */
+    KG_CHECK_OK(kg_body_get_aabb(w, b, &box));
+    KG_CHECK_NEAR(box.lower.x, -0.05, 1e-6);
+    KG_CHECK_NEAR(box.upper.x, 0.55, 1e-6);
+    KG_CHECK_NEAR(box.lower.y, -1.3, 1e-6);
+    KG_CHECK_NEAR(box.upper.y, 1.3, 1e-6);
+    kg_destroy_world(w);
+}
+
+/* Bad capsules and segments are refused with a clear error, never built. */
+static void test_bad_capsules_and_segments_refused(void)
+{
+    kg_vec2 p = {1.0f, 2.0f}, q = {1.0f, 3.0f}, nan = {NAN, 0.0f}, inf = {INFINITY, 0.0f};
+    kg_shape_def bad[] = {kg_capsule_shape(p, p, 0.5f), kg_capsule_shape(p, q, 0.0f), kg_capsule_shape(p, q, -1.0f),
+                          kg_capsule_shape(p, q, NAN), kg_capsule_shape(nan, q, 0.5f), kg_capsule_shape(p, inf, 0.5f),
+                          kg_segment_shape(p, p), kg_segment_shape(nan, q), kg_segment_shape(p, inf),
+                          kg_capsule_shape((kg_vec2){-3e38f, 0.0f}, (kg_vec2){3e38f, 0.0f}, 1.0f)};
+    for (int i = 0; i < (int)(sizeof bad / sizeof bad[0]); ++i) {
+        kg_body_def bd = kg_default_body_def();
+        bd.shape = bad[i];
+        bd.type = KG_BODY_STATIC;
+        kg_result r = kg_check_body_def(&bd);
+        KG_CHECK(r == KG_ERROR_INVALID_ARGUMENT || r == KG_ERROR_DEGENERATE_SHAPE);
+        KG_CHECK(strlen(kg_last_error()) > 0);
+    }
+    KG_CHECK(kg_check_body_def(&(kg_body_def){.type = KG_BODY_DYNAMIC, .shape = kg_capsule_shape(p, q, INFINITY), .density = 1.0f}) != KG_OK);
+}
+
 KG_TEST_MAIN(KG_TEST(test_box_mass_is_analytic), KG_TEST(test_circle_mass_is_analytic),
              KG_TEST(test_random_polygons_match_reference), KG_TEST(test_hull_drops_duplicates_and_collinear_points),
-             KG_TEST(test_explicit_mass_scales_inertia))
+             KG_TEST(test_explicit_mass_scales_inertia), KG_TEST(test_capsule_mass_is_analytic),
+             KG_TEST(test_segment_mass_and_round_trip), KG_TEST(test_bad_capsules_and_segments_refused))

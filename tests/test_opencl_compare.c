@@ -298,6 +298,43 @@ static void kg_tiles_scene(kg_world* world)
     KG_CHECK_OK(kg_body_set_velocity(world, slider, (kg_vec2){10.0f, 0.0f}));
 }
 
+/* Capsules and segments (issue 15): capsules, balls and boxes falling on static segment
+ * ramps, a box floor, a tile-map ledge and a kinematic segment sweeping under them. */
+static void kg_capsules_scene(kg_world* world)
+{
+    kg_ground(world, 40.0f);
+    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_segment_shape((kg_vec2){-12.0f, 6.0f}, (kg_vec2){-2.0f, 1.0f}));
+    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_segment_shape((kg_vec2){2.0f, 2.0f}, (kg_vec2){12.0f, 4.0f}));
+    kg_tile_shape shapes[2] = {kg_tile_empty(), kg_tile_box()};
+    uint16_t ledge[6] = {1, 1, 1, 1, 1, 1};
+    kg_tilemap_def def = kg_default_tilemap_def();
+    def.width = 6;
+    def.height = 1;
+    def.origin = (kg_vec2){-3.0f, 5.0f};
+    def.shapes = shapes;
+    def.shape_count = 2;
+    def.tiles = ledge;
+    kg_tilemap map;
+    KG_CHECK_OK(kg_create_tilemap(world, &def, &map));
+    uint32_t seed = 1515u;
+    for (int i = 0; i < 80; ++i) {
+        kg_vec2 p = {kg_uniform(&seed, -11.0f, 11.0f), 7.0f + 0.6f * (float)(i / 8) + kg_uniform(&seed, 0.0f, 0.3f)};
+        float size = kg_uniform(&seed, 0.3f, 0.8f);
+        kg_vec2 half = {0.5f * size * kg_uniform(&seed, 0.1f, 1.0f), 0.0f};
+        kg_shape_def shape = kg_capsule_shape((kg_vec2){-half.x, 0.0f}, half, 0.3f * size);
+        shape = i % 4 == 1 ? kg_circle_shape(0.4f * size) : (i % 4 == 2 ? kg_box_shape(size, 0.6f * size) : shape);
+        kg_add(world, KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
+    }
+    kg_body_def sweeper = kg_default_body_def();
+    sweeper.type = KG_BODY_KINEMATIC;
+    sweeper.shape = kg_segment_shape((kg_vec2){-1.5f, 0.0f}, (kg_vec2){1.5f, 0.0f});
+    sweeper.position = (kg_vec2){-10.0f, 0.4f};
+    sweeper.velocity = (kg_vec2){2.0f, 0.0f};
+    sweeper.angular_velocity = 0.5f;
+    kg_body body;
+    KG_CHECK_OK(kg_create_body(world, &sweeper, &body));
+}
+
 static kg_world* kg_make_world(kg_backend backend, kg_scene_fn* scene)
 {
     kg_world_def def = kg_default_world_def();
@@ -491,6 +528,7 @@ static void test_rain_2000_colored_in_rounds(void)
     unsetenv("KGYRO_CL_COLOR_SERIAL_MAX");
 }
 static void test_tiles(void) { kg_compare_scene("tiles", kg_tiles_scene); }
+static void test_capsules(void) { kg_compare_scene("capsules", kg_capsules_scene); }
 
 /* With a tile map, the collide stage runs on the device: no "collide (host)" in the
  * stage times, with profiling off or on, and the world stays on the OpenCL backend. */
@@ -536,7 +574,7 @@ int main(void)
     static const kg_test_case tests[] = {KG_TEST(test_projectile), KG_TEST(test_applicators), KG_TEST(test_stack),
                                          KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_rain_2000_colored_in_rounds),
                                          KG_TEST(test_sizes), KG_TEST(test_piles),
-                                         KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device),
+                                         KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device), KG_TEST(test_capsules),
                                          KG_TEST(test_sleep_and_wake), KG_TEST(test_sleep_and_wake_islands_in_rounds)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

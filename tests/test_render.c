@@ -113,6 +113,30 @@ static void test_bodies_fill_their_centres(void)
     kg_destroy_world(world);
 }
 
+/* A capsule 4 m long overall (core from x = -1 to 1, radius 1) and a static segment below:
+ * the capsule fills its round ends and its middle, not the corners its box would have;
+ * the segment is its line alone. */
+static void test_capsules_and_segments(void)
+{
+    kg_world* world = kg_test_world((kg_vec2){0.0f, 0.0f});
+    kg_body capsule = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 1.0f}, 0.0f,
+                             kg_capsule_shape((kg_vec2){-1.0f, 0.0f}, (kg_vec2){1.0f, 0.0f}, 1.0f));
+    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -3.0f}, 0.0f, kg_segment_shape((kg_vec2){-4.0f, 0.0f}, (kg_vec2){4.0f, 0.0f}));
+    kg_canvas canvas;
+    KG_CHECK(kg_canvas_init(&canvas, 100, 100) == 0);
+    kg_draw_plain(&canvas, world, 0);
+    KG_CHECK(kg_canvas_get(&canvas, 50, 45) == kg_hue_fill(capsule.index)); /* middle, above the core line */
+    KG_CHECK(kg_canvas_get(&canvas, 33, 40) == kg_hue_fill(capsule.index)); /* left end, (-1.7, 1) */
+    KG_CHECK(kg_canvas_get(&canvas, 67, 43) == kg_hue_fill(capsule.index)); /* right end, (1.7, 0.7) */
+    KG_CHECK(kg_canvas_get(&canvas, 50, 40) == kg_hue_line(capsule.index)); /* the core's line */
+    KG_CHECK(kg_canvas_get(&canvas, 30, 30) == KG_COLOR_BACKGROUND);        /* its box's corner, (-1.95, 1.95) */
+    KG_CHECK(kg_canvas_get(&canvas, 50, 80) == KG_COLOR_STATIC_LINE);       /* the segment at y = -3 */
+    KG_CHECK(kg_canvas_get(&canvas, 50, 78) == KG_COLOR_BACKGROUND);
+    KG_CHECK(kg_canvas_get(&canvas, 50, 82) == KG_COLOR_BACKGROUND);
+    kg_canvas_free(&canvas);
+    kg_destroy_world(world);
+}
+
 /* A body is drawn where the world has moved it: one second of free fall. */
 static void test_bodies_are_drawn_at_their_pose(void)
 {
@@ -370,7 +394,7 @@ static void test_gif_round_trip(void)
 #define KG_FILE_TESTS
 #endif
 
-KG_TEST_MAIN(KG_TEST(test_camera_maps_both_ways), KG_TEST(test_bodies_fill_their_centres),
+KG_TEST_MAIN(KG_TEST(test_camera_maps_both_ways), KG_TEST(test_bodies_fill_their_centres), KG_TEST(test_capsules_and_segments),
              KG_TEST(test_bodies_are_drawn_at_their_pose), KG_TEST(test_bounding_boxes_and_rotation),
              KG_TEST(test_particles_and_kinematic_bodies), KG_TEST(test_tile_layer_where_the_map_says),
              KG_TEST(test_text), KG_TEST(test_clipping) KG_FILE_TESTS)

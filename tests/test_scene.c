@@ -114,6 +114,26 @@ static void test_defaults(void)
     kg_scene_destroy(scene);
 }
 
+/* Capsules and segments read into the shapes kg_capsule_shape and kg_segment_shape make. */
+static void test_capsule_and_segment(void)
+{
+    const char* json = "{\"bodies\": ["
+                       "{\"shape\": {\"type\": \"capsule\", \"center1\": [-0.5, 0], \"center2\": [0.5, 0.25], \"radius\": 0.3}},"
+                       "{\"type\": \"static\", \"shape\": {\"type\": \"segment\", \"point1\": [-4, 0], \"point2\": [4, -1]}},"
+                       "{\"type\": \"kinematic\", \"shape\": {\"type\": \"segment\", \"point1\": [0, 0], \"point2\": [1, 0]}}]}";
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_parse(json, strlen(json), "inline.json", &scene));
+    if (!scene) {
+        return;
+    }
+    kg_shape_def capsule = kg_capsule_shape((kg_vec2){-0.5f, 0.0f}, (kg_vec2){0.5f, 0.25f}, 0.3f);
+    kg_shape_def segment = kg_segment_shape((kg_vec2){-4.0f, 0.0f}, (kg_vec2){4.0f, -1.0f});
+    KG_CHECK(same_shape(&kg_scene_body_def(scene, 0)->shape, &capsule));
+    KG_CHECK(same_shape(&kg_scene_body_def(scene, 1)->shape, &segment));
+    KG_CHECK(kg_scene_body_def(scene, 2)->shape.type == KG_SHAPE_SEGMENT && kg_scene_body_def(scene, 2)->type == KG_BODY_KINEMATIC);
+    kg_scene_destroy(scene);
+}
+
 typedef struct error_case {
     const char* file;
     const char* message; /* after "data/scenes/FILE: " */
@@ -144,6 +164,10 @@ static const error_case kErrorFiles[] = {
     {"bad_pivot.json", "bodies[0].pivot: only kinematic bodies can have a pivot"},
     {"bad_degenerate_polygon.json",
      "bodies[0].shape.vertices: polygon has no area (its points are collinear or coincide)"},
+    {"bad_capsule_centres.json", "bodies[0].shape: capsule points coincide (closer than 0.0001 m): use a circle"},
+    {"bad_capsule_radius.json", "bodies[0].shape.radius: must be > 0"},
+    {"bad_dynamic_segment.json", "bodies[0].shape: a segment has no area: only static and kinematic bodies may have one"},
+    {"bad_segment_field.json", "bodies[0].shape.point3: unknown field"},
     {"bad_too_many_vertices.json", "bodies[0].shape.vertices: must have 3 to 8 vertices (got 9)"},
     {"bad_duplicate_name.json", "bodies[2].name: duplicate name 'box' (also bodies[1])"},
     {"bad_name_chars.json", "bodies[0].name: 'a,b' may only contain letters, digits and the characters _-.:/#"},
@@ -680,7 +704,7 @@ static void test_generated_scenes_instantiate(void)
     }
 }
 
-KG_TEST_MAIN(KG_TEST(test_full_scene_fields), KG_TEST(test_defaults), KG_TEST(test_error_files),
+KG_TEST_MAIN(KG_TEST(test_full_scene_fields), KG_TEST(test_defaults), KG_TEST(test_capsule_and_segment), KG_TEST(test_error_files),
              KG_TEST(test_error_strings), KG_TEST(test_unreadable_file), KG_TEST(test_samples_load),
              KG_TEST(test_json_generators), KG_TEST(test_large_pyramid), KG_TEST(test_many_pyramids),
              KG_TEST(test_smash), KG_TEST(test_tumbler_layout), KG_TEST(test_rain),

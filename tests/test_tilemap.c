@@ -171,6 +171,7 @@ static void check_slides(terrain kind, int run, kg_backend backend)
         {"circle r 0.25 m", kg_circle_shape(0.25f), 0.25f},
         {"box 1.6 x 0.4 m", kg_box_shape(1.6f, 0.4f), 0.2f},
         {"circle r 0.8 m", kg_circle_shape(0.8f), 0.8f},
+        {"capsule 1.2 x 0.4 m", kg_capsule_shape((kg_vec2){-0.4f, 0.0f}, (kg_vec2){0.4f, 0.0f}, 0.2f), 0.2f},
     };
     const char* backend_name = backend == KG_BACKEND_OPENCL ? "opencl" : "cpu";
     size_t count = backend == KG_BACKEND_OPENCL ? 2 : sizeof bodies / sizeof bodies[0];

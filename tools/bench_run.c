@@ -141,11 +141,12 @@ static int bench_shape_points(const kg_body_def* def, kg_vec2* out, float* radiu
 {
     float c = cosf(def->angle), s = sinf(def->angle);
     const kg_shape_def* shape = &def->shape;
-    int count = shape->type == KG_SHAPE_POLYGON ? shape->count : 1;
+    int has_vertices = shape->type == KG_SHAPE_POLYGON || shape->type == KG_SHAPE_CAPSULE || shape->type == KG_SHAPE_SEGMENT;
+    int count = has_vertices ? shape->count : 1;
     kg_vec2 local = shape->type == KG_SHAPE_CIRCLE ? shape->center : (kg_vec2){0.0f, 0.0f};
-    *radius = shape->type == KG_SHAPE_CIRCLE ? shape->radius : 0.0f;
+    *radius = shape->type == KG_SHAPE_CIRCLE || shape->type == KG_SHAPE_CAPSULE ? shape->radius : 0.0f;
     for (int i = 0; i < count; ++i) {
-        kg_vec2 p = shape->type == KG_SHAPE_POLYGON ? shape->vertices[i] : local;
+        kg_vec2 p = has_vertices ? shape->vertices[i] : local;
         out[i] = (kg_vec2){def->position.x + c * p.x - s * p.y, def->position.y + s * p.x + c * p.y};
     }
     return count;

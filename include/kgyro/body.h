@@ -18,17 +18,21 @@ typedef enum kg_body_type {
 typedef enum kg_shape_type {
     KG_SHAPE_NONE = 0,    /* a point: only for particles, which then need a mass */
     KG_SHAPE_CIRCLE = 1,
-    KG_SHAPE_POLYGON = 2  /* convex, up to KG_MAX_POLYGON_VERTICES; boxes are polygons */
+    KG_SHAPE_POLYGON = 2, /* convex, up to KG_MAX_POLYGON_VERTICES; boxes are polygons */
+    KG_SHAPE_CAPSULE = 3, /* two centres and a radius: a segment swept by a disc */
+    KG_SHAPE_SEGMENT = 4  /* two points, no thickness: for static outlines */
 } kg_shape_type;
 
 /* A shape in the body's local frame (around the body origin). Build it with
- * kg_box_shape, kg_circle_shape or kg_polygon_shape: polygon vertices may come in any
- * order; the convex hull is taken and duplicate or collinear points are dropped. */
+ * kg_box_shape, kg_circle_shape, kg_polygon_shape, kg_capsule_shape or kg_segment_shape:
+ * polygon vertices may come in any order; the convex hull is taken and duplicate or
+ * collinear points are dropped. A capsule or a segment keeps its two points in
+ * vertices[0] and vertices[1] (count 2), a capsule its radius in radius. */
 typedef struct kg_shape_def {
     kg_shape_type type;
     kg_vec2 center;  /* circle centre */
-    float radius;    /* circle radius */
-    int count;       /* polygon vertex count */
+    float radius;    /* circle or capsule radius */
+    int count;       /* polygon vertex count; 2 for capsules and segments */
     kg_vec2 vertices[KG_MAX_POLYGON_VERTICES];
 } kg_shape_def;
 
@@ -38,6 +42,17 @@ KG_API kg_shape_def kg_box_shape(float width, float height);
 KG_API kg_shape_def kg_offset_box_shape(float width, float height, kg_vec2 center, float angle);
 KG_API kg_shape_def kg_circle_shape(float radius);
 KG_API kg_shape_def kg_polygon_shape(const kg_vec2* vertices, int count);
+/* A capsule: the points within radius of the segment from center1 to center2. The
+ * centres must be finite and at least 1e-4 m apart (nearer ones are an error: use a
+ * circle), the radius finite and > 0. Its mass is a rectangle's and a disc's. */
+KG_API kg_shape_def kg_capsule_shape(kg_vec2 center1, kg_vec2 center2, float radius);
+/* A segment from point1 to point2 (finite, at least 1e-4 m apart), radius 0: for static
+ * and kinematic outlines (ground lines, ramps, moving platforms). It has no area, hence no
+ * mass, and two lines of no thickness that come to lie on each other have no side to push
+ * apart to, so a dynamic body or a particle with a segment shape is refused
+ * (KG_ERROR_INVALID_ARGUMENT; give it a thin capsule or box), and so is kg_shape_mass of a
+ * segment. */
+KG_API kg_shape_def kg_segment_shape(kg_vec2 point1, kg_vec2 point2);
 
 /* Mass, centre of mass (body frame) and rotational inertia about the centre of mass. */
 typedef struct kg_mass_data {
@@ -46,7 +61,7 @@ typedef struct kg_mass_data {
     float inertia;
 } kg_mass_data;
 
-/* Exact mass properties of a shape of uniform density (kg/m^2). */
+/* Exact mass properties of a shape of uniform density (kg/m^2); a segment has none. */
 KG_API kg_result kg_shape_mass(const kg_shape_def* shape, float density, kg_mass_data* out);
 
 typedef struct kg_body_def {

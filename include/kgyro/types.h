@@ -24,7 +24,7 @@ typedef enum kg_result {
     KG_ERROR_INVALID_HANDLE = -2,   /* stale, destroyed or foreign handle */
     KG_ERROR_POOL_FULL = -3,        /* capacity set in kg_world_def reached */
     KG_ERROR_OUT_OF_MEMORY = -4,
-    KG_ERROR_DEGENERATE_SHAPE = -5, /* polygon with no area, too many vertices */
+    KG_ERROR_DEGENERATE_SHAPE = -5, /* polygon with no area, too many vertices, coinciding capsule ends */
     KG_ERROR_IO = -6,               /* file could not be read or written */
     KG_ERROR_PARSE = -7,            /* malformed scene or map file */
     KG_ERROR_BACKEND = -8,          /* backend unavailable or failed */

@@ -1,6 +1,10 @@
 /* Contact manifolds between two shapes (the narrowphase), shared by the CPU backend and the
- * OpenCL kernels. Polygons are sharp (their radius is ignored); a shape with one vertex is a
- * circle around it, or a point when its radius is 0.
+ * OpenCL kernels. A shape with two or more vertices is a polygon with a radius: the points
+ * within radius of its core, the convex polygon itself (today's polygons are sharp, radius 0;
+ * a capsule is a 2-vertex core, its one segment run both ways, and a radius; a segment the
+ * same with radius 0). The core manifold is computed and then rounded: separations lose both
+ * radii and each point moves to the middle of the two rounded surfaces (Box2D v3's way). A
+ * shape with one vertex is a circle around it, or a point when its radius is 0.
  *
  * Each pair is solved in shape a's body frame shifted to a's first vertex, so coordinates
  * stay small and float round-off low wherever the bodies are, then moved to the world frame.
@@ -255,7 +259,9 @@ KG_FN kg_manifold kg_clip_to_face(const kg_face_contact* fc)
         t_lower = kg_maxf(-fc->lower / span, 0.0f);
         t_upper = kg_minf((fc->face_length - fc->lower) / span, 1.0f);
     }
-    if (t_lower <= t_upper) {
+    /* an unclipped edge wholly beside the face (a segment perpendicular to it) gives none */
+    int beside = span <= KG_LENGTH_EPSILON && (fc->upper < 0.0f || fc->lower > fc->face_length);
+    if (t_lower <= t_upper && !beside) {
         kg_push_face_point(&m, fc, kg_lerp(fc->v22, fc->v21, t_lower), fc->i11, fc->i22);
         kg_push_face_point(&m, fc, kg_lerp(fc->v22, fc->v21, t_upper), fc->i12, fc->i21);
     }
@@ -349,16 +355,104 @@ KG_FN kg_manifold kg_polygon_manifold(const kg_face_contact* fc, const kg_shape*
     return m;
 }
 
+/* The closest points of segment [a1, a2] and segment [b1, b2] (Ericson 5.1.9), as the
+ * parameters along each. */
+KG_FN void kg_closest_on_segments(kg_vec2 a1, kg_vec2 a2, kg_vec2 b1, kg_vec2 b2, float* fa, float* fb)
+{
+    kg_vec2 d1 = kg_sub(a2, a1), d2 = kg_sub(b2, b1), r = kg_sub(a1, b1);
+    float dd1 = kg_dot(d1, d1), dd2 = kg_dot(d2, d2), d12 = kg_dot(d1, d2);
+    float rd1 = kg_dot(r, d1), rd2 = kg_dot(r, d2);
+    float denominator = dd1 * dd2 - d12 * d12;
+    float s = denominator > 0.0f ? kg_clampf((d12 * rd2 - rd1 * dd2) / denominator, 0.0f, 1.0f) : 0.0f;
+    float t = (d12 * s + rd2) / dd2;
+    if (t < 0.0f) {
+        t = 0.0f;
+        s = kg_clampf(-rd1 / dd1, 0.0f, 1.0f);
+    } else if (t > 1.0f) {
+        t = 1.0f;
+        s = kg_clampf((d12 - rd1) / dd1, 0.0f, 1.0f);
+    }
+    *fa = s;
+    *fb = t;
+}
+
+/* The closest points of two disjoint cores, edge against edge, each named by the vertex of
+ * its edge nearer to it: a's in on_ref and ref_vertex, b's in on_inc and inc_vertex. */
+KG_FN kg_corner kg_closest_cores(const kg_shape* a, const kg_shape* b)
+{
+    kg_corner best;
+    best.on_ref = a->vertices[0];
+    best.on_inc = b->vertices[0];
+    best.distance = KG_FLT_MAX;
+    best.ref_vertex = 0;
+    best.inc_vertex = 0;
+    for (int i = 0; i < a->count; ++i) {
+        int i2 = kg_next_vertex(i, a->count);
+        for (int j = 0; j < b->count; ++j) {
+            int j2 = kg_next_vertex(j, b->count);
+            float fa, fb;
+            kg_closest_on_segments(a->vertices[i], a->vertices[i2], b->vertices[j], b->vertices[j2], &fa, &fb);
+            kg_vec2 on_a = kg_lerp(a->vertices[i], a->vertices[i2], fa);
+            kg_vec2 on_b = kg_lerp(b->vertices[j], b->vertices[j2], fb);
+            float distance = kg_distance(on_a, on_b);
+            if (distance < best.distance) {
+                best.on_ref = on_a;
+                best.on_inc = on_b;
+                best.distance = distance;
+                best.ref_vertex = fa < 0.5f ? i : i2;
+                best.inc_vertex = fb < 0.5f ? j : j2;
+            }
+        }
+    }
+    return best;
+}
+
+/* A 2-vertex core has no area, and the separating axes of its pair miss the axis along it:
+ * two segments in a line, end to end, look touching along their normals however far apart
+ * they are. So a pair with one whose separating axis gap (separation) does not prove them
+ * overlapping is checked against the cores' true distance: when they are apart and the
+ * manifold's nearest point is not at that distance, the closest points make one point along
+ * the line between them. (Polygons keep the separating axes alone.) */
+KG_FN kg_manifold kg_check_thin_cores(kg_manifold m, const kg_shape* a, const kg_shape* b, float separation)
+{
+    if (separation < -KG_REFERENCE_TOLERANCE) {
+        return m;
+    }
+    kg_corner c = kg_closest_cores(a, b);
+    if (c.distance <= KG_REFERENCE_TOLERANCE ||
+        (m.point_count > 0 && fabsf(kg_min_separation(&m) - c.distance) <= KG_REFERENCE_TOLERANCE)) {
+        return m;
+    }
+    kg_manifold one = kg_empty_manifold();
+    one.normal = kg_scale(1.0f / c.distance, kg_sub(c.on_inc, c.on_ref));
+    kg_push_point(&one, kg_lerp(c.on_ref, c.on_inc, 0.5f), c.distance, KG_FEATURE_ID(c.ref_vertex, c.inc_vertex));
+    return one;
+}
+
+/* From the manifold of the cores to that of the shapes a rounded by radius_a and b by
+ * radius_b: the surfaces move out along the normal, a's by radius_a, b's back by radius_b. */
+KG_FN void kg_round_manifold(kg_manifold* m, float radius_a, float radius_b)
+{
+    if (radius_a + radius_b > 0.0f) {
+        for (int i = 0; i < m->point_count; ++i) {
+            kg_manifold_point* mp = m->points + i;
+            mp->point = kg_mul_add(mp->point, 0.5f * (radius_a - radius_b), m->normal);
+            mp->separation -= radius_a + radius_b;
+        }
+    }
+}
+
 KG_FN kg_manifold kg_collide_polygons(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative_distance)
 {
     kg_vec2 origin = a->vertices[0];
     kg_shape poly_a = kg_polygon_in_frame(a, kg_translation(kg_neg(origin)));
     kg_shape poly_b = kg_polygon_in_frame(b, kg_relative_xf(xfa, origin, xfb));
+    float reach = speculative_distance + (a->radius + b->radius);
 
     int edge_a, edge_b;
     float separation_a = kg_max_separation(&poly_a, &poly_b, &edge_a);
     float separation_b = kg_max_separation(&poly_b, &poly_a, &edge_b);
-    if (separation_a > speculative_distance || separation_b > speculative_distance) {
+    if (separation_a > reach || separation_b > reach) {
         return kg_empty_manifold();
     }
 
@@ -367,15 +461,21 @@ KG_FN kg_manifold kg_collide_polygons(const kg_shape* a, kg_xf xfa, const kg_sha
     const kg_shape* inc = flip ? &poly_a : &poly_b;
     kg_face_contact fc = kg_face_contact_of(ref, flip ? edge_b : edge_a, inc, flip);
 
-    kg_manifold m = kg_polygon_manifold(&fc, inc, kg_maxf(separation_a, separation_b));
+    float separation = kg_maxf(separation_a, separation_b);
+    kg_manifold m = kg_polygon_manifold(&fc, inc, separation);
+    if (poly_a.count == 2 || poly_b.count == 2) {
+        m = kg_check_thin_cores(m, &poly_a, &poly_b, separation);
+    }
+    kg_round_manifold(&m, a->radius, b->radius);
     return kg_manifold_to_world(m, xfa, origin, xfb, speculative_distance);
 }
 
 /* ---- circles and points ---- */
 
-/* Polygon a against circle b. The circle's centre is tested against a's faces; outside a
- * corner's Voronoi region the face normal is the contact normal (this also covers a centre
- * inside the polygon), inside it the direction from the corner to the centre. */
+/* Polygon a (its core, then rounded) against circle b. The circle's centre is tested against
+ * a's faces; outside a corner's Voronoi region the face normal is the contact normal (this
+ * also covers a centre inside the polygon), inside it the direction from the corner to the
+ * centre. */
 KG_FN kg_manifold kg_collide_polygon_circle(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb,
                                             float speculative_distance)
 {
@@ -383,6 +483,7 @@ KG_FN kg_manifold kg_collide_polygon_circle(const kg_shape* a, kg_xf xfa, const 
     kg_shape poly = kg_polygon_in_frame(a, kg_translation(kg_neg(origin)));
     kg_vec2 center = kg_xf_point(kg_relative_xf(xfa, origin, xfb), b->vertices[0]);
     float radius = b->radius;
+    float reach = radius + a->radius;
 
     int edge = 0;
     float separation = -KG_FLT_MAX;
@@ -393,7 +494,7 @@ KG_FN kg_manifold kg_collide_polygon_circle(const kg_shape* a, kg_xf xfa, const 
             edge = i;
         }
     }
-    if (separation > radius + speculative_distance) {
+    if (separation > reach + speculative_distance) {
         return kg_empty_manifold();
     }
 
@@ -404,9 +505,12 @@ KG_FN kg_manifold kg_collide_polygon_circle(const kg_shape* a, kg_xf xfa, const 
     kg_vec2 normal = poly.normals[edge];
     kg_vec2 on_polygon = kg_mul_sub(center, separation, normal);
     /* a centre within epsilon of the polygon takes the face normal: no direction can be
-     * taken from a corner it (nearly) sits on */
-    if ((before_v1 || after_v2) && separation > KG_LENGTH_EPSILON) {
-        on_polygon = before_v1 ? v1 : v2;
+     * taken from a corner it (nearly) sits on. A 2-vertex core's faces are one line, which a
+     * centre beyond an end, in line with it, is on: there the distance to the end decides. */
+    kg_vec2 corner = before_v1 ? v1 : v2;
+    int off_corner = separation > KG_LENGTH_EPSILON || (poly.count == 2 && kg_distance(center, corner) > KG_LENGTH_EPSILON);
+    if ((before_v1 || after_v2) && off_corner) {
+        on_polygon = corner;
         kg_vec2 offset = kg_sub(center, on_polygon);
         separation = kg_length(offset);
         normal = kg_scale(1.0f / separation, offset);
@@ -416,6 +520,7 @@ KG_FN kg_manifold kg_collide_polygon_circle(const kg_shape* a, kg_xf xfa, const 
     m.normal = normal;
     kg_vec2 on_circle = kg_mul_sub(center, radius, normal);
     kg_push_point(&m, kg_lerp(on_polygon, on_circle, 0.5f), separation - radius, 0u);
+    kg_round_manifold(&m, a->radius, 0.0f);
     return kg_manifold_to_world(m, xfa, origin, xfb, speculative_distance);
 }
 
@@ -444,11 +549,12 @@ KG_FN kg_manifold kg_collide_circles(const kg_shape* a, kg_xf xfa, const kg_shap
 
 /* The contact manifold of shapes a and b (in their bodies' frames) with the bodies at xfa and
  * xfb: normal from a to b, up to two points with separation <= speculative_distance. A shape
- * with 3 or more vertices is a polygon, any other a circle (a point when its radius is 0). */
+ * with 2 or more vertices is a (rounded) polygon, any other a circle (a point when its radius
+ * is 0). */
 KG_FN kg_manifold kg_collide_shapes(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative_distance)
 {
-    int a_is_polygon = a->count >= 3;
-    int b_is_polygon = b->count >= 3;
+    int a_is_polygon = a->count >= 2;
+    int b_is_polygon = b->count >= 2;
     if (a_is_polygon && b_is_polygon) {
         return kg_collide_polygons(a, xfa, b, xfb, speculative_distance);
     }

@@ -45,6 +45,25 @@ kg_shape_def kg_polygon_shape(const kg_vec2* vertices, int count)
     return def;
 }
 
+kg_shape_def kg_capsule_shape(kg_vec2 center1, kg_vec2 center2, float radius)
+{
+    kg_shape_def def = kg_segment_shape(center1, center2);
+    def.type = KG_SHAPE_CAPSULE;
+    def.radius = radius;
+    return def;
+}
+
+kg_shape_def kg_segment_shape(kg_vec2 point1, kg_vec2 point2)
+{
+    kg_shape_def def;
+    memset(&def, 0, sizeof def);
+    def.type = KG_SHAPE_SEGMENT;
+    def.count = 2;
+    def.vertices[0] = point1;
+    def.vertices[1] = point2;
+    return def;
+}
+
 static int kg_point_less(kg_vec2 p, kg_vec2 q) { return p.x < q.x || (p.x == q.x && p.y < q.y); }
 
 /* Points welded: each closer than KG_WELD_DISTANCE to a kept one is dropped. Returns
@@ -197,6 +216,56 @@ static kg_result kg_build_polygon(const kg_shape_def* def, kg_shape* out)
     return KG_OK;
 }
 
+/* A capsule or a segment: a 2-vertex polygon (its two edges the same segment, run both
+ * ways, with opposite normals) and a radius, so the polygon narrowphase collides its core
+ * and rounds the result (collide/manifold.h). */
+static kg_result kg_build_two_point(const kg_shape_def* def, const char* kind, kg_shape* out)
+{
+    kg_vec2 p1 = def->vertices[0], p2 = def->vertices[1];
+    if (!kg_finite_vec(p1) || !kg_finite_vec(p2)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s points must be finite", kind);
+    }
+    if (!(kg_distance(p1, p2) >= KG_WELD_DISTANCE)) {
+        return kg_fail(KG_ERROR_DEGENERATE_SHAPE, "%s points coincide (closer than %g m)%s", kind,
+                       (double)KG_WELD_DISTANCE, def->type == KG_SHAPE_CAPSULE ? ": use a circle" : "");
+    }
+    kg_vec2 normal = kg_normalize(kg_right_perp(kg_sub(p2, p1)));
+    if (!isfinite(kg_length(kg_sub(p2, p1))) || fabsf(kg_length(normal) - 1.0f) > 1.0e-3f) {
+        return kg_fail(KG_ERROR_DEGENERATE_SHAPE, "%s too long: it overflows single precision", kind);
+    }
+    out->count = 2;
+    out->radius = def->radius;
+    out->vertices[0] = p1;
+    out->vertices[1] = p2;
+    out->normals[0] = normal;
+    out->normals[1] = kg_neg(normal);
+    out->centroid = kg_lerp(p1, p2, 0.5f);
+    return KG_OK;
+}
+
+static kg_result kg_build_capsule(const kg_shape_def* def, kg_shape* out)
+{
+    if (!isfinite(def->radius) || !(def->radius > 0.0f)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "capsule needs a finite radius > 0 (got %g)", (double)def->radius);
+    }
+    kg_result r = kg_build_two_point(def, "capsule", out);
+    if (r != KG_OK) {
+        return r;
+    }
+    kg_mass_data md = kg_shape_mass_of(out, 1.0f);
+    if (!isfinite(md.mass) || !isfinite(md.inertia) || !(md.inertia > 0.0f)) {
+        return kg_fail(KG_ERROR_DEGENERATE_SHAPE, "capsule too large: its mass properties overflow");
+    }
+    return KG_OK;
+}
+
+static kg_result kg_build_segment(const kg_shape_def* def, kg_shape* out)
+{
+    kg_shape_def thin = *def;
+    thin.radius = 0.0f;
+    return kg_build_two_point(&thin, "segment", out);
+}
+
 kg_result kg_shape_build(const kg_shape_def* def, kg_shape* out)
 {
     memset(out, 0, sizeof *out);
@@ -208,6 +277,10 @@ kg_result kg_shape_build(const kg_shape_def* def, kg_shape* out)
         return kg_build_circle(def, out);
     case KG_SHAPE_POLYGON:
         return kg_build_polygon(def, out);
+    case KG_SHAPE_CAPSULE:
+        return kg_build_capsule(def, out);
+    case KG_SHAPE_SEGMENT:
+        return kg_build_segment(def, out);
     }
     return kg_fail(KG_ERROR_INVALID_ARGUMENT, "unknown shape type %d", (int)def->type);
 }
@@ -216,6 +289,10 @@ kg_shape_def kg_shape_describe(const kg_shape* shape)
 {
     if (shape->count >= 3) {
         return kg_polygon_shape(shape->vertices, shape->count);
+    }
+    if (shape->count == 2) {
+        return shape->radius > 0.0f ? kg_capsule_shape(shape->vertices[0], shape->vertices[1], shape->radius)
+                                    : kg_segment_shape(shape->vertices[0], shape->vertices[1]);
     }
     kg_shape_def def = kg_circle_shape(shape->radius);
     def.center = shape->vertices[0];
@@ -257,10 +334,32 @@ static kg_mass_data kg_polygon_mass(const kg_shape* s, float density)
     return md;
 }
 
+/* A capsule of core length L and radius r: a 2r by L rectangle and a disc split into two
+ * half discs at the ends. Each half disc's inertia about the capsule's middle is its own
+ * about its centroid (which lies 4r / (3 pi) out from its flat side) moved there by the
+ * parallel axis theorem; both together come to m_disc (r^2 / 2 + L^2 / 4 + L 4r / (3 pi)).
+ * A segment (r = 0) has no area and no mass. */
+static kg_mass_data kg_capsule_mass(const kg_shape* s, float density)
+{
+    float r = s->radius, length = kg_distance(s->vertices[0], s->vertices[1]);
+    float box_mass = density * 2.0f * r * length;
+    float disc_mass = density * 3.14159265358979f * r * r;
+    float half_disc_offset = 4.0f * r / (3.0f * 3.14159265358979f);
+    kg_mass_data md;
+    md.mass = box_mass + disc_mass;
+    md.center = s->centroid;
+    md.inertia = box_mass * (length * length + 4.0f * r * r) / 12.0f +
+                 disc_mass * (0.5f * r * r + 0.25f * length * length + length * half_disc_offset);
+    return md;
+}
+
 kg_mass_data kg_shape_mass_of(const kg_shape* shape, float density)
 {
     if (shape->count >= 3) {
         return kg_polygon_mass(shape, density);
+    }
+    if (shape->count == 2) {
+        return kg_capsule_mass(shape, density);
     }
     kg_mass_data md;
     float r2 = shape->radius * shape->radius;
@@ -282,6 +381,9 @@ kg_result kg_shape_mass(const kg_shape_def* def, float density, kg_mass_data* ou
     kg_result r = kg_shape_build(def, &shape);
     if (r != KG_OK) {
         return r;
+    }
+    if (def->type == KG_SHAPE_SEGMENT) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "a segment has no area: a density gives it no mass");
     }
     *out = kg_shape_mass_of(&shape, density);
     if (!isfinite(out->mass) || !isfinite(out->inertia) || !(out->mass > 0.0f) || !(out->inertia >= 0.0f)) {

@@ -9,11 +9,12 @@
 #define KG_WELD_DISTANCE 1.0e-4f
 #define KG_MIN_AREA 1.0e-8f
 
-/* Validates def and builds the collision shape (hull for polygons). */
+/* Validates def and builds the collision shape (hull for polygons; a capsule or a segment
+ * as a 2-vertex polygon with a radius). */
 kg_result kg_shape_build(const kg_shape_def* def, kg_shape* out);
 /* Back from a collision shape to a description (for kg_body_get_shape). */
 kg_shape_def kg_shape_describe(const kg_shape* shape);
-/* Mass properties of a built shape of uniform density. */
+/* Mass properties of a built shape of uniform density (zero for a segment). */
 kg_mass_data kg_shape_mass_of(const kg_shape* shape, float density);
 
 #endif

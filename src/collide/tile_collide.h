@@ -369,27 +369,6 @@ KG_FN float kg_face_separation(const kg_tile_segment* s, const kg_shape* body, i
     return fminf(kg_dot(n, kg_sub(s->p1, w)), kg_dot(n, kg_sub(s->p2, w)));
 }
 
-/* The closest points of segment [a1, a2] and segment [b1, b2] (Ericson 5.1.9), as the
- * parameters along each. */
-KG_FN void kg_closest_on_segments(kg_vec2 a1, kg_vec2 a2, kg_vec2 b1, kg_vec2 b2, float* fa, float* fb)
-{
-    kg_vec2 d1 = kg_sub(a2, a1), d2 = kg_sub(b2, b1), r = kg_sub(a1, b1);
-    float dd1 = kg_dot(d1, d1), dd2 = kg_dot(d2, d2), d12 = kg_dot(d1, d2);
-    float rd1 = kg_dot(r, d1), rd2 = kg_dot(r, d2);
-    float denominator = dd1 * dd2 - d12 * d12;
-    float s = denominator > 0.0f ? kg_clampf((d12 * rd2 - rd1 * dd2) / denominator, 0.0f, 1.0f) : 0.0f;
-    float t = (d12 * s + rd2) / dd2;
-    if (t < 0.0f) {
-        t = 0.0f;
-        s = kg_clampf(-rd1 / dd1, 0.0f, 1.0f);
-    } else if (t > 1.0f) {
-        t = 1.0f;
-        s = kg_clampf((d12 - rd1) / dd1, 0.0f, 1.0f);
-    }
-    *fa = s;
-    *fb = t;
-}
-
 /* The closest features of a segment and a separated polygon body. */
 typedef struct kg_closest {
     kg_vec2 on_segment, on_body;
@@ -577,6 +556,17 @@ KG_FN kg_tile_hit kg_tile_collide_polygon(const kg_tile_segment* s, const kg_sha
     return kg_touching_polygon(s, body, speculative);
 }
 
+/* A polygon body with a radius (a capsule: its 2-vertex core) against a segment: the core
+ * collided within the speculative distance plus the radius, then rounded as in manifold.h.
+ * Sharp polygons (radius 0) come out as kg_tile_collide_polygon gives them. */
+KG_FN kg_tile_hit kg_tile_collide_rounded(const kg_tile_segment* s, const kg_shape* body, int exit, float speculative)
+{
+    kg_tile_hit hit = kg_tile_collide_polygon(s, body, exit, speculative + body->radius);
+    kg_round_manifold(&hit.manifold, 0.0f, body->radius);
+    hit.separation -= body->radius;
+    return hit;
+}
+
 /* ---- circles and points ---- */
 
 /* A circle against one of the segment's end vertices, in its vertex region. */
@@ -691,7 +681,7 @@ KG_FN kg_tile_hit kg_tile_collide(const kg_tile_neighbourhood* nb, const kg_shap
         hit.separation = kg_min_separation(&hit.manifold);
         return hit;
     }
-    int body_is_polygon = body->count >= 3;
+    int body_is_polygon = body->count >= 2;
     kg_vec2 center = body_is_polygon ? body->centroid : body->vertices[0];
     int exit = kg_exit_edge(tile, centre.word, center);
     kg_tile_hit best = kg_tile_no_hit();
@@ -700,7 +690,7 @@ KG_FN kg_tile_hit kg_tile_collide(const kg_tile_neighbourhood* nb, const kg_shap
             continue;
         }
         kg_tile_segment s = kg_tile_segment_of(nb, i);
-        kg_tile_hit hit = body_is_polygon ? kg_tile_collide_polygon(&s, body, i == exit, speculative)
+        kg_tile_hit hit = body_is_polygon ? kg_tile_collide_rounded(&s, body, i == exit, speculative)
                                           : kg_tile_collide_circle(&s, center, body->radius, i == exit, speculative);
         if (hit.manifold.point_count > 0 && (best.manifold.point_count == 0 || hit.separation > best.separation)) {
             best = hit;

@@ -69,6 +69,10 @@ static kg_result kg_validate_body_def(const kg_body_def* d)
     if (d->shape.type == KG_SHAPE_NONE && d->type != KG_BODY_PARTICLE) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "only particles may have no shape");
     }
+    if (d->shape.type == KG_SHAPE_SEGMENT && (d->type == KG_BODY_DYNAMIC || d->type == KG_BODY_PARTICLE)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT,
+                       "a segment has no area: only static and kinematic bodies may have one (use a thin capsule)");
+    }
     return KG_OK;
 }
 
@@ -77,7 +81,7 @@ static kg_result kg_body_mass_from_def(const kg_body_def* d, const kg_shape* sha
 {
     memset(md, 0, sizeof *md);
     if (d->type == KG_BODY_STATIC || d->type == KG_BODY_KINEMATIC) {
-        md->center = shape->count >= 3 ? shape->centroid : shape->vertices[0];
+        md->center = shape->count >= 2 ? shape->centroid : shape->vertices[0];
         return KG_OK;
     }
     if (d->shape.type == KG_SHAPE_NONE) {

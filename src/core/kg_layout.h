@@ -12,8 +12,11 @@
 #define KG_NULL_INDEX 0xFFFFFFFFu
 
 /* A body's collision shape in the body's frame (around its origin), ready for
- * collision: polygons are convex, counter-clockwise, with unit outward edge normals.
- * count 1 is a circle (or a point when radius is 0) centred at vertices[0]. */
+ * collision: polygons are convex, counter-clockwise, with unit outward edge normals, and
+ * rounded by radius (0 for the polygons a user gives). count 2 is a capsule (or a segment
+ * when radius is 0): the segment from vertices[0] to vertices[1] as a 2-vertex polygon,
+ * run both ways with opposite normals. count 1 is a circle (or a point when radius is 0)
+ * centred at vertices[0]. */
 typedef struct kg_shape {
     kg_vec2 vertices[KG_MAX_VERTS];
     kg_vec2 normals[KG_MAX_VERTS];

@@ -28,6 +28,8 @@ static const char* const kBodyFields[] = {"name", "type", "position", "angle", "
 static const char* const kBoxFields[] = {"type", "width", "height", "center", "angle", NULL};
 static const char* const kCircleFields[] = {"type", "radius", "center", NULL};
 static const char* const kPolygonFields[] = {"type", "vertices", NULL};
+static const char* const kCapsuleFields[] = {"type", "center1", "center2", "radius", NULL};
+static const char* const kSegmentFields[] = {"type", "point1", "point2", NULL};
 
 static const char* const kBodyTypes[] = {"static", "dynamic", "kinematic", "particle", NULL};
 
@@ -87,6 +89,35 @@ static kg_result kg_read_circle(const kg_json_reader* reader, const cJSON* json,
     return KG_OK;
 }
 
+static kg_result kg_read_capsule(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                 kg_shape_def* out)
+{
+    kg_vec2 center1 = {0.0f, 0.0f}, center2 = {0.0f, 0.0f};
+    float radius = 0.0f;
+    KG_TRY(kg_json_check_object(reader, json, path, kCapsuleFields));
+    KG_TRY(kg_json_require(reader, json, path, "center1"));
+    KG_TRY(kg_json_require(reader, json, path, "center2"));
+    KG_TRY(kg_json_require(reader, json, path, "radius"));
+    KG_TRY(kg_json_vec2(reader, json, path, "center1", &center1));
+    KG_TRY(kg_json_vec2(reader, json, path, "center2", &center2));
+    KG_TRY(kg_json_float(reader, json, path, "radius", KG_JSON_POSITIVE, &radius));
+    *out = kg_capsule_shape(center1, center2, radius);
+    return KG_OK;
+}
+
+static kg_result kg_read_segment(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                 kg_shape_def* out)
+{
+    kg_vec2 point1 = {0.0f, 0.0f}, point2 = {0.0f, 0.0f};
+    KG_TRY(kg_json_check_object(reader, json, path, kSegmentFields));
+    KG_TRY(kg_json_require(reader, json, path, "point1"));
+    KG_TRY(kg_json_require(reader, json, path, "point2"));
+    KG_TRY(kg_json_vec2(reader, json, path, "point1", &point1));
+    KG_TRY(kg_json_vec2(reader, json, path, "point2", &point2));
+    *out = kg_segment_shape(point1, point2);
+    return KG_OK;
+}
+
 /* A JSON array of 3 to KG_MAX_POLYGON_VERTICES [x, y] points, for body and tile polygons. */
 static kg_result kg_read_vertex_list(const kg_json_reader* reader, const cJSON* vertices, const kg_json_path* path,
                                      kg_vec2* points, int* count)
@@ -118,11 +149,24 @@ static kg_result kg_read_polygon(const kg_json_reader* reader, const cJSON* json
     return KG_OK;
 }
 
+/* Whether the library accepts the shape: with its mass at density 1, or for a segment,
+ * which has none, as a static body's. */
+static kg_result kg_library_accepts(const kg_shape_def* shape)
+{
+    if (shape->type == KG_SHAPE_SEGMENT) {
+        kg_body_def outline = kg_default_body_def();
+        outline.type = KG_BODY_STATIC;
+        outline.shape = *shape;
+        return kg_check_body_def(&outline);
+    }
+    kg_mass_data mass;
+    return kg_shape_mass(shape, 1.0f, &mass);
+}
+
 /* Lets the library judge the geometry (degenerate polygons above all). */
 static kg_result kg_check_shape(const kg_json_reader* reader, const kg_shape_def* shape, const kg_json_path* path)
 {
-    kg_mass_data mass;
-    if (kg_shape_mass(shape, 1.0f, &mass) == KG_OK) {
+    if (kg_library_accepts(shape) == KG_OK) {
         return KG_OK;
     }
     char reason[256];
@@ -134,7 +178,7 @@ static kg_result kg_check_shape(const kg_json_reader* reader, const kg_shape_def
 static kg_result kg_read_shape(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
                                kg_shape_def* out)
 {
-    static const char* const kinds[] = {"box", "circle", "polygon", NULL};
+    static const char* const kinds[] = {"box", "circle", "polygon", "capsule", "segment", NULL};
     if (!cJSON_IsObject(json)) {
         return kg_json_fail(reader, path, "must be an object");
     }
@@ -147,6 +191,12 @@ static kg_result kg_read_shape(const kg_json_reader* reader, const cJSON* json, 
         break;
     case 1:
         KG_TRY(kg_read_circle(reader, json, path, out));
+        break;
+    case 3:
+        KG_TRY(kg_read_capsule(reader, json, path, out));
+        break;
+    case 4:
+        KG_TRY(kg_read_segment(reader, json, path, out));
         break;
     default:
         KG_TRY(kg_read_polygon(reader, json, path, out));
@@ -212,7 +262,12 @@ static kg_result kg_read_body_shape(const kg_json_reader* reader, const cJSON* j
     const cJSON* shape = cJSON_GetObjectItemCaseSensitive(json, "shape");
     if (shape) {
         kg_json_path shape_path = kg_json_path_key(path, "shape");
-        return kg_read_shape(reader, shape, &shape_path, &def->shape);
+        KG_TRY(kg_read_shape(reader, shape, &shape_path, &def->shape));
+        int moves = def->type == KG_BODY_DYNAMIC || def->type == KG_BODY_PARTICLE;
+        if (moves && def->shape.type == KG_SHAPE_SEGMENT) {
+            return kg_json_fail(reader, &shape_path, "a segment has no area: only static and kinematic bodies may have one");
+        }
+        return KG_OK;
     }
     if (def->type != KG_BODY_PARTICLE) {
         kg_json_path shape_path = kg_json_path_key(path, "shape");

@@ -215,6 +215,40 @@ static void kg_draw_circle(kg_canvas* canvas, const kg_camera* camera, const kg_
     kg_canvas_line(canvas, middle, kg_camera_to_screen(camera, rim), line);
 }
 
+/* A capsule drawn as the convex polygon of its outline: each end a half circle of
+ * KG_CAPSULE_ARC points, the core's line through the middle showing how it turns. */
+#define KG_CAPSULE_ARC 9
+
+static void kg_draw_capsule(kg_canvas* canvas, const kg_camera* camera, const kg_shape_def* shape,
+                            const kg_body_state* state, uint8_t fill, uint8_t line)
+{
+    kg_vec2 c1 = shape->vertices[0], c2 = shape->vertices[1];
+    float base = atan2f(c2.y - c1.y, c2.x - c1.x) - 0.5f * 3.14159265f;
+    kg_point points[2 * KG_CAPSULE_ARC];
+    for (int end = 0; end < 2; ++end) {
+        kg_vec2 c = end ? c2 : c1;
+        for (int i = 0; i < KG_CAPSULE_ARC; ++i) {
+            float a = base + 3.14159265f * ((float)end + (float)i / (float)(KG_CAPSULE_ARC - 1));
+            kg_vec2 rim = {c.x - shape->radius * cosf(a), c.y - shape->radius * sinf(a)};
+            points[end * KG_CAPSULE_ARC + i] = kg_camera_to_screen(camera, kg_transform(state, rim));
+        }
+    }
+    kg_canvas_fill_convex(canvas, points, 2 * KG_CAPSULE_ARC, fill);
+    if (2.0f * shape->radius * camera->scale >= KG_OUTLINE_MIN_SIZE) {
+        kg_canvas_outline(canvas, points, 2 * KG_CAPSULE_ARC, line);
+        kg_canvas_line(canvas, kg_camera_to_screen(camera, kg_transform(state, c1)),
+                       kg_camera_to_screen(camera, kg_transform(state, c2)), line);
+    }
+}
+
+/* A segment has no area: its line alone, in the outline's colour. */
+static void kg_draw_segment(kg_canvas* canvas, const kg_camera* camera, const kg_shape_def* shape,
+                            const kg_body_state* state, uint8_t line)
+{
+    kg_canvas_line(canvas, kg_camera_to_screen(camera, kg_transform(state, shape->vertices[0])),
+                   kg_camera_to_screen(camera, kg_transform(state, shape->vertices[1])), line);
+}
+
 static void kg_draw_shape(kg_canvas* canvas, const kg_camera* camera, const kg_shape_def* shape,
                           const kg_body_state* state, kg_body_type type, kg_body body)
 {
@@ -224,6 +258,10 @@ static void kg_draw_shape(kg_canvas* canvas, const kg_camera* camera, const kg_s
         kg_draw_polygon(canvas, camera, shape, state, fill, line);
     } else if (shape->type == KG_SHAPE_CIRCLE) {
         kg_draw_circle(canvas, camera, shape, state, type, fill, line);
+    } else if (shape->type == KG_SHAPE_CAPSULE) {
+        kg_draw_capsule(canvas, camera, shape, state, fill, line);
+    } else if (shape->type == KG_SHAPE_SEGMENT) {
+        kg_draw_segment(canvas, camera, shape, state, line);
     } else {
         kg_canvas_fill_circle(canvas, kg_camera_to_screen(camera, state->position), KG_PARTICLE_RADIUS, fill);
     }

@@ -79,12 +79,27 @@ static kg_vec2 kg_to_world(const kg_body_state* s, kg_vec2 local)
     return (kg_vec2){s->position.x + c * local.x - sn * local.y, s->position.y + sn * local.x + c * local.y};
 }
 
-/* Inside a convex polygon when the point is on the same side of every edge. */
+/* Within radius of the core from c1 to c2: nearer the segment than radius. */
+static int kg_capsule_contains(const kg_shape_def* shape, kg_vec2 p)
+{
+    kg_vec2 c1 = shape->vertices[0], c2 = shape->vertices[1];
+    float ex = c2.x - c1.x, ey = c2.y - c1.y;
+    float t = ((p.x - c1.x) * ex + (p.y - c1.y) * ey) / (ex * ex + ey * ey);
+    t = fminf(fmaxf(t, 0.0f), 1.0f);
+    float dx = p.x - (c1.x + t * ex), dy = p.y - (c1.y + t * ey);
+    return dx * dx + dy * dy <= shape->radius * shape->radius;
+}
+
+/* Inside a convex polygon when the point is on the same side of every edge. A segment has
+ * no inside: it is never picked. */
 static int kg_shape_contains(const kg_shape_def* shape, kg_vec2 p)
 {
     if (shape->type == KG_SHAPE_CIRCLE) {
         float dx = p.x - shape->center.x, dy = p.y - shape->center.y;
         return dx * dx + dy * dy <= shape->radius * shape->radius;
+    }
+    if (shape->type == KG_SHAPE_CAPSULE) {
+        return kg_capsule_contains(shape, p);
     }
     int sides = 0;
     for (int i = 0; shape->type == KG_SHAPE_POLYGON && i < shape->count; ++i) {
