@@ -115,6 +115,23 @@ static void test_circle_rolling_along_a_run_sees_only_its_normal(void)
     KG_CHECK(most <= 2);
 }
 
+static void test_capsule_sliding_along_a_run_sees_only_its_normal(void)
+{
+    static kg_vec2 points[RUN];
+    straight_run(points);
+    kg_shape capsule = built(kg_capsule_shape(kg_v2(-0.4f, 0.0f), kg_v2(0.4f, 0.0f), 0.2f));
+    double worst = 0.0;
+    int touching = 0;
+    for (int k = 0; k < 2000; ++k) {
+        int points_here = 0;
+        collide_along(points, RUN, 0, &capsule, pose(1.0f + 0.0413f * (float)k, 0.199f, 0.0f), kg_v2(0.0f, 1.0f),
+                      &points_here, &worst);
+        touching += points_here > 0;
+    }
+    KG_CHECK(touching == 2000);
+    KG_CHECK(worst < 1e-6);
+}
+
 static void test_body_behind_a_segment_gets_nothing(void)
 {
     static kg_vec2 points[RUN];
@@ -184,6 +201,7 @@ int main(void)
     const kg_test_case tests[] = {
         KG_TEST(test_box_sliding_along_a_run_sees_only_its_normal),
         KG_TEST(test_circle_rolling_along_a_run_sees_only_its_normal),
+        KG_TEST(test_capsule_sliding_along_a_run_sees_only_its_normal),
         KG_TEST(test_body_behind_a_segment_gets_nothing),
         KG_TEST(test_convex_corner_of_a_loop),
         KG_TEST(test_open_end_is_free),

@@ -86,8 +86,8 @@ KG_FN kg_manifold kg_collide_chain_segment(const kg_shape* chain, kg_xf xfa, con
     kg_vec2 origin = chain->vertices[0];
     kg_tile_segment s = kg_chain_segment_of(chain, origin);
     kg_shape moved = kg_shape_moved(body, kg_relative_xf(xfa, origin, xfb));
-    kg_tile_hit hit = moved.count >= 3
-                          ? kg_tile_collide_polygon(&s, &moved, 0, speculative_distance)
+    kg_tile_hit hit = moved.count >= 2
+                          ? kg_tile_collide_rounded(&s, &moved, 0, speculative_distance)
                           : kg_tile_collide_circle(&s, moved.vertices[0], moved.radius, 0, speculative_distance);
     return kg_manifold_to_world(hit.manifold, xfa, origin, xfb, speculative_distance);
 }
