@@ -128,7 +128,8 @@ static void kg_body_write(kg_body_pool* p, int i, const kg_body_def* d, const kg
     p->category[i] = d->category;
     p->mask[i] = d->mask;
     p->user_data[i] = d->user_data;
-    p->flags[i] = KG_FLAG_ALIVE | ((kg_u32)d->type << KG_TYPE_SHIFT) | (d->fixed_rotation ? KG_FLAG_FIXED_ROTATION : 0u);
+    p->flags[i] = KG_FLAG_ALIVE | ((kg_u32)d->type << KG_TYPE_SHIFT) | (d->fixed_rotation ? KG_FLAG_FIXED_ROTATION : 0u) |
+                  (d->bullet ? KG_FLAG_BULLET : 0u);
     if (p->generation[i] == 0) {
         p->generation[i] = 1;
     }
@@ -469,6 +470,22 @@ kg_result kg_body_set_filter(kg_world* world, kg_body body, uint32_t category, u
     p->category[i] = category;
     p->mask[i] = mask;
     return KG_OK;
+}
+
+kg_result kg_body_set_bullet(kg_world* world, kg_body body, int bullet)
+{
+    int i;
+    kg_body_pool* p = kg_write_body(world, body, 1, "", &i);
+    if (!p) {
+        return kg_read_error();
+    }
+    p->flags[i] = bullet ? (p->flags[i] | KG_FLAG_BULLET) : (p->flags[i] & ~KG_FLAG_BULLET);
+    return KG_OK;
+}
+
+int kg_body_is_bullet(const kg_world* world, kg_body body)
+{
+    return kg_body_is_valid(world, body) && (world->bodies.flags[body.index] & KG_FLAG_BULLET) != 0u;
 }
 
 kg_result kg_body_apply_force(kg_world* world, kg_body body, kg_vec2 force, kg_vec2 world_point)

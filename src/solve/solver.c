@@ -12,6 +12,8 @@
 #include "core/parallel.h"
 #include "collide/aabb.h"
 #include "collide/collide.h"
+#include "collide/continuous.h"
+#include "collide/tilemap.h"
 #include "core/alloc.h"
 #include "core/error.h"
 #include "solve/body_step.h"
@@ -40,6 +42,7 @@ struct kg_solver {
     kg_solver_body* bodies;           /* per body slot, then the still body (slot `still`) */
     kg_u32 still;                     /* what rows name for the static world and empty lanes */
     kg_velocity_step* velocity_steps; /* per body, made once a step */
+    kg_u32* statics;                  /* per body: the static slots, for continuous collision */
 };
 
 static kg_result kg_reserve_blocks(struct kg_solver* s, int blocks)
@@ -91,7 +94,8 @@ kg_result kg_solver_create(kg_world* world)
     }
     s->bodies = kg_alloc_zeroed(((size_t)world->def.max_bodies + 1) * sizeof *s->bodies);
     s->velocity_steps = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->velocity_steps);
-    if (!s->bodies || !s->velocity_steps) {
+    s->statics = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->statics);
+    if (!s->bodies || !s->velocity_steps || !s->statics) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the solver");
     }
     s->still = (kg_u32)world->def.max_bodies;
@@ -110,6 +114,7 @@ void kg_solver_destroy(kg_world* world)
     kg_free_constraints(s);
     kg_free(s->bodies);
     kg_free(s->velocity_steps);
+    kg_free(s->statics);
     kg_free(s);
     world->solver = NULL;
 }
@@ -404,16 +409,30 @@ void kg_stage_solve(kg_world* world, float dt)
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_store_bodies, &bjob);
 }
 
+/* ---- finalize, with continuous collision ------------------------------------------ */
+
 typedef struct kg_finalize_job {
     kg_body_pool* pool;
     float dt;
+    int continuous;             /* world->def.enable_continuous */
+    int pass;                   /* KG_CONTINUOUS_PASS_*: bullets are finalized in the second */
+    kg_continuous_bodies bodies;
+    kg_tile_terrain terrain;
+    kg_toi_params toi;
 } kg_finalize_job;
 
 static void kg_finalize_range(void* context, int begin, int end)
 {
     const kg_finalize_job* job = context;
     kg_body_pool* p = job->pool;
+    int bullets = job->pass == KG_CONTINUOUS_PASS_BULLETS;
     for (int i = begin; i < end; ++i) {
+        if (job->continuous) {
+            if (kg_is_bullet(p->flags[i]) != bullets) {
+                continue;
+            }
+            kg_continuous_body(&job->bodies, &job->terrain, (kg_u32)i, job->pass, job->toi);
+        }
         if (kg_finalize_body((kg_u32)i, job->dt, p->flags, p->center, p->rot, p->velocity, p->omega, p->force,
                              p->torque, p->drag, p->xf, p->aabb, p->shape, p->local_center)) {
             kg_warn_frozen(i);
@@ -421,8 +440,65 @@ static void kg_finalize_range(void* context, int begin, int end)
     }
 }
 
+/* The static slots in slot order into statics; returns how many, and in *bullets how
+ * many live bullets there are. */
+static int kg_gather_statics(const kg_body_pool* p, kg_u32* statics, int* bullets)
+{
+    int n = 0;
+    *bullets = 0;
+    for (int i = 0; i < p->high_water; ++i) {
+        kg_u32 f = p->flags[i];
+        if (kg_flags_alive(f) && kg_flags_type(f) == (kg_u32)KG_BODY_STATIC) {
+            statics[n++] = (kg_u32)i;
+        }
+        *bullets += kg_flags_alive(f) && kg_is_bullet(f);
+    }
+    return n;
+}
+
+static kg_tile_terrain kg_terrain_of(const kg_world* world)
+{
+    kg_tile_terrain t = {0, 0, 0, 0, world->def.speculative_distance, world->def.linear_slop};
+    if (kg_tilemaps_live_count(world) > 0) {
+        kg_tilemap_arrays a;
+        kg_tilemaps_arrays(world, &a);
+        t.maps = a.maps;
+        t.cells = a.cells;
+        t.protos = a.protos;
+        t.map_count = a.map_count;
+    }
+    return t;
+}
+
+/* What the time of impact searches aim at: the linear slop, as Box2D v3. */
+kg_toi_params kg_toi_params_of(const kg_world_def* def)
+{
+    kg_toi_params prm = {def->linear_slop, 0.25f * def->linear_slop};
+    return prm;
+}
+
 void kg_stage_finalize(kg_world* world)
 {
-    kg_finalize_job job = {&world->bodies, world->last_dt};
-    kg_parallel_for(world->threads, world->bodies.high_water, KG_BODY_GRAIN, kg_finalize_range, &job);
+    kg_body_pool* p = &world->bodies;
+    struct kg_solver* s = world->solver;
+    kg_finalize_job job;
+    memset(&job, 0, sizeof job);
+    job.pool = p;
+    job.dt = world->last_dt;
+    job.continuous = world->def.enable_continuous;
+    int bullets = 0;
+    if (job.continuous) {
+        int statics = kg_gather_statics(p, s->statics, &bullets);
+        kg_continuous_bodies b = {p->flags,    p->center,   p->rot,  p->xf,      p->aabb,     p->shape,
+                                  p->local_center, p->category, p->mask, s->statics, statics, p->high_water};
+        job.bodies = b;
+        job.terrain = kg_terrain_of(world);
+        job.toi = kg_toi_params_of(&world->def);
+    }
+    job.pass = KG_CONTINUOUS_PASS_BODIES;
+    kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_finalize_range, &job);
+    if (bullets > 0) { /* against the others' poses at the end of the step, finalized above */
+        job.pass = KG_CONTINUOUS_PASS_BULLETS;
+        kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_finalize_range, &job);
+    }
 }

@@ -1,0 +1,166 @@
+/* The continuous collision of one body, at the end of the solve, before its pose is
+ * finalized: a dynamic body that moved fast (collide/toi.h, kg_moved_fast) is swept from
+ * its pose at the start of the step (its origin transform, which finalize has not yet
+ * updated) to its pose at the end (centre and rotation), against the static bodies and
+ * the tile maps that the swept bounds overlap; a bullet also against the non-bullet
+ * dynamic bodies, at their poses at the end of the step (finalized before the bullets
+ * run). At the earliest time of impact the body is moved back on its sweep and keeps its
+ * velocity: next step's contact, made just touching, stops it. Box2D v3's scheme.
+ *
+ * A body's result depends only on the start and end poses of the step and on bodies it
+ * does not write, so the CPU backend runs bodies in parallel and the device one
+ * work-item a body, with the same bits. */
+#ifndef KG_CONTINUOUS_H
+#define KG_CONTINUOUS_H
+
+#include "collide/aabb.h"
+#include "collide/tile_pass.h"
+#include "collide/toi.h"
+
+/* The body pool's arrays the pass reads, and the two it writes (centre and rotation). */
+typedef struct kg_continuous_bodies {
+    KG_GLOBAL const kg_u32* flags;
+    KG_GLOBAL kg_vec2* center;
+    KG_GLOBAL kg_rot* rot;
+    KG_GLOBAL const kg_xf* xf; /* at the start of the step for the bodies being swept */
+    KG_GLOBAL const kg_aabb* aabb;
+    KG_GLOBAL const kg_shape* shape;
+    KG_GLOBAL const kg_vec2* local_center;
+    KG_GLOBAL const kg_u32* category;
+    KG_GLOBAL const kg_u32* mask;
+    KG_GLOBAL const kg_u32* statics; /* slots of the static bodies, in slot order */
+    int static_count;
+    int slot_count;                  /* the pool's high water: bullets look at [0, slot_count) */
+} kg_continuous_bodies;
+
+/* Which pass a body is swept in: the non-bullets first, then the bullets against them. */
+#define KG_CONTINUOUS_PASS_BODIES 0
+#define KG_CONTINUOUS_PASS_BULLETS 1
+
+KG_FN int kg_is_bullet(kg_u32 flags) { return (flags & KG_FLAG_BULLET) != 0u; }
+
+/* Whether slot i is swept in pass `pass`: an awake dynamic body of the pass's kind. */
+KG_FN int kg_continuous_takes(kg_u32 flags, int pass)
+{
+    return kg_flags_simulated(flags) && kg_flags_type(flags) == (kg_u32)KG_BODY_DYNAMIC &&
+           kg_is_bullet(flags) == (pass == KG_CONTINUOUS_PASS_BULLETS);
+}
+
+KG_FN int kg_filters_meet(kg_u32 category_a, kg_u32 mask_a, kg_u32 category_b, kg_u32 mask_b)
+{
+    return (category_a & mask_b) != 0u && (category_b & mask_a) != 0u;
+}
+
+/* Body slot i's sweep over the step. */
+KG_FN kg_sweep kg_body_sweep(const kg_continuous_bodies* b, kg_u32 i)
+{
+    kg_sweep s;
+    kg_xf start = b->xf[i];
+    s.local_center = b->local_center[i];
+    s.c1 = kg_xf_point(start, s.local_center);
+    s.q1 = start.q;
+    s.c2 = b->center[i];
+    s.q2 = b->rot[i];
+    return s;
+}
+
+/* Bounds of the shape all along the sweep: every point of it stays within its largest
+ * extent of the centre, which runs straight from c1 to c2; fattened by the target. */
+KG_FN kg_aabb kg_sweep_bounds(const kg_shape* shape, const kg_sweep* s, float target)
+{
+    kg_aabb box;
+    box.lower = kg_vmin(s->c1, s->c2);
+    box.upper = kg_vmax(s->c1, s->c2);
+    return kg_aabb_fatten(box, target + kg_shape_max_extent(shape, s->local_center));
+}
+
+/* The earliest fraction (below limit) at which the shape meets body slot j. */
+KG_FN float kg_toi_with_body(const kg_continuous_bodies* b, kg_u32 i, const kg_shape* shape, const kg_sweep* s,
+                             kg_aabb box, kg_u32 j, kg_toi_params prm, float limit)
+{
+    if (!kg_aabb_overlap(box, b->aabb[j]) || !kg_filters_meet(b->category[i], b->mask[i], b->category[j], b->mask[j])) {
+        return limit;
+    }
+    KG_PRIVATE_VIEW(kg_shape, other, b->shape[j]);
+    return kg_shape_time_of_impact(shape, s, other, b->xf[j], prm, limit);
+}
+
+/* The earliest fraction at which the shape meets a tile of map m over the cells box
+ * covers: tiles with an exposed edge (a body reaches the others through those) that are
+ * not one-way platforms (a body may pass those from below). */
+KG_FN float kg_toi_with_map(const kg_tile_terrain* t, const kg_tile_map_info* m, const kg_shape* shape,
+                            const kg_sweep* s, kg_aabb box, kg_toi_params prm, float limit)
+{
+    kg_vec2 size = m->tile_size, origin = m->origin;
+    int x0, x1, y0, y1;
+    if (!kg_tile_span((box.lower.x - origin.x) / size.x, (box.upper.x - origin.x) / size.x, m->width, &x0, &x1) ||
+        !kg_tile_span((box.lower.y - origin.y) / size.y, (box.upper.y - origin.y) / size.y, m->height, &y0, &y1)) {
+        return limit;
+    }
+    for (int layer = 0; layer < m->layer_count; ++layer) {
+        for (int y = y0; y <= y1; ++y) {
+            for (int x = x0; x <= x1; ++x) {
+                kg_u32 index = kg_tile_cell_index(m, layer, x, y);
+                KG_GLOBAL const kg_tile_proto* proto = &t->protos[m->proto_offset + kg_cell_id(t->cells[m->cell_offset + index])];
+                if (!kg_tile_may_touch(t, m, index) || (proto->flags & KG_TILE_FLAG_ONE_WAY) != 0u) {
+                    continue;
+                }
+                kg_xf cell;
+                cell.p = kg_v2(origin.x + (float)x * size.x, origin.y + (float)y * size.y);
+                cell.q = kg_rot_identity();
+                KG_PRIVATE_VIEW(kg_shape, tile, proto->shape);
+                limit = kg_shape_time_of_impact(shape, s, tile, cell, prm, limit);
+            }
+        }
+    }
+    return limit;
+}
+
+/* The earliest fraction of the sweep at which slot i meets what it is swept against. */
+KG_FN float kg_body_time_of_impact(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
+                                   const kg_shape* shape, const kg_sweep* s, kg_toi_params prm)
+{
+    kg_aabb box = kg_sweep_bounds(shape, s, prm.target);
+    float limit = 1.0f;
+    for (int k = 0; k < b->static_count; ++k) {
+        limit = kg_toi_with_body(b, i, shape, s, box, b->statics[k], prm, limit);
+    }
+    for (int n = 0; n < t->map_count; ++n) {
+        KG_PRIVATE_VIEW(kg_tile_map_info, m, t->maps[n]);
+        if (kg_filters_meet(b->category[i], b->mask[i], m->category, m->mask)) {
+            limit = kg_toi_with_map(t, m, shape, s, box, prm, limit);
+        }
+    }
+    for (int j = 0; pass == KG_CONTINUOUS_PASS_BULLETS && j < b->slot_count; ++j) {
+        kg_u32 f = b->flags[j];
+        if (kg_flags_collide(f) && kg_flags_type(f) == (kg_u32)KG_BODY_DYNAMIC && !kg_is_bullet(f)) {
+            limit = kg_toi_with_body(b, i, shape, s, box, (kg_u32)j, prm, limit);
+        }
+    }
+    return limit;
+}
+
+/* Slot i's continuous collision in pass `pass`: if it takes part and moved fast, it is
+ * moved back to its earliest time of impact, keeping its velocity. Returns 1 when it
+ * was moved back. */
+KG_FN int kg_continuous_body(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
+                             kg_toi_params prm)
+{
+    if (!kg_continuous_takes(b->flags[i], pass)) {
+        return 0;
+    }
+    KG_PRIVATE_VIEW(kg_shape, shape, b->shape[i]);
+    kg_sweep s = kg_body_sweep(b, i);
+    if (!kg_moved_fast(&s, shape)) {
+        return 0;
+    }
+    float t_hit = kg_body_time_of_impact(b, t, i, pass, shape, &s, prm);
+    if (t_hit >= 1.0f) {
+        return 0;
+    }
+    b->center[i] = kg_sweep_center(&s, t_hit);
+    b->rot[i] = kg_sweep_rot(&s, t_hit);
+    return 1;
+}
+
+#endif
