@@ -1,5 +1,5 @@
 /* The continuous collision of one body, at the end of the solve, before its pose is
- * finalized: a dynamic body that moved fast (collide/toi.h, kg_moved_fast) is swept from
+ * finalized: a dynamic body that moves fast (collide/toi.h, kg_moves_fast) is swept from
  * its pose at the start of the step (its origin transform, which finalize has not yet
  * updated) to its pose at the end (centre and rotation), against the static bodies and
  * the tile maps that the swept bounds overlap; a bullet also against the non-bullet
@@ -20,6 +20,8 @@
 /* The body pool's arrays the pass reads, and the two it writes (centre and rotation). */
 typedef struct kg_continuous_bodies {
     KG_GLOBAL const kg_u32* flags;
+    KG_GLOBAL const kg_vec2* velocity;
+    KG_GLOBAL const float* omega;
     KG_GLOBAL kg_vec2* center;
     KG_GLOBAL kg_rot* rot;
     KG_GLOBAL const kg_xf* xf; /* at the start of the step for the bodies being swept */
@@ -52,9 +54,10 @@ KG_FN int kg_filters_meet(kg_u32 category_a, kg_u32 mask_a, kg_u32 category_b, k
 }
 
 /* Body slot i's sweep over the step. */
-KG_FN kg_sweep kg_body_sweep(const kg_continuous_bodies* b, kg_u32 i)
+KG_FN kg_sweep kg_body_sweep(const kg_continuous_bodies* b, kg_u32 i, float max_extent)
 {
     kg_sweep s;
+    s.max_extent = max_extent;
     kg_xf start = b->xf[i];
     s.local_center = b->local_center[i];
     s.c1 = kg_xf_point(start, s.local_center);
@@ -66,12 +69,12 @@ KG_FN kg_sweep kg_body_sweep(const kg_continuous_bodies* b, kg_u32 i)
 
 /* Bounds of the shape all along the sweep: every point of it stays within its largest
  * extent of the centre, which runs straight from c1 to c2; fattened by the target. */
-KG_FN kg_aabb kg_sweep_bounds(const kg_shape* shape, const kg_sweep* s, float target)
+KG_FN kg_aabb kg_sweep_bounds(const kg_sweep* s, float target)
 {
     kg_aabb box;
     box.lower = kg_vmin(s->c1, s->c2);
     box.upper = kg_vmax(s->c1, s->c2);
-    return kg_aabb_fatten(box, target + kg_shape_max_extent(shape, s->local_center));
+    return kg_aabb_fatten(box, target + s->max_extent);
 }
 
 /* The earliest fraction (below limit) at which the shape meets body slot j. */
@@ -117,10 +120,10 @@ KG_FN float kg_toi_with_map(const kg_tile_terrain* t, const kg_tile_map_info* m,
 }
 
 /* The earliest fraction of the sweep at which slot i meets what it is swept against. */
-KG_FN float kg_body_time_of_impact(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
+KG_FN_NOINLINE float kg_body_time_of_impact(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
                                    const kg_shape* shape, const kg_sweep* s, kg_toi_params prm)
 {
-    kg_aabb box = kg_sweep_bounds(shape, s, prm.target);
+    kg_aabb box = kg_sweep_bounds(s, prm.target);
     float limit = 1.0f;
     for (int k = 0; k < b->static_count; ++k) {
         limit = kg_toi_with_body(b, i, shape, s, box, b->statics[k], prm, limit);
@@ -140,20 +143,18 @@ KG_FN float kg_body_time_of_impact(const kg_continuous_bodies* b, const kg_tile_
     return limit;
 }
 
-/* Slot i's continuous collision in pass `pass`: if it takes part and moved fast, it is
- * moved back to its earliest time of impact, keeping its velocity. Returns 1 when it
- * was moved back. */
-KG_FN int kg_continuous_body(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
-                             kg_toi_params prm)
+/* Slot i's continuous collision in pass `pass`, for a body that takes part in it
+ * (kg_continuous_takes) with the given extents (kg_shape_extents of its shape): if it
+ * moves fast, it is moved back to its earliest time of impact in the step of dt,
+ * keeping its velocity. Returns 1 when it was moved back. */
+KG_FN_INLINE int kg_continuous_body(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
+                                    kg_toi_params prm, float dt, kg_extents extents)
 {
-    if (!kg_continuous_takes(b->flags[i], pass)) {
+    if (!kg_moves_fast(b->velocity[i], b->omega[i], dt, extents)) {
         return 0;
     }
+    kg_sweep s = kg_body_sweep(b, i, extents.max);
     KG_PRIVATE_VIEW(kg_shape, shape, b->shape[i]);
-    kg_sweep s = kg_body_sweep(b, i);
-    if (!kg_moved_fast(&s, shape)) {
-        return 0;
-    }
     float t_hit = kg_body_time_of_impact(b, t, i, pass, shape, &s, prm);
     if (t_hit >= 1.0f) {
         return 0;

@@ -1,6 +1,6 @@
 /* Continuous collision (time of impact), shared by the CPU backend and the OpenCL kernels.
  *
- * A body that moved far in a step (kg_moved_fast) is swept from its pose at the start of
+ * A body that moves fast (kg_moves_fast) is swept from its pose at the start of
  * the step to its pose at the end (kg_sweep); the time of impact with a shape is found by
  * conservative advancement: at fraction t of the sweep the exact distance d between the
  * two shapes is measured, and no point of the moving shape moves faster than `bound`
@@ -19,16 +19,18 @@
 /* Conservative advancement steps before giving up (and stopping where it got to). */
 #define KG_TOI_MAX_ITERATIONS 24
 
-/* The turning speed bound of kg_sweep_speed_bound at the largest turn it bounds. */
+/* The turning speed bound of kg_sweep_motion_of at the largest turn it bounds. */
 #define KG_TOI_WILD_TURN 8.72f
 
 /* A moving body's motion over the step: its centre of mass goes from c1 to c2 in a
  * straight line and its rotation from q1 to q2 along the shorter arc (normalized linear
- * interpolation), with local_center its centre of mass in its own frame. */
+ * interpolation), with local_center its centre of mass in its own frame and max_extent
+ * the farthest any point of it lies from there (kg_extents.max). */
 typedef struct kg_sweep {
     kg_vec2 local_center;
     kg_vec2 c1, c2;
     kg_rot q1, q2;
+    float max_extent;
 } kg_sweep;
 
 /* The rotation a fraction t along q1 -> q2. */
@@ -52,8 +54,14 @@ KG_FN kg_xf kg_sweep_xf(const kg_sweep* s, float t)
  * radius; polygons are sharp (the narrowphase ignores theirs too). */
 KG_FN float kg_round_radius(const kg_shape* s) { return s->count >= 3 ? 0.0f : s->radius; }
 
-/* The radius of the largest circle around the centroid within the shape: the least
- * distance of the centroid to a face (to the rim for round shapes). */
+/* How large a body is for the continuous collision: min, the radius of the largest circle
+ * around its shape's centroid within it; max, the farthest a point of it lies from its
+ * centre of mass. A function of the shape alone, which the CPU backend keeps per body. */
+typedef struct kg_extents {
+    float min, max;
+} kg_extents;
+
+/* The least distance of the centroid to a face (to the rim for round shapes). */
 KG_FN float kg_shape_min_extent(const kg_shape* s)
 {
     if (s->count < 3) {
@@ -76,28 +84,46 @@ KG_FN float kg_shape_max_extent(const kg_shape* s, kg_vec2 c)
     return sqrtf(far2) + kg_round_radius(s);
 }
 
-/* Whether a body moved far enough this step to have passed through something: a point
- * of it moved more than half its least extent (Box2D v3's test), the rotation measured
- * by its chord. Bodies slower than that cannot cross a shape as thick as themselves
- * without a contact holding them, and pay nothing more. */
-KG_FN int kg_moved_fast(const kg_sweep* s, const kg_shape* shape)
+KG_FN kg_extents kg_shape_extents(const kg_shape* s, kg_vec2 local_center)
 {
-    kg_vec2 dc = kg_sub(s->c2, s->c1);
-    kg_vec2 dq = kg_v2(s->q2.c - s->q1.c, s->q2.s - s->q1.s);
-    float half_extent = 0.5f * kg_shape_min_extent(shape);
-    float reach = kg_length(dc) + kg_length(dq) * kg_shape_max_extent(shape, s->local_center);
-    return reach > half_extent;
+    kg_extents e;
+    e.min = kg_shape_min_extent(s);
+    e.max = kg_shape_max_extent(s, local_center);
+    return e;
+}
+
+/* Whether a body moving at v and w may have passed through something in a step of dt:
+ * a point of it moves more than half its least extent (Box2D v3's test). Slower bodies
+ * cannot cross a shape as thick as themselves without a contact holding them, and pay
+ * nothing more: most are told by squares alone, as (a + b)^2 <= 2 a^2 + 2 b^2. */
+KG_FN int kg_moves_fast(kg_vec2 v, float w, float dt, kg_extents e)
+{
+    float half_extent = 0.5f * e.min;
+    float linear2 = dt * dt * kg_length_sq(v);
+    float turning2 = dt * dt * w * w * e.max * e.max;
+    if (2.0f * (linear2 + turning2) <= half_extent * half_extent) {
+        return 0;
+    }
+    return sqrtf(linear2) + sqrtf(turning2) > half_extent;
 }
 
 /* ---- distance ---- */
 
-/* Squared distance of point p to segment [a, b] (a point when a == b). */
-KG_FN float kg_point_segment_distance_sq(kg_vec2 p, kg_vec2 a, kg_vec2 b)
+/* The closest points of two shapes, or that they overlap: distance < 0 (then only the
+ * separating axis depth, and no normal). normal is the unit direction from the first
+ * shape's closest point to the second's. */
+typedef struct kg_separation {
+    float distance;
+    kg_vec2 normal;
+} kg_separation;
+
+/* The point of segment [a, b] (a point when a == b) closest to p. */
+KG_FN kg_vec2 kg_closest_on_segment(kg_vec2 p, kg_vec2 a, kg_vec2 b)
 {
     kg_vec2 e = kg_sub(b, a);
     float ee = kg_length_sq(e);
     float t = ee > 0.0f ? kg_clampf(kg_dot(kg_sub(p, a), e) / ee, 0.0f, 1.0f) : 0.0f;
-    return kg_length_sq(kg_sub(p, kg_mul_add(a, t, e)));
+    return kg_mul_add(a, t, e);
 }
 
 /* The largest separation of hull q from hull p along p's edge normals (p counter-clockwise
@@ -117,31 +143,42 @@ KG_FN float kg_hull_separation(const kg_vec2* p, int np, const kg_vec2* q, int n
     return best;
 }
 
-/* Least squared distance of q's points to p's edges (to p's point when it has one). */
-KG_FN float kg_hull_points_to_edges(const kg_vec2* p, int np, const kg_vec2* q, int nq)
+/* Keeps in *best (squared distance, offset) the nearest of itself and the offsets from
+ * p's edges (p's point when it has one) to q's points, turned round when flip is set. */
+KG_FN void kg_hull_points_to_edges(const kg_vec2* p, int np, const kg_vec2* q, int nq, int flip, float* best,
+                                   kg_vec2* offset)
 {
-    float least = KG_FLT_MAX;
     for (int i = 0; i < np; ++i) {
         kg_vec2 a = p[i], b = p[i + 1 < np ? i + 1 : 0];
         for (int j = 0; j < nq; ++j) {
-            least = kg_minf(least, kg_point_segment_distance_sq(q[j], a, b));
+            kg_vec2 d = kg_sub(q[j], kg_closest_on_segment(q[j], a, b));
+            float d2 = kg_length_sq(d);
+            if (d2 < *best) {
+                *best = d2;
+                *offset = flip ? kg_neg(d) : d;
+            }
         }
     }
-    return least;
 }
 
-/* The distance between two convex hulls of up to KG_MAX_VERTS points (counter-clockwise),
- * negative when they overlap (then the separating axis depth, which only says "overlap").
+/* The separation of two convex hulls of up to KG_MAX_VERTS points (counter-clockwise).
  * Separated hulls are closest between a point of one and an edge of the other, so the
  * least of those distances is exact. */
-KG_FN float kg_hull_distance(const kg_vec2* p, int np, const kg_vec2* q, int nq)
+KG_FN kg_separation kg_hull_distance(const kg_vec2* p, int np, const kg_vec2* q, int nq)
 {
-    float separation = kg_maxf(kg_hull_separation(p, np, q, nq), kg_hull_separation(q, nq, p, np));
-    if (separation < 0.0f) {
-        return separation;
+    kg_separation s;
+    s.distance = kg_maxf(kg_hull_separation(p, np, q, nq), kg_hull_separation(q, nq, p, np));
+    s.normal = kg_v2(0.0f, 0.0f);
+    if (s.distance < 0.0f) {
+        return s;
     }
-    float d2 = kg_minf(kg_hull_points_to_edges(p, np, q, nq), kg_hull_points_to_edges(q, nq, p, np));
-    return sqrtf(d2);
+    float best = KG_FLT_MAX;
+    kg_vec2 offset = s.normal;
+    kg_hull_points_to_edges(p, np, q, nq, 0, &best, &offset);
+    kg_hull_points_to_edges(q, nq, p, np, 1, &best, &offset);
+    s.distance = sqrtf(best);
+    s.normal = kg_normalize(offset);
+    return s;
 }
 
 /* The points of a shape moved by xf, and their count (clamped to the arrays). */
@@ -154,8 +191,9 @@ KG_FN int kg_shape_points(const kg_shape* s, kg_xf xf, kg_vec2* out)
     return n;
 }
 
-/* The distance between shapes a and b (body frames) at poses xfa and xfb: < 0 overlapping. */
-KG_FN float kg_shape_distance(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb)
+/* The separation of shapes a and b (body frames) at poses xfa and xfb, round parts
+ * included; the normal from a to b. */
+KG_FN kg_separation kg_shape_distance(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb)
 {
     kg_vec2 pa[KG_MAX_VERTS];
     kg_vec2 pb[KG_MAX_VERTS];
@@ -165,7 +203,9 @@ KG_FN float kg_shape_distance(const kg_shape* a, kg_xf xfa, const kg_shape* b, k
     base.q = kg_rot_identity();
     int na = kg_shape_points(a, kg_xf_inv_mul(base, xfa), pa);
     int nb = kg_shape_points(b, kg_xf_inv_mul(base, xfb), pb);
-    return kg_hull_distance(pa, na, pb, nb) - kg_round_radius(a) - kg_round_radius(b);
+    kg_separation s = kg_hull_distance(pa, na, pb, nb);
+    s.distance -= kg_round_radius(a) + kg_round_radius(b);
+    return s;
 }
 
 /* ---- time of impact ---- */
@@ -178,44 +218,53 @@ typedef struct kg_toi_params {
     float tolerance;
 } kg_toi_params;
 
-/* The fastest any point of shape moves along the sweep, in metres per unit fraction:
- * the centre's speed plus the farthest point's turning speed. The normalized
+/* How a shape moves along a sweep, in metres per unit fraction: its centre's
+ * displacement, and how fast its farthest point can turn round it. The normalized
  * interpolation of a turn by angle a turns fastest halfway, at 2 tan(a / 2) per unit
  * fraction, which is 2 sin a / (1 + cos a) of the relative rotation. Past about 155
  * degrees a step (a body spinning at over 160 rad/s at 60 Hz) that grows without bound
  * and the search would stop the body where it started: it takes KG_TOI_WILD_TURN, the
  * bound at 155 degrees, which may let such a spinner's corner graze a wall but never its
  * centre pass it. */
-KG_FN float kg_sweep_speed_bound(const kg_sweep* s, const kg_shape* shape)
+typedef struct kg_sweep_motion {
+    kg_vec2 displacement;
+    float turning; /* the farthest point's speed round the centre, at most */
+} kg_sweep_motion;
+
+KG_FN kg_sweep_motion kg_sweep_motion_of(const kg_sweep* s)
 {
     kg_rot dq = kg_rot_inv_mul(s->q1, s->q2);
     float turn = dq.c > -0.9f ? 2.0f * (dq.s < 0.0f ? -dq.s : dq.s) / (1.0f + dq.c) : KG_TOI_WILD_TURN;
-    float reach = kg_shape_max_extent(shape, s->local_center);
-    return kg_length(kg_sub(s->c2, s->c1)) + turn * reach;
+    kg_sweep_motion m;
+    m.displacement = kg_sub(s->c2, s->c1);
+    m.turning = turn * s->max_extent;
+    return m;
 }
 
 /* The first fraction of the sweep, below limit, at which moving (swept by s) comes
  * within target of other (at its pose other_xf), by conservative advancement: limit when
  * it does not come that close before limit; 0 when it is that close already at the start
- * (a shape resting on the other, which the contact handles). */
+ * (a shape resting on the other, which the contact handles). The plane through the
+ * closest points, normal to the gap, keeps other behind it; moving's nearest point to it
+ * approaches it no faster than the displacement along the normal plus the turning, so
+ * the gap cannot close before that rate has covered it. A body sliding along a wall
+ * therefore never stops for it. */
 KG_FN float kg_time_of_impact(const kg_shape* moving, const kg_sweep* s, const kg_shape* other, kg_xf other_xf,
                               kg_toi_params prm, float limit)
 {
-    float bound = kg_sweep_speed_bound(s, moving);
+    kg_sweep_motion m = kg_sweep_motion_of(s);
     float t = 0.0f;
     for (int k = 0; k < KG_TOI_MAX_ITERATIONS; ++k) {
-        float d = kg_shape_distance(moving, kg_sweep_xf(s, t), other, other_xf);
-        float gap = d - prm.target;
+        kg_separation sep = kg_shape_distance(moving, kg_sweep_xf(s, t), other, other_xf);
+        float gap = sep.distance - prm.target;
         if (gap < prm.tolerance) {
             return t;
         }
-        if (bound * (limit - t) <= gap) {
+        float closing = kg_maxf(kg_dot(m.displacement, sep.normal), 0.0f) + m.turning;
+        if (closing * (limit - t) <= gap) {
             return limit;
         }
-        t += gap / bound;
-        if (t >= limit) {
-            return limit;
-        }
+        t += gap / closing;
     }
     return t;
 }

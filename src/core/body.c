@@ -160,6 +160,15 @@ kg_result kg_check_body_def(const kg_body_def* def)
     return kg_prepare_body(def, &shape, &md);
 }
 
+/* Continuous collision keeps a list of the static bodies and a count of the bullets
+ * (solve/solver.c), made again after any change to one of them. */
+static void kg_note_static_edit(kg_world* world, const kg_body_pool* p, int i)
+{
+    if (kg_pool_type(p, i) == KG_BODY_STATIC || (p->flags[i] & KG_FLAG_BULLET) != 0u) {
+        world->static_edits += 1u;
+    }
+}
+
 kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_body)
 {
     if (!world || !def || !out_body) {
@@ -177,6 +186,7 @@ kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_b
         return kg_fail(KG_ERROR_POOL_FULL, "body pool full (max_bodies = %d)", p->capacity);
     }
     kg_body_write(p, i, def, &shape, &md);
+    kg_note_static_edit(world, p, i);
     out_body->index = (uint32_t)i;
     out_body->generation = p->generation[i];
     return KG_OK;
@@ -190,6 +200,7 @@ kg_result kg_destroy_body(kg_world* world, kg_body body)
     }
     kg_body_pool* p = kg_world_write_pool(world);
     kg_wake_touching(p, p->aabb[i], world->def.speculative_distance); /* what rested on it */
+    kg_note_static_edit(world, p, i);
     kg_body_pool_release(p, i);
     if (p->generation[i] == 0) {
         p->generation[i] = 1;
@@ -319,6 +330,7 @@ static kg_body_pool* kg_write_body(kg_world* world, kg_body body, int values_ok,
     }
     kg_body_pool* p = kg_world_write_pool(world);
     kg_wake_slot(p, *index); /* a body changed through the API is simulated again */
+    kg_note_static_edit(world, p, *index);
     return p;
 }
 
@@ -480,6 +492,7 @@ kg_result kg_body_set_bullet(kg_world* world, kg_body body, int bullet)
         return kg_read_error();
     }
     p->flags[i] = bullet ? (p->flags[i] | KG_FLAG_BULLET) : (p->flags[i] & ~KG_FLAG_BULLET);
+    kg_note_static_edit(world, p, i);
     return KG_OK;
 }
 

@@ -28,6 +28,14 @@
 #define KG_BODY_GRAIN 256
 #define KG_CONSTRAINT_GRAIN 64
 
+/* A body's extents, computed once for each body that takes the slot (a body's shape
+ * never changes): generation is the body's (0: none yet). Each slot is written by its
+ * own body only, so threads share nothing. */
+typedef struct kg_body_extents {
+    kg_extents extents;
+    kg_u32 generation;
+} kg_body_extents;
+
 struct kg_solver {
     const kg_contact_rows* rows; /* the SIMD width's row code */
     void* blocks;                /* rows of width lanes, colour by colour: what the passes run over */
@@ -42,7 +50,12 @@ struct kg_solver {
     kg_solver_body* bodies;           /* per body slot, then the still body (slot `still`) */
     kg_u32 still;                     /* what rows name for the static world and empty lanes */
     kg_velocity_step* velocity_steps; /* per body, made once a step */
-    kg_u32* statics;                  /* per body: the static slots, for continuous collision */
+    kg_u32* statics;                  /* per body: the static slots, for continuous collision, */
+    int static_count;                 /* with the live bullets' count, as they were */
+    int bullet_count;
+    kg_u32 statics_edits;             /* at world->static_edits (statics_listed: ever) */
+    int statics_listed;
+    kg_body_extents* extents;         /* per body slot: its shape's, for continuous collision */
 };
 
 static kg_result kg_reserve_blocks(struct kg_solver* s, int blocks)
@@ -95,7 +108,8 @@ kg_result kg_solver_create(kg_world* world)
     s->bodies = kg_alloc_zeroed(((size_t)world->def.max_bodies + 1) * sizeof *s->bodies);
     s->velocity_steps = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->velocity_steps);
     s->statics = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->statics);
-    if (!s->bodies || !s->velocity_steps || !s->statics) {
+    s->extents = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->extents);
+    if (!s->bodies || !s->velocity_steps || !s->statics || !s->extents) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the solver");
     }
     s->still = (kg_u32)world->def.max_bodies;
@@ -115,6 +129,7 @@ void kg_solver_destroy(kg_world* world)
     kg_free(s->bodies);
     kg_free(s->velocity_steps);
     kg_free(s->statics);
+    kg_free(s->extents);
     kg_free(s);
     world->solver = NULL;
 }
@@ -411,8 +426,10 @@ void kg_stage_solve(kg_world* world, float dt)
 
 /* ---- finalize, with continuous collision ------------------------------------------ */
 
+
 typedef struct kg_finalize_job {
     kg_body_pool* pool;
+    struct kg_solver* solver;
     float dt;
     int continuous;             /* world->def.enable_continuous */
     int pass;                   /* KG_CONTINUOUS_PASS_*: bullets are finalized in the second */
@@ -421,17 +438,37 @@ typedef struct kg_finalize_job {
     kg_toi_params toi;
 } kg_finalize_job;
 
+/* Slot i's extents, computed once for each body that takes the slot (a body's shape
+ * never changes). Each slot is written by its own body only: threads share nothing. */
+static kg_extents kg_extents_of(kg_body_extents* cache, const kg_body_pool* p, int i)
+{
+    kg_body_extents e = cache[i];
+    if (e.generation != p->generation[i]) {
+        e.extents = kg_shape_extents(&p->shape[i], p->local_center[i]);
+        e.generation = p->generation[i];
+        cache[i] = e;
+    }
+    return e.extents;
+}
+
 static void kg_finalize_range(void* context, int begin, int end)
 {
     const kg_finalize_job* job = context;
     kg_body_pool* p = job->pool;
+    kg_continuous_bodies bodies = job->bodies;
+    kg_tile_terrain terrain = job->terrain;
+    kg_body_extents* extents = job->solver->extents;
     int bullets = job->pass == KG_CONTINUOUS_PASS_BULLETS;
     for (int i = begin; i < end; ++i) {
+        kg_u32 f = p->flags[i];
         if (job->continuous) {
-            if (kg_is_bullet(p->flags[i]) != bullets) {
+            if (kg_is_bullet(f) != bullets) {
                 continue;
             }
-            kg_continuous_body(&job->bodies, &job->terrain, (kg_u32)i, job->pass, job->toi);
+            if (kg_continuous_takes(f, job->pass)) {
+                kg_continuous_body(&bodies, &terrain, (kg_u32)i, job->pass, job->toi, job->dt,
+                                   kg_extents_of(extents, p, i));
+            }
         }
         if (kg_finalize_body((kg_u32)i, job->dt, p->flags, p->center, p->rot, p->velocity, p->omega, p->force,
                              p->torque, p->drag, p->xf, p->aabb, p->shape, p->local_center)) {
@@ -440,20 +477,26 @@ static void kg_finalize_range(void* context, int begin, int end)
     }
 }
 
-/* The static slots in slot order into statics; returns how many, and in *bullets how
- * many live bullets there are. */
-static int kg_gather_statics(const kg_body_pool* p, kg_u32* statics, int* bullets)
+/* The static slots in slot order and the live bullets' count, listed again when a static
+ * body or a bullet changed (world->static_edits) since they were. */
+static void kg_list_statics(kg_world* world, struct kg_solver* s)
 {
-    int n = 0;
-    *bullets = 0;
+    if (s->statics_listed && s->statics_edits == world->static_edits) {
+        return;
+    }
+    const kg_body_pool* p = &world->bodies;
+    int n = 0, bullets = 0;
     for (int i = 0; i < p->high_water; ++i) {
         kg_u32 f = p->flags[i];
         if (kg_flags_alive(f) && kg_flags_type(f) == (kg_u32)KG_BODY_STATIC) {
-            statics[n++] = (kg_u32)i;
+            s->statics[n++] = (kg_u32)i;
         }
-        *bullets += kg_flags_alive(f) && kg_is_bullet(f);
+        bullets += kg_flags_alive(f) && kg_is_bullet(f);
     }
-    return n;
+    s->static_count = n;
+    s->bullet_count = bullets;
+    s->statics_edits = world->static_edits;
+    s->statics_listed = 1;
 }
 
 static kg_tile_terrain kg_terrain_of(const kg_world* world)
@@ -484,20 +527,21 @@ void kg_stage_finalize(kg_world* world)
     kg_finalize_job job;
     memset(&job, 0, sizeof job);
     job.pool = p;
+    job.solver = s;
     job.dt = world->last_dt;
     job.continuous = world->def.enable_continuous;
-    int bullets = 0;
     if (job.continuous) {
-        int statics = kg_gather_statics(p, s->statics, &bullets);
-        kg_continuous_bodies b = {p->flags,    p->center,   p->rot,  p->xf,      p->aabb,     p->shape,
-                                  p->local_center, p->category, p->mask, s->statics, statics, p->high_water};
+        kg_list_statics(world, s);
+        kg_continuous_bodies b = {p->flags,  p->velocity,     p->omega,    p->center, p->rot,
+                                  p->xf,     p->aabb,         p->shape,    p->local_center,
+                                  p->category, p->mask,       s->statics,  s->static_count, p->high_water};
         job.bodies = b;
         job.terrain = kg_terrain_of(world);
         job.toi = kg_toi_params_of(&world->def);
     }
     job.pass = KG_CONTINUOUS_PASS_BODIES;
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_finalize_range, &job);
-    if (bullets > 0) { /* against the others' poses at the end of the step, finalized above */
+    if (job.continuous && s->bullet_count > 0) { /* against the others' poses at the end of the step, finalized above */
         job.pass = KG_CONTINUOUS_PASS_BULLETS;
         kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_finalize_range, &job);
     }
