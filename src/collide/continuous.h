@@ -48,6 +48,14 @@ KG_FN int kg_continuous_takes(kg_u32 flags, int pass)
            kg_is_bullet(flags) == (pass == KG_CONTINUOUS_PASS_BULLETS);
 }
 
+/* Whether finalize pass `pass` finalizes slot i: with continuous collision on, the bullets
+ * wait for the second pass (they read the others' finalized poses); else all go in the
+ * first. */
+KG_FN int kg_finalized_in_pass(kg_u32 flags, int continuous, int pass)
+{
+    return continuous ? kg_is_bullet(flags) == (pass == KG_CONTINUOUS_PASS_BULLETS) : pass == KG_CONTINUOUS_PASS_BODIES;
+}
+
 KG_FN int kg_filters_meet(kg_u32 category_a, kg_u32 mask_a, kg_u32 category_b, kg_u32 mask_b)
 {
     return (category_a & mask_b) != 0u && (category_b & mask_a) != 0u;

@@ -458,17 +458,13 @@ static void kg_finalize_range(void* context, int begin, int end)
     kg_continuous_bodies bodies = job->bodies;
     kg_tile_terrain terrain = job->terrain;
     kg_body_extents* extents = job->solver->extents;
-    int bullets = job->pass == KG_CONTINUOUS_PASS_BULLETS;
     for (int i = begin; i < end; ++i) {
         kg_u32 f = p->flags[i];
-        if (job->continuous) {
-            if (kg_is_bullet(f) != bullets) {
-                continue;
-            }
-            if (kg_continuous_takes(f, job->pass)) {
-                kg_continuous_body(&bodies, &terrain, (kg_u32)i, job->pass, job->toi, job->dt,
-                                   kg_extents_of(extents, p, i));
-            }
+        if (!kg_finalized_in_pass(f, job->continuous, job->pass)) {
+            continue;
+        }
+        if (job->continuous && kg_continuous_takes(f, job->pass)) {
+            kg_continuous_body(&bodies, &terrain, (kg_u32)i, job->pass, job->toi, job->dt, kg_extents_of(extents, p, i));
         }
         if (kg_finalize_body((kg_u32)i, job->dt, p->flags, p->center, p->rot, p->velocity, p->omega, p->force,
                              p->torque, p->drag, p->xf, p->aabb, p->shape, p->local_center)) {
@@ -518,6 +514,16 @@ kg_toi_params kg_toi_params_of(const kg_world_def* def)
 {
     kg_toi_params prm = {def->linear_slop, 0.25f * def->linear_slop};
     return prm;
+}
+
+const kg_u32* kg_continuous_statics(kg_world* world, int* count, int* bullets, kg_u32* edits)
+{
+    struct kg_solver* s = world->solver;
+    kg_list_statics(world, s);
+    *count = s->static_count;
+    *bullets = s->bullet_count;
+    *edits = s->statics_edits;
+    return s->statics;
 }
 
 void kg_stage_finalize(kg_world* world)

@@ -19,6 +19,11 @@ kg_rest_params kg_rest_params_of(const kg_world_def* def, float dt);
 /* What continuous collision's time of impact searches aim at: both backends use this one. */
 kg_toi_params kg_toi_params_of(const kg_world_def* def);
 
+/* Continuous collision's list of the static slots (in slot order), *count long, with the
+ * live bullets' count and world->static_edits as it was when they were listed (the
+ * OpenCL backend uploads the list when that changes). */
+const kg_u32* kg_continuous_statics(kg_world* world, int* count, int* bullets, kg_u32* edits);
+
 /* Stage 4: derived state (origin transforms, bounds), forces cleared, and bodies whose
  * state became non-finite frozen so they cannot poison their neighbours. */
 void kg_stage_finalize(kg_world* world);
