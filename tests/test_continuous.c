@@ -5,6 +5,7 @@
  * test prints what it measured. (A chain wall comes with the chain shapes.) */
 #include "kg_test.h"
 #include "kgyro/kgyro.h"
+#include "kgyro/scene.h"
 
 #include <stdint.h>
 #include <string.h>
@@ -218,6 +219,30 @@ static void test_stops_at_the_face(void)
     kg_destroy_world(w);
 }
 
+/* The scene format's "bullet" and "continuous", and its refusal of a static bullet. */
+static void test_scene_fields(void)
+{
+    const char* json = "{\"continuous\": false, \"bodies\": [{\"name\": \"shot\", \"bullet\": true, "
+                       "\"shape\": {\"type\": \"circle\", \"radius\": 0.1}}]}";
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_parse(json, strlen(json), "bullet.json", &scene));
+    if (scene) {
+        KG_CHECK(kg_scene_world_def(scene)->enable_continuous == 0);
+        kg_world_def def = *kg_scene_world_def(scene);
+        kg_world* w = NULL;
+        kg_body body;
+        KG_CHECK_OK(kg_scene_instantiate(scene, &def, &w, &body));
+        KG_CHECK(kg_body_is_bullet(w, body));
+        kg_destroy_world(w);
+        kg_scene_destroy(scene);
+    }
+    const char* bad = "{\"bodies\": [{\"type\": \"static\", \"bullet\": true, "
+                      "\"shape\": {\"type\": \"circle\", \"radius\": 0.1}}]}";
+    KG_CHECK(kg_scene_parse(bad, strlen(bad), "bad.json", &scene) == KG_ERROR_PARSE);
+    measured("a static bullet in a scene: %s\n", kg_last_error());
+    KG_CHECK(strstr(kg_last_error(), "bodies[0].bullet: only a dynamic body can be a bullet") != NULL);
+}
+
 static void test_bullet_flag(void)
 {
     kg_world* w = make_world(1, 1);
@@ -227,6 +252,17 @@ static void test_bullet_flag(void)
     KG_CHECK(kg_body_is_bullet(w, b));
     KG_CHECK_OK(kg_body_set_bullet(w, b, 0));
     KG_CHECK(!kg_body_is_bullet(w, b));
+    kg_body_def d = kg_default_body_def();
+    d.type = KG_BODY_STATIC;
+    d.shape = kg_box_shape(1.0f, 1.0f);
+    kg_body wall;
+    KG_CHECK_OK(kg_create_body(w, &d, &wall));
+    KG_CHECK(kg_body_set_bullet(w, wall, 1) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(strstr(kg_last_error(), "only a dynamic body can be a bullet") != NULL);
+    KG_CHECK(!kg_body_is_bullet(w, wall));
+    KG_CHECK_OK(kg_body_set_bullet(w, wall, 0));
+    d.bullet = 1;
+    KG_CHECK(kg_create_body(w, &d, &wall) == KG_ERROR_INVALID_ARGUMENT);
     kg_destroy_world(w);
 }
 
@@ -236,7 +272,7 @@ int main(void)
         KG_TEST(test_static_wall),      KG_TEST(test_tile_wall),         KG_TEST(test_bullets_and_plank),
         KG_TEST(test_static_wall_off),  KG_TEST(test_tile_wall_off),     KG_TEST(test_bullets_and_plank_off),
         KG_TEST(test_plank_needs_bullets), KG_TEST(test_threads_agree), KG_TEST(test_stops_at_the_face),
-        KG_TEST(test_bullet_flag),
+        KG_TEST(test_bullet_flag),      KG_TEST(test_scene_fields),
     };
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

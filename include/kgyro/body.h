@@ -65,7 +65,7 @@ typedef struct kg_body_def {
     uint32_t category;        /* collision filtering: a and b collide when */
     uint32_t mask;            /* (a.category & b.mask) && (b.category & a.mask) */
     int fixed_rotation;       /* non-zero: infinite rotational inertia */
-    int bullet;               /* non-zero: a fast dynamic body is also kept from passing through
+    int bullet;               /* non-zero (dynamic bodies only): a fast body is also kept from passing through
                                * other dynamic bodies (continuous collision against the world's
                                * static bodies and tile maps is on for every dynamic body:
                                * kg_world_def.enable_continuous) */
@@ -128,7 +128,7 @@ KG_API kg_result kg_body_set_friction(kg_world* world, kg_body body, float frict
 KG_API kg_result kg_body_set_restitution(kg_world* world, kg_body body, float restitution);
 KG_API kg_result kg_body_set_damping(kg_world* world, kg_body body, float linear, float angular);
 KG_API kg_result kg_body_set_filter(kg_world* world, kg_body body, uint32_t category, uint32_t mask);
-/* Makes a body a bullet (non-zero) or not: kg_body_def.bullet. */
+/* Makes a dynamic body a bullet (non-zero) or not: kg_body_def.bullet. */
 KG_API kg_result kg_body_set_bullet(kg_world* world, kg_body body, int bullet);
 KG_API int kg_body_is_bullet(const kg_world* world, kg_body body);
 

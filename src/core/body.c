@@ -69,6 +69,9 @@ static kg_result kg_validate_body_def(const kg_body_def* d)
     if (d->shape.type == KG_SHAPE_NONE && d->type != KG_BODY_PARTICLE) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "only particles may have no shape");
     }
+    if (d->bullet && d->type != KG_BODY_DYNAMIC) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "only a dynamic body can be a bullet");
+    }
     return KG_OK;
 }
 
@@ -486,8 +489,9 @@ kg_result kg_body_set_filter(kg_world* world, kg_body body, uint32_t category, u
 
 kg_result kg_body_set_bullet(kg_world* world, kg_body body, int bullet)
 {
-    int i;
-    kg_body_pool* p = kg_write_body(world, body, 1, "", &i);
+    int i = kg_world_resolve(world, body);
+    int dynamic = i >= 0 && kg_pool_type(kg_read_pool(world), i) == KG_BODY_DYNAMIC;
+    kg_body_pool* p = kg_write_body(world, body, !bullet || dynamic, "only a dynamic body can be a bullet", &i);
     if (!p) {
         return kg_read_error();
     }
