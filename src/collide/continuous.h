@@ -96,9 +96,65 @@ KG_FN float kg_toi_with_body(const kg_continuous_bodies* b, kg_u32 i, const kg_s
     return kg_shape_time_of_impact(shape, s, other, b->xf[j], prm, limit);
 }
 
+/* A segment as a shape of two points (no radius), for the time of impact. */
+KG_FN kg_shape kg_segment_shape(kg_vec2 p1, kg_vec2 p2)
+{
+    kg_shape s;
+    for (int i = 0; i < KG_MAX_VERTS; ++i) {
+        s.vertices[i] = p1;
+        s.normals[i] = kg_v2(0.0f, 0.0f);
+    }
+    s.vertices[1] = p2;
+    s.centroid = kg_lerp(p1, p2, 0.5f);
+    s.radius = 0.0f;
+    s.count = 2;
+    return s;
+}
+
+/* The earliest fraction at which the shape meets exposed edge [p1, p2] of a tile (cell
+ * frame, at cell), as a one-sided segment (Box2D v3's chain segments): only when the
+ * centre crosses its line from the front (outside) to behind. So a body sliding along
+ * a run of tiles, which sinks into it by a hair, never stops at the side of the next
+ * tile (that side is covered, not exposed), nor at the next tile's top (it does not
+ * cross it). */
+KG_FN float kg_toi_with_edge(const kg_shape* shape, const kg_sweep* s, kg_vec2 p1, kg_vec2 p2, kg_xf cell,
+                             kg_toi_params prm, float limit)
+{
+    kg_vec2 a = kg_xf_point(cell, p1), e = kg_sub(kg_xf_point(cell, p2), a);
+    float front1 = kg_cross(kg_sub(s->c1, a), e), front2 = kg_cross(kg_sub(s->c2, a), e);
+    if (front1 < 0.0f || front2 > 0.0f) {
+        return limit;
+    }
+    kg_shape edge = kg_segment_shape(p1, p2);
+    return kg_shape_time_of_impact(shape, s, &edge, cell, prm, limit);
+}
+
+/* The earliest fraction at which the shape meets the tile at (layer, x, y) of map m:
+ * its exposed edges (collide/tilemap.h), or a round tile whole. */
+KG_FN float kg_toi_with_tile(const kg_tile_terrain* t, const kg_tile_map_info* m, int layer, int x, int y,
+                             const kg_shape* shape, const kg_sweep* s, kg_toi_params prm, float limit)
+{
+    kg_u32 word = t->cells[m->cell_offset + kg_tile_cell_index(m, layer, x, y)];
+    KG_GLOBAL const kg_tile_proto* proto = &t->protos[m->proto_offset + kg_cell_id(word)];
+    kg_xf cell;
+    cell.p = kg_v2(m->origin.x + (float)x * m->tile_size.x, m->origin.y + (float)y * m->tile_size.y);
+    cell.q = kg_rot_identity();
+    KG_PRIVATE_VIEW(kg_shape, tile, proto->shape);
+    if (tile->count == 1) {
+        return kg_shape_time_of_impact(shape, s, tile, cell, prm, limit);
+    }
+    for (int i = 0; i < tile->count; ++i) {
+        if (kg_cell_collidable(word, i)) {
+            kg_vec2 p1 = tile->vertices[i], p2 = tile->vertices[kg_next_vertex(i, tile->count)];
+            limit = kg_toi_with_edge(shape, s, p1, p2, cell, prm, limit);
+        }
+    }
+    return limit;
+}
+
 /* The earliest fraction at which the shape meets a tile of map m over the cells box
- * covers: tiles with an exposed edge (a body reaches the others through those) that are
- * not one-way platforms (a body may pass those from below). */
+ * covers: tiles that may touch (a body reaches the others through those) and are not
+ * one-way platforms (a body may pass those from below). */
 KG_FN float kg_toi_with_map(const kg_tile_terrain* t, const kg_tile_map_info* m, const kg_shape* shape,
                             const kg_sweep* s, kg_aabb box, kg_toi_params prm, float limit)
 {
@@ -112,15 +168,10 @@ KG_FN float kg_toi_with_map(const kg_tile_terrain* t, const kg_tile_map_info* m,
         for (int y = y0; y <= y1; ++y) {
             for (int x = x0; x <= x1; ++x) {
                 kg_u32 index = kg_tile_cell_index(m, layer, x, y);
-                KG_GLOBAL const kg_tile_proto* proto = &t->protos[m->proto_offset + kg_cell_id(t->cells[m->cell_offset + index])];
-                if (!kg_tile_may_touch(t, m, index) || (proto->flags & KG_TILE_FLAG_ONE_WAY) != 0u) {
-                    continue;
+                kg_u32 id = kg_cell_id(t->cells[m->cell_offset + index]);
+                if (kg_tile_may_touch(t, m, index) && (t->protos[m->proto_offset + id].flags & KG_TILE_FLAG_ONE_WAY) == 0u) {
+                    limit = kg_toi_with_tile(t, m, layer, x, y, shape, s, prm, limit);
                 }
-                kg_xf cell;
-                cell.p = kg_v2(origin.x + (float)x * size.x, origin.y + (float)y * size.y);
-                cell.q = kg_rot_identity();
-                KG_PRIVATE_VIEW(kg_shape, tile, proto->shape);
-                limit = kg_shape_time_of_impact(shape, s, tile, cell, prm, limit);
             }
         }
     }
