@@ -163,13 +163,14 @@ KG_FN void kg_hull_points_to_edges(const kg_vec2* p, int np, const kg_vec2* q, i
 
 /* The separation of two convex hulls of up to KG_MAX_VERTS points (counter-clockwise).
  * Separated hulls are closest between a point of one and an edge of the other, so the
- * least of those distances is exact. */
+ * least of those distances is exact. Two single points have no edge, and no axis to
+ * tell an overlap by. */
 KG_FN kg_separation kg_hull_distance(const kg_vec2* p, int np, const kg_vec2* q, int nq)
 {
     kg_separation s;
     s.distance = kg_maxf(kg_hull_separation(p, np, q, nq), kg_hull_separation(q, nq, p, np));
     s.normal = kg_v2(0.0f, 0.0f);
-    if (s.distance < 0.0f) {
+    if (s.distance < 0.0f && (np >= 2 || nq >= 2)) {
         return s;
     }
     float best = KG_FLT_MAX;
