@@ -65,10 +65,11 @@ typedef struct kg_body_def {
     uint32_t category;        /* collision filtering: a and b collide when */
     uint32_t mask;            /* (a.category & b.mask) && (b.category & a.mask) */
     int fixed_rotation;       /* non-zero: infinite rotational inertia */
-    int bullet;               /* non-zero (dynamic bodies only): a fast body is also kept from passing through
-                               * other dynamic bodies (continuous collision against the world's
-                               * static bodies and tile maps is on for every dynamic body:
-                               * kg_world_def.enable_continuous) */
+    int bullet;               /* non-zero (dynamic bodies only): when fast, also kept from
+                               * passing through the other (non-bullet) dynamic bodies and the
+                               * kinematic ones; every dynamic body is kept from passing
+                               * through static bodies and tile maps anyway
+                               * (kg_world_def.enable_continuous) */
     void* user_data;
 } kg_body_def;
 

@@ -3,8 +3,8 @@
  * its pose at the start of the step (its origin transform, which finalize has not yet
  * updated) to its pose at the end (centre and rotation), against the static bodies and
  * the tile maps that the swept bounds overlap; a bullet also against the non-bullet
- * dynamic bodies, at their poses at the end of the step (finalized before the bullets
- * run). At the earliest time of impact the body is moved back on its sweep and keeps its
+ * dynamic bodies and the kinematic ones, at their poses at the end of the step
+ * (finalized before the bullets run). At the earliest time of impact the body is moved back on its sweep and keeps its
  * velocity: next step's contact, made just touching, stops it. Box2D v3's scheme.
  *
  * A body's result depends only on the start and end poses of the step and on bodies it
@@ -54,6 +54,15 @@ KG_FN int kg_continuous_takes(kg_u32 flags, int pass)
 KG_FN int kg_finalized_in_pass(kg_u32 flags, int continuous, int pass)
 {
     return continuous ? kg_is_bullet(flags) == (pass == KG_CONTINUOUS_PASS_BULLETS) : pass == KG_CONTINUOUS_PASS_BODIES;
+}
+
+/* What a bullet is swept against besides the static world: the other moving bodies,
+ * dynamic (not bullets) or kinematic, at their poses at the end of the step. */
+KG_FN int kg_bullet_target(kg_u32 flags)
+{
+    kg_u32 type = kg_flags_type(flags);
+    int dynamic = type == (kg_u32)KG_BODY_DYNAMIC && !kg_is_bullet(flags);
+    return kg_flags_alive(flags) && (flags & KG_FLAG_FROZEN) == 0u && (dynamic || type == (kg_u32)KG_BODY_KINEMATIC);
 }
 
 KG_FN int kg_filters_meet(kg_u32 category_a, kg_u32 mask_a, kg_u32 category_b, kg_u32 mask_b)
@@ -194,8 +203,7 @@ KG_FN_NOINLINE float kg_body_time_of_impact(const kg_continuous_bodies* b, const
         }
     }
     for (int j = 0; pass == KG_CONTINUOUS_PASS_BULLETS && j < b->slot_count; ++j) {
-        kg_u32 f = b->flags[j];
-        if (kg_flags_collide(f) && kg_flags_type(f) == (kg_u32)KG_BODY_DYNAMIC && !kg_is_bullet(f)) {
+        if (kg_bullet_target(b->flags[j])) {
             limit = kg_toi_with_body(b, i, shape, s, box, (kg_u32)j, prm, limit);
         }
     }
