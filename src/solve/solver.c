@@ -426,7 +426,6 @@ void kg_stage_solve(kg_world* world, float dt)
 
 /* ---- finalize, with continuous collision ------------------------------------------ */
 
-
 typedef struct kg_finalize_job {
     kg_body_pool* pool;
     struct kg_solver* solver;
@@ -438,8 +437,7 @@ typedef struct kg_finalize_job {
     kg_toi_params toi;
 } kg_finalize_job;
 
-/* Slot i's extents, computed once for each body that takes the slot (a body's shape
- * never changes). Each slot is written by its own body only: threads share nothing. */
+/* Slot i's extents, from the cache (kg_body_extents). */
 static kg_extents kg_extents_of(kg_body_extents* cache, const kg_body_pool* p, int i)
 {
     kg_body_extents e = cache[i];
