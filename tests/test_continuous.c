@@ -25,7 +25,7 @@ static kg_world* make_world(int continuous, int threads)
     kg_world_def def = kg_default_world_def();
     def.gravity = kg_v2(0.0f, 0.0f);
     def.backend = KG_BACKEND_CPU;
-    def.max_bodies = 256;
+    def.max_bodies = 512;
     def.max_linear_speed = 2000.0f; /* the shots reach 1,000 m/s */
     def.enable_continuous = continuous;
     def.threads = threads;
@@ -113,9 +113,31 @@ static int count_passed(kg_world* w, const kg_body* shots, const kg_body* plank)
     return passed;
 }
 
-typedef enum wall_kind { STATIC_WALL, TILE_WALL, PLANK } wall_kind;
+/* The wall as 0.2 x 0.5 m static bricks, over a static ground 200 m wide (a large static
+ * body in the sweeps' index) and among 100 static pebbles scattered behind the shots. */
+static void brick_wall(kg_world* w)
+{
+    kg_body_def d = kg_default_body_def();
+    d.type = KG_BODY_STATIC;
+    kg_body b;
+    for (int k = 0; k < (int)(LANE * SHOTS / 0.5f) + 4; ++k) {
+        d.shape = kg_box_shape(THICKNESS, 0.5f);
+        d.position = kg_v2(WALL_X + 0.5f * THICKNESS, -1.0f + 0.25f + 0.5f * (float)k);
+        KG_CHECK_OK(kg_create_body(w, &d, &b));
+    }
+    d.shape = kg_box_shape(200.0f, 1.0f);
+    d.position = kg_v2(0.0f, -2.0f);
+    KG_CHECK_OK(kg_create_body(w, &d, &b));
+    for (int k = 0; k < 100; ++k) {
+        d.shape = kg_circle_shape(0.05f);
+        d.position = kg_v2(-2.0f - 0.3f * (float)(k % 10), 0.3f + 5.0f * (float)(k / 10));
+        KG_CHECK_OK(kg_create_body(w, &d, &b));
+    }
+}
 
-static const char* const wall_names[] = {"static wall", "tile-map wall", "dynamic plank"};
+typedef enum wall_kind { STATIC_WALL, TILE_WALL, PLANK, BRICK_WALL } wall_kind;
+
+static const char* const wall_names[] = {"static wall", "tile-map wall", "dynamic plank", "wall of static bricks"};
 
 static int shoot(wall_kind kind, int continuous, int threads, kg_body_state* states)
 {
@@ -125,6 +147,8 @@ static int shoot(wall_kind kind, int continuous, int threads, kg_body_state* sta
         static_wall(w);
     } else if (kind == TILE_WALL) {
         tile_wall(w);
+    } else if (kind == BRICK_WALL) {
+        brick_wall(w);
     } else {
         plank = dynamic_plank(w);
     }
@@ -158,6 +182,8 @@ static void most_pass_without(wall_kind kind)
 static void test_static_wall(void) { none_pass(STATIC_WALL); }
 static void test_tile_wall(void) { none_pass(TILE_WALL); }
 static void test_bullets_and_plank(void) { none_pass(PLANK); }
+static void test_brick_wall(void) { none_pass(BRICK_WALL); }
+static void test_brick_wall_off(void) { most_pass_without(BRICK_WALL); }
 static void test_static_wall_off(void) { most_pass_without(STATIC_WALL); }
 static void test_tile_wall_off(void) { most_pass_without(TILE_WALL); }
 static void test_bullets_and_plank_off(void) { most_pass_without(PLANK); }
@@ -179,7 +205,7 @@ static void test_plank_needs_bullets(void)
 
 static void test_threads_agree(void)
 {
-    for (int kind = STATIC_WALL; kind <= PLANK; ++kind) {
+    for (int kind = STATIC_WALL; kind <= BRICK_WALL; ++kind) {
         kg_body_state one[SHOTS], many[SHOTS];
         shoot((wall_kind)kind, 1, 1, one);
         for (int threads = 2; threads <= 4; threads *= 2) {
@@ -366,6 +392,7 @@ int main(void)
 {
     const kg_test_case tests[] = {
         KG_TEST(test_static_wall),      KG_TEST(test_tile_wall),         KG_TEST(test_bullets_and_plank),
+        KG_TEST(test_brick_wall),       KG_TEST(test_brick_wall_off),
         KG_TEST(test_static_wall_off),  KG_TEST(test_tile_wall_off),     KG_TEST(test_bullets_and_plank_off),
         KG_TEST(test_plank_needs_bullets), KG_TEST(test_threads_agree), KG_TEST(test_stops_at_the_face),
         KG_TEST(test_bullet_flag),      KG_TEST(test_scene_fields),      KG_TEST(test_slides_along_tiles),

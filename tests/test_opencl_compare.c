@@ -298,13 +298,15 @@ static void kg_tiles_scene(kg_world* world)
     KG_CHECK_OK(kg_body_set_velocity(world, slider, (kg_vec2){10.0f, 0.0f}));
 }
 
-/* Continuous collision: boxes and circles shot at 30 to 390 m/s at a static wall 0.2 m
- * thick (to the right) and at a wall of 0.2 m tiles (to the left), and bullets at a
+/* Continuous collision: boxes and circles shot at 30 to 390 m/s at a wall of static
+ * bricks 0.2 m thick (to the right) and at a wall of 0.2 m tiles (to the left), and bullets at a
  * standing dynamic plank, over a ground: times of impact every few steps. */
 static void kg_tunnelling_scene(kg_world* world)
 {
     kg_ground(world, 60.0f);
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){10.1f, 3.0f}, 0.0f, kg_box_shape(0.2f, 6.0f));
+    for (int k = 0; k < 12; ++k) { /* a wall of bricks: the ground is a large static body then */
+        kg_add(world, KG_BODY_STATIC, (kg_vec2){10.1f, 0.25f + 0.5f * (float)k}, 0.0f, kg_box_shape(0.2f, 0.5f));
+    }
     static uint16_t column[30];
     for (int y = 0; y < 30; ++y) {
         column[y] = 1;

@@ -17,6 +17,20 @@
 #include "collide/tile_pass.h"
 #include "collide/toi.h"
 
+/* A static body in the index the sweeps search (made on the host when a static body
+ * changes): the large ones first, in slot order, each tested; then the others sorted by
+ * the lower x of their bounds, with reach the largest upper x of those up to this one,
+ * so that a search walks back from the last one not past the sweep's upper x only while
+ * some earlier one can still reach its lower x. */
+typedef struct kg_static_entry {
+    kg_u32 slot;
+    float lower_x;
+    float reach;
+    kg_u32 pad;
+} kg_static_entry;
+
+KG_STATIC_ASSERT(sizeof(kg_static_entry) == 16, static_entry_size);
+
 /* The body pool's arrays the pass reads, and the two it writes (centre and rotation). */
 typedef struct kg_continuous_bodies {
     KG_GLOBAL const kg_u32* flags;
@@ -30,8 +44,9 @@ typedef struct kg_continuous_bodies {
     KG_GLOBAL const kg_vec2* local_center;
     KG_GLOBAL const kg_u32* category;
     KG_GLOBAL const kg_u32* mask;
-    KG_GLOBAL const kg_u32* statics; /* slots of the static bodies, in slot order */
+    KG_GLOBAL const kg_static_entry* statics; /* the static bodies' index, static_count long, */
     int static_count;
+    int large_count;                 /* of which the first large_count are the large ones */
     int slot_count;                  /* the pool's high water: bullets look at [0, slot_count) */
 } kg_continuous_bodies;
 
@@ -103,6 +118,37 @@ KG_FN float kg_toi_with_body(const kg_continuous_bodies* b, kg_u32 i, const kg_s
     }
     KG_PRIVATE_VIEW(kg_shape, other, b->shape[j]);
     return kg_shape_time_of_impact(shape, s, other, b->xf[j], prm, limit);
+}
+
+/* The first of the sorted entries [lo, hi) whose lower x lies past x. */
+KG_FN int kg_statics_past(KG_GLOBAL const kg_static_entry* e, int lo, int hi, float x)
+{
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (e[mid].lower_x <= x) {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+/* The earliest fraction at which the shape meets a static body whose bounds meet box:
+ * every large one, and the small ones from the last not past box back to the first
+ * that nothing before can reach box from (kg_static_entry). */
+KG_FN float kg_toi_with_statics(const kg_continuous_bodies* b, kg_u32 i, const kg_shape* shape, const kg_sweep* s,
+                                kg_aabb box, kg_toi_params prm, float limit)
+{
+    KG_GLOBAL const kg_static_entry* e = b->statics;
+    for (int k = 0; k < b->large_count; ++k) {
+        limit = kg_toi_with_body(b, i, shape, s, box, e[k].slot, prm, limit);
+    }
+    int last = kg_statics_past(e, b->large_count, b->static_count, box.upper.x) - 1;
+    for (int k = last; k >= b->large_count && e[k].reach >= box.lower.x; --k) {
+        limit = kg_toi_with_body(b, i, shape, s, box, e[k].slot, prm, limit);
+    }
+    return limit;
 }
 
 /* A segment as a shape of two points (no radius), for the time of impact. */
@@ -193,9 +239,7 @@ KG_FN_NOINLINE float kg_body_time_of_impact(const kg_continuous_bodies* b, const
 {
     kg_aabb box = kg_sweep_bounds(s, prm.target);
     float limit = 1.0f;
-    for (int k = 0; k < b->static_count; ++k) {
-        limit = kg_toi_with_body(b, i, shape, s, box, b->statics[k], prm, limit);
-    }
+    limit = kg_toi_with_statics(b, i, shape, s, box, prm, limit);
     for (int n = 0; n < t->map_count; ++n) {
         KG_PRIVATE_VIEW(kg_tile_map_info, m, t->maps[n]);
         if (kg_filters_meet(b->category[i], b->mask[i], m->category, m->mask)) {

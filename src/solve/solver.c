@@ -23,6 +23,7 @@
 #include "solve/island.h"
 
 #include <stdatomic.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define KG_BODY_GRAIN 256
@@ -50,11 +51,8 @@ struct kg_solver {
     kg_solver_body* bodies;           /* per body slot, then the still body (slot `still`) */
     kg_u32 still;                     /* what rows name for the static world and empty lanes */
     kg_velocity_step* velocity_steps; /* per body, made once a step */
-    kg_u32* statics;                  /* per body: the static slots, for continuous collision, */
-    int static_count;                 /* with the live bullets' count, as they were */
-    int bullet_count;
-    kg_u32 statics_edits;             /* at world->static_edits (statics_listed: ever) */
-    int statics_listed;
+    kg_static_list statics;           /* continuous collision's index of the static bodies, */
+    int statics_listed;               /* made at statics.edits (statics_listed: ever) */
     kg_body_extents* extents;         /* per body slot: its shape's, for continuous collision */
 };
 
@@ -107,9 +105,9 @@ kg_result kg_solver_create(kg_world* world)
     }
     s->bodies = kg_alloc_zeroed(((size_t)world->def.max_bodies + 1) * sizeof *s->bodies);
     s->velocity_steps = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->velocity_steps);
-    s->statics = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->statics);
+    s->statics.entries = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->statics.entries);
     s->extents = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->extents);
-    if (!s->bodies || !s->velocity_steps || !s->statics || !s->extents) {
+    if (!s->bodies || !s->velocity_steps || !s->statics.entries || !s->extents) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the solver");
     }
     s->still = (kg_u32)world->def.max_bodies;
@@ -128,7 +126,7 @@ void kg_solver_destroy(kg_world* world)
     kg_free_constraints(s);
     kg_free(s->bodies);
     kg_free(s->velocity_steps);
-    kg_free(s->statics);
+    kg_free(s->statics.entries);
     kg_free(s->extents);
     kg_free(s);
     world->solver = NULL;
@@ -471,25 +469,60 @@ static void kg_finalize_range(void* context, int begin, int end)
     }
 }
 
-/* The static slots in slot order and the live bullets' count, listed again when a static
- * body or a bullet changed (world->static_edits) since they were. */
+/* Entries of the small static bodies in order of lower x (then slot: each order is one). */
+static int kg_compare_entries(const void* pa, const void* pb)
+{
+    const kg_static_entry* a = pa;
+    const kg_static_entry* b = pb;
+    if (a->lower_x != b->lower_x) {
+        return a->lower_x < b->lower_x ? -1 : 1;
+    }
+    return a->slot < b->slot ? -1 : (a->slot > b->slot ? 1 : 0);
+}
+
+/* Wider than this many times the static bodies' mean width, a static body is large: a
+ * ground under a thousand boxes would make every reach (kg_static_entry) reach as far as
+ * it, and every search walk back to it. */
+#define KG_LARGE_STATIC_WIDTHS 8.0f
+
+/* The index of the static bodies (collide/continuous.h, kg_static_entry) and the live
+ * bullets' count, made again when a static body or a bullet changed (world->static_edits)
+ * since they were. */
 static void kg_list_statics(kg_world* world, struct kg_solver* s)
 {
-    if (s->statics_listed && s->statics_edits == world->static_edits) {
+    if (s->statics_listed && s->statics.edits == world->static_edits) {
         return;
     }
     const kg_body_pool* p = &world->bodies;
+    kg_static_entry* e = s->statics.entries;
     int n = 0, bullets = 0;
+    float widths = 0.0f;
     for (int i = 0; i < p->high_water; ++i) {
         kg_u32 f = p->flags[i];
         if (kg_flags_alive(f) && kg_flags_type(f) == (kg_u32)KG_BODY_STATIC) {
-            s->statics[n++] = (kg_u32)i;
+            kg_static_entry entry = {(kg_u32)i, p->aabb[i].lower.x, p->aabb[i].upper.x, 0u};
+            e[n++] = entry;
+            widths += p->aabb[i].upper.x - p->aabb[i].lower.x;
         }
         bullets += kg_flags_alive(f) && kg_is_bullet(f);
     }
-    s->static_count = n;
-    s->bullet_count = bullets;
-    s->statics_edits = world->static_edits;
+    float large = n > 0 ? KG_LARGE_STATIC_WIDTHS * widths / (float)n : 0.0f;
+    int large_count = 0;
+    for (int k = 0; k < n; ++k) { /* the large ones to the front, in slot order */
+        if (e[k].reach - e[k].lower_x > large) {
+            kg_static_entry t = e[k];
+            memmove(e + large_count + 1, e + large_count, (size_t)(k - large_count) * sizeof *e);
+            e[large_count++] = t;
+        }
+    }
+    qsort(e + large_count, (size_t)(n - large_count), sizeof *e, kg_compare_entries);
+    for (int k = large_count + 1; k < n; ++k) {
+        e[k].reach = kg_maxf(e[k].reach, e[k - 1].reach);
+    }
+    s->statics.count = n;
+    s->statics.large_count = large_count;
+    s->statics.bullets = bullets;
+    s->statics.edits = world->static_edits;
     s->statics_listed = 1;
 }
 
@@ -514,14 +547,10 @@ kg_toi_params kg_toi_params_of(const kg_world_def* def)
     return prm;
 }
 
-const kg_u32* kg_continuous_statics(kg_world* world, int* count, int* bullets, kg_u32* edits)
+kg_static_list kg_continuous_statics(kg_world* world)
 {
-    struct kg_solver* s = world->solver;
-    kg_list_statics(world, s);
-    *count = s->static_count;
-    *bullets = s->bullet_count;
-    *edits = s->statics_edits;
-    return s->statics;
+    kg_list_statics(world, world->solver);
+    return world->solver->statics;
 }
 
 void kg_stage_finalize(kg_world* world)
@@ -536,16 +565,17 @@ void kg_stage_finalize(kg_world* world)
     job.continuous = world->def.enable_continuous;
     if (job.continuous) {
         kg_list_statics(world, s);
-        kg_continuous_bodies b = {p->flags,  p->velocity,     p->omega,    p->center, p->rot,
-                                  p->xf,     p->aabb,         p->shape,    p->local_center,
-                                  p->category, p->mask,       s->statics,  s->static_count, p->high_water};
+        kg_continuous_bodies b = {p->flags,          p->velocity,     p->omega,   p->center,
+                                  p->rot,            p->xf,           p->aabb,    p->shape,
+                                  p->local_center,   p->category,     p->mask,    s->statics.entries,
+                                  s->statics.count,  s->statics.large_count, p->high_water};
         job.bodies = b;
         job.terrain = kg_terrain_of(world);
         job.toi = kg_toi_params_of(&world->def);
     }
     job.pass = KG_CONTINUOUS_PASS_BODIES;
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_finalize_range, &job);
-    if (job.continuous && s->bullet_count > 0) { /* against the others' poses at the end of the step, finalized above */
+    if (job.continuous && s->statics.bullets > 0) { /* against the others' poses at the end of the step, finalized above */
         job.pass = KG_CONTINUOUS_PASS_BULLETS;
         kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_finalize_range, &job);
     }

@@ -144,19 +144,19 @@ kg_result kg_cl_sync_tiles(kg_world* world, kg_cl_backend* b)
     return maps > 0 ? kg_sync_tiles(world, b, maps) : KG_OK;
 }
 
-kg_result kg_cl_sync_statics(kg_world* world, kg_cl_backend* b, int* count, int* bullets)
+kg_result kg_cl_sync_statics(kg_world* world, kg_cl_backend* b, kg_static_list* list)
 {
     kg_cl_collide_buffers* c = &b->collide;
-    kg_u32 edits = 0u;
-    const kg_u32* statics = kg_continuous_statics(world, count, bullets, &edits);
-    if (c->statics_sent && c->statics_edits == edits) {
+    *list = kg_continuous_statics(world);
+    if (c->statics_sent && c->statics_edits == list->edits) {
         return KG_OK;
     }
     c->statics_sent = 0;
-    if (*count > 0) {
-        KG_TRY(kg_cl_write(b, c->statics, 0, (size_t)*count * sizeof *statics, statics, 1));
+    if (list->count > 0) {
+        size_t size = (size_t)list->count * sizeof *list->entries;
+        KG_TRY(kg_cl_write(b, c->statics, 0, size, list->entries, 1));
     }
-    c->statics_edits = edits;
+    c->statics_edits = list->edits;
     c->statics_sent = 1;
     return KG_OK;
 }

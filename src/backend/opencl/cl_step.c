@@ -351,7 +351,7 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
 /* ---- finalize --------------------------------------------------------------------- */
 
 /* One finalize pass over every slot (collide/continuous.h: the bullets' comes second). */
-static kg_result kg_finalize_pass(kg_world* world, kg_cl_backend* b, float dt, int pass, int statics)
+static kg_result kg_finalize_pass(kg_world* world, kg_cl_backend* b, float dt, int pass, const kg_static_list* statics)
 {
     int bodies = world->bodies.high_water, continuous = world->def.enable_continuous;
     int maps = continuous ? kg_tilemaps_live_count(world) : 0;
@@ -361,20 +361,20 @@ static kg_result kg_finalize_pass(kg_world* world, kg_cl_backend* b, float dt, i
               KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(VELOCITY)),
               KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(DRAG)), KG_MEM(KG_A(XF)),
               KG_MEM(KG_A(AABB)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(KG_A(CATEGORY)),
-              KG_MEM(KG_A(MASK)), KG_MEM(c->statics), KG_INT(statics), KG_MEM(c->tile_maps), KG_MEM(c->tile_cells),
-              KG_MEM(c->tile_protos), KG_INT(maps));
+              KG_MEM(KG_A(MASK)), KG_MEM(c->statics), KG_INT(statics->count), KG_INT(statics->large_count),
+              KG_MEM(c->tile_maps), KG_MEM(c->tile_cells), KG_MEM(c->tile_protos), KG_INT(maps));
     return KG_OK;
 }
 
 static kg_result kg_stage_finalize_on_device(kg_world* world, kg_cl_backend* b, float dt)
 {
-    int statics = 0, bullets = 0;
+    kg_static_list statics = {NULL, 0, 0, 0, 0u};
     if (world->def.enable_continuous) {
-        KG_TRY(kg_cl_sync_statics(world, b, &statics, &bullets));
+        KG_TRY(kg_cl_sync_statics(world, b, &statics));
         KG_TRY(kg_cl_sync_tiles(world, b));
     }
-    KG_TRY(kg_finalize_pass(world, b, dt, KG_CONTINUOUS_PASS_BODIES, statics));
-    return bullets > 0 ? kg_finalize_pass(world, b, dt, KG_CONTINUOUS_PASS_BULLETS, statics) : KG_OK;
+    KG_TRY(kg_finalize_pass(world, b, dt, KG_CONTINUOUS_PASS_BODIES, &statics));
+    return statics.bullets > 0 ? kg_finalize_pass(world, b, dt, KG_CONTINUOUS_PASS_BULLETS, &statics) : KG_OK;
 }
 
 /* The queue drained, so that errors surface inside the step; the state is the device's. */

@@ -3,6 +3,7 @@
 #include "backend/opencl/cl_sort.h"
 #include "backend/opencl/kernels/kg_collide_shared.h"
 #include "collide/collide.h"
+#include "collide/continuous.h"
 #include "core/alloc.h"
 #include "core/error.h"
 #include "solve/contact_solver.h"
@@ -460,7 +461,7 @@ static kg_result kg_cl_create_collide_buffers(kg_cl_backend* b, int slots)
         {&c->block_sums, KG_SCAN_MAX_BLOCKS * words},
         {&c->sort_counts, KG_SORT_COUNT_WORDS * words},
         {&c->tile_run, (n + 1) * words},
-        {&c->statics, n * words},
+        {&c->statics, n * sizeof(kg_static_entry)},
         {&c->last_origin[0], n * sizeof(kg_vec2)},
         {&c->last_origin[1], n * sizeof(kg_vec2)},
         {&c->last_generation[0], n * words},

@@ -123,7 +123,7 @@ __kernel void kg_finalize(int count, float dt, int pass, int continuous, kg_toi_
                           __global float* omega, __global kg_vec2* force, __global float* torque, __global float* drag,
                           __global kg_xf* xf, __global kg_aabb* aabb, __global const kg_shape* shape,
                           __global const kg_vec2* local_center, __global const kg_u32* category,
-                          __global const kg_u32* mask, __global const kg_u32* statics, int static_count,
+                          __global const kg_u32* mask, __global const kg_static_entry* statics, int static_count, int large_count,
                           __global const kg_tile_map_info* maps, __global const kg_u32* cells,
                           __global const kg_tile_proto* protos, int map_count)
 {
@@ -133,7 +133,7 @@ __kernel void kg_finalize(int count, float dt, int pass, int continuous, kg_toi_
     }
     if (continuous && kg_continuous_takes(flags[i], pass)) {
         kg_continuous_bodies b = {flags, velocity, omega, center, rot, xf, aabb, shape, local_center, category, mask,
-                                  statics, static_count, count};
+                                  statics, static_count, large_count, count};
         kg_tile_terrain t = {maps, cells, protos, map_count, 0.0f, 0.0f};
         KG_PRIVATE_VIEW(kg_shape, s, shape[i]);
         kg_continuous_body(&b, &t, (kg_u32)i, pass, prm, dt, kg_shape_extents(s, local_center[i]));
