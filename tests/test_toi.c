@@ -1,6 +1,6 @@
 /* The continuous collision's geometry (collide/toi.h) against dense references: the
  * distance of two shapes at random poses against the least distance of points sampled
- * every millimetre along both outlines, and the time of impact of random sweeps, half of
+ * every 2 mm along both outlines, and the time of impact of random sweeps, half of
  * them turning up to a radian, against 2,000 sampled times: never later than the first
  * at which the shapes come within the target (no overlap is ever allowed), and not
  * before they come within the target and its tolerance, by more than a centimetre of
@@ -11,6 +11,7 @@
 #include "kgyro/kgyro.h"
 
 #include <stdint.h>
+#include <stdlib.h>
 
 static uint32_t g_seed = 12345u;
 
@@ -91,16 +92,20 @@ static int holds(const kg_shape* a, kg_xf xa, const kg_shape* b, kg_xf xb)
 
 #define ROOM 8192
 
+/* 300 random pairs; 60 under the sanitizers (make test-sanitize sets KGYRO_SANITIZED),
+ * where the sampled reference is slow and the release run covers the 300. */
+static int pair_trials(void) { return getenv("KGYRO_SANITIZED") ? 60 : 300; }
+
 static void test_distance_against_sampled_outlines(void)
 {
     static kg_vec2 pa[ROOM], pb[ROOM];
-    int separated = 0, wrong = 0;
+    int separated = 0, wrong = 0, trials = pair_trials();
     double worst = 0.0;
-    for (int trial = 0; trial < 300; ++trial) {
+    for (int trial = 0; trial < trials; ++trial) {
         kg_shape a = random_shape(trial % 3), b = random_shape((trial / 3) % 3);
         kg_xf xa = random_pose(1.0f), xb = random_pose(1.0f);
         kg_separation s = kg_shape_distance(&a, xa, &b, xb);
-        int na = outline(&a, xa, 0.001f, pa, ROOM), nb = outline(&b, xb, 0.001f, pb, ROOM);
+        int na = outline(&a, xa, 0.002f, pa, ROOM), nb = outline(&b, xb, 0.002f, pb, ROOM);
         double least = 1e30;
         for (int i = 0; i < na; ++i) {
             for (int j = 0; j < nb; ++j) {
@@ -110,7 +115,7 @@ static void test_distance_against_sampled_outlines(void)
         if (s.distance > 0.0f) {
             separated += 1;
             /* sampled points lie on the outlines: their least distance is an upper bound,
-             * within a millimetre of the true one */
+             * within a sample's spacing of the true one */
             double off = least - (double)s.distance;
             worst = fmax(worst, fabs(off));
             wrong += off < -1e-5 || off > 2e-3;
@@ -119,9 +124,9 @@ static void test_distance_against_sampled_outlines(void)
             wrong += least > 2e-3 && !holds(&a, xa, &b, xb) && !holds(&b, xb, &a, xa);
         }
     }
-    measured("distance: %d of 300 random pairs separated, sampled reference within %.2g m of the exact "
-             "distance, %d wrong\n", separated, worst, wrong);
-    KG_CHECK(separated > 100);
+    measured("distance: %d of %d random pairs separated, sampled reference within %.2g m of the exact "
+             "distance, %d wrong\n", separated, trials, worst, wrong);
+    KG_CHECK(separated > trials / 3);
     KG_CHECK(wrong == 0);
 }
 
