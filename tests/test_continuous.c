@@ -365,6 +365,32 @@ static void test_scene_fields(void)
     KG_CHECK(strstr(kg_last_error(), "bodies[0].bullet: only a dynamic body can be a bullet") != NULL);
 }
 
+/* A body made in the slot of a destroyed one is swept as itself: a 0.1 m shot fired
+ * where a 4 m box lived (whose half extent it moves less than a step) stops at the wall. */
+static void test_slot_reused(void)
+{
+    kg_world* w = make_world(1, 1);
+    static_wall(w);
+    kg_body_def d = kg_default_body_def();
+    d.shape = kg_box_shape(4.0f, 4.0f);
+    d.position = kg_v2(-10.0f, 0.0f);
+    d.velocity = kg_v2(1.0f, 0.0f);
+    kg_body big;
+    KG_CHECK_OK(kg_create_body(w, &d, &big));
+    KG_CHECK_OK(kg_world_step(w, DT));
+    KG_CHECK_OK(kg_destroy_body(w, big));
+    kg_body shot = fire(w, 0, 60.0f, 0);
+    KG_CHECK(shot.index == big.index);
+    for (int s = 0; s < 30; ++s) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+    }
+    kg_vec2 p;
+    KG_CHECK_OK(kg_body_get_position(w, shot, &p));
+    measured("a 0.1 m shot at 60 m/s in a reused slot: x %.3f (the wall's face at %.1f)\n", p.x, WALL_X);
+    KG_CHECK(p.x < WALL_X);
+    kg_destroy_world(w);
+}
+
 static void test_bullet_flag(void)
 {
     kg_world* w = make_world(1, 1);
@@ -396,7 +422,7 @@ int main(void)
         KG_TEST(test_static_wall_off),  KG_TEST(test_tile_wall_off),     KG_TEST(test_bullets_and_plank_off),
         KG_TEST(test_plank_needs_bullets), KG_TEST(test_threads_agree), KG_TEST(test_stops_at_the_face),
         KG_TEST(test_bullet_flag),      KG_TEST(test_scene_fields),      KG_TEST(test_slides_along_tiles),
-        KG_TEST(test_slides_along_ground), KG_TEST(test_slow_scenes_unchanged),
+        KG_TEST(test_slides_along_ground), KG_TEST(test_slow_scenes_unchanged), KG_TEST(test_slot_reused),
     };
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

@@ -254,22 +254,28 @@ KG_FN_NOINLINE float kg_body_time_of_impact(const kg_continuous_bodies* b, const
     return limit;
 }
 
-/* Slot i's continuous collision in pass `pass`, for a body that takes part in it
- * (kg_continuous_takes) with the given extents (kg_shape_extents of its shape): if it
- * moves fast, it is moved back to its earliest time of impact in the step of dt,
- * keeping its velocity. */
-KG_FN_INLINE void kg_continuous_body(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
-                                     kg_toi_params prm, float dt, kg_extents extents)
+/* Fast body slot i (kg_moves_fast) moved back to its earliest time of impact in pass
+ * `pass`, keeping its velocity. */
+KG_FN void kg_sweep_fast_body(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
+                              kg_toi_params prm, float max_extent)
 {
-    if (!kg_moves_fast(b->velocity[i], b->omega[i], dt, extents)) {
-        return;
-    }
-    kg_sweep s = kg_body_sweep(b, i, extents.max);
+    kg_sweep s = kg_body_sweep(b, i, max_extent);
     KG_PRIVATE_VIEW(kg_shape, shape, b->shape[i]);
     float t_hit = kg_body_time_of_impact(b, t, i, pass, shape, &s, prm);
     if (t_hit < 1.0f) {
         b->center[i] = kg_sweep_center(&s, t_hit);
         b->rot[i] = kg_sweep_rot(&s, t_hit);
+    }
+}
+
+/* Slot i's continuous collision in pass `pass`, for a body that takes part in it
+ * (kg_continuous_takes) with the given extents (kg_shape_extents of its shape): if it
+ * moves fast in the step of dt, kg_sweep_fast_body. */
+KG_FN void kg_continuous_body(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
+                              kg_toi_params prm, float dt, kg_extents extents)
+{
+    if (kg_moves_fast(b->velocity[i], b->omega[i], dt, extents)) {
+        kg_sweep_fast_body(b, t, i, pass, prm, extents.max);
     }
 }
 

@@ -447,25 +447,56 @@ static kg_extents kg_extents_of(kg_body_extents* cache, const kg_body_pool* p, i
     return e.extents;
 }
 
-static void kg_finalize_range(void* context, int begin, int end)
+/* Bodies a block of the finalize loop tells fast, then sweeps: a third of a rain's drops
+ * are fast in no order, and a branch per body on it was mispredicted. */
+#define KG_SWEEP_BLOCK 64
+
+/* The continuous collision of the pass's bodies in [begin, end) (at most KG_SWEEP_BLOCK):
+ * they read only what this pass does not write (static bodies, tiles, and in the
+ * bullets' pass the others, whose pass is done), and write only their own pose. */
+static void kg_continuous_block(const kg_finalize_job* job, int begin, int end)
 {
-    const kg_finalize_job* job = context;
     kg_body_pool* p = job->pool;
-    kg_continuous_bodies bodies = job->bodies;
-    kg_tile_terrain terrain = job->terrain;
-    kg_body_extents* extents = job->solver->extents;
+    kg_body_extents* cache = job->solver->extents;
+    kg_u32 fast[KG_SWEEP_BLOCK];
+    float reach[KG_SWEEP_BLOCK];
+    int n = 0;
     for (int i = begin; i < end; ++i) {
-        kg_u32 f = p->flags[i];
-        if (!kg_finalized_in_pass(f, job->continuous, job->pass)) {
-            continue;
+        if (!kg_continuous_takes(p->flags[i], job->pass)) {
+            continue; /* a dead slot's shape is no body's: its extents are not kept */
         }
-        if (job->continuous && kg_continuous_takes(f, job->pass)) {
-            kg_continuous_body(&bodies, &terrain, (kg_u32)i, job->pass, job->toi, job->dt, kg_extents_of(extents, p, i));
-        }
-        if (kg_finalize_body((kg_u32)i, job->dt, p->flags, p->center, p->rot, p->velocity, p->omega, p->force,
+        kg_extents e = kg_extents_of(cache, p, i);
+        fast[n] = (kg_u32)i;
+        reach[n] = e.max;
+        n += kg_moves_fast(p->velocity[i], p->omega[i], job->dt, e);
+    }
+    for (int k = 0; k < n; ++k) {
+        kg_sweep_fast_body(&job->bodies, &job->terrain, fast[k], job->pass, job->toi, reach[k]);
+    }
+}
+
+/* The pass's bodies in [begin, end) finalized. */
+static void kg_finalize_block(const kg_finalize_job* job, int begin, int end)
+{
+    kg_body_pool* p = job->pool;
+    for (int i = begin; i < end; ++i) {
+        if (kg_finalized_in_pass(p->flags[i], job->continuous, job->pass) &&
+            kg_finalize_body((kg_u32)i, job->dt, p->flags, p->center, p->rot, p->velocity, p->omega, p->force,
                              p->torque, p->drag, p->xf, p->aabb, p->shape, p->local_center)) {
             kg_warn_frozen(i);
         }
+    }
+}
+
+static void kg_finalize_range(void* context, int begin, int end)
+{
+    const kg_finalize_job* job = context;
+    for (int block = begin; block < end; block += KG_SWEEP_BLOCK) {
+        int block_end = end - block < KG_SWEEP_BLOCK ? end : block + KG_SWEEP_BLOCK;
+        if (job->continuous) {
+            kg_continuous_block(job, block, block_end);
+        }
+        kg_finalize_block(job, block, block_end);
     }
 }
 
