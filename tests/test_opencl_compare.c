@@ -335,6 +335,48 @@ static void kg_capsules_scene(kg_world* world)
     KG_CHECK_OK(kg_create_body(world, &sweeper, &body));
 }
 
+/* Continuous collision: boxes and circles shot at 30 to 390 m/s at a wall of static
+ * bricks 0.2 m thick (to the right) and at a wall of 0.2 m tiles (to the left), and bullets at a
+ * standing dynamic plank, over a ground: times of impact every few steps. */
+static void kg_tunnelling_scene(kg_world* world)
+{
+    kg_ground(world, 60.0f);
+    for (int k = 0; k < 12; ++k) { /* a wall of bricks: the ground is a large static body then */
+        kg_add(world, KG_BODY_STATIC, (kg_vec2){10.1f, 0.25f + 0.5f * (float)k}, 0.0f, kg_box_shape(0.2f, 0.5f));
+    }
+    static uint16_t column[30];
+    for (int y = 0; y < 30; ++y) {
+        column[y] = 1;
+    }
+    kg_tile_shape shapes[2] = {kg_tile_empty(), kg_tile_box()};
+    kg_tilemap_def def = kg_default_tilemap_def();
+    def.width = 1;
+    def.height = 30;
+    def.tile_size = (kg_vec2){0.2f, 0.2f};
+    def.origin = (kg_vec2){-10.2f, 0.0f};
+    def.shapes = shapes;
+    def.shape_count = 2;
+    def.tiles = column;
+    kg_tilemap map;
+    KG_CHECK_OK(kg_create_tilemap(world, &def, &map));
+    kg_body_def plank = kg_default_body_def();
+    plank.shape = kg_box_shape(0.2f, 4.0f);
+    plank.position = (kg_vec2){0.0f, 12.0f};
+    kg_body body;
+    KG_CHECK_OK(kg_create_body(world, &plank, &body));
+    for (int k = 0; k < 50; ++k) {
+        int side = k % 3; /* 0: the static wall, 1: the tile wall, 2: the plank, as a bullet */
+        kg_body_def d = kg_default_body_def();
+        d.shape = k % 2 ? kg_circle_shape(0.05f) : kg_box_shape(0.1f, 0.1f);
+        d.position = (kg_vec2){side == 1 ? -0.3f : -0.3f - 10.0f * (float)(side == 2), 0.5f + 0.3f * (float)(k / 3)};
+        d.position.y += side == 2 ? 10.0f : 0.0f;
+        d.velocity = (kg_vec2){(side == 1 ? -1.0f : 1.0f) * (30.0f + 20.0f * (float)(k / 3)), 0.0f};
+        d.angular_velocity = 0.5f * (float)(k % 5);
+        d.bullet = side == 2;
+        KG_CHECK_OK(kg_create_body(world, &d, &body));
+    }
+}
+
 static kg_world* kg_make_world(kg_backend backend, kg_scene_fn* scene)
 {
     kg_world_def def = kg_default_world_def();
@@ -529,6 +571,7 @@ static void test_rain_2000_colored_in_rounds(void)
 }
 static void test_tiles(void) { kg_compare_scene("tiles", kg_tiles_scene); }
 static void test_capsules(void) { kg_compare_scene("capsules", kg_capsules_scene); }
+static void test_tunnelling(void) { kg_compare_scene("tunnelling", kg_tunnelling_scene); }
 
 /* With a tile map, the collide stage runs on the device: no "collide (host)" in the
  * stage times, with profiling off or on, and the world stays on the OpenCL backend. */
@@ -575,6 +618,7 @@ int main(void)
                                          KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_rain_2000_colored_in_rounds),
                                          KG_TEST(test_sizes), KG_TEST(test_piles),
                                          KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device), KG_TEST(test_capsules),
+                                         KG_TEST(test_tunnelling),
                                          KG_TEST(test_sleep_and_wake), KG_TEST(test_sleep_and_wake_islands_in_rounds)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

@@ -32,6 +32,7 @@ typedef struct bench_config {
     unsigned seed;
     double budget_s;  /* a run stepping longer skips the larger sizes of its series; 0 = none */
     double timeout_s; /* a run taking longer is killed; 0 = none */
+    int no_continuous; /* kgyro with continuous collision off */
 } bench_config;
 
 typedef struct bench_scene_info {

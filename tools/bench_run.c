@@ -38,6 +38,7 @@ static int bench_kgyro_create(bench_sim* sim, const bench_config* config, char* 
     def.threads = config->threads;
     def.substeps = config->substeps > 0 ? config->substeps : def.substeps;
     def.enable_sleep = 0; /* the peers run with sleeping off: every engine simulates every body */
+    def.enable_continuous = !config->no_continuous;
     sim->handles = malloc((size_t)(sim->body_count + 1) * sizeof *sim->handles);
     if (!sim->handles) {
         snprintf(why, size, "out of memory");

@@ -81,7 +81,9 @@ static void bench_usage(FILE* out)
             "  --csv FILE       write the table as CSV, and kgyro's stage times to FILE_stages.csv\n"
             "  --plot DIR       write gnuplot scripts to DIR and draw them as PNG: scaling.png (step\n"
             "                   time vs bodies, log-log), scenes.png, stages.png\n"
-            "  --profile        print each kgyro stage's share of the step\n");
+            "  --profile        print each kgyro stage's share of the step\n"
+            "  --no-continuous  kgyro with continuous collision off (kg_world_def.enable_continuous),\n"
+            "                   to measure what it costs\n");
 }
 
 static int bench_parse_int(const char* text, int min, int* out)
@@ -149,6 +151,10 @@ static int bench_parse_option(int argc, char** argv, int* i, bench_options* o)
     const char* arg = argv[*i];
     if (strcmp(arg, "--profile") == 0) {
         o->profile = 1;
+        return 1;
+    }
+    if (strcmp(arg, "--no-continuous") == 0) {
+        o->config.no_continuous = 1;
         return 1;
     }
     char name[32];

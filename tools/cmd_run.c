@@ -24,6 +24,7 @@ typedef struct kg_run_options {
     int backend;          /* -1: the scene's (auto) */
     int threads;          /* -1: the scene's */
     uint32_t seed;
+    int no_continuous;    /* --no-continuous: kg_world_def.enable_continuous off */
 } kg_run_options;
 
 #define KG_RUN_DEFAULT_STEPS 60
@@ -52,6 +53,7 @@ static void kg_run_usage(FILE* out)
             "                    at each written step (a, b = scene body ids; - for standard output)\n"
             "  --backend B       auto, cpu or opencl (default auto: OpenCL when a device works)\n"
             "  --threads N       CPU worker threads (default: the library's)\n"
+            "  --no-continuous   turn continuous collision off (kg_world_def.enable_continuous)\n"
             "  --seed S          seed of the random generators, rain_N and particles_N (default 1)\n"
             "  -h, --help        show this help\n"
             "\n"
@@ -163,12 +165,16 @@ static int kg_is_option_with_value(const char* arg)
  * "--opt=value". */
 static int kg_parse_run_options(int argc, char** argv, kg_run_options* o)
 {
-    *o = (kg_run_options){NULL, -1, 0.0f, NULL, 1, NULL, -1, -1, 1u};
+    *o = (kg_run_options){NULL, -1, 0.0f, NULL, 1, NULL, -1, -1, 1u, 0};
     for (int i = 1; i < argc; ++i) {
         const char* arg = argv[i];
         if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
             kg_run_usage(stdout);
             return 0;
+        }
+        if (strcmp(arg, "--no-continuous") == 0) {
+            o->no_continuous = 1;
+            continue;
         }
         const char* equals = strchr(arg, '=');
         if (strncmp(arg, "--", 2) == 0 && equals) {
@@ -380,6 +386,9 @@ static int kg_start_world(kg_run* run, const kg_run_options* o, kg_scene* scene)
     }
     if (o->threads >= 0) {
         def.threads = o->threads;
+    }
+    if (o->no_continuous) {
+        def.enable_continuous = 0;
     }
     int count = kg_scene_body_count(scene);
     size_t slots = (size_t)(count > 0 ? count : 1);

@@ -80,6 +80,11 @@ typedef struct kg_body_def {
     uint32_t category;        /* collision filtering: a and b collide when */
     uint32_t mask;            /* (a.category & b.mask) && (b.category & a.mask) */
     int fixed_rotation;       /* non-zero: infinite rotational inertia */
+    int bullet;               /* non-zero (dynamic bodies only): when fast, also kept from
+                               * passing through the other (non-bullet) dynamic bodies and the
+                               * kinematic ones; every dynamic body is kept from passing
+                               * through static bodies and tile maps anyway
+                               * (kg_world_def.enable_continuous) */
     void* user_data;
 } kg_body_def;
 
@@ -139,6 +144,9 @@ KG_API kg_result kg_body_set_friction(kg_world* world, kg_body body, float frict
 KG_API kg_result kg_body_set_restitution(kg_world* world, kg_body body, float restitution);
 KG_API kg_result kg_body_set_damping(kg_world* world, kg_body body, float linear, float angular);
 KG_API kg_result kg_body_set_filter(kg_world* world, kg_body body, uint32_t category, uint32_t mask);
+/* Makes a dynamic body a bullet (non-zero) or not: kg_body_def.bullet. */
+KG_API kg_result kg_body_set_bullet(kg_world* world, kg_body body, int bullet);
+KG_API int kg_body_is_bullet(const kg_world* world, kg_body body);
 
 /* Forces and torques accumulate until the end of the next step. Impulses act at once. */
 KG_API kg_result kg_body_apply_force(kg_world* world, kg_body body, kg_vec2 force, kg_vec2 world_point);

@@ -39,6 +39,11 @@ typedef struct kg_world_def {
     float speculative_distance; /* m: contacts are reported this far before touching */
     float max_linear_speed;   /* m/s: velocities are clamped to this (numerical safety) */
     int enable_sleep;         /* islands at rest stop being simulated until touched (default 1) */
+    int enable_continuous;    /* continuous collision (default 1): a dynamic body moving more
+                               * than half its size in a step is swept against the static
+                               * bodies and tile maps, bullets (kg_body_def.bullet) also against
+                               * the other dynamic and the kinematic bodies, and stopped at the
+                               * first impact (docs/design.md, the finalize stage) */
     float sleep_speed;        /* m/s: a body whose every point is slower than this is at rest */
     float time_to_sleep;      /* s: an island whose bodies all rest this long falls asleep */
     kg_backend backend;

@@ -586,8 +586,13 @@ KG_FN kg_tile_hit kg_tile_collide_circle(const kg_tile_segment* s, kg_vec2 cente
 {
     float along = kg_dot(kg_sub(center, s->p1), s->direction);
     float height = kg_dot(kg_sub(center, s->p1), s->normal);
+    /* a flat end's region is the next segment's, but rounding in the two cell frames can
+     * put a centre on the join just outside both: each takes it up to the weld distance */
+    float weld = KG_TILE_WELD * s->length;
+    float from = s->end1 == KG_END_FLAT ? -weld : 0.0f;
+    float to = s->end2 == KG_END_FLAT ? s->length + weld : s->length;
     kg_tile_hit hit = kg_tile_no_hit();
-    if (exit || (along >= 0.0f && along < s->length && height >= 0.0f)) {
+    if (exit || (along >= from && along < to && height >= 0.0f)) {
         kg_vec2 on_segment = kg_mul_sub(center, height, s->normal);
         hit = kg_point_hit(on_segment, kg_mul_sub(center, radius, s->normal), s->normal, height - radius, 0u);
     } else if (along < 0.0f && kg_owns_end(s, 1)) {

@@ -73,6 +73,9 @@ static kg_result kg_validate_body_def(const kg_body_def* d)
         return kg_fail(KG_ERROR_INVALID_ARGUMENT,
                        "a segment has no area: only static and kinematic bodies may have one (use a thin capsule)");
     }
+    if (d->bullet && d->type != KG_BODY_DYNAMIC) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "only a dynamic body can be a bullet");
+    }
     return KG_OK;
 }
 
@@ -132,7 +135,8 @@ static void kg_body_write(kg_body_pool* p, int i, const kg_body_def* d, const kg
     p->category[i] = d->category;
     p->mask[i] = d->mask;
     p->user_data[i] = d->user_data;
-    p->flags[i] = KG_FLAG_ALIVE | ((kg_u32)d->type << KG_TYPE_SHIFT) | (d->fixed_rotation ? KG_FLAG_FIXED_ROTATION : 0u);
+    p->flags[i] = KG_FLAG_ALIVE | ((kg_u32)d->type << KG_TYPE_SHIFT) | (d->fixed_rotation ? KG_FLAG_FIXED_ROTATION : 0u) |
+                  (d->bullet ? KG_FLAG_BULLET : 0u);
     if (p->generation[i] == 0) {
         p->generation[i] = 1;
     }
@@ -163,6 +167,15 @@ kg_result kg_check_body_def(const kg_body_def* def)
     return kg_prepare_body(def, &shape, &md);
 }
 
+/* Continuous collision keeps a list of the static bodies and a count of the bullets
+ * (solve/solver.c), made again after any change to one of them. */
+static void kg_note_static_edit(kg_world* world, const kg_body_pool* p, int i)
+{
+    if (kg_pool_type(p, i) == KG_BODY_STATIC || (p->flags[i] & KG_FLAG_BULLET) != 0u) {
+        world->static_edits += 1u;
+    }
+}
+
 kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_body)
 {
     if (!world || !def || !out_body) {
@@ -180,6 +193,7 @@ kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_b
         return kg_fail(KG_ERROR_POOL_FULL, "body pool full (max_bodies = %d)", p->capacity);
     }
     kg_body_write(p, i, def, &shape, &md);
+    kg_note_static_edit(world, p, i);
     out_body->index = (uint32_t)i;
     out_body->generation = p->generation[i];
     return KG_OK;
@@ -193,6 +207,7 @@ kg_result kg_destroy_body(kg_world* world, kg_body body)
     }
     kg_body_pool* p = kg_world_write_pool(world);
     kg_wake_touching(p, p->aabb[i], world->def.speculative_distance); /* what rested on it */
+    kg_note_static_edit(world, p, i);
     kg_body_pool_release(p, i);
     if (p->generation[i] == 0) {
         p->generation[i] = 1;
@@ -322,6 +337,7 @@ static kg_body_pool* kg_write_body(kg_world* world, kg_body body, int values_ok,
     }
     kg_body_pool* p = kg_world_write_pool(world);
     kg_wake_slot(p, *index); /* a body changed through the API is simulated again */
+    kg_note_static_edit(world, p, *index);
     return p;
 }
 
@@ -473,6 +489,24 @@ kg_result kg_body_set_filter(kg_world* world, kg_body body, uint32_t category, u
     p->category[i] = category;
     p->mask[i] = mask;
     return KG_OK;
+}
+
+kg_result kg_body_set_bullet(kg_world* world, kg_body body, int bullet)
+{
+    int i = kg_world_resolve(world, body);
+    int dynamic = i >= 0 && kg_pool_type(kg_read_pool(world), i) == KG_BODY_DYNAMIC;
+    kg_body_pool* p = kg_write_body(world, body, !bullet || dynamic, "only a dynamic body can be a bullet", &i);
+    if (!p) {
+        return kg_read_error();
+    }
+    p->flags[i] = bullet ? (p->flags[i] | KG_FLAG_BULLET) : (p->flags[i] & ~KG_FLAG_BULLET);
+    kg_note_static_edit(world, p, i);
+    return KG_OK;
+}
+
+int kg_body_is_bullet(const kg_world* world, kg_body body)
+{
+    return kg_body_is_valid(world, body) && (world->bodies.flags[body.index] & KG_FLAG_BULLET) != 0u;
 }
 
 kg_result kg_body_apply_force(kg_world* world, kg_body body, kg_vec2 force, kg_vec2 world_point)

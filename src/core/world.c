@@ -34,6 +34,7 @@ kg_world_def kg_default_world_def(void)
     /* Box2D's values: slow enough that a resting pile's creep is rest, and half a second
      * so that a ball at the top of its bounce is not taken for one at rest. */
     def.enable_sleep = 1;
+    def.enable_continuous = 1;
     def.sleep_speed = 0.05f;
     def.time_to_sleep = 0.5f;
     def.backend = KG_BACKEND_AUTO;

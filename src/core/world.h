@@ -46,6 +46,8 @@ struct kg_world {
     void* backend_state;
     kg_stage_times times;
     float last_dt; /* of the step being taken (0 before the first): sizes speculative margins */
+    kg_u32 static_edits; /* bumped when a static body or a bullet is made, removed or changed:
+                          * continuous collision's list of them is then made again */
     uint64_t step_index;
 };
 

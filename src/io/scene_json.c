@@ -20,11 +20,11 @@ typedef struct kg_loader {
 } kg_loader;
 
 static const char* const kSceneFields[] = {"description", "gravity", "dt", "steps", "substeps", "sleep",
-                                           "bodies", "forces", "generators", "tilemap", NULL};
+                                           "continuous", "bodies", "forces", "generators", "tilemap", NULL};
 static const char* const kBodyFields[] = {"name", "type", "position", "angle", "velocity", "angular_velocity",
                                           "shape", "density", "mass", "friction", "restitution",
                                           "linear_damping", "angular_damping", "category", "mask",
-                                          "fixed_rotation", "pivot", NULL};
+                                          "fixed_rotation", "bullet", "pivot", NULL};
 static const char* const kBoxFields[] = {"type", "width", "height", "center", "angle", NULL};
 static const char* const kCircleFields[] = {"type", "radius", "center", NULL};
 static const char* const kPolygonFields[] = {"type", "vertices", NULL};
@@ -242,6 +242,12 @@ static kg_result kg_read_motion(const kg_json_reader* reader, const cJSON* json,
     KG_TRY(kg_json_float(reader, json, path, "angle", KG_JSON_ANY, &def->angle));
     KG_TRY(kg_json_vec2(reader, json, path, "velocity", &def->velocity));
     KG_TRY(kg_json_float(reader, json, path, "angular_velocity", KG_JSON_ANY, &def->angular_velocity));
+    KG_TRY(kg_json_bool(reader, json, path, "bullet", &def->bullet));
+    if (def->bullet && def->type != KG_BODY_DYNAMIC) {
+        kg_json_path bullet_path = kg_json_path_key(path, "bullet");
+        return kg_json_fail(reader, &bullet_path, "only a dynamic body can be a bullet (this one is %s)",
+                            kBodyTypes[def->type]);
+    }
     return kg_json_bool(reader, json, path, "fixed_rotation", &def->fixed_rotation);
 }
 
@@ -1019,6 +1025,7 @@ static kg_result kg_read_settings(kg_loader* loader, const cJSON* root)
     KG_TRY(kg_json_int(reader, root, &root_path, "steps", 0, 100000000, &steps));
     KG_TRY(kg_json_int(reader, root, &root_path, "substeps", 1, 64, &def->substeps));
     KG_TRY(kg_json_bool(reader, root, &root_path, "sleep", &def->enable_sleep));
+    KG_TRY(kg_json_bool(reader, root, &root_path, "continuous", &def->enable_continuous));
     KG_TRY(kg_scene_set_dt(loader->scene, dt));
     return kg_scene_set_steps(loader->scene, steps);
 }

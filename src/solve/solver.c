@@ -12,6 +12,8 @@
 #include "core/parallel.h"
 #include "collide/aabb.h"
 #include "collide/collide.h"
+#include "collide/continuous.h"
+#include "collide/tilemap.h"
 #include "core/alloc.h"
 #include "core/error.h"
 #include "solve/body_step.h"
@@ -21,10 +23,19 @@
 #include "solve/island.h"
 
 #include <stdatomic.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define KG_BODY_GRAIN 256
 #define KG_CONSTRAINT_GRAIN 64
+
+/* A body's extents, computed once for each body that takes the slot (a body's shape
+ * never changes): generation is the body's (0: none yet). Each slot is written by its
+ * own body only, so threads share nothing. */
+typedef struct kg_body_extents {
+    kg_extents extents;
+    kg_u32 generation;
+} kg_body_extents;
 
 struct kg_solver {
     const kg_contact_rows* rows; /* the SIMD width's row code */
@@ -40,6 +51,9 @@ struct kg_solver {
     kg_solver_body* bodies;           /* per body slot, then the still body (slot `still`) */
     kg_u32 still;                     /* what rows name for the static world and empty lanes */
     kg_velocity_step* velocity_steps; /* per body, made once a step */
+    kg_static_list statics;           /* continuous collision's index of the static bodies, */
+    int statics_listed;               /* made at statics.edits (statics_listed: ever) */
+    kg_body_extents* extents;         /* per body slot: its shape's, for continuous collision */
 };
 
 static kg_result kg_reserve_blocks(struct kg_solver* s, int blocks)
@@ -91,7 +105,9 @@ kg_result kg_solver_create(kg_world* world)
     }
     s->bodies = kg_alloc_zeroed(((size_t)world->def.max_bodies + 1) * sizeof *s->bodies);
     s->velocity_steps = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->velocity_steps);
-    if (!s->bodies || !s->velocity_steps) {
+    s->statics.entries = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->statics.entries);
+    s->extents = kg_alloc_zeroed((size_t)world->def.max_bodies * sizeof *s->extents);
+    if (!s->bodies || !s->velocity_steps || !s->statics.entries || !s->extents) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the solver");
     }
     s->still = (kg_u32)world->def.max_bodies;
@@ -110,6 +126,8 @@ void kg_solver_destroy(kg_world* world)
     kg_free_constraints(s);
     kg_free(s->bodies);
     kg_free(s->velocity_steps);
+    kg_free(s->statics.entries);
+    kg_free(s->extents);
     kg_free(s);
     world->solver = NULL;
 }
@@ -404,25 +422,192 @@ void kg_stage_solve(kg_world* world, float dt)
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_store_bodies, &bjob);
 }
 
+/* ---- finalize, with continuous collision ------------------------------------------ */
+
 typedef struct kg_finalize_job {
     kg_body_pool* pool;
+    struct kg_solver* solver;
     float dt;
+    int continuous;             /* world->def.enable_continuous */
+    int pass;                   /* KG_CONTINUOUS_PASS_*: bullets are finalized in the second */
+    kg_continuous_bodies bodies;
+    kg_tile_terrain terrain;
+    kg_toi_params toi;
 } kg_finalize_job;
 
-static void kg_finalize_range(void* context, int begin, int end)
+/* Slot i's extents, from the cache (kg_body_extents). */
+static kg_extents kg_extents_of(kg_body_extents* cache, const kg_body_pool* p, int i)
 {
-    const kg_finalize_job* job = context;
+    kg_body_extents e = cache[i];
+    if (e.generation != p->generation[i]) {
+        e.extents = kg_shape_extents(&p->shape[i], p->local_center[i]);
+        e.generation = p->generation[i];
+        cache[i] = e;
+    }
+    return e.extents;
+}
+
+/* Bodies a block of the finalize loop tells fast, then sweeps: a third of a rain's drops
+ * are fast in no order, and a branch per body on it was mispredicted. */
+#define KG_SWEEP_BLOCK 64
+
+/* The continuous collision of the pass's bodies in [begin, end) (at most KG_SWEEP_BLOCK):
+ * they read only what this pass does not write (static bodies, tiles, and in the
+ * bullets' pass the others, whose pass is done), and write only their own pose. */
+static void kg_continuous_block(const kg_finalize_job* job, int begin, int end)
+{
+    kg_body_pool* p = job->pool;
+    kg_body_extents* cache = job->solver->extents;
+    kg_u32 fast[KG_SWEEP_BLOCK];
+    float reach[KG_SWEEP_BLOCK];
+    int n = 0;
+    for (int i = begin; i < end; ++i) {
+        if (!kg_continuous_takes(p->flags[i], job->pass)) {
+            continue; /* a dead slot's shape is no body's: its extents are not kept */
+        }
+        kg_extents e = kg_extents_of(cache, p, i);
+        fast[n] = (kg_u32)i;
+        reach[n] = e.max;
+        n += kg_moves_fast(p->velocity[i], p->omega[i], job->dt, e);
+    }
+    for (int k = 0; k < n; ++k) {
+        kg_sweep_fast_body(&job->bodies, &job->terrain, fast[k], job->pass, job->toi, reach[k]);
+    }
+}
+
+/* The pass's bodies in [begin, end) finalized. */
+static void kg_finalize_block(const kg_finalize_job* job, int begin, int end)
+{
     kg_body_pool* p = job->pool;
     for (int i = begin; i < end; ++i) {
-        if (kg_finalize_body((kg_u32)i, job->dt, p->flags, p->center, p->rot, p->velocity, p->omega, p->force,
+        if (kg_finalized_in_pass(p->flags[i], job->continuous, job->pass) &&
+            kg_finalize_body((kg_u32)i, job->dt, p->flags, p->center, p->rot, p->velocity, p->omega, p->force,
                              p->torque, p->drag, p->xf, p->aabb, p->shape, p->local_center)) {
             kg_warn_frozen(i);
         }
     }
 }
 
+static void kg_finalize_range(void* context, int begin, int end)
+{
+    const kg_finalize_job* job = context;
+    for (int block = begin; block < end; block += KG_SWEEP_BLOCK) {
+        int block_end = end - block < KG_SWEEP_BLOCK ? end : block + KG_SWEEP_BLOCK;
+        if (job->continuous) {
+            kg_continuous_block(job, block, block_end);
+        }
+        kg_finalize_block(job, block, block_end);
+    }
+}
+
+/* Entries of the small static bodies in order of lower x (then slot: each order is one). */
+static int kg_compare_entries(const void* pa, const void* pb)
+{
+    const kg_static_entry* a = pa;
+    const kg_static_entry* b = pb;
+    if (a->lower_x != b->lower_x) {
+        return a->lower_x < b->lower_x ? -1 : 1;
+    }
+    return a->slot < b->slot ? -1 : (a->slot > b->slot ? 1 : 0);
+}
+
+/* Wider than this many times the static bodies' mean width, a static body is large: a
+ * ground under a thousand boxes would make every reach (kg_static_entry) reach as far as
+ * it, and every search walk back to it. */
+#define KG_LARGE_STATIC_WIDTHS 8.0f
+
+/* The index of the static bodies (collide/continuous.h, kg_static_entry) and the live
+ * bullets' count, made again when a static body or a bullet changed (world->static_edits)
+ * since they were. */
+static void kg_list_statics(kg_world* world, struct kg_solver* s)
+{
+    if (s->statics_listed && s->statics.edits == world->static_edits) {
+        return;
+    }
+    const kg_body_pool* p = &world->bodies;
+    kg_static_entry* e = s->statics.entries;
+    int n = 0, bullets = 0;
+    float widths = 0.0f;
+    for (int i = 0; i < p->high_water; ++i) {
+        kg_u32 f = p->flags[i];
+        if (kg_flags_alive(f) && kg_flags_type(f) == (kg_u32)KG_BODY_STATIC) {
+            kg_static_entry entry = {(kg_u32)i, p->aabb[i].lower.x, p->aabb[i].upper.x, 0u};
+            e[n++] = entry;
+            widths += p->aabb[i].upper.x - p->aabb[i].lower.x;
+        }
+        bullets += kg_flags_alive(f) && kg_is_bullet(f);
+    }
+    float large = n > 0 ? KG_LARGE_STATIC_WIDTHS * widths / (float)n : 0.0f;
+    int large_count = 0;
+    for (int k = 0; k < n; ++k) { /* the large ones to the front, in slot order */
+        if (e[k].reach - e[k].lower_x > large) {
+            kg_static_entry t = e[k];
+            memmove(e + large_count + 1, e + large_count, (size_t)(k - large_count) * sizeof *e);
+            e[large_count++] = t;
+        }
+    }
+    qsort(e + large_count, (size_t)(n - large_count), sizeof *e, kg_compare_entries);
+    for (int k = large_count + 1; k < n; ++k) {
+        e[k].reach = kg_maxf(e[k].reach, e[k - 1].reach);
+    }
+    s->statics.count = n;
+    s->statics.large_count = large_count;
+    s->statics.bullets = bullets;
+    s->statics.edits = world->static_edits;
+    s->statics_listed = 1;
+}
+
+static kg_tile_terrain kg_terrain_of(const kg_world* world)
+{
+    kg_tile_terrain t = {0, 0, 0, 0, world->def.speculative_distance, world->def.linear_slop};
+    if (kg_tilemaps_live_count(world) > 0) {
+        kg_tilemap_arrays a;
+        kg_tilemaps_arrays(world, &a);
+        t.maps = a.maps;
+        t.cells = a.cells;
+        t.protos = a.protos;
+        t.map_count = a.map_count;
+    }
+    return t;
+}
+
+/* What the time of impact searches aim at: the linear slop, as Box2D v3. */
+kg_toi_params kg_toi_params_of(const kg_world_def* def)
+{
+    kg_toi_params prm = {def->linear_slop, 0.25f * def->linear_slop};
+    return prm;
+}
+
+kg_static_list kg_continuous_statics(kg_world* world)
+{
+    kg_list_statics(world, world->solver);
+    return world->solver->statics;
+}
+
 void kg_stage_finalize(kg_world* world)
 {
-    kg_finalize_job job = {&world->bodies, world->last_dt};
-    kg_parallel_for(world->threads, world->bodies.high_water, KG_BODY_GRAIN, kg_finalize_range, &job);
+    kg_body_pool* p = &world->bodies;
+    struct kg_solver* s = world->solver;
+    kg_finalize_job job;
+    memset(&job, 0, sizeof job);
+    job.pool = p;
+    job.solver = s;
+    job.dt = world->last_dt;
+    job.continuous = world->def.enable_continuous;
+    if (job.continuous) {
+        kg_list_statics(world, s);
+        kg_continuous_bodies b = {p->flags,          p->velocity,     p->omega,   p->center,
+                                  p->rot,            p->xf,           p->aabb,    p->shape,
+                                  p->local_center,   p->category,     p->mask,    s->statics.entries,
+                                  s->statics.count,  s->statics.large_count, p->high_water};
+        job.bodies = b;
+        job.terrain = kg_terrain_of(world);
+        job.toi = kg_toi_params_of(&world->def);
+    }
+    job.pass = KG_CONTINUOUS_PASS_BODIES;
+    kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_finalize_range, &job);
+    if (job.continuous && s->statics.bullets > 0) { /* against the others' poses at the end of the step, finalized above */
+        job.pass = KG_CONTINUOUS_PASS_BULLETS;
+        kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_finalize_range, &job);
+    }
 }

@@ -6,6 +6,7 @@
 #include "backend/backend.h"
 #include "backend/backend_state.h"
 #include "backend/opencl/cl_world.h"
+#include "solve/solver.h"
 
 extern const kg_backend_ops kg_opencl_backend;
 
@@ -44,6 +45,11 @@ kg_result kg_cl_color_on_device(kg_world* world, kg_cl_backend* b, int* count, i
 kg_result kg_cl_tile_state_to_host(kg_world* world, kg_cl_backend* b);
 /* A step that collided tiles on the device makes its one-way state the current one. */
 void kg_cl_commit_tile_state(kg_cl_backend* b);
+/* The tile maps on the device as on the host (the collide stage's own does it too). */
+kg_result kg_cl_sync_tiles(kg_world* world, kg_cl_backend* b);
+/* Continuous collision's index of the static bodies (solver.h kg_continuous_statics) on
+ * the device, sent again when it changed; *list gets it as the host has it. */
+kg_result kg_cl_sync_statics(kg_world* world, kg_cl_backend* b, kg_static_list* list);
 /* Reads the last step's contacts into the host's list, if it lacks them. */
 kg_result kg_cl_read_contacts(kg_world* world, kg_cl_backend* b);
 

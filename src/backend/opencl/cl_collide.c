@@ -10,6 +10,7 @@
 #include "collide/tilemap.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "solve/solver.h"
 
 /* ---- broadphase --------------------------------------------------------------------- */
 
@@ -134,6 +135,29 @@ static kg_result kg_sync_tiles(kg_world* world, kg_cl_backend* b, int maps)
             }
         }
     }
+    return KG_OK;
+}
+
+kg_result kg_cl_sync_tiles(kg_world* world, kg_cl_backend* b)
+{
+    int maps = kg_tilemaps_live_count(world);
+    return maps > 0 ? kg_sync_tiles(world, b, maps) : KG_OK;
+}
+
+kg_result kg_cl_sync_statics(kg_world* world, kg_cl_backend* b, kg_static_list* list)
+{
+    kg_cl_collide_buffers* c = &b->collide;
+    *list = kg_continuous_statics(world);
+    if (c->statics_sent && c->statics_edits == list->edits) {
+        return KG_OK;
+    }
+    c->statics_sent = 0;
+    if (list->count > 0) {
+        size_t size = (size_t)list->count * sizeof *list->entries;
+        KG_TRY(kg_cl_write(b, c->statics, 0, size, list->entries, 1));
+    }
+    c->statics_edits = list->edits;
+    c->statics_sent = 1;
     return KG_OK;
 }
 

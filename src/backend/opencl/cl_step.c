@@ -8,6 +8,8 @@
 #ifdef KG_HAVE_OPENCL
 #include "backend/opencl/cl_backend.h"
 #include "collide/collide.h"
+#include "collide/continuous.h"
+#include "collide/tilemap.h"
 #include "core/alloc.h"
 #include "core/error.h"
 #include "solve/contact_solver.h"
@@ -348,13 +350,31 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
 
 /* ---- finalize --------------------------------------------------------------------- */
 
+/* One finalize pass over every slot (collide/continuous.h: the bullets' comes second). */
+static kg_result kg_finalize_pass(kg_world* world, kg_cl_backend* b, float dt, int pass, const kg_static_list* statics)
+{
+    int bodies = world->bodies.high_water, continuous = world->def.enable_continuous;
+    int maps = continuous ? kg_tilemaps_live_count(world) : 0;
+    kg_toi_params prm = kg_toi_params_of(&world->def);
+    kg_cl_collide_buffers* c = &b->collide;
+    KG_LAUNCH(b, FINALIZE, bodies, NULL, KG_INT(bodies), KG_FLOAT(dt), KG_INT(pass), KG_INT(continuous), KG_VALUE(prm),
+              KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(VELOCITY)),
+              KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(DRAG)), KG_MEM(KG_A(XF)),
+              KG_MEM(KG_A(AABB)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(KG_A(CATEGORY)),
+              KG_MEM(KG_A(MASK)), KG_MEM(c->statics), KG_INT(statics->count), KG_INT(statics->large_count),
+              KG_MEM(c->tile_maps), KG_MEM(c->tile_cells), KG_MEM(c->tile_protos), KG_INT(maps));
+    return KG_OK;
+}
+
 static kg_result kg_stage_finalize_on_device(kg_world* world, kg_cl_backend* b, float dt)
 {
-    int bodies = world->bodies.high_water;
-    KG_LAUNCH(b, FINALIZE, bodies, NULL, KG_INT(bodies), KG_FLOAT(dt), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(CENTER)),
-              KG_MEM(KG_A(ROT)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(TORQUE)),
-              KG_MEM(KG_A(DRAG)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(AABB)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(LOCAL_CENTER)));
-    return KG_OK;
+    kg_static_list statics = {NULL, 0, 0, 0, 0u};
+    if (world->def.enable_continuous) {
+        KG_TRY(kg_cl_sync_statics(world, b, &statics));
+        KG_TRY(kg_cl_sync_tiles(world, b));
+    }
+    KG_TRY(kg_finalize_pass(world, b, dt, KG_CONTINUOUS_PASS_BODIES, &statics));
+    return statics.bullets > 0 ? kg_finalize_pass(world, b, dt, KG_CONTINUOUS_PASS_BULLETS, &statics) : KG_OK;
 }
 
 /* The queue drained, so that errors surface inside the step; the state is the device's. */

@@ -3,6 +3,7 @@
 #include "backend/opencl/cl_sort.h"
 #include "backend/opencl/kernels/kg_collide_shared.h"
 #include "collide/collide.h"
+#include "collide/continuous.h"
 #include "core/alloc.h"
 #include "core/error.h"
 #include "solve/contact_solver.h"
@@ -460,6 +461,7 @@ static kg_result kg_cl_create_collide_buffers(kg_cl_backend* b, int slots)
         {&c->block_sums, KG_SCAN_MAX_BLOCKS * words},
         {&c->sort_counts, KG_SORT_COUNT_WORDS * words},
         {&c->tile_run, (n + 1) * words},
+        {&c->statics, n * sizeof(kg_static_entry)},
         {&c->last_origin[0], n * sizeof(kg_vec2)},
         {&c->last_origin[1], n * sizeof(kg_vec2)},
         {&c->last_generation[0], n * words},
@@ -636,12 +638,13 @@ void kg_cl_close_device(kg_cl_backend* b)
     cl_mem* list[] = {&c->counts, &c->proxies, &c->sorted, &c->keys, &c->items, &c->large_keys,
                       &c->large_items, &c->key_scratch, &c->item_scratch, &c->found, &c->histogram, &c->grid,
                       &c->bp_words, &c->run, &c->run_fill, &c->colors_used, &c->color_bids[0], &c->color_bids[1],
-                      &c->block_sums, &c->sort_counts, &c->tile_run,
+                      &c->block_sums, &c->sort_counts, &c->tile_run, &c->statics,
                       &c->last_origin[0], &c->last_origin[1], &c->last_generation[0], &c->last_generation[1],
                       &c->tile_maps, &c->tile_cells, &c->tile_protos};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
         kg_cl_release(b, list[k]);
     }
+    c->statics_sent = 0;
     for (int k = 0; k < KG_CL_KERNEL_COUNT; ++k) {
         if (b->kernels[k]) {
             b->cl->ReleaseKernel(b->kernels[k]);

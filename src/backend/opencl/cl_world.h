@@ -55,7 +55,7 @@ typedef enum kg_cl_array {
     X(STORE_BODIES, kg_store_bodies, 11) X(PREPARE_CONTACTS, kg_prepare_contacts, 9)                          \
     X(GATHER_COLORED, kg_gather_colored, 4) X(SOLVE_COLOR, kg_solve_color, 7)                                 \
     X(SOLVE_COLORS_IN_GROUP, kg_solve_colors_in_group, 5) X(STORE_IMPULSES, kg_store_impulses, 3)             \
-    X(FINALIZE, kg_finalize, 14) X(SCAN_BLOCKS, kg_scan_blocks, 4) X(SCAN_APPLY, kg_scan_apply, 7)            \
+    X(FINALIZE, kg_finalize, 26) X(SCAN_BLOCKS, kg_scan_blocks, 4) X(SCAN_APPLY, kg_scan_apply, 7)            \
     X(SORT_COUNT, kg_sort_count, 6) X(SORT_SCATTER, kg_sort_scatter, 9) X(BP_CLEAR, kg_bp_clear, 3)           \
     X(BP_PROXIES, kg_bp_proxies, 11) X(BP_CELLS, kg_bp_cells, 2) X(BP_BOUNDS, kg_bp_bounds, 4)                \
     X(BP_BUILD_GRID, kg_bp_build_grid, 2) X(BP_KEYS, kg_bp_keys, 7) X(BP_GATHER, kg_bp_gather, 7)             \
@@ -121,6 +121,9 @@ typedef struct kg_cl_collide_buffers {
     cl_mem block_sums;     /* KG_SCAN_MAX_BLOCKS */
     cl_mem sort_counts;    /* a sort pass's digit counts per chunk, KG_SORT_COUNT_WORDS */
     cl_mem tile_run;       /* tile contacts per slot, then their prefix sum (slots + 1) */
+    cl_mem statics;        /* continuous collision's index of the static bodies (kg_static_entry), */
+    kg_u32 statics_edits;  /* as listed at world->static_edits then (statics_sent: ever) */
+    int statics_sent;
     cl_mem last_origin[2]; /* one-way platforms: each slot's origin and generation at the */
     cl_mem last_generation[2]; /* last collision (collide/tilemap.c keeps the same on the
                             * host), [tile_state] the current, the other written by a step */

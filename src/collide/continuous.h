@@ -1,0 +1,284 @@
+/* The continuous collision of one body, at the end of the solve, before its pose is
+ * finalized: a dynamic body that moves fast (collide/toi.h, kg_moves_fast) is swept from
+ * its pose at the start of the step (its origin transform, which finalize has not yet
+ * updated) to its pose at the end (centre and rotation), against the static bodies and
+ * the tile maps that the swept bounds overlap; a bullet also against the non-bullet
+ * dynamic bodies and the kinematic ones, at their poses at the end of the step
+ * (finalized before the bullets run). At the earliest time of impact the body is moved back on its sweep and keeps its
+ * velocity: next step's contact, made just touching, stops it. Box2D v3's scheme.
+ *
+ * A body's result depends only on the start and end poses of the step and on bodies it
+ * does not write, so the CPU backend runs bodies in parallel and the device one
+ * work-item a body, with the same bits. */
+#ifndef KG_CONTINUOUS_H
+#define KG_CONTINUOUS_H
+
+#include "collide/aabb.h"
+#include "collide/tile_pass.h"
+#include "collide/toi.h"
+
+/* A static body in the index the sweeps search (made on the host when a static body
+ * changes): the large ones first, in slot order, each tested; then the others sorted by
+ * the lower x of their bounds, with reach the largest upper x of those up to this one,
+ * so that a search walks back from the last one not past the sweep's upper x only while
+ * some earlier one can still reach its lower x. */
+typedef struct kg_static_entry {
+    kg_u32 slot;
+    float lower_x;
+    float reach;
+    kg_u32 pad;
+} kg_static_entry;
+
+KG_STATIC_ASSERT(sizeof(kg_static_entry) == 16, static_entry_size);
+
+/* The body pool's arrays the pass reads, and the two it writes (centre and rotation). */
+typedef struct kg_continuous_bodies {
+    KG_GLOBAL const kg_u32* flags;
+    KG_GLOBAL const kg_vec2* velocity;
+    KG_GLOBAL const float* omega;
+    KG_GLOBAL kg_vec2* center;
+    KG_GLOBAL kg_rot* rot;
+    KG_GLOBAL const kg_xf* xf; /* at the start of the step for the bodies being swept */
+    KG_GLOBAL const kg_aabb* aabb;
+    KG_GLOBAL const kg_shape* shape;
+    KG_GLOBAL const kg_vec2* local_center;
+    KG_GLOBAL const kg_u32* category;
+    KG_GLOBAL const kg_u32* mask;
+    KG_GLOBAL const kg_static_entry* statics; /* the static bodies' index, static_count long, */
+    int static_count;
+    int large_count;                 /* of which the first large_count are the large ones */
+    int slot_count;                  /* the pool's high water: bullets look at [0, slot_count) */
+} kg_continuous_bodies;
+
+/* Which pass a body is swept in: the non-bullets first, then the bullets against them. */
+#define KG_CONTINUOUS_PASS_BODIES 0
+#define KG_CONTINUOUS_PASS_BULLETS 1
+
+KG_FN int kg_is_bullet(kg_u32 flags) { return (flags & KG_FLAG_BULLET) != 0u; }
+
+/* Whether slot i is swept in pass `pass`: an awake dynamic body of the pass's kind. */
+KG_FN int kg_continuous_takes(kg_u32 flags, int pass)
+{
+    return kg_flags_simulated(flags) && kg_flags_type(flags) == (kg_u32)KG_BODY_DYNAMIC &&
+           kg_is_bullet(flags) == (pass == KG_CONTINUOUS_PASS_BULLETS);
+}
+
+/* Whether finalize pass `pass` finalizes slot i: with continuous collision on, the bullets
+ * wait for the second pass (they read the others' finalized poses); else all go in the
+ * first. */
+KG_FN int kg_finalized_in_pass(kg_u32 flags, int continuous, int pass)
+{
+    return continuous ? kg_is_bullet(flags) == (pass == KG_CONTINUOUS_PASS_BULLETS) : pass == KG_CONTINUOUS_PASS_BODIES;
+}
+
+/* What a bullet is swept against besides the static world: the other moving bodies,
+ * dynamic (not bullets) or kinematic, at their poses at the end of the step. */
+KG_FN int kg_bullet_target(kg_u32 flags)
+{
+    kg_u32 type = kg_flags_type(flags);
+    int dynamic = type == (kg_u32)KG_BODY_DYNAMIC && !kg_is_bullet(flags);
+    return kg_flags_alive(flags) && (flags & KG_FLAG_FROZEN) == 0u && (dynamic || type == (kg_u32)KG_BODY_KINEMATIC);
+}
+
+KG_FN int kg_filters_meet(kg_u32 category_a, kg_u32 mask_a, kg_u32 category_b, kg_u32 mask_b)
+{
+    return (category_a & mask_b) != 0u && (category_b & mask_a) != 0u;
+}
+
+/* Body slot i's sweep over the step. */
+KG_FN kg_sweep kg_body_sweep(const kg_continuous_bodies* b, kg_u32 i, float max_extent)
+{
+    kg_sweep s;
+    s.max_extent = max_extent;
+    kg_xf start = b->xf[i];
+    s.local_center = b->local_center[i];
+    s.c1 = kg_xf_point(start, s.local_center);
+    s.q1 = start.q;
+    s.c2 = b->center[i];
+    s.q2 = b->rot[i];
+    return s;
+}
+
+/* Bounds of the shape all along the sweep: every point of it stays within its largest
+ * extent of the centre, which runs straight from c1 to c2; fattened by the target. */
+KG_FN kg_aabb kg_sweep_bounds(const kg_sweep* s, float target)
+{
+    kg_aabb box;
+    box.lower = kg_vmin(s->c1, s->c2);
+    box.upper = kg_vmax(s->c1, s->c2);
+    return kg_aabb_fatten(box, target + s->max_extent);
+}
+
+/* The earliest fraction (below limit) at which the shape meets body slot j. */
+KG_FN float kg_toi_with_body(const kg_continuous_bodies* b, kg_u32 i, const kg_shape* shape, const kg_sweep* s,
+                             kg_aabb box, kg_u32 j, kg_toi_params prm, float limit)
+{
+    if (!kg_aabb_overlap(box, b->aabb[j]) || !kg_filters_meet(b->category[i], b->mask[i], b->category[j], b->mask[j])) {
+        return limit;
+    }
+    KG_PRIVATE_VIEW(kg_shape, other, b->shape[j]);
+    return kg_shape_time_of_impact(shape, s, other, b->xf[j], prm, limit);
+}
+
+/* The first of the sorted entries [lo, hi) whose lower x lies past x. */
+KG_FN int kg_statics_past(KG_GLOBAL const kg_static_entry* e, int lo, int hi, float x)
+{
+    while (lo < hi) {
+        int mid = lo + (hi - lo) / 2;
+        if (e[mid].lower_x <= x) {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+/* The earliest fraction at which the shape meets a static body whose bounds meet box:
+ * every large one, and the small ones from the last not past box back to the first
+ * that nothing before can reach box from (kg_static_entry). */
+KG_FN float kg_toi_with_statics(const kg_continuous_bodies* b, kg_u32 i, const kg_shape* shape, const kg_sweep* s,
+                                kg_aabb box, kg_toi_params prm, float limit)
+{
+    KG_GLOBAL const kg_static_entry* e = b->statics;
+    for (int k = 0; k < b->large_count; ++k) {
+        limit = kg_toi_with_body(b, i, shape, s, box, e[k].slot, prm, limit);
+    }
+    int last = kg_statics_past(e, b->large_count, b->static_count, box.upper.x) - 1;
+    for (int k = last; k >= b->large_count && e[k].reach >= box.lower.x; --k) {
+        limit = kg_toi_with_body(b, i, shape, s, box, e[k].slot, prm, limit);
+    }
+    return limit;
+}
+
+/* A segment as a shape of two points (no radius), for the time of impact. */
+KG_FN kg_shape kg_edge_shape(kg_vec2 p1, kg_vec2 p2)
+{
+    kg_shape s;
+    for (int i = 0; i < KG_MAX_VERTS; ++i) {
+        s.vertices[i] = p1;
+        s.normals[i] = kg_v2(0.0f, 0.0f);
+    }
+    s.vertices[1] = p2;
+    s.centroid = kg_lerp(p1, p2, 0.5f);
+    s.radius = 0.0f;
+    s.count = 2;
+    s.chain = 0u;
+    s.pad = 0u;
+    return s;
+}
+
+/* The earliest fraction at which the shape meets exposed edge [p1, p2] of a tile (cell
+ * frame, at cell), as a one-sided segment (Box2D v3's chain segments): only when the
+ * centre crosses its line from the front (outside) to behind. So a body sliding along
+ * a run of tiles, which sinks into it by a hair, never stops at the side of the next
+ * tile (that side is covered, not exposed), nor at the next tile's top (it does not
+ * cross it). */
+KG_FN float kg_toi_with_edge(const kg_shape* shape, const kg_sweep* s, kg_vec2 p1, kg_vec2 p2, kg_xf cell,
+                             kg_toi_params prm, float limit)
+{
+    kg_vec2 a = kg_xf_point(cell, p1), e = kg_sub(kg_xf_point(cell, p2), a);
+    float front1 = kg_cross(kg_sub(s->c1, a), e), front2 = kg_cross(kg_sub(s->c2, a), e);
+    if (front1 < 0.0f || front2 > 0.0f) {
+        return limit;
+    }
+    kg_shape edge = kg_edge_shape(p1, p2);
+    return kg_shape_time_of_impact(shape, s, &edge, cell, prm, limit);
+}
+
+/* The earliest fraction at which the shape meets the tile at (layer, x, y) of map m:
+ * its exposed edges (collide/tilemap.h), or a round tile whole. */
+KG_FN float kg_toi_with_tile(const kg_tile_terrain* t, const kg_tile_map_info* m, int layer, int x, int y,
+                             const kg_shape* shape, const kg_sweep* s, kg_toi_params prm, float limit)
+{
+    kg_u32 word = t->cells[m->cell_offset + kg_tile_cell_index(m, layer, x, y)];
+    KG_GLOBAL const kg_tile_proto* proto = &t->protos[m->proto_offset + kg_cell_id(word)];
+    kg_xf cell;
+    cell.p = kg_v2(m->origin.x + (float)x * m->tile_size.x, m->origin.y + (float)y * m->tile_size.y);
+    cell.q = kg_rot_identity();
+    KG_PRIVATE_VIEW(kg_shape, tile, proto->shape);
+    if (tile->count == 1) {
+        return kg_shape_time_of_impact(shape, s, tile, cell, prm, limit);
+    }
+    for (int i = 0; i < tile->count; ++i) {
+        if (kg_cell_collidable(word, i)) {
+            kg_vec2 p1 = tile->vertices[i], p2 = tile->vertices[kg_next_vertex(i, tile->count)];
+            limit = kg_toi_with_edge(shape, s, p1, p2, cell, prm, limit);
+        }
+    }
+    return limit;
+}
+
+/* The earliest fraction at which the shape meets a tile of map m over the cells box
+ * covers: tiles that may touch (a body reaches the others through those) and are not
+ * one-way platforms (a body may pass those from below). */
+KG_FN float kg_toi_with_map(const kg_tile_terrain* t, const kg_tile_map_info* m, const kg_shape* shape,
+                            const kg_sweep* s, kg_aabb box, kg_toi_params prm, float limit)
+{
+    kg_vec2 size = m->tile_size, origin = m->origin;
+    int x0, x1, y0, y1;
+    if (!kg_tile_span((box.lower.x - origin.x) / size.x, (box.upper.x - origin.x) / size.x, m->width, &x0, &x1) ||
+        !kg_tile_span((box.lower.y - origin.y) / size.y, (box.upper.y - origin.y) / size.y, m->height, &y0, &y1)) {
+        return limit;
+    }
+    for (int layer = 0; layer < m->layer_count; ++layer) {
+        for (int y = y0; y <= y1; ++y) {
+            for (int x = x0; x <= x1; ++x) {
+                kg_u32 index = kg_tile_cell_index(m, layer, x, y);
+                kg_u32 id = kg_cell_id(t->cells[m->cell_offset + index]);
+                if (kg_tile_may_touch(t, m, index) && (t->protos[m->proto_offset + id].flags & KG_TILE_FLAG_ONE_WAY) == 0u) {
+                    limit = kg_toi_with_tile(t, m, layer, x, y, shape, s, prm, limit);
+                }
+            }
+        }
+    }
+    return limit;
+}
+
+/* The earliest fraction of the sweep at which slot i meets what it is swept against. */
+KG_FN_NOINLINE float kg_body_time_of_impact(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
+                                   const kg_shape* shape, const kg_sweep* s, kg_toi_params prm)
+{
+    kg_aabb box = kg_sweep_bounds(s, prm.target);
+    float limit = 1.0f;
+    limit = kg_toi_with_statics(b, i, shape, s, box, prm, limit);
+    for (int n = 0; n < t->map_count; ++n) {
+        KG_PRIVATE_VIEW(kg_tile_map_info, m, t->maps[n]);
+        if (kg_filters_meet(b->category[i], b->mask[i], m->category, m->mask)) {
+            limit = kg_toi_with_map(t, m, shape, s, box, prm, limit);
+        }
+    }
+    for (int j = 0; pass == KG_CONTINUOUS_PASS_BULLETS && j < b->slot_count; ++j) {
+        if (kg_bullet_target(b->flags[j])) {
+            limit = kg_toi_with_body(b, i, shape, s, box, (kg_u32)j, prm, limit);
+        }
+    }
+    return limit;
+}
+
+/* Fast body slot i (kg_moves_fast) moved back to its earliest time of impact in pass
+ * `pass`, keeping its velocity. */
+KG_FN void kg_sweep_fast_body(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
+                              kg_toi_params prm, float max_extent)
+{
+    kg_sweep s = kg_body_sweep(b, i, max_extent);
+    KG_PRIVATE_VIEW(kg_shape, shape, b->shape[i]);
+    float t_hit = kg_body_time_of_impact(b, t, i, pass, shape, &s, prm);
+    if (t_hit < 1.0f) {
+        b->center[i] = kg_sweep_center(&s, t_hit);
+        b->rot[i] = kg_sweep_rot(&s, t_hit);
+    }
+}
+
+/* Slot i's continuous collision in pass `pass`, for a body that takes part in it
+ * (kg_continuous_takes) with the given extents (kg_shape_extents of its shape): if it
+ * moves fast in the step of dt, kg_sweep_fast_body. */
+KG_FN void kg_continuous_body(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
+                              kg_toi_params prm, float dt, kg_extents extents)
+{
+    if (kg_moves_fast(b->velocity[i], b->omega[i], dt, extents)) {
+        kg_sweep_fast_body(b, t, i, pass, prm, extents.max);
+    }
+}
+
+#endif
