@@ -8,7 +8,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "collide/broadphase.h"
-#include "collide/manifold.h"
+#include "collide/chain.h"
 #include "collide/shape.h"
 #include "core/body_pool.h"
 

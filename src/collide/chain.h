@@ -92,4 +92,21 @@ KG_FN kg_manifold kg_collide_chain_segment(const kg_shape* chain, kg_xf xfa, con
     return kg_manifold_to_world(hit.manifold, xfa, origin, xfb, speculative_distance);
 }
 
+/* ---- dispatch ---- */
+
+/* The contact manifold of shapes a and b of any kind (in their bodies' frames) with the
+ * bodies at xfa and xfb: normal from a to b, up to two points with separation <=
+ * speculative_distance. Two chain segments never touch: chains outline what does not move. */
+KG_FN kg_manifold kg_collide_shapes(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative_distance)
+{
+    if (kg_is_chain_segment(a)) {
+        return kg_is_chain_segment(b) ? kg_empty_manifold()
+                                      : kg_collide_chain_segment(a, xfa, b, xfb, speculative_distance);
+    }
+    if (kg_is_chain_segment(b)) {
+        return kg_flip_manifold(kg_collide_chain_segment(b, xfb, a, xfa, speculative_distance));
+    }
+    return kg_collide_convex(a, xfa, b, xfb, speculative_distance);
+}
+
 #endif

@@ -547,11 +547,11 @@ KG_FN kg_manifold kg_collide_circles(const kg_shape* a, kg_xf xfa, const kg_shap
 
 /* ---- dispatch ---- */
 
-/* The contact manifold of shapes a and b (in their bodies' frames) with the bodies at xfa and
- * xfb: normal from a to b, up to two points with separation <= speculative_distance. A shape
- * with 2 or more vertices is a (rounded) polygon, any other a circle (a point when its radius
- * is 0). */
-KG_FN kg_manifold kg_collide_shapes(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative_distance)
+/* The contact manifold of convex shapes a and b (in their bodies' frames) with the bodies at
+ * xfa and xfb: normal from a to b, up to two points with separation <= speculative_distance.
+ * A shape with 2 or more vertices is a (rounded) polygon, any other a circle (a point when its
+ * radius is 0). Chain segments, one-sided, go through collide/chain.h's kg_collide_shapes. */
+KG_FN kg_manifold kg_collide_convex(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative_distance)
 {
     int a_is_polygon = a->count >= 2;
     int b_is_polygon = b->count >= 2;

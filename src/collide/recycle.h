@@ -9,7 +9,7 @@
 #ifndef KG_RECYCLE_H
 #define KG_RECYCLE_H
 
-#include "collide/manifold.h"
+#include "collide/chain.h"
 
 /* Within these a pair's relative pose counts as unchanged: 2 mm, and a turn of 4 mrad
  * (2 mm at the corner of a 1 m box), under the 5 mm linear slop. Measured on the

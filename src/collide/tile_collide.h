@@ -681,7 +681,7 @@ KG_FN kg_tile_hit kg_tile_collide(const kg_tile_neighbourhood* nb, const kg_shap
     if (tile->count < 3) {
         KG_PRIVATE_VIEW(kg_shape, circle_tile, centre.proto->shape);
         kg_tile_hit hit = kg_tile_no_hit();
-        hit.manifold = kg_collide_shapes(circle_tile, kg_translation(kg_v2(0.0f, 0.0f)), body,
+        hit.manifold = kg_collide_convex(circle_tile, kg_translation(kg_v2(0.0f, 0.0f)), body,
                                          kg_translation(kg_v2(0.0f, 0.0f)), speculative);
         hit.separation = kg_min_separation(&hit.manifold);
         return hit;

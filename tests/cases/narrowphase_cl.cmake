@@ -6,7 +6,7 @@ find_program(KG_NARROWPHASE_CLANG NAMES clang clang-14)
 if(KG_NARROWPHASE_CLANG)
   set(kg_narrowphase_cl ${CMAKE_CURRENT_BINARY_DIR}/narrowphase_check.cl)
   file(WRITE ${kg_narrowphase_cl} [=[
-#include "collide/manifold.h"
+#include "collide/chain.h"
 
 __kernel void kg_narrowphase_check(__global const kg_shape* shapes, __global const kg_xf* poses,
                                    __global kg_manifold* manifolds, float speculative_distance)
