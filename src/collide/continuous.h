@@ -14,6 +14,7 @@
 #define KG_CONTINUOUS_H
 
 #include "collide/aabb.h"
+#include "collide/chain.h"
 #include "collide/tile_pass.h"
 #include "collide/toi.h"
 
@@ -109,7 +110,44 @@ KG_FN kg_aabb kg_sweep_bounds(const kg_sweep* s, float target)
     return kg_aabb_fatten(box, target + s->max_extent);
 }
 
-/* The earliest fraction (below limit) at which the shape meets body slot j. */
+/* A segment as a shape of two points (no radius), for the time of impact. */
+KG_FN kg_shape kg_edge_shape(kg_vec2 p1, kg_vec2 p2)
+{
+    kg_shape s;
+    for (int i = 0; i < KG_MAX_VERTS; ++i) {
+        s.vertices[i] = p1;
+        s.normals[i] = kg_v2(0.0f, 0.0f);
+    }
+    s.vertices[1] = p2;
+    s.centroid = kg_lerp(p1, p2, 0.5f);
+    s.radius = 0.0f;
+    s.count = 2;
+    s.chain = 0u;
+    s.pad = 0u;
+    return s;
+}
+
+/* The earliest fraction at which the shape meets exposed edge [p1, p2] of a tile (cell
+ * frame, at cell) or a chain segment (body frame, at the body's pose), as a one-sided
+ * segment (Box2D v3's chain segments): only when the
+ * centre crosses its line from the front (outside) to behind. So a body sliding along
+ * a run of tiles, which sinks into it by a hair, never stops at the side of the next
+ * tile (that side is covered, not exposed), nor at the next tile's top (it does not
+ * cross it). */
+KG_FN float kg_toi_with_edge(const kg_shape* shape, const kg_sweep* s, kg_vec2 p1, kg_vec2 p2, kg_xf cell,
+                             kg_toi_params prm, float limit)
+{
+    kg_vec2 a = kg_xf_point(cell, p1), e = kg_sub(kg_xf_point(cell, p2), a);
+    float front1 = kg_cross(kg_sub(s->c1, a), e), front2 = kg_cross(kg_sub(s->c2, a), e);
+    if (front1 < 0.0f || front2 > 0.0f) {
+        return limit;
+    }
+    kg_shape edge = kg_edge_shape(p1, p2);
+    return kg_shape_time_of_impact(shape, s, &edge, cell, prm, limit);
+}
+
+/* The earliest fraction (below limit) at which the shape meets body slot j (a chain segment
+ * one-sided, as a tile's edge). */
 KG_FN float kg_toi_with_body(const kg_continuous_bodies* b, kg_u32 i, const kg_shape* shape, const kg_sweep* s,
                              kg_aabb box, kg_u32 j, kg_toi_params prm, float limit)
 {
@@ -117,6 +155,9 @@ KG_FN float kg_toi_with_body(const kg_continuous_bodies* b, kg_u32 i, const kg_s
         return limit;
     }
     KG_PRIVATE_VIEW(kg_shape, other, b->shape[j]);
+    if (kg_is_chain_segment(other)) {
+        return kg_toi_with_edge(shape, s, other->vertices[0], other->vertices[1], b->xf[j], prm, limit);
+    }
     return kg_shape_time_of_impact(shape, s, other, b->xf[j], prm, limit);
 }
 
@@ -149,41 +190,6 @@ KG_FN float kg_toi_with_statics(const kg_continuous_bodies* b, kg_u32 i, const k
         limit = kg_toi_with_body(b, i, shape, s, box, e[k].slot, prm, limit);
     }
     return limit;
-}
-
-/* A segment as a shape of two points (no radius), for the time of impact. */
-KG_FN kg_shape kg_edge_shape(kg_vec2 p1, kg_vec2 p2)
-{
-    kg_shape s;
-    for (int i = 0; i < KG_MAX_VERTS; ++i) {
-        s.vertices[i] = p1;
-        s.normals[i] = kg_v2(0.0f, 0.0f);
-    }
-    s.vertices[1] = p2;
-    s.centroid = kg_lerp(p1, p2, 0.5f);
-    s.radius = 0.0f;
-    s.count = 2;
-    s.chain = 0u;
-    s.pad = 0u;
-    return s;
-}
-
-/* The earliest fraction at which the shape meets exposed edge [p1, p2] of a tile (cell
- * frame, at cell), as a one-sided segment (Box2D v3's chain segments): only when the
- * centre crosses its line from the front (outside) to behind. So a body sliding along
- * a run of tiles, which sinks into it by a hair, never stops at the side of the next
- * tile (that side is covered, not exposed), nor at the next tile's top (it does not
- * cross it). */
-KG_FN float kg_toi_with_edge(const kg_shape* shape, const kg_sweep* s, kg_vec2 p1, kg_vec2 p2, kg_xf cell,
-                             kg_toi_params prm, float limit)
-{
-    kg_vec2 a = kg_xf_point(cell, p1), e = kg_sub(kg_xf_point(cell, p2), a);
-    float front1 = kg_cross(kg_sub(s->c1, a), e), front2 = kg_cross(kg_sub(s->c2, a), e);
-    if (front1 < 0.0f || front2 > 0.0f) {
-        return limit;
-    }
-    kg_shape edge = kg_edge_shape(p1, p2);
-    return kg_shape_time_of_impact(shape, s, &edge, cell, prm, limit);
 }
 
 /* The earliest fraction at which the shape meets the tile at (layer, x, y) of map m:
