@@ -6,25 +6,11 @@
 #include "collide/chain.h"
 #include "collide/shape.h"
 
-/* Segment i of a polyline of count points (loop: it closes), as the kg_shape a chain
- * body holds. */
+/* Segment i of a polyline of count points (loop: it closes), as a chain body holds it. */
 static kg_shape chain_segment(const kg_vec2* points, int count, int loop, int i)
 {
-    kg_shape s;
-    memset(&s, 0, sizeof s);
-    s.count = 2;
-    s.vertices[0] = points[i];
-    s.vertices[1] = points[(i + 1) % count];
-    s.chain = KG_CHAIN_SEGMENT;
-    if (loop || i > 0) {
-        s.vertices[2] = points[(i + count - 1) % count];
-        s.chain |= KG_CHAIN_GHOST1;
-    }
-    if (loop || i + 2 < count) {
-        s.vertices[3] = points[(i + 2) % count];
-        s.chain |= KG_CHAIN_GHOST2;
-    }
-    return s;
+    KG_CHECK_OK(kg_check_chain_points(points, count, loop));
+    return kg_chain_segment_build(points, count, loop, i);
 }
 
 static kg_shape built(kg_shape_def def)

@@ -2,6 +2,7 @@
 #include "core/error.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 kg_shape_def kg_box_shape(float width, float height)
@@ -264,6 +265,56 @@ static kg_result kg_build_segment(const kg_shape_def* def, kg_shape* out)
     kg_shape_def thin = *def;
     thin.radius = 0.0f;
     return kg_build_two_point(&thin, "segment", out);
+}
+
+/* Segment i of a chain, points i and i + 1 (the first again after the last). */
+static kg_shape_def kg_chain_segment_def(const kg_vec2* points, int count, int i)
+{
+    return kg_segment_shape(points[i], points[(i + 1) % count]);
+}
+
+kg_result kg_check_chain_points(const kg_vec2* points, int count, int loop)
+{
+    int least = loop ? 3 : 2;
+    if (!points || count < least) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "a chain%s needs at least %d points (got %d)", loop ? " loop" : "",
+                       least, points ? count : 0);
+    }
+    for (int i = 0; i < count; ++i) {
+        if (!kg_finite_vec(points[i])) {
+            return kg_fail(KG_ERROR_INVALID_ARGUMENT, "chain point %d is not finite", i);
+        }
+    }
+    int segments = loop ? count : count - 1;
+    for (int i = 0; i < segments; ++i) {
+        kg_shape segment;
+        kg_shape_def def = kg_chain_segment_def(points, count, i);
+        if (kg_build_segment(&def, &segment) != KG_OK) {
+            char why[160];
+            snprintf(why, sizeof why, "%s", kg_last_error());
+            return kg_fail(KG_ERROR_DEGENERATE_SHAPE, "chain segment %d (points %d and %d): %s", i, i,
+                           (i + 1) % count, why);
+        }
+    }
+    return KG_OK;
+}
+
+kg_shape kg_chain_segment_build(const kg_vec2* points, int count, int loop, int i)
+{
+    kg_shape s;
+    memset(&s, 0, sizeof s);
+    kg_shape_def def = kg_chain_segment_def(points, count, i);
+    kg_build_segment(&def, &s);
+    s.chain = KG_CHAIN_SEGMENT;
+    if (loop || i > 0) {
+        s.vertices[2] = points[(i + count - 1) % count];
+        s.chain |= KG_CHAIN_GHOST1;
+    }
+    if (loop || i + 2 < count) {
+        s.vertices[3] = points[(i + 2) % count];
+        s.chain |= KG_CHAIN_GHOST2;
+    }
+    return s;
 }
 
 kg_result kg_shape_build(const kg_shape_def* def, kg_shape* out)
