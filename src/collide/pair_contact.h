@@ -1,6 +1,6 @@
-/* A body pair's contact, shared by the CPU's narrowphase (collide/collide.c) and the
+/* A shape pair's contact, shared by the CPU's narrowphase (collide/collide.c) and the
  * kernels (kg_collide.cl): last step's contact of the pair found in last step's list
- * (sorted by (a, b), like the pairs), the manifold computed or kept (collide/recycle.h),
+ * (sorted by (a, b, shape_a, shape_b), like the pairs), the manifold computed or kept (collide/recycle.h),
  * and the contact's bodies and material. The CPU builds its contacts in place, a block
  * of pairs at a time; the device in two passes over the pairs, a manifold each, then,
  * after the prefix sum of those that touch, their contacts. */
@@ -11,15 +11,47 @@
 #include "collide/recycle.h"
 #include "core/kg_layout.h"
 
-KG_FN int kg_pair_less(kg_u32 a0, kg_u32 b0, kg_u32 a1, kg_u32 b1) { return a0 < a1 || (a0 == a1 && b0 < b1); }
+/* What names a body contact, and orders the list: its two bodies (slots a < b), then its
+ * two shapes (slots of the shape pool, core/shape_pool.h). A pair of one-shape bodies has
+ * one key; a pair with a compound body has one per pair of shapes that may touch. */
+typedef struct kg_shape_pair {
+    kg_u32 a, b;
+    kg_u32 shape_a, shape_b;
+} kg_shape_pair;
 
-/* The first of last step's body contacts [0, count) not before the pair (a, b). */
-KG_FN int kg_first_not_before(KG_GLOBAL const kg_contact* previous, int count, kg_u32 a, kg_u32 b)
+KG_FN kg_shape_pair kg_shape_pair_make(kg_u32 a, kg_u32 b, kg_u32 shape_a, kg_u32 shape_b)
+{
+    kg_shape_pair k;
+    k.a = a;
+    k.b = b;
+    k.shape_a = shape_a;
+    k.shape_b = shape_b;
+    return k;
+}
+
+KG_FN kg_shape_pair kg_contact_key(KG_GLOBAL const kg_contact* c)
+{
+    return kg_shape_pair_make(c->a, c->b, c->shape_a, c->shape_b);
+}
+
+KG_FN int kg_shape_pair_less(kg_shape_pair p, kg_shape_pair q)
+{
+    if (p.a != q.a) {
+        return p.a < q.a;
+    }
+    if (p.b != q.b) {
+        return p.b < q.b;
+    }
+    return p.shape_a < q.shape_a || (p.shape_a == q.shape_a && p.shape_b < q.shape_b);
+}
+
+/* The first of last step's body contacts [0, count) not before key. */
+KG_FN int kg_first_not_before(KG_GLOBAL const kg_contact* previous, int count, kg_shape_pair key)
 {
     int lo = 0, hi = count;
     while (lo < hi) {
         int mid = lo + (hi - lo) / 2;
-        if (kg_pair_less(previous[mid].a, previous[mid].b, a, b)) {
+        if (kg_shape_pair_less(kg_contact_key(&previous[mid]), key)) {
             lo = mid + 1;
         } else {
             hi = mid;
@@ -28,69 +60,83 @@ KG_FN int kg_first_not_before(KG_GLOBAL const kg_contact* previous, int count, k
     return lo;
 }
 
-/* Whether previous[at] (at < count) is last step's contact of the pair (a, b): the same
- * two bodies, not others that took over their slots. */
-KG_FN int kg_is_contact_of(KG_GLOBAL const kg_contact* previous, int count, int at, kg_u32 a, kg_u32 b,
+/* Whether previous[at] (at < count) is last step's contact of key: the same two shapes
+ * of the same two bodies, not of others that took over their slots. */
+KG_FN int kg_is_contact_of(KG_GLOBAL const kg_contact* previous, int count, int at, kg_shape_pair key,
                            KG_GLOBAL const kg_u32* generation)
 {
-    return at < count && previous[at].a == a && previous[at].b == b && previous[at].generation_a == generation[a] &&
-           previous[at].generation_b == generation[b];
+    return at < count && previous[at].a == key.a && previous[at].b == key.b && previous[at].shape_a == key.shape_a &&
+           previous[at].shape_b == key.shape_b && previous[at].generation_a == generation[key.a] &&
+           previous[at].generation_b == generation[key.b];
 }
 
-/* The pair's manifold and its base: kept from prev (last step's contact of the pair, or
- * NULL) while the pair barely moved, else computed, within the pair's speculative
- * distance. Returns 1 when kept. */
-KG_FN int kg_pair_manifold(kg_u32 a, kg_u32 b, KG_GLOBAL const kg_shape* shape, KG_GLOBAL const kg_xf* xf,
-                           KG_GLOBAL const kg_vec2* velocity, float speculative_distance, float dt,
-                           const kg_contact* prev, kg_manifold* m, kg_contact_base* base)
+/* The manifold of key's shapes and its base: kept from prev (last step's contact of the
+ * key, or NULL) while the pair barely moved, else computed, within the pair's speculative
+ * distance. The shapes are geometry[ga] and geometry[gb], in their bodies' frames: the
+ * shape pool's on the CPU, the bodies' own (one shape each) on the device. Returns 1 when
+ * kept. */
+KG_FN int kg_pair_manifold(kg_shape_pair key, KG_GLOBAL const kg_shape* geometry, kg_u32 ga, kg_u32 gb,
+                           KG_GLOBAL const kg_xf* xf, KG_GLOBAL const kg_vec2* velocity, float speculative_distance,
+                           float dt, const kg_contact* prev, kg_manifold* m, kg_contact_base* base)
 {
-    KG_PRIVATE_VIEW(kg_shape, sa, shape[a]);
-    KG_PRIVATE_VIEW(kg_shape, sb, shape[b]);
-    float speculative = kg_pair_speculative(speculative_distance, velocity[a], velocity[b], dt);
-    return kg_collide_or_recycle(sa, xf[a], sb, xf[b], speculative, prev, m, base);
+    KG_PRIVATE_VIEW(kg_shape, sa, geometry[ga]);
+    KG_PRIVATE_VIEW(kg_shape, sb, geometry[gb]);
+    float speculative = kg_pair_speculative(speculative_distance, velocity[key.a], velocity[key.b], dt);
+    return kg_collide_or_recycle(sa, xf[key.a], sb, xf[key.b], speculative, prev, m, base);
 }
 
-/* The contact's bodies, their generations and the pair's material. */
-KG_FN void kg_contact_set_bodies(kg_contact* c, kg_u32 a, kg_u32 b, KG_GLOBAL const kg_u32* generation,
-                                 KG_GLOBAL const float* friction, KG_GLOBAL const float* restitution)
+/* The contact's bodies and shapes, the bodies' generations and the shapes' mixed
+ * material (friction fa, fb and restitution ra, rb). */
+KG_FN void kg_contact_set_bodies(kg_contact* c, kg_shape_pair key, KG_GLOBAL const kg_u32* generation, float fa,
+                                 float fb, float ra, float rb)
 {
-    c->a = a;
-    c->b = b;
+    c->a = key.a;
+    c->b = key.b;
+    c->shape_a = key.shape_a;
+    c->shape_b = key.shape_b;
     c->tile = KG_NULL_INDEX;
-    c->generation_a = generation[a];
-    c->generation_b = generation[b];
-    c->friction = sqrtf(friction[a] * friction[b]);
-    c->restitution = kg_maxf(restitution[a], restitution[b]);
+    c->generation_a = generation[key.a];
+    c->generation_b = generation[key.b];
+    c->friction = sqrtf(fa * fb);
+    c->restitution = kg_maxf(ra, rb);
     c->color = KG_NO_COLOR;
 }
 
-/* Last step's contact of pair (a, b) among its body contacts [0, count), or -1. */
-KG_FN int kg_previous_contact(KG_GLOBAL const kg_contact* previous, int count, kg_u32 a, kg_u32 b,
+/* Last step's contact of key among its body contacts [0, count), or -1. */
+KG_FN int kg_previous_contact(KG_GLOBAL const kg_contact* previous, int count, kg_shape_pair key,
                               KG_GLOBAL const kg_u32* generation)
 {
-    int at = kg_first_not_before(previous, count, a, b);
-    return kg_is_contact_of(previous, count, at, a, b, generation) ? at : -1;
+    int at = kg_first_not_before(previous, count, key);
+    return kg_is_contact_of(previous, count, at, key, generation) ? at : -1;
 }
 
 /* Whether pair k became a contact: index is the prefix sum of the pairs that touch. */
 KG_FN int kg_pair_touches(KG_GLOBAL const kg_u32* index, int k) { return index[k + 1] != index[k]; }
+
+/* The device's pairs are of one-shape bodies (a world with a compound body collides on
+ * the host): the key of body pair (a, b) names each body's one shape. */
+KG_FN kg_shape_pair kg_one_shape_key(kg_u32 a, kg_u32 b, KG_GLOBAL const kg_u32* first_shape)
+{
+    return kg_shape_pair_make(a, b, first_shape[a], first_shape[b]);
+}
 
 /* Pair k, (a, b), on the device: its manifold and base, and whether it touches. */
 KG_FN void kg_narrowphase_pair(int k, kg_u32 a, kg_u32 b, float speculative_distance, float dt,
                                KG_GLOBAL const kg_shape* shape, KG_GLOBAL const kg_xf* xf,
                                KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const kg_contact* previous,
                                int previous_count, KG_GLOBAL const kg_u32* generation,
-                               KG_GLOBAL kg_manifold* manifolds, KG_GLOBAL kg_contact_base* bases,
-                               KG_GLOBAL kg_u32* touching)
+                               KG_GLOBAL const kg_u32* first_shape, KG_GLOBAL kg_manifold* manifolds,
+                               KG_GLOBAL kg_contact_base* bases, KG_GLOBAL kg_u32* touching)
 {
-    int old = kg_previous_contact(previous, previous_count, a, b, generation);
+    kg_shape_pair key = kg_one_shape_key(a, b, first_shape);
+    int old = kg_previous_contact(previous, previous_count, key, generation);
     kg_contact last;
     if (old >= 0) {
         last = previous[old];
     }
     kg_manifold m;
     kg_contact_base base;
-    kg_pair_manifold(a, b, shape, xf, velocity, speculative_distance, dt, old >= 0 ? &last : 0, &m, &base);
+    kg_pair_manifold(key, shape, a, b, xf, velocity, speculative_distance, dt, old >= 0 ? &last : 0, &m, &base);
     manifolds[k] = m;
     bases[k] = base;
     touching[k] = m.point_count > 0 ? 1u : 0u;
@@ -101,17 +147,19 @@ KG_FN void kg_narrowphase_pair(int k, kg_u32 a, kg_u32 b, float speculative_dist
 KG_FN void kg_build_pair_contact(int k, kg_u32 a, kg_u32 b, KG_GLOBAL const kg_manifold* manifolds,
                                  KG_GLOBAL const kg_contact_base* bases, KG_GLOBAL const kg_u32* index,
                                  KG_GLOBAL const kg_contact* previous, int previous_count,
-                                 KG_GLOBAL const kg_u32* generation, KG_GLOBAL const float* friction,
-                                 KG_GLOBAL const float* restitution, KG_GLOBAL kg_contact* contacts)
+                                 KG_GLOBAL const kg_u32* generation, KG_GLOBAL const kg_u32* first_shape,
+                                 KG_GLOBAL const float* friction, KG_GLOBAL const float* restitution,
+                                 KG_GLOBAL kg_contact* contacts)
 {
     if (!kg_pair_touches(index, k)) {
         return;
     }
+    kg_shape_pair key = kg_one_shape_key(a, b, first_shape);
     kg_contact c;
     c.manifold = manifolds[k];
     c.base = bases[k];
-    int old = kg_previous_contact(previous, previous_count, a, b, generation);
-    kg_contact_set_bodies(&c, a, b, generation, friction, restitution);
+    int old = kg_previous_contact(previous, previous_count, key, generation);
+    kg_contact_set_bodies(&c, key, generation, friction[a], friction[b], restitution[a], restitution[b]);
     if (old >= 0) {
         KG_PRIVATE_VIEW(kg_manifold, carried, previous[old].manifold);
         kg_contact_carry_impulses(&c.manifold, carried);

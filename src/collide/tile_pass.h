@@ -166,6 +166,8 @@ KG_FN void kg_tile_emit(kg_tile_contacts* c, const kg_tile_bodies* b, kg_u32 i, 
     }
     ct.a = i;
     ct.b = KG_NULL_INDEX;
+    ct.shape_a = KG_NULL_INDEX;
+    ct.shape_b = KG_NULL_INDEX;
     ct.tile = key;
     ct.friction = sqrtf(b->friction[i] * m->friction);
     ct.restitution = fmaxf(b->restitution[i], m->restitution);

@@ -69,12 +69,12 @@ static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
     cl_mem previous = b->contacts[b->current], next = b->contacts[b->current ^ 1];
     KG_LAUNCH(b, NARROWPHASE, pairs, label, KG_INT(pairs), KG_FLOAT(world->def.speculative_distance),
               KG_FLOAT(world->last_dt), KG_MEM(c->pairs), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)),
-              KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)), KG_MEM(c->manifolds),
-              KG_MEM(c->bases), KG_MEM(c->touching));
+              KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FIRST_SHAPE)),
+              KG_MEM(c->manifolds), KG_MEM(c->bases), KG_MEM(c->touching));
     KG_TRY(kg_cl_scan(b, c->touching, c->touching, pairs, KG_CC_CONTACTS, label));
     KG_LAUNCH(b, BUILD_CONTACTS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->manifolds),
               KG_MEM(c->bases), KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)),
-              KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)), KG_MEM(next));
+              KG_MEM(KG_A(FIRST_SHAPE)), KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)), KG_MEM(next));
     return KG_OK;
 }
 
@@ -286,6 +286,12 @@ static kg_result kg_take_color_ranges(kg_cl_backend* b)
 
 kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits)
 {
+    /* The device's narrowphase knows one shape a body (the body pool's): while a body has
+     * several, the host's stage expands the pairs into shape pairs (collide/collide.c). */
+    *fits = world->shapes.compound_bodies == 0;
+    if (!*fits) {
+        return KG_OK;
+    }
     int capacity = kg_device_contact_capacity(world, b);
     KG_TRY(kg_find_pairs(world, b, capacity));
     KG_TRY(kg_read_counters(b, KG_CC_PAIRS + 1)); /* the pair count */

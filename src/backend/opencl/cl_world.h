@@ -32,7 +32,8 @@
     X(INV_MASS, inv_mass, 0) X(INV_INERTIA, inv_inertia, 0)                     \
     X(LINEAR_DAMPING, linear_damping, 0) X(ANGULAR_DAMPING, angular_damping, 0) \
     X(FRICTION, friction, 0) X(RESTITUTION, restitution, 0)                     \
-    X(CATEGORY, category, 0) X(MASK, mask, 0) X(GENERATION, generation, 0)
+    X(CATEGORY, category, 0) X(MASK, mask, 0) X(GENERATION, generation, 0)     \
+    X(FIRST_SHAPE, first_shape, 0)
 
 typedef enum kg_cl_array {
 #define KG_CL_ARRAY_ENUM(id, member, state) KG_CL_##id,
@@ -61,8 +62,8 @@ typedef enum kg_cl_array {
     X(BP_BUILD_GRID, kg_bp_build_grid, 2) X(BP_KEYS, kg_bp_keys, 7) X(BP_GATHER, kg_bp_gather, 7)             \
     X(BP_COUNT_PAIRS, kg_bp_count_pairs, 8) X(BP_WRITE_PAIRS, kg_bp_write_pairs, 10)                          \
     X(BP_COUNT_RUNS, kg_bp_count_runs, 3) X(BP_SCATTER, kg_bp_scatter, 5)                                     \
-    X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 13)                                    \
-    X(BUILD_CONTACTS, kg_build_contacts, 11) X(COLOR_CONTACTS, kg_color_contacts, 7)                          \
+    X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 14)                                    \
+    X(BUILD_CONTACTS, kg_build_contacts, 12) X(COLOR_CONTACTS, kg_color_contacts, 7)                          \
     X(RESET_COLORS, kg_reset_colors, 8) X(KEEP_COLORS, kg_keep_colors, 5)                                     \
     X(BID_COLORS, kg_bid_colors, 6) X(TAKE_COLORS, kg_take_colors, 10)                                        \
     X(COLOR_RANGES, kg_color_ranges, 3) X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 23)                    \

@@ -10,12 +10,12 @@
 __kernel void kg_narrowphase(int count, float speculative_distance, float dt, __global const uint2* pairs,
                              __global const kg_shape* shape, __global const kg_xf* xf, __global const kg_vec2* velocity,
                              __global const kg_contact* previous, int previous_count, __global const kg_u32* generation,
-                             __global kg_manifold* manifolds, __global kg_contact_base* bases, __global uint* touching)
+                             __global const kg_u32* first_shape, __global kg_manifold* manifolds, __global kg_contact_base* bases, __global uint* touching)
 {
     int k = (int)get_global_id(0);
     if (k < count) {
         kg_narrowphase_pair(k, pairs[k].x, pairs[k].y, speculative_distance, dt, shape, xf, velocity, previous,
-                            previous_count, generation, manifolds, bases, touching);
+                            previous_count, generation, first_shape, manifolds, bases, touching);
     }
 }
 
@@ -23,13 +23,14 @@ __kernel void kg_narrowphase(int count, float speculative_distance, float dt, __
 __kernel void kg_build_contacts(int count, __global const uint2* pairs, __global const kg_manifold* manifolds,
                                 __global const kg_contact_base* bases, __global const uint* index,
                                 __global const kg_contact* previous, int previous_count,
-                                __global const kg_u32* generation, __global const float* friction,
-                                __global const float* restitution, __global kg_contact* contacts)
+                                __global const kg_u32* generation, __global const kg_u32* first_shape,
+                                __global const float* friction, __global const float* restitution,
+                                __global kg_contact* contacts)
 {
     int k = (int)get_global_id(0);
     if (k < count) {
         kg_build_pair_contact(k, pairs[k].x, pairs[k].y, manifolds, bases, index, previous, previous_count, generation,
-                              friction, restitution, contacts);
+                              first_shape, friction, restitution, contacts);
     }
 }
 

@@ -1,0 +1,58 @@
+/* The shape pool: structure of arrays, one slot per shape, like the body pool
+ * (core/body_pool.h): a slot's index is stable for the shape's life, its generation moves
+ * on when the shape dies, and free slots are reused lowest first. Unlike the body pool it
+ * grows (outside the step: only kg_create_body and kg_create_shape add shapes), from
+ * max_bodies slots, since most bodies have one shape.
+ *
+ * Each body's shapes form a list in slot order (body pool's first_shape, then next), so
+ * a body pair's shape pairs, and so its contacts, come in (shape_a, shape_b) order
+ * whatever order the shapes were added in. */
+#ifndef KG_SHAPE_POOL_H
+#define KG_SHAPE_POOL_H
+
+#include "core/kg_layout.h"
+#include "kgyro/shape.h"
+
+#define KG_SHAPE_ALIVE 0x1u
+#define KG_SHAPE_SENSOR 0x2u /* never makes a solid contact */
+
+typedef struct kg_shape_pool {
+    int capacity;
+    int high_water; /* slots [0, high_water) have been used; the rest never were */
+    int count;      /* live shapes */
+    int first_free; /* no free slot below this index */
+    int compound_bodies; /* bodies with more than one shape: the narrowphase then expands
+                          * body pairs into shape pairs (collide/collide.c) */
+
+    kg_shape* geometry; /* compiled, in the body frame */
+    kg_shape_def* def;  /* as given (kg_shape_get_def) */
+    kg_u32* body;       /* the owning body's slot */
+    kg_u32* next;       /* the body's next shape (higher slot), KG_NULL_INDEX after the last */
+    float* density;
+    float* friction;
+    float* restitution;
+    kg_u32* category;
+    kg_u32* mask;
+    kg_u32* flags;
+    kg_u32* generation;
+    void** user_data;
+} kg_shape_pool;
+
+static inline int kg_shape_alive(const kg_shape_pool* s, int i) { return (s->flags[i] & KG_SHAPE_ALIVE) != 0u; }
+static inline int kg_shape_is_sensor(const kg_shape_pool* s, kg_u32 i) { return (s->flags[i] & KG_SHAPE_SENSOR) != 0u; }
+
+kg_result kg_shape_pool_init(kg_shape_pool* pool, int capacity);
+void kg_shape_pool_free(kg_shape_pool* pool);
+/* Takes the lowest free slot, growing the pool by half when full; -1 (with the error set)
+ * when out of memory. */
+int kg_shape_pool_acquire(kg_shape_pool* pool);
+void kg_shape_pool_release(kg_shape_pool* pool, int index);
+/* The slot of a live handle, or -1 (with the error set) for a stale or foreign one. */
+int kg_shape_pool_resolve(const kg_shape_pool* pool, kg_shape_id handle);
+
+/* Inserts shape slot into the list starting at *first, keeping it in slot order. */
+void kg_shape_list_insert(kg_shape_pool* pool, kg_u32* first, kg_u32 slot);
+/* Takes shape slot out of the list starting at *first. */
+void kg_shape_list_remove(kg_shape_pool* pool, kg_u32* first, kg_u32 slot);
+
+#endif
