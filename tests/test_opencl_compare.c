@@ -298,6 +298,31 @@ static void kg_tiles_scene(kg_world* world)
     KG_CHECK_OK(kg_body_set_velocity(world, slider, (kg_vec2){10.0f, 0.0f}));
 }
 
+/* Compound bodies (dumbbells of two discs and a bar, Ls of two boxes) piled with boxes;
+ * part way, an L loses a shape and a box gains one (kg_compound_edit). */
+static void kg_compound_scene(kg_world* world)
+{
+    kg_ground(world, 40.0f);
+    for (int k = 0; k < 60; ++k) {
+        float x = -6.0f + (float)(k % 6) * 2.2f, y = 1.0f + (float)(k / 6) * 1.3f;
+        kg_body body = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){x, y}, 0.2f * (float)(k % 7), kg_box_shape(1.2f, 0.3f));
+        kg_body_shape_def part = kg_default_body_shape_def();
+        kg_shape_id id;
+        if (k % 3 == 0) {
+            part.geometry = kg_shape_moved(kg_circle_shape(0.3f), (kg_vec2){-0.7f, 0.0f}, 0.0f);
+            KG_CHECK_OK(kg_create_shape(world, body, &part, &id));
+            part.geometry = kg_shape_moved(kg_circle_shape(0.3f), (kg_vec2){0.7f, 0.0f}, 0.0f);
+            part.friction = 0.2f;
+            KG_CHECK_OK(kg_create_shape(world, body, &part, &id));
+        } else if (k % 3 == 1) {
+            part.geometry = kg_offset_box_shape(0.3f, 1.2f, (kg_vec2){0.45f, 0.45f}, 0.0f);
+            part.density = 2.0f;
+            part.restitution = 0.3f;
+            KG_CHECK_OK(kg_create_shape(world, body, &part, &id));
+        }
+    }
+}
+
 static kg_world* kg_make_world(kg_backend backend, kg_scene_fn* scene)
 {
     kg_world_def def = kg_default_world_def();
@@ -360,7 +385,27 @@ static int kg_compare_states(kg_world* cpu, kg_world* cl, double* max_position)
     return differing;
 }
 
-static void kg_compare_scene(const char* name, kg_scene_fn* scene)
+/* Body 2 (an L) loses its post and body 3 (a box) gains a disc, as the pile settles. */
+static void kg_compound_edit(kg_world* world)
+{
+    kg_body bodies[4];
+    int count = 0;
+    KG_CHECK_OK(kg_world_get_bodies(world, bodies, 4, &count));
+    kg_shape_id shapes[2];
+    KG_CHECK_OK(kg_body_get_shapes(world, bodies[2], shapes, 2, &count));
+    KG_CHECK_OK(kg_destroy_shape(world, shapes[1]));
+    kg_body_shape_def disc = kg_default_body_shape_def();
+    disc.geometry = kg_shape_moved(kg_circle_shape(0.4f), (kg_vec2){0.0f, 0.4f}, 0.0f);
+    KG_CHECK_OK(kg_create_shape(world, bodies[3], &disc, &shapes[0]));
+}
+
+static void kg_compare_scene_edited(const char* name, kg_scene_fn* scene, kg_scene_fn* edit_at_100);
+
+static void kg_compare_scene(const char* name, kg_scene_fn* scene) { kg_compare_scene_edited(name, scene, NULL); }
+
+/* Steps a scene on both backends and compares them; edit_at_100 (or NULL) changes both
+ * worlds after step 100. */
+static void kg_compare_scene_edited(const char* name, kg_scene_fn* scene, kg_scene_fn* edit_at_100)
 {
     kg_world* cpu = kg_make_world(KG_BACKEND_CPU, scene);
     kg_world* cl = kg_make_world(KG_BACKEND_OPENCL, scene);
@@ -371,6 +416,10 @@ static void kg_compare_scene(const char* name, kg_scene_fn* scene)
     }
     int count_mismatch = 0, list_mismatch = 0, max_contacts = 0;
     for (int s = 0; s < g_steps; ++s) {
+        if (s == 100 && edit_at_100) {
+            edit_at_100(cpu);
+            edit_at_100(cl);
+        }
         KG_CHECK_OK(kg_world_step(cpu, KG_DT));
         KG_CHECK_OK(kg_world_step(cl, KG_DT));
         int nc = kg_world_contact_count(cpu);
@@ -491,6 +540,7 @@ static void test_rain_2000_colored_in_rounds(void)
     unsetenv("KGYRO_CL_COLOR_SERIAL_MAX");
 }
 static void test_tiles(void) { kg_compare_scene("tiles", kg_tiles_scene); }
+static void test_compound(void) { kg_compare_scene_edited("compound", kg_compound_scene, kg_compound_edit); }
 
 /* With a tile map, the collide stage runs on the device: no "collide (host)" in the
  * stage times, with profiling off or on, and the world stays on the OpenCL backend. */
@@ -535,7 +585,7 @@ int main(void)
            g_bitwise_expected ? "required" : "not required (no correctly rounded divide/sqrt)");
     static const kg_test_case tests[] = {KG_TEST(test_projectile), KG_TEST(test_applicators), KG_TEST(test_stack),
                                          KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_rain_2000_colored_in_rounds),
-                                         KG_TEST(test_sizes), KG_TEST(test_piles),
+                                         KG_TEST(test_sizes), KG_TEST(test_piles), KG_TEST(test_compound),
                                          KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device),
                                          KG_TEST(test_sleep_and_wake), KG_TEST(test_sleep_and_wake_islands_in_rounds)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
