@@ -66,7 +66,8 @@ KG_API kg_result kg_body_get_shapes(const kg_world* world, kg_body body, kg_shap
                                     int* count);
 
 KG_API kg_result kg_shape_get_body(const kg_world* world, kg_shape_id shape, kg_body* out);
-/* The shape's definition as it was given (its geometry in the body frame). */
+/* The shape's definition: its geometry as built, in the body frame (a polygon as its
+ * counter-clockwise hull, as kg_body_get_shape gives it), and its material and filter. */
 KG_API kg_result kg_shape_get_def(const kg_world* world, kg_shape_id shape, kg_body_shape_def* out);
 KG_API kg_result kg_shape_set_friction(kg_world* world, kg_shape_id shape, float friction);
 KG_API kg_result kg_shape_set_restitution(kg_world* world, kg_shape_id shape, float restitution);

@@ -37,7 +37,6 @@ void kg_shape_attach(kg_world* world, int s, int i, const kg_body_shape_def* def
 {
     kg_shape_pool* sp = &world->shapes;
     sp->geometry[s] = *geometry;
-    sp->def[s] = def->geometry;
     sp->body[s] = (kg_u32)i;
     sp->density[s] = def->density;
     sp->friction[s] = def->friction;
@@ -337,7 +336,7 @@ kg_result kg_shape_get_def(const kg_world* world, kg_shape_id shape, kg_body_sha
         return out ? kg_last_result() : kg_fail(KG_ERROR_INVALID_ARGUMENT, "NULL output pointer");
     }
     const kg_shape_pool* sp = &world->shapes;
-    out->geometry = sp->def[s];
+    out->geometry = kg_shape_describe(&sp->geometry[s]);
     out->density = sp->density[s];
     out->friction = sp->friction[s];
     out->restitution = sp->restitution[s];

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #define KG_SHAPE_POOL_ARRAYS(X)                                                                           \
-    X(geometry) X(def) X(body) X(next) X(density) X(friction) X(restitution) X(category) X(mask) X(flags) \
+    X(geometry) X(body) X(next) X(density) X(friction) X(restitution) X(category) X(mask) X(flags) \
     X(generation) X(user_data)
 
 kg_result kg_shape_pool_init(kg_shape_pool* pool, int capacity)

@@ -25,7 +25,6 @@ typedef struct kg_shape_pool {
                           * body pairs into shape pairs (collide/collide.c) */
 
     kg_shape* geometry; /* compiled, in the body frame */
-    kg_shape_def* def;  /* as given (kg_shape_get_def) */
     kg_u32* body;       /* the owning body's slot */
     kg_u32* next;       /* the body's next shape (higher slot), KG_NULL_INDEX after the last */
     float* density;
