@@ -360,6 +360,33 @@ static void test_adding_and_destroying_shapes(void)
     kg_destroy_world(world);
 }
 
+/* A resting box's shape replaced between two steps by a box twice as tall, reaching
+ * 0.5 m into the floor: the new shape's contact is its own (no manifold of the old shape
+ * kept, though the pose has not moved), and the floor pushes it out to rest on its new
+ * bottom. */
+static void test_replaced_shape_gets_its_own_contact(void)
+{
+    kg_world* world = kg_world_new(1);
+    kg_floor(world);
+    kg_body_def def = kg_default_body_def();
+    def.position = (kg_vec2){0.0f, 0.5f};
+    def.shape = kg_box_shape(1.0f, 1.0f);
+    kg_body body;
+    KG_CHECK_OK(kg_create_body(world, &def, &body));
+    kg_step_for(world, 1.0f);
+    kg_shape_id old;
+    int count = 0;
+    KG_CHECK_OK(kg_body_get_shapes(world, body, &old, 1, &count));
+    KG_CHECK_OK(kg_destroy_shape(world, old));
+    kg_add_shape(world, body, kg_box_shape(1.0f, 2.0f), 1.0f);
+    kg_step_for(world, 2.0f);
+    kg_body_state st;
+    KG_CHECK_OK(kg_body_get_state(world, body, &st));
+    measured("     replaced by a box 2 m tall: rests at %.4f m (expected 1.0)\n", (double)st.position.y);
+    KG_CHECK_NEAR(st.position.y, 1.0, 0.005);
+    kg_destroy_world(world);
+}
+
 /* Stale, foreign and null handles are refused; a destroyed body takes its shapes. */
 static void test_handles(void)
 {
@@ -392,6 +419,10 @@ static void test_handles(void)
     KG_CHECK(kg_body_shape_count(world, body) == 1);
 
     kg_shape_id again = kg_add_shape(world, body, kg_circle_shape(0.5f), 1.0f);
+    KG_CHECK(again.index != extra.index); /* a destroyed shape's slot waits for a step */
+    KG_CHECK_OK(kg_destroy_shape(world, again));
+    KG_CHECK_OK(kg_world_step(world, KG_DT));
+    again = kg_add_shape(world, body, kg_circle_shape(0.5f), 1.0f);
     KG_CHECK(again.index == extra.index && again.generation != extra.generation); /* the slot reused, not the handle */
     kg_shape_id first;
     int count = 0;
@@ -474,6 +505,7 @@ int main(void)
                                          KG_TEST(test_shapes_of_one_body_never_collide),
                                          KG_TEST(test_filter_and_sensor_per_shape),
                                          KG_TEST(test_adding_and_destroying_shapes),
+                                         KG_TEST(test_replaced_shape_gets_its_own_contact),
                                          KG_TEST(test_handles),
                                          KG_TEST(test_threads_bitwise)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));

@@ -34,6 +34,8 @@ KG_FN kg_shape_pair kg_contact_key(KG_GLOBAL const kg_contact* c)
     return kg_shape_pair_make(c->a, c->b, c->shape_a, c->shape_b);
 }
 
+KG_FN int kg_pair_less(kg_u32 a0, kg_u32 b0, kg_u32 a1, kg_u32 b1) { return a0 < a1 || (a0 == a1 && b0 < b1); }
+
 KG_FN int kg_shape_pair_less(kg_shape_pair p, kg_shape_pair q)
 {
     if (p.a != q.a) {
@@ -70,33 +72,33 @@ KG_FN int kg_is_contact_of(KG_GLOBAL const kg_contact* previous, int count, int 
            previous[at].generation_b == generation[key.b];
 }
 
-/* The manifold of key's shapes and its base: kept from prev (last step's contact of the
- * key, or NULL) while the pair barely moved, else computed, within the pair's speculative
- * distance. The shapes are geometry[ga] and geometry[gb], in their bodies' frames: the
- * shape pool's on the CPU, the bodies' own (one shape each) on the device. Returns 1 when
- * kept. */
-KG_FN int kg_pair_manifold(kg_shape_pair key, KG_GLOBAL const kg_shape* geometry, kg_u32 ga, kg_u32 gb,
+/* The manifold of a shape of body a and a shape of body b and its base: kept from prev
+ * (last step's contact of the pair, or NULL) while the pair barely moved, else computed,
+ * within the pair's speculative distance. The shapes are geometry[ga] and geometry[gb],
+ * in their bodies' frames: the shape pool's, or where each body has one shape, the body
+ * pool's. Returns 1 when kept. */
+KG_FN int kg_pair_manifold(kg_u32 a, kg_u32 b, KG_GLOBAL const kg_shape* geometry, kg_u32 ga, kg_u32 gb,
                            KG_GLOBAL const kg_xf* xf, KG_GLOBAL const kg_vec2* velocity, float speculative_distance,
                            float dt, const kg_contact* prev, kg_manifold* m, kg_contact_base* base)
 {
     KG_PRIVATE_VIEW(kg_shape, sa, geometry[ga]);
     KG_PRIVATE_VIEW(kg_shape, sb, geometry[gb]);
-    float speculative = kg_pair_speculative(speculative_distance, velocity[key.a], velocity[key.b], dt);
-    return kg_collide_or_recycle(sa, xf[key.a], sb, xf[key.b], speculative, prev, m, base);
+    float speculative = kg_pair_speculative(speculative_distance, velocity[a], velocity[b], dt);
+    return kg_collide_or_recycle(sa, xf[a], sb, xf[b], speculative, prev, m, base);
 }
 
-/* The contact's bodies and shapes, the bodies' generations and the shapes' mixed
- * material (friction fa, fb and restitution ra, rb). */
-KG_FN void kg_contact_set_bodies(kg_contact* c, kg_shape_pair key, KG_GLOBAL const kg_u32* generation, float fa,
-                                 float fb, float ra, float rb)
+/* The contact's bodies a, b and shapes sa, sb, the bodies' generations and the shapes'
+ * mixed material (friction fa, fb and restitution ra, rb). */
+KG_FN void kg_contact_set_bodies(kg_contact* c, kg_u32 a, kg_u32 b, kg_u32 sa, kg_u32 sb,
+                                 KG_GLOBAL const kg_u32* generation, float fa, float fb, float ra, float rb)
 {
-    c->a = key.a;
-    c->b = key.b;
-    c->shape_a = key.shape_a;
-    c->shape_b = key.shape_b;
+    c->a = a;
+    c->b = b;
+    c->shape_a = sa;
+    c->shape_b = sb;
     c->tile = KG_NULL_INDEX;
-    c->generation_a = generation[key.a];
-    c->generation_b = generation[key.b];
+    c->generation_a = generation[a];
+    c->generation_b = generation[b];
     c->friction = sqrtf(fa * fb);
     c->restitution = kg_maxf(ra, rb);
     c->color = KG_NO_COLOR;
@@ -136,7 +138,7 @@ KG_FN void kg_narrowphase_pair(int k, kg_u32 a, kg_u32 b, float speculative_dist
     }
     kg_manifold m;
     kg_contact_base base;
-    kg_pair_manifold(key, shape, a, b, xf, velocity, speculative_distance, dt, old >= 0 ? &last : 0, &m, &base);
+    kg_pair_manifold(a, b, shape, a, b, xf, velocity, speculative_distance, dt, old >= 0 ? &last : 0, &m, &base);
     manifolds[k] = m;
     bases[k] = base;
     touching[k] = m.point_count > 0 ? 1u : 0u;
@@ -159,7 +161,8 @@ KG_FN void kg_build_pair_contact(int k, kg_u32 a, kg_u32 b, KG_GLOBAL const kg_m
     c.manifold = manifolds[k];
     c.base = bases[k];
     int old = kg_previous_contact(previous, previous_count, key, generation);
-    kg_contact_set_bodies(&c, key, generation, friction[a], friction[b], restitution[a], restitution[b]);
+    kg_contact_set_bodies(&c, a, b, key.shape_a, key.shape_b, generation, friction[a], friction[b], restitution[a],
+                          restitution[b]);
     if (old >= 0) {
         KG_PRIVATE_VIEW(kg_manifold, carried, previous[old].manifold);
         kg_contact_carry_impulses(&c.manifold, carried);

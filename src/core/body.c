@@ -174,15 +174,15 @@ kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_b
     if (r != KG_OK) {
         return r;
     }
-    int s = kg_shape_pool_acquire(&world->shapes);
-    if (s < 0) {
-        return kg_last_result();
-    }
     kg_body_pool* p = kg_world_write_pool(world);
     int i = kg_body_pool_acquire(p);
     if (i < 0) {
-        kg_shape_pool_release(&world->shapes, s);
         return kg_fail(KG_ERROR_POOL_FULL, "body pool full (max_bodies = %d)", p->capacity);
+    }
+    int s = kg_shape_pool_acquire(&world->shapes);
+    if (s < 0) {
+        kg_body_pool_release(p, i);
+        return kg_last_result();
     }
     kg_body_write(p, i, def, &shape, &md);
     kg_body_shape_def first = kg_first_shape_def(def);

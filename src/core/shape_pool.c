@@ -41,6 +41,7 @@ static kg_result kg_shape_pool_grow(kg_shape_pool* pool, int capacity)
     grown.high_water = pool->high_water;
     grown.count = pool->count;
     grown.first_free = pool->first_free;
+    grown.held = pool->held;
     grown.compound_bodies = pool->compound_bodies;
     kg_shape_pool_free(pool);
     *pool = grown;
@@ -50,7 +51,7 @@ static kg_result kg_shape_pool_grow(kg_shape_pool* pool, int capacity)
 int kg_shape_pool_acquire(kg_shape_pool* pool)
 {
     for (int i = pool->first_free; i < pool->high_water; ++i) {
-        if (!kg_shape_alive(pool, i)) {
+        if (pool->flags[i] == 0u) {
             pool->first_free = i + 1;
             pool->count += 1;
             return i;
@@ -70,16 +71,25 @@ int kg_shape_pool_acquire(kg_shape_pool* pool)
 
 void kg_shape_pool_release(kg_shape_pool* pool, int index)
 {
-    pool->flags[index] = 0;
+    pool->flags[index] = KG_SHAPE_HELD;
     pool->generation[index] += 1;
     if (pool->generation[index] == 0) {
         pool->generation[index] = 1;
     }
     pool->count -= 1;
-    if (index < pool->first_free) {
-        pool->first_free = index;
+    pool->held += 1;
+}
+
+void kg_shape_pool_free_held(kg_shape_pool* pool)
+{
+    for (int i = 0; pool->held > 0 && i < pool->high_water; ++i) {
+        if (pool->flags[i] == KG_SHAPE_HELD) {
+            pool->flags[i] = 0u;
+            pool->held -= 1;
+            pool->first_free = i < pool->first_free ? i : pool->first_free;
+        }
     }
-    while (pool->high_water > 0 && !kg_shape_alive(pool, pool->high_water - 1)) {
+    while (pool->high_water > 0 && pool->flags[pool->high_water - 1] == 0u) {
         pool->high_water -= 1;
     }
 }

@@ -1,6 +1,9 @@
 /* The shape pool: structure of arrays, one slot per shape, like the body pool
  * (core/body_pool.h): a slot's index is stable for the shape's life, its generation moves
- * on when the shape dies, and free slots are reused lowest first. Unlike the body pool it
+ * on when the shape dies, and free slots are reused lowest first, but only after the next
+ * step: contacts name their shapes by slot (kg_contact.shape_a, shape_b), and last step's
+ * contact of a shape destroyed between two steps must not be taken for a new shape's that
+ * took its slot (its warm start, or worse its kept manifold, of another outline). Unlike the body pool it
  * grows (outside the step: only kg_create_body and kg_create_shape add shapes), from
  * max_bodies slots, since most bodies have one shape.
  *
@@ -15,12 +18,14 @@
 
 #define KG_SHAPE_ALIVE 0x1u
 #define KG_SHAPE_SENSOR 0x2u /* never makes a solid contact */
+#define KG_SHAPE_HELD 0x4u   /* destroyed; the slot is free after the next step */
 
 typedef struct kg_shape_pool {
     int capacity;
     int high_water; /* slots [0, high_water) have been used; the rest never were */
     int count;      /* live shapes */
     int first_free; /* no free slot below this index */
+    int held;       /* destroyed shapes whose slots are not free yet */
     int compound_bodies; /* bodies with more than one shape: the narrowphase then expands
                           * body pairs into shape pairs (collide/collide.c) */
 
@@ -45,7 +50,11 @@ void kg_shape_pool_free(kg_shape_pool* pool);
 /* Takes the lowest free slot, growing the pool by half when full; -1 (with the error set)
  * when out of memory. */
 int kg_shape_pool_acquire(kg_shape_pool* pool);
+/* Destroys the shape in slot index: its handles turn stale now, the slot is held until
+ * kg_shape_pool_free_held. */
 void kg_shape_pool_release(kg_shape_pool* pool, int index);
+/* Frees the held slots: after a step, whose contacts name no shape destroyed before it. */
+void kg_shape_pool_free_held(kg_shape_pool* pool);
 /* The slot of a live handle, or -1 (with the error set) for a stale or foreign one. */
 int kg_shape_pool_resolve(const kg_shape_pool* pool, kg_shape_id handle);
 
