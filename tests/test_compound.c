@@ -387,6 +387,51 @@ static void test_replaced_shape_gets_its_own_contact(void)
     kg_destroy_world(world);
 }
 
+/* Two discs of different radii at different heights of one body (r 0.3 at (-1, 0), r 0.1
+ * at (1, 0.5)) dropped on a tile map's floor: it rests on both discs, tilted so that
+ * 2 sin(t) + 0.5 cos(t) = -0.2 (their centres at their radii above the floor), each disc
+ * in a contact of its own; not on the box that bounds them. */
+static void test_compound_on_tiles(void)
+{
+    kg_world* world = kg_world_new(1);
+    kg_tile_shape shapes[2] = {kg_tile_empty(), kg_tile_box()};
+    uint16_t tiles[20];
+    for (int k = 0; k < 20; ++k) {
+        tiles[k] = 1;
+    }
+    kg_tilemap_def map = kg_default_tilemap_def();
+    map.width = 20;
+    map.height = 1;
+    map.origin = (kg_vec2){-10.0f, -1.0f};
+    map.shapes = shapes;
+    map.shape_count = 2;
+    map.tiles = tiles;
+    kg_tilemap handle;
+    KG_CHECK_OK(kg_create_tilemap(world, &map, &handle));
+    kg_body_def def = kg_default_body_def();
+    def.position = (kg_vec2){0.0f, 1.0f};
+    def.shape = kg_shape_moved(kg_circle_shape(0.3f), (kg_vec2){-1.0f, 0.0f}, 0.0f);
+    kg_body body;
+    KG_CHECK_OK(kg_create_body(world, &def, &body));
+    kg_add_shape(world, body, kg_shape_moved(kg_circle_shape(0.1f), (kg_vec2){1.0f, 0.5f}, 0.0f), 1.0f);
+    kg_step_for(world, 4.0f);
+    kg_body_state st;
+    KG_CHECK_OK(kg_body_get_state(world, body, &st));
+    /* 2 sin t + 0.5 cos t = -0.2: with R = sqrt(4.25), t = asin(-0.2 / R) - atan2(0.5, 2) */
+    double expected = asin(-0.2 / sqrt(4.25)) - atan2(0.5, 2.0);
+    measured("     on the tiles: angle %.3f degrees (expected %.3f), big disc's centre %.4f m up (expected 0.3)\n",
+             (double)st.angle * 180.0 / KG_PI, expected * 180.0 / KG_PI,
+             (double)st.position.y + sin((double)st.angle) * -1.0);
+    KG_CHECK_NEAR(st.angle * 180.0 / KG_PI, expected * 180.0 / KG_PI, 0.5);
+    KG_CHECK_NEAR(st.position.y - sinf(st.angle), 0.3, 0.005);
+    KG_CHECK(kg_world_contact_count(world) == 2);
+    kg_contact_info a, b;
+    KG_CHECK_OK(kg_world_get_contact(world, 0, &a));
+    KG_CHECK_OK(kg_world_get_contact(world, 1, &b));
+    KG_CHECK(a.shape_a.index != b.shape_a.index);
+    kg_destroy_world(world);
+}
+
 /* Stale, foreign and null handles are refused; a destroyed body takes its shapes. */
 static void test_handles(void)
 {
@@ -506,6 +551,7 @@ int main(void)
                                          KG_TEST(test_filter_and_sensor_per_shape),
                                          KG_TEST(test_adding_and_destroying_shapes),
                                          KG_TEST(test_replaced_shape_gets_its_own_contact),
+                                         KG_TEST(test_compound_on_tiles),
                                          KG_TEST(test_handles),
                                          KG_TEST(test_threads_bitwise)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));

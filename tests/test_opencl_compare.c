@@ -298,11 +298,31 @@ static void kg_tiles_scene(kg_world* world)
     KG_CHECK_OK(kg_body_set_velocity(world, slider, (kg_vec2){10.0f, 0.0f}));
 }
 
-/* Compound bodies (dumbbells of two discs and a bar, Ls of two boxes) piled with boxes;
- * part way, an L loses a shape and a box gains one (kg_compound_edit). */
+/* Compound bodies (dumbbells of two discs and a bar, Ls of two boxes) piled with boxes on
+ * the ground, and beside it on a tile map's slopes (per shape tile contacts); part way, an
+ * L loses a shape and a box gains one (kg_compound_edit). */
 static void kg_compound_scene(kg_world* world)
 {
     kg_ground(world, 40.0f);
+    kg_tile_shape tile_shapes[3] = {kg_tile_empty(), kg_tile_box(), kg_tile_slope(KG_TILE_BOTTOM_RIGHT)};
+    uint16_t tiles[2 * 12] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0, 2, 0, 0, 2, 1, 0, 0, 0, 2, 1, 1};
+    kg_tilemap_def map = kg_default_tilemap_def();
+    map.width = 12;
+    map.height = 2;
+    map.origin = (kg_vec2){21.0f, -1.0f};
+    map.shapes = tile_shapes;
+    map.shape_count = 3;
+    map.tiles = tiles;
+    kg_tilemap handle;
+    KG_CHECK_OK(kg_create_tilemap(world, &map, &handle));
+    for (int k = 0; k < 4; ++k) {
+        kg_body body = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){23.0f + 2.5f * (float)k, 2.0f}, 0.3f * (float)k,
+                              kg_box_shape(1.4f, 0.2f));
+        kg_body_shape_def disc = kg_default_body_shape_def();
+        disc.geometry = kg_shape_moved(kg_circle_shape(0.25f), (kg_vec2){0.7f, 0.0f}, 0.0f);
+        kg_shape_id id;
+        KG_CHECK_OK(kg_create_shape(world, body, &disc, &id));
+    }
     for (int k = 0; k < 60; ++k) {
         float x = -6.0f + (float)(k % 6) * 2.2f, y = 1.0f + (float)(k / 6) * 1.3f;
         kg_body body = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){x, y}, 0.2f * (float)(k % 7), kg_box_shape(1.2f, 0.3f));

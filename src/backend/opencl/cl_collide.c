@@ -204,7 +204,8 @@ static kg_result kg_collide_tiles(kg_world* world, kg_cl_backend* b, int capacit
                   KG_MEM(KG_A(XF)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(CATEGORY)),
                   KG_MEM(KG_A(MASK)), KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)),
                   KG_MEM(previous), KG_MEM(c->last_origin[in]), KG_MEM(c->last_generation[in]),
-                  KG_MEM(c->last_origin[out]), KG_MEM(c->last_generation[out]), KG_MEM(c->tile_run),
+                  KG_MEM(c->last_origin[out]), KG_MEM(c->last_generation[out]), KG_MEM(KG_A(FIRST_SHAPE)),
+                  KG_MEM(c->tile_run),
                   KG_MEM(c->counts), KG_MEM(next));
     }
     b->tiles_ran = 1;

@@ -66,7 +66,7 @@ typedef enum kg_cl_array {
     X(BUILD_CONTACTS, kg_build_contacts, 12) X(COLOR_CONTACTS, kg_color_contacts, 7)                          \
     X(RESET_COLORS, kg_reset_colors, 8) X(KEEP_COLORS, kg_keep_colors, 5)                                     \
     X(BID_COLORS, kg_bid_colors, 6) X(TAKE_COLORS, kg_take_colors, 10)                                        \
-    X(COLOR_RANGES, kg_color_ranges, 3) X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 23)                    \
+    X(COLOR_RANGES, kg_color_ranges, 3) X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 24)                    \
     X(TILE_TOTAL, kg_tile_total, 2) X(WAKE_TOUCHED, kg_wake_touched, 8)                                       \
     X(WAKE_MARKED, kg_wake_marked, 5) X(FIND_ISLANDS, kg_find_islands, 9)                                     \
     X(RESET_ISLANDS, kg_reset_islands, 4) X(HOOK_ROUND, kg_hook_round, 6)                                     \

@@ -46,14 +46,15 @@ __kernel void kg_tile_collide_bodies(int count, kg_tile_pass_params prm, __globa
                                      __global const float* friction, __global const float* restitution,
                                      __global const kg_contact* previous, __global const kg_vec2* last_origin,
                                      __global const kg_u32* last_generation, __global kg_vec2* next_origin,
-                                     __global kg_u32* next_generation, __global uint* tile_run,
-                                     __global const uint* counts, __global kg_contact* contacts)
+                                     __global kg_u32* next_generation, __global const kg_u32* first_shape,
+                                     __global uint* tile_run, __global const uint* counts,
+                                     __global kg_contact* contacts)
 {
     int i = (int)get_global_id(0);
     if (i < count) {
         kg_tile_pass_slot((kg_u32)i, prm, maps, cells, protos, flags, aabb, xf, shape, center, category, mask,
                           generation, friction, restitution, previous, last_origin, last_generation, next_origin,
-                          next_generation, tile_run, counts[KG_CC_BODY_CONTACTS], contacts);
+                          next_generation, first_shape, tile_run, counts[KG_CC_BODY_CONTACTS], contacts);
     }
 }
 
