@@ -72,17 +72,16 @@ KG_FN int kg_is_contact_of(KG_GLOBAL const kg_contact* previous, int count, int 
            previous[at].generation_b == generation[key.b];
 }
 
-/* The manifold of a shape of body a and a shape of body b and its base: kept from prev
- * (last step's contact of the pair, or NULL) while the pair barely moved, else computed,
- * within the pair's speculative distance. The shapes are geometry[ga] and geometry[gb],
- * in their bodies' frames: the shape pool's, or where each body has one shape, the body
- * pool's. Returns 1 when kept. */
-KG_FN int kg_pair_manifold(kg_u32 a, kg_u32 b, KG_GLOBAL const kg_shape* geometry, kg_u32 ga, kg_u32 gb,
+/* The manifold of shape_a of body a and shape_b of body b (each in its body's frame) and
+ * its base: kept from prev (last step's contact of the pair, or NULL) while the pair
+ * barely moved, else computed, within the pair's speculative distance. Returns 1 when
+ * kept. */
+KG_FN int kg_pair_manifold(kg_u32 a, kg_u32 b, KG_GLOBAL const kg_shape* shape_a, KG_GLOBAL const kg_shape* shape_b,
                            KG_GLOBAL const kg_xf* xf, KG_GLOBAL const kg_vec2* velocity, float speculative_distance,
                            float dt, const kg_contact* prev, kg_manifold* m, kg_contact_base* base)
 {
-    KG_PRIVATE_VIEW(kg_shape, sa, geometry[ga]);
-    KG_PRIVATE_VIEW(kg_shape, sb, geometry[gb]);
+    KG_PRIVATE_VIEW(kg_shape, sa, *shape_a);
+    KG_PRIVATE_VIEW(kg_shape, sb, *shape_b);
     float speculative = kg_pair_speculative(speculative_distance, velocity[a], velocity[b], dt);
     return kg_collide_or_recycle(sa, xf[a], sb, xf[b], speculative, prev, m, base);
 }
@@ -138,7 +137,8 @@ KG_FN void kg_narrowphase_pair(int k, kg_u32 a, kg_u32 b, float speculative_dist
     }
     kg_manifold m;
     kg_contact_base base;
-    kg_pair_manifold(a, b, shape, a, b, xf, velocity, speculative_distance, dt, old >= 0 ? &last : 0, &m, &base);
+    kg_pair_manifold(a, b, &shape[a], &shape[b], xf, velocity, speculative_distance, dt, old >= 0 ? &last : 0, &m,
+                     &base);
     manifolds[k] = m;
     bases[k] = base;
     touching[k] = m.point_count > 0 ? 1u : 0u;

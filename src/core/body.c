@@ -186,7 +186,7 @@ kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_b
     }
     kg_body_write(p, i, def, &shape, &md);
     kg_body_shape_def first = kg_first_shape_def(def);
-    kg_shape_attach(world, s, i, &first, &shape);
+    kg_shape_attach(world, s, i, &first); /* its geometry is the body pool's shape */
     out_body->index = (uint32_t)i;
     out_body->generation = p->generation[i];
     return KG_OK;
@@ -287,7 +287,7 @@ KG_BODY_GETTER(kg_body_get_type, kg_body_type, kg_pool_type(p, i))
 static const kg_shape* kg_first_geometry(const kg_world* world, int i)
 {
     kg_u32 first = world->bodies.first_shape[i];
-    return first != KG_NULL_INDEX ? &world->shapes.geometry[first] : &world->bodies.shape[i];
+    return first != KG_NULL_INDEX ? kg_shape_geometry(&world->bodies, &world->shapes, first) : &world->bodies.shape[i];
 }
 
 KG_BODY_GETTER(kg_body_get_shape, kg_shape_def, kg_shape_describe(kg_first_geometry(world, i)))

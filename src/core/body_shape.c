@@ -33,10 +33,9 @@ kg_body_shape_def kg_first_shape_def(const kg_body_def* d)
     return def;
 }
 
-void kg_shape_attach(kg_world* world, int s, int i, const kg_body_shape_def* def, const kg_shape* geometry)
+void kg_shape_attach(kg_world* world, int s, int i, const kg_body_shape_def* def)
 {
     kg_shape_pool* sp = &world->shapes;
-    sp->geometry[s] = *geometry;
     sp->body[s] = (kg_u32)i;
     sp->density[s] = def->density;
     sp->friction[s] = def->friction;
@@ -246,13 +245,18 @@ kg_result kg_create_shape(kg_world* world, kg_body body, const kg_body_shape_def
     }
     kg_shape geometry;
     KG_TRY(kg_prepare_shape(def, &geometry));
+    KG_TRY(kg_shape_pool_reserve_geometry(&world->shapes));
     int s = kg_shape_pool_acquire(&world->shapes);
     if (s < 0) {
         return kg_last_result();
     }
     kg_body_pool* p = kg_edit_body(world, i);
     int before = (int)p->shape_count[i];
-    kg_shape_attach(world, s, i, def, &geometry);
+    if (before == 1) { /* its first shape's geometry was the body pool's alone */
+        world->shapes.geometry[p->first_shape[i]] = p->shape[i];
+    }
+    world->shapes.geometry[s] = geometry;
+    kg_shape_attach(world, s, i, def);
     kg_body_shapes_changed(world, p, i, before);
     kg_wake_touching(p, p->aabb[i], world->def.speculative_distance); /* what it now reaches */
     out->index = (uint32_t)s;
@@ -336,7 +340,7 @@ kg_result kg_shape_get_def(const kg_world* world, kg_shape_id shape, kg_body_sha
         return out ? kg_last_result() : kg_fail(KG_ERROR_INVALID_ARGUMENT, "NULL output pointer");
     }
     const kg_shape_pool* sp = &world->shapes;
-    out->geometry = kg_shape_describe(&sp->geometry[s]);
+    out->geometry = kg_shape_describe(kg_shape_geometry(&world->bodies, sp, (kg_u32)s));
     out->density = sp->density[s];
     out->friction = sp->friction[s];
     out->restitution = sp->restitution[s];

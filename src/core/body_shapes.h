@@ -8,8 +8,9 @@
 
 /* A body definition's first shape: its geometry with the body's material and filter. */
 kg_body_shape_def kg_first_shape_def(const kg_body_def* def);
-/* Writes shape slot s (acquired) from def and its built geometry and links it to body slot i. */
-void kg_shape_attach(kg_world* world, int s, int i, const kg_body_shape_def* def, const kg_shape* geometry);
+/* Writes shape slot s (acquired) from def (its geometry aside: core/shape_pool.h) and
+ * links it to body slot i. */
+void kg_shape_attach(kg_world* world, int s, int i, const kg_body_shape_def* def);
 /* What the body pool derives from body i's shapes' material: its filter (of its solid
  * shapes, or-ed) and the first shape's friction and restitution (what its tile contacts
  * use). */

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #define KG_SHAPE_POOL_ARRAYS(X)                                                                           \
-    X(geometry) X(body) X(next) X(density) X(friction) X(restitution) X(category) X(mask) X(flags) \
+    X(body) X(next) X(density) X(friction) X(restitution) X(category) X(mask) X(flags) \
     X(generation) X(user_data)
 
 kg_result kg_shape_pool_init(kg_shape_pool* pool, int capacity)
@@ -25,6 +25,8 @@ kg_result kg_shape_pool_init(kg_shape_pool* pool, int capacity)
 
 void kg_shape_pool_free(kg_shape_pool* pool)
 {
+    kg_free(pool->geometry);
+    pool->geometry = NULL;
 #define KG_FREE_ARRAY(name) kg_free(pool->name); pool->name = NULL;
     KG_SHAPE_POOL_ARRAYS(KG_FREE_ARRAY)
 #undef KG_FREE_ARRAY
@@ -38,6 +40,14 @@ static kg_result kg_shape_pool_grow(kg_shape_pool* pool, int capacity)
 #define KG_COPY_ARRAY(name) memcpy(grown.name, pool->name, (size_t)pool->capacity * sizeof *pool->name);
     KG_SHAPE_POOL_ARRAYS(KG_COPY_ARRAY)
 #undef KG_COPY_ARRAY
+    if (pool->geometry) {
+        grown.geometry = kg_alloc_zeroed((size_t)capacity * sizeof *grown.geometry);
+        if (!grown.geometry) {
+            kg_shape_pool_free(&grown);
+            return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate a pool of %d shapes", capacity);
+        }
+        memcpy(grown.geometry, pool->geometry, (size_t)pool->capacity * sizeof *pool->geometry);
+    }
     grown.high_water = pool->high_water;
     grown.count = pool->count;
     grown.first_free = pool->first_free;
@@ -46,6 +56,15 @@ static kg_result kg_shape_pool_grow(kg_shape_pool* pool, int capacity)
     kg_shape_pool_free(pool);
     *pool = grown;
     return KG_OK;
+}
+
+kg_result kg_shape_pool_reserve_geometry(kg_shape_pool* pool)
+{
+    if (!pool->geometry) {
+        pool->geometry = kg_alloc_zeroed((size_t)pool->capacity * sizeof *pool->geometry);
+    }
+    return pool->geometry ? KG_OK
+                          : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the geometry of %d shapes", pool->capacity);
 }
 
 int kg_shape_pool_acquire(kg_shape_pool* pool)

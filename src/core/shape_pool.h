@@ -13,7 +13,7 @@
 #ifndef KG_SHAPE_POOL_H
 #define KG_SHAPE_POOL_H
 
-#include "core/kg_layout.h"
+#include "core/body_pool.h"
 #include "kgyro/shape.h"
 
 #define KG_SHAPE_ALIVE 0x1u
@@ -29,7 +29,10 @@ typedef struct kg_shape_pool {
     int compound_bodies; /* bodies with more than one shape: the narrowphase then expands
                           * body pairs into shape pairs (collide/collide.c) */
 
-    kg_shape* geometry; /* compiled, in the body frame */
+    kg_shape* geometry; /* compiled, in the body frame, of the shapes of compound bodies only
+                         * (a body's only shape is the body pool's shape): NULL until the
+                         * first compound body, so that a world of one-shape bodies does not
+                         * hold every shape twice (144 bytes a body) */
     kg_u32* body;       /* the owning body's slot */
     kg_u32* next;       /* the body's next shape (higher slot), KG_NULL_INDEX after the last */
     float* density;
@@ -57,6 +60,17 @@ void kg_shape_pool_release(kg_shape_pool* pool, int index);
 void kg_shape_pool_free_held(kg_shape_pool* pool);
 /* The slot of a live handle, or -1 (with the error set) for a stale or foreign one. */
 int kg_shape_pool_resolve(const kg_shape_pool* pool, kg_shape_id handle);
+
+/* Allocates the geometry array (at the pool's capacity) if it is not yet. */
+kg_result kg_shape_pool_reserve_geometry(kg_shape_pool* pool);
+
+/* Shape s's geometry: the shape pool's for a shape of a compound body, the body pool's
+ * shape for a body's only one. */
+static inline const kg_shape* kg_shape_geometry(const kg_body_pool* p, const kg_shape_pool* sp, kg_u32 s)
+{
+    kg_u32 i = sp->body[s];
+    return p->shape_count[i] > 1u ? &sp->geometry[s] : &p->shape[i];
+}
 
 /* Inserts shape slot into the list starting at *first, keeping it in slot order. */
 void kg_shape_list_insert(kg_shape_pool* pool, kg_u32* first, kg_u32 slot);
