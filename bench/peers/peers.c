@@ -111,6 +111,11 @@ static kg_result kg_peer_add_bodies(kg_peer_world* world, const kg_scene* scene)
 {
     for (int i = 0; i < world->body_count; ++i) {
         const kg_body_def* def = kg_scene_body_def(scene, i);
+        if (kg_scene_body_shape_count(scene, i) > 1) { /* the adapters make one fixture a body */
+            return kg_peer_fail(KG_ERROR_UNSUPPORTED, "%s: body %d ('%s'): compound bodies (%d shapes) are not "
+                                "built in the peer engines yet", world->adapter->name, i, kg_scene_body_name(scene, i),
+                                kg_scene_body_shape_count(scene, i));
+        }
         kg_peer_body body = {def, kg_peer_density(def)};
         const char* why = world->adapter->add_body(world->impl, &body);
         if (why) {
