@@ -479,6 +479,85 @@ static void test_handles(void)
     kg_destroy_world(world);
 }
 
+/* kg_body_set_friction, _restitution and _filter set every shape of the body;
+ * kg_shape_set_friction one. */
+static void test_body_setters_reach_every_shape(void)
+{
+    kg_world* world = kg_world_new(1);
+    kg_floor(world);
+    kg_body_def bd = kg_default_body_def();
+    bd.position = (kg_vec2){0.0f, 0.5f};
+    bd.shape = kg_box_shape(1.0f, 1.0f);
+    kg_body body;
+    KG_CHECK_OK(kg_create_body(world, &bd, &body));
+    kg_shape_id side = kg_add_shape(world, body, kg_offset_box_shape(1.0f, 1.0f, (kg_vec2){1.5f, 0.0f}, 0.0f), 1.0f);
+    KG_CHECK_OK(kg_body_set_friction(world, body, 0.25f));
+    KG_CHECK_OK(kg_body_set_restitution(world, body, 0.5f));
+    KG_CHECK_OK(kg_body_set_filter(world, body, 2u, 5u));
+    kg_shape_id shapes[2];
+    int count = 0;
+    KG_CHECK_OK(kg_body_get_shapes(world, body, shapes, 2, &count));
+    for (int k = 0; k < count; ++k) {
+        kg_body_shape_def def;
+        KG_CHECK_OK(kg_shape_get_def(world, shapes[k], &def));
+        KG_CHECK(def.friction == 0.25f && def.restitution == 0.5f && def.category == 2u && def.mask == 5u);
+    }
+    KG_CHECK_OK(kg_body_set_filter(world, body, 1u, 0xFFFFFFFFu));
+    KG_CHECK_OK(kg_shape_set_friction(world, side, 1.0f));
+    KG_CHECK_OK(kg_world_step(world, KG_DT));
+    KG_CHECK(kg_world_contact_count(world) == 2); /* the filter back: both boxes on the floor */
+    kg_body_shape_def def;
+    KG_CHECK_OK(kg_shape_get_def(world, side, &def));
+    KG_CHECK(def.friction == 1.0f);
+    kg_destroy_world(world);
+}
+
+/* NULL, NaN and out-of-range arguments are refused with a clear error and change nothing. */
+static void test_bad_arguments(void)
+{
+    kg_world* world = kg_world_new(1);
+    kg_body_def bd = kg_default_body_def();
+    bd.shape = kg_box_shape(1.0f, 1.0f);
+    kg_body body;
+    KG_CHECK_OK(kg_create_body(world, &bd, &body));
+    kg_body_shape_def def = kg_default_body_shape_def();
+    def.geometry = kg_circle_shape(0.5f);
+    kg_shape_id id;
+    KG_CHECK(kg_create_shape(NULL, body, &def, &id) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_create_shape(world, body, NULL, &id) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_create_shape(world, body, &def, NULL) == KG_ERROR_INVALID_ARGUMENT);
+    def.density = NAN;
+    KG_CHECK(kg_create_shape(world, body, &def, &id) == KG_ERROR_INVALID_ARGUMENT);
+    def.density = 1.0f;
+    def.restitution = 1.5f;
+    KG_CHECK(kg_create_shape(world, body, &def, &id) == KG_ERROR_INVALID_ARGUMENT);
+    def.restitution = 0.0f;
+    def.geometry.radius = -1.0f;
+    KG_CHECK(kg_create_shape(world, body, &def, &id) != KG_OK);
+    def.geometry = kg_polygon_shape((const kg_vec2[]){{0, 0}, {1, 0}, {2, 0}}, 3); /* no area */
+    KG_CHECK(kg_create_shape(world, body, &def, &id) == KG_ERROR_DEGENERATE_SHAPE);
+    KG_CHECK(kg_body_shape_count(world, body) == 1);
+    int count = -1;
+    KG_CHECK(kg_body_get_shapes(world, body, NULL, 4, &count) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_body_get_shapes(world, body, NULL, 0, NULL) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK_OK(kg_body_get_shapes(world, body, NULL, 0, &count)); /* counting only */
+    KG_CHECK(count == 1);
+    KG_CHECK_OK(kg_body_get_shapes(world, body, &id, 1, &count));
+    KG_CHECK(kg_shape_get_def(world, id, NULL) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_shape_get_body(world, id, NULL) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_shape_set_friction(world, id, -0.5f) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_shape_set_friction(world, id, INFINITY) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_shape_set_restitution(world, id, NAN) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_shape_set_filter(NULL, id, 1u, 1u) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_destroy_shape(NULL, id) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(!kg_shape_is_valid(NULL, id));
+    KG_CHECK(kg_body_shape_count(NULL, body) == 0);
+    kg_body_shape_def back;
+    KG_CHECK_OK(kg_shape_get_def(world, id, &back));
+    KG_CHECK(back.friction == 0.6f && back.density == 1.0f); /* unchanged by the refused calls */
+    kg_destroy_world(world);
+}
+
 /* ---- determinism -------------------------------------------------------------------- */
 
 /* Dumbbells, Ls and crosses piled on the floor with boxes. */
@@ -553,6 +632,8 @@ int main(void)
                                          KG_TEST(test_replaced_shape_gets_its_own_contact),
                                          KG_TEST(test_compound_on_tiles),
                                          KG_TEST(test_handles),
+                                         KG_TEST(test_bad_arguments),
+                                         KG_TEST(test_body_setters_reach_every_shape),
                                          KG_TEST(test_threads_bitwise)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

@@ -64,9 +64,9 @@ static kg_shape kg_bounds_of_shapes(const kg_shape_pool* sp, kg_u32 first)
     kg_vec2 corners[4] = {box.lower, {box.upper.x, box.lower.y}, box.upper, {box.lower.x, box.upper.y}};
     kg_shape_def def = kg_polygon_shape(corners, 4);
     kg_shape bounds;
-    if (kg_shape_build(&def, &bounds) != KG_OK) { /* shapes too thin for a box: a point suffices */
-        kg_shape_def point = {KG_SHAPE_NONE};
-        kg_shape_build(&point, &bounds);
+    if (kg_shape_build(&def, &bounds) != KG_OK) { /* shapes too small for a box: a circle around them */
+        memset(&bounds, 0, sizeof bounds);
+        bounds.count = 1;
         bounds.vertices[0] = kg_scale(0.5f, kg_add(box.lower, box.upper));
         bounds.radius = 0.5f * kg_length(kg_sub(box.upper, box.lower));
     }
