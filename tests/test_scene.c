@@ -288,7 +288,8 @@ static void test_unreadable_file(void)
 
 static void test_samples_load(void)
 {
-    static const char* const samples[] = {"box_stack.json", "pyramid.json", "rain_wind.json", "particles.json"};
+    static const char* const samples[] = {"box_stack.json", "pyramid.json", "rain_wind.json", "particles.json",
+                                          "compound.json"};
     for (size_t i = 0; i < sizeof samples / sizeof samples[0]; ++i) {
         char path[512];
         snprintf(path, sizeof path, "%s/samples/%s", KG_SOURCE_DIR, samples[i]);
