@@ -129,8 +129,8 @@ static void kg_body_write(kg_body_pool* p, int i, const kg_body_def* d, const kg
     p->category[i] = d->category;
     p->mask[i] = d->mask;
     p->user_data[i] = d->user_data;
-    p->flags[i] = KG_FLAG_ALIVE | ((kg_u32)d->type << KG_TYPE_SHIFT) | (d->fixed_rotation ? KG_FLAG_FIXED_ROTATION : 0u) |
-                  (d->mass > 0.0f ? KG_FLAG_MASS_SET : 0u);
+    p->flags[i] = KG_FLAG_ALIVE | ((kg_u32)d->type << KG_TYPE_SHIFT) |
+                  (d->fixed_rotation ? KG_FLAG_FIXED_ROTATION : 0u) | (d->mass > 0.0f ? KG_FLAG_MASS_SET : 0u);
     p->first_shape[i] = KG_NULL_INDEX;
     p->shape_count[i] = 1u;
     if (p->generation[i] == 0) {

@@ -112,7 +112,8 @@ static int kg_mass_of_shapes(const kg_shape_pool* sp, kg_u32 first, kg_mass_data
  * and the velocity of the centre follows the rotation about the old one. */
 static void kg_body_set_mass_data(kg_body_pool* p, int i, const kg_mass_data* md)
 {
-    int rotates = kg_pool_type(p, i) == KG_BODY_DYNAMIC && !(p->flags[i] & KG_FLAG_FIXED_ROTATION) && md->inertia > 0.0f;
+    int rotates =
+        kg_pool_type(p, i) == KG_BODY_DYNAMIC && !(p->flags[i] & KG_FLAG_FIXED_ROTATION) && md->inertia > 0.0f;
     kg_vec2 old_center = p->center[i];
     p->local_center[i] = md->center;
     p->center[i] = kg_xf_point(p->xf[i], md->center);

@@ -73,8 +73,8 @@ static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
               KG_MEM(c->manifolds), KG_MEM(c->bases), KG_MEM(c->touching));
     KG_TRY(kg_cl_scan(b, c->touching, c->touching, pairs, KG_CC_CONTACTS, label));
     KG_LAUNCH(b, BUILD_CONTACTS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->manifolds),
-              KG_MEM(c->bases), KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)),
-              KG_MEM(KG_A(FIRST_SHAPE)), KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)), KG_MEM(next));
+              KG_MEM(c->bases), KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count),
+              KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FIRST_SHAPE)), KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)), KG_MEM(next));
     return KG_OK;
 }
 
