@@ -280,47 +280,14 @@ static const kg_contact* kg_previous_of_bodies(const kg_contact* previous, int c
 
 /* ---- shape pairs ---------------------------------------------------------------------- */
 
-/* Whether shapes sa and sb may collide: both solid, their filters agreeing. */
-static int kg_shapes_pair(const kg_shape_pool* sp, kg_u32 sa, kg_u32 sb)
-{
-    /* A sensor never makes a contact; its overlap events (issue 13) are to be found here,
-     * from the same shape pairs. */
-    if (kg_shape_is_sensor(sp, sa) || kg_shape_is_sensor(sp, sb)) {
-        return 0;
-    }
-    return (sp->category[sa] & sp->mask[sb]) != 0u && (sp->category[sb] & sp->mask[sa]) != 0u;
-}
-
-/* The shape pairs of body pair (a, b) that may touch, in (shape_a, shape_b) order: solid
- * shapes whose filters agree and whose bounds come within the pair's speculative distance
- * (beyond it the narrowphase finds no point). Writes those that fit below room; returns
- * how many there are. */
-static int kg_expand_pair(const kg_world* world, kg_pair pair, kg_shape_pair* out, int room)
+/* The world's shapes as the shared pair code reads them. */
+static kg_shape_arrays kg_shape_arrays_of(const kg_world* world)
 {
     const kg_body_pool* p = &world->bodies;
     const kg_shape_pool* sp = &world->shapes;
-    kg_u32 a = pair.a, b = pair.b;
-    if (p->shape_count[a] == 1u && p->shape_count[b] == 1u) { /* the broadphase filtered their bodies */
-        if (room > 0) {
-            out[0] = kg_shape_pair_make(a, b, p->first_shape[a], p->first_shape[b]);
-        }
-        return 1;
-    }
-    float margin = kg_pair_speculative(world->def.speculative_distance, p->velocity[a], p->velocity[b], world->last_dt);
-    int n = 0;
-    for (kg_u32 sa = p->first_shape[a]; sa != KG_NULL_INDEX; sa = sp->next[sa]) {
-        kg_aabb box_a = kg_aabb_fatten(kg_shape_aabb(kg_shape_geometry(p, sp, sa), p->xf[a]), margin);
-        for (kg_u32 sb = p->first_shape[b]; sb != KG_NULL_INDEX; sb = sp->next[sb]) {
-            kg_aabb box_b = kg_shape_aabb(kg_shape_geometry(p, sp, sb), p->xf[b]);
-            if (kg_shapes_pair(sp, sa, sb) && kg_aabb_overlap(box_a, box_b)) {
-                if (n < room) {
-                    out[n] = kg_shape_pair_make(a, b, sa, sb);
-                }
-                n += 1;
-            }
-        }
-    }
-    return n;
+    kg_shape_arrays s = {p->shape_count, p->first_shape, p->shape, sp->geometry, sp->next, sp->flags, sp->category,
+                         sp->mask};
+    return s;
 }
 
 /* The shape pairs of the body pairs, into c->shape_pairs, as many as fit; returns how
@@ -328,10 +295,13 @@ static int kg_expand_pair(const kg_world* world, kg_pair pair, kg_shape_pair* ou
 static int kg_expand_pairs(kg_world* world, int pair_count)
 {
     struct kg_collision* c = world->collision;
+    const kg_body_pool* p = &world->bodies;
+    kg_shape_arrays shapes = kg_shape_arrays_of(world);
     int n = 0;
     for (int k = 0; k < pair_count; ++k) {
         int room = n < c->shape_pair_capacity ? c->shape_pair_capacity - n : 0;
-        n += kg_expand_pair(world, c->pairs[k], c->shape_pairs + (room > 0 ? n : 0), room);
+        n += kg_expand_pair(c->pairs[k].a, c->pairs[k].b, &shapes, p->xf, p->velocity, world->def.speculative_distance,
+                            world->last_dt, c->shape_pairs + (room > 0 ? n : 0), room);
     }
     return n;
 }

@@ -111,6 +111,69 @@ KG_FN int kg_previous_contact(KG_GLOBAL const kg_contact* previous, int count, k
     return kg_is_contact_of(previous, count, at, key, generation) ? at : -1;
 }
 
+/* What the pairs of shapes read of the shapes (core/shape_pool.h), on either side. */
+typedef struct kg_shape_arrays {
+    KG_GLOBAL const kg_u32* shape_count; /* per body */
+    KG_GLOBAL const kg_u32* first_shape; /* per body */
+    KG_GLOBAL const kg_shape* body_shape; /* per body: a one-shape body's shape */
+    KG_GLOBAL const kg_shape* geometry;   /* per shape slot: a compound body's shape */
+    KG_GLOBAL const kg_u32* next;         /* per shape slot: its body's next shape */
+    KG_GLOBAL const kg_u32* flags;
+    KG_GLOBAL const kg_u32* category;
+    KG_GLOBAL const kg_u32* mask;
+} kg_shape_arrays;
+
+/* Shape s of body i: the shape pool's geometry for a compound body's, the body pool's
+ * shape for a body's only one. */
+KG_FN KG_GLOBAL const kg_shape* kg_shape_of(const kg_shape_arrays* s, kg_u32 i, kg_u32 shape)
+{
+    return s->shape_count[i] > 1u ? &s->geometry[shape] : &s->body_shape[i];
+}
+
+/* Whether shapes sa and sb may collide: both solid, their filters agreeing. */
+KG_FN int kg_shapes_pair(const kg_shape_arrays* s, kg_u32 sa, kg_u32 sb)
+{
+    /* A sensor never makes a contact; its overlap events (issue 13) are to be found here,
+     * from the same pairs of shapes. */
+    if (((s->flags[sa] | s->flags[sb]) & KG_SHAPE_SENSOR) != 0u) {
+        return 0;
+    }
+    return (s->category[sa] & s->mask[sb]) != 0u && (s->category[sb] & s->mask[sa]) != 0u;
+}
+
+/* The pairs of shapes of body pair (a, b) that may touch, in (shape_a, shape_b) order:
+ * solid shapes whose filters agree and whose bounds come within the pair's speculative
+ * distance (beyond it the narrowphase finds no point). Writes those that fit below room
+ * to out; returns how many there are. A pair of one-shape bodies is their one pair of
+ * shapes (the broadphase filtered the bodies). */
+KG_FN int kg_expand_pair(kg_u32 a, kg_u32 b, const kg_shape_arrays* s, KG_GLOBAL const kg_xf* xf,
+                         KG_GLOBAL const kg_vec2* velocity, float speculative_distance, float dt,
+                         KG_GLOBAL kg_shape_pair* out, int room)
+{
+    if (s->shape_count[a] == 1u && s->shape_count[b] == 1u) {
+        if (room > 0) {
+            out[0] = kg_shape_pair_make(a, b, s->first_shape[a], s->first_shape[b]);
+        }
+        return 1;
+    }
+    float margin = kg_pair_speculative(speculative_distance, velocity[a], velocity[b], dt);
+    int n = 0;
+    for (kg_u32 sa = s->first_shape[a]; sa != KG_NULL_INDEX; sa = s->next[sa]) {
+        KG_PRIVATE_VIEW(kg_shape, shape_a, *kg_shape_of(s, a, sa));
+        kg_aabb box_a = kg_aabb_fatten(kg_shape_aabb(shape_a, xf[a]), margin);
+        for (kg_u32 sb = s->first_shape[b]; sb != KG_NULL_INDEX; sb = s->next[sb]) {
+            KG_PRIVATE_VIEW(kg_shape, shape_b, *kg_shape_of(s, b, sb));
+            if (kg_shapes_pair(s, sa, sb) && kg_aabb_overlap(box_a, kg_shape_aabb(shape_b, xf[b]))) {
+                if (n < room) {
+                    out[n] = kg_shape_pair_make(a, b, sa, sb);
+                }
+                n += 1;
+            }
+        }
+    }
+    return n;
+}
+
 /* Whether pair k became a contact: index is the prefix sum of the pairs that touch. */
 KG_FN int kg_pair_touches(KG_GLOBAL const kg_u32* index, int k) { return index[k + 1] != index[k]; }
 

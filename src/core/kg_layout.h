@@ -22,6 +22,11 @@ typedef struct kg_shape {
     kg_i32 count;
 } kg_shape;
 
+/* A shape's flags in the shape pool (core/shape_pool.h), read by the shared pair code. */
+#define KG_SHAPE_ALIVE 0x1u
+#define KG_SHAPE_SENSOR 0x2u /* never makes a solid contact */
+#define KG_SHAPE_HELD 0x4u   /* destroyed; the slot is free after the next step */
+
 /* Feature id of a contact point: which features of a and b made it, stable across
  * steps while the same features touch, so impulses can be carried over. */
 #define KG_FEATURE_ID(a, b) ((((kg_u32)(a) & 0xFFu) << 8) | ((kg_u32)(b) & 0xFFu))

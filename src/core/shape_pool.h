@@ -16,10 +16,6 @@
 #include "core/body_pool.h"
 #include "kgyro/shape.h"
 
-#define KG_SHAPE_ALIVE 0x1u
-#define KG_SHAPE_SENSOR 0x2u /* never makes a solid contact */
-#define KG_SHAPE_HELD 0x4u   /* destroyed; the slot is free after the next step */
-
 typedef struct kg_shape_pool {
     int capacity;
     int high_water; /* slots [0, high_water) have been used; the rest never were */
