@@ -280,8 +280,7 @@ static const kg_contact* kg_previous_of_bodies(const kg_contact* previous, int c
 
 /* ---- shape pairs ---------------------------------------------------------------------- */
 
-/* The world's shapes as the shared pair code reads them. */
-static kg_shape_arrays kg_shape_arrays_of(const kg_world* world)
+kg_shape_arrays kg_world_shape_arrays(const kg_world* world)
 {
     const kg_body_pool* p = &world->bodies;
     const kg_shape_pool* sp = &world->shapes;
@@ -296,7 +295,7 @@ static int kg_expand_pairs(kg_world* world, int pair_count)
 {
     struct kg_collision* c = world->collision;
     const kg_body_pool* p = &world->bodies;
-    kg_shape_arrays shapes = kg_shape_arrays_of(world);
+    kg_shape_arrays shapes = kg_world_shape_arrays(world);
     int n = 0;
     for (int k = 0; k < pair_count; ++k) {
         int room = n < c->shape_pair_capacity ? c->shape_pair_capacity - n : 0;

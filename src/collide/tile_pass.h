@@ -9,6 +9,7 @@
 #define KG_TILE_PASS_H
 
 #include "collide/aabb.h"
+#include "collide/pair_contact.h"
 #include "collide/recycle.h"
 #include "collide/tile_collide.h"
 #include "core/body_flags.h"
@@ -260,6 +261,22 @@ KG_FN void kg_tile_collide_body(kg_u32 i, const kg_tile_terrain* t, const kg_til
 {
     if (kg_flags_collide(b->flags[i])) {
         kg_tile_collide_shape(i, i, b->first_shape[i], t, b, c);
+    }
+}
+
+/* Body slot i against the tile maps: its one shape (bodies: the body pool's arrays), or
+ * each solid shape of a compound body (shapes: the shape pool's; s says which they are). */
+KG_FN void kg_tile_collide_slot(kg_u32 i, const kg_tile_terrain* t, const kg_tile_bodies* bodies,
+                                const kg_tile_bodies* shapes, const kg_shape_arrays* s, kg_tile_contacts* c)
+{
+    if (s->shape_count[i] <= 1u || !kg_flags_collide(bodies->flags[i])) {
+        kg_tile_collide_body(i, t, bodies, c);
+        return;
+    }
+    for (kg_u32 shape = s->first_shape[i]; shape != KG_NULL_INDEX; shape = s->next[shape]) {
+        if ((s->flags[shape] & KG_SHAPE_SENSOR) == 0u) { /* a sensor's overlaps with tiles: issue 13, from here */
+            kg_tile_collide_shape(i, shape, shape, t, shapes, c);
+        }
     }
 }
 

@@ -628,24 +628,6 @@ kg_result kg_world_get_contact_tile(const kg_world* world, int index, kg_tilemap
 
 /* ---- collision ---- */
 
-/* Body slot i against the tile maps: its one shape (bodies: the body pool's arrays), or
- * each solid shape of a compound body (shapes: the shape pool's). */
-static void kg_tile_collide_slot(const kg_world* world, kg_u32 i, const kg_tile_terrain* terrain,
-                                 const kg_tile_bodies* bodies, const kg_tile_bodies* shapes, kg_tile_contacts* c)
-{
-    const kg_body_pool* p = &world->bodies;
-    const kg_shape_pool* sp = &world->shapes;
-    if (p->shape_count[i] <= 1u || !kg_flags_collide(p->flags[i])) {
-        kg_tile_collide_body(i, terrain, bodies, c);
-        return;
-    }
-    for (kg_u32 s = p->first_shape[i]; s != KG_NULL_INDEX; s = sp->next[s]) {
-        if (!kg_shape_is_sensor(sp, s)) { /* a sensor's overlaps with tiles: issue 13, from here */
-            kg_tile_collide_shape(i, s, s, terrain, shapes, c);
-        }
-    }
-}
-
 int kg_tilemap_collide(kg_world* world, kg_contact* out, int room, const kg_contact* previous, int previous_count)
 {
     struct kg_tilemaps* t = world->tilemaps;
@@ -664,9 +646,10 @@ int kg_tilemap_collide(kg_world* world, kg_contact* out, int room, const kg_cont
     shapes.mask = world->shapes.mask;
     shapes.friction = world->shapes.friction;
     shapes.restitution = world->shapes.restitution;
+    kg_shape_arrays arrays = kg_world_shape_arrays(world);
     kg_tile_contacts c = {previous, 0, previous_count, out, 0u, (kg_u32)room, 0u, 0, 0};
     for (kg_u32 i = 0; i < (kg_u32)p->high_water; ++i) {
-        kg_tile_collide_slot(world, i, &terrain, &bodies, &shapes, &c);
+        kg_tile_collide_slot(i, &terrain, &bodies, &shapes, &arrays, &c);
         kg_tile_remember_origin(i, p->xf, p->generation, t->last_origin, t->last_generation);
     }
     kg_count_warm_starts(world, c.points, c.carried);
