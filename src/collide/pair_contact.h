@@ -177,22 +177,21 @@ KG_FN int kg_expand_pair(kg_u32 a, kg_u32 b, const kg_shape_arrays* s, KG_GLOBAL
 /* Whether pair k became a contact: index is the prefix sum of the pairs that touch. */
 KG_FN int kg_pair_touches(KG_GLOBAL const kg_u32* index, int k) { return index[k + 1] != index[k]; }
 
-/* The device's pairs are of one-shape bodies (a world with a compound body collides on
- * the host): the key of body pair (a, b) names each body's one shape. */
+/* The key of body pair (a, b) where each body has one shape: it names each body's shape. */
 KG_FN kg_shape_pair kg_one_shape_key(kg_u32 a, kg_u32 b, KG_GLOBAL const kg_u32* first_shape)
 {
     return kg_shape_pair_make(a, b, first_shape[a], first_shape[b]);
 }
 
-/* Pair k, (a, b), on the device: its manifold and base, and whether it touches. */
-KG_FN void kg_narrowphase_pair(int k, kg_u32 a, kg_u32 b, float speculative_distance, float dt,
-                               KG_GLOBAL const kg_shape* shape, KG_GLOBAL const kg_xf* xf,
-                               KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const kg_contact* previous,
-                               int previous_count, KG_GLOBAL const kg_u32* generation,
-                               KG_GLOBAL const kg_u32* first_shape, KG_GLOBAL kg_manifold* manifolds,
-                               KG_GLOBAL kg_contact_base* bases, KG_GLOBAL kg_u32* touching)
+/* Item k of the device's narrowphase, key, of shapes shape_a and shape_b: its manifold
+ * and base, and whether it touches. */
+KG_FN void kg_narrowphase_key(int k, kg_shape_pair key, KG_GLOBAL const kg_shape* shape_a,
+                              KG_GLOBAL const kg_shape* shape_b, float speculative_distance, float dt,
+                              KG_GLOBAL const kg_xf* xf, KG_GLOBAL const kg_vec2* velocity,
+                              KG_GLOBAL const kg_contact* previous, int previous_count,
+                              KG_GLOBAL const kg_u32* generation, KG_GLOBAL kg_manifold* manifolds,
+                              KG_GLOBAL kg_contact_base* bases, KG_GLOBAL kg_u32* touching)
 {
-    kg_shape_pair key = kg_one_shape_key(a, b, first_shape);
     int old = kg_previous_contact(previous, previous_count, key, generation);
     kg_contact last;
     if (old >= 0) {
@@ -200,15 +199,51 @@ KG_FN void kg_narrowphase_pair(int k, kg_u32 a, kg_u32 b, float speculative_dist
     }
     kg_manifold m;
     kg_contact_base base;
-    kg_pair_manifold(a, b, &shape[a], &shape[b], xf, velocity, speculative_distance, dt, old >= 0 ? &last : 0, &m,
+    kg_pair_manifold(key.a, key.b, shape_a, shape_b, xf, velocity, speculative_distance, dt, old >= 0 ? &last : 0, &m,
                      &base);
     manifolds[k] = m;
     bases[k] = base;
     touching[k] = m.point_count > 0 ? 1u : 0u;
 }
 
-/* Pair k, (a, b), on the device, if it touches: contact index[k] (the prefix sum keeps the
- * pairs' order), with last step's impulses and colour carried. */
+/* Item k of the device's narrowphase, key, if it touches: contact index[k] (the prefix
+ * sum keeps the items' order), its material mixed from its shapes' (fa, fb, ra, rb), with
+ * last step's impulses and colour carried. */
+KG_FN void kg_build_key_contact(int k, kg_shape_pair key, float fa, float fb, float ra, float rb,
+                                KG_GLOBAL const kg_manifold* manifolds, KG_GLOBAL const kg_contact_base* bases,
+                                KG_GLOBAL const kg_u32* index, KG_GLOBAL const kg_contact* previous,
+                                int previous_count, KG_GLOBAL const kg_u32* generation, KG_GLOBAL kg_contact* contacts)
+{
+    if (!kg_pair_touches(index, k)) {
+        return;
+    }
+    kg_contact c;
+    c.manifold = manifolds[k];
+    c.base = bases[k];
+    int old = kg_previous_contact(previous, previous_count, key, generation);
+    kg_contact_set_bodies(&c, key.a, key.b, key.shape_a, key.shape_b, generation, fa, fb, ra, rb);
+    if (old >= 0) {
+        KG_PRIVATE_VIEW(kg_manifold, carried, previous[old].manifold);
+        kg_contact_carry_impulses(&c.manifold, carried);
+        c.color = previous[old].color;
+    }
+    contacts[index[k]] = c;
+}
+
+/* Pair k, (a, b), of one-shape bodies on the device: kg_narrowphase_key of their shapes. */
+KG_FN void kg_narrowphase_pair(int k, kg_u32 a, kg_u32 b, float speculative_distance, float dt,
+                               KG_GLOBAL const kg_shape* shape, KG_GLOBAL const kg_xf* xf,
+                               KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const kg_contact* previous,
+                               int previous_count, KG_GLOBAL const kg_u32* generation,
+                               KG_GLOBAL const kg_u32* first_shape, KG_GLOBAL kg_manifold* manifolds,
+                               KG_GLOBAL kg_contact_base* bases, KG_GLOBAL kg_u32* touching)
+{
+    kg_narrowphase_key(k, kg_one_shape_key(a, b, first_shape), &shape[a], &shape[b], speculative_distance, dt, xf,
+                       velocity, previous, previous_count, generation, manifolds, bases, touching);
+}
+
+/* Pair k, (a, b), of one-shape bodies on the device, if it touches: its contact, with the
+ * bodies' material. */
 KG_FN void kg_build_pair_contact(int k, kg_u32 a, kg_u32 b, KG_GLOBAL const kg_manifold* manifolds,
                                  KG_GLOBAL const kg_contact_base* bases, KG_GLOBAL const kg_u32* index,
                                  KG_GLOBAL const kg_contact* previous, int previous_count,
@@ -216,22 +251,24 @@ KG_FN void kg_build_pair_contact(int k, kg_u32 a, kg_u32 b, KG_GLOBAL const kg_m
                                  KG_GLOBAL const float* friction, KG_GLOBAL const float* restitution,
                                  KG_GLOBAL kg_contact* contacts)
 {
-    if (!kg_pair_touches(index, k)) {
-        return;
+    kg_build_key_contact(k, kg_one_shape_key(a, b, first_shape), friction[a], friction[b], restitution[a],
+                         restitution[b], manifolds, bases, index, previous, previous_count, generation, contacts);
+}
+
+/* Pair of bodies k on the device, while a body has several shapes: its pairs of shapes
+ * written from run[k] (the prefix sum of their counts, kg_expand_pair's), and each one's
+ * bodies beside it in item_pairs (what the wake stage reads). */
+KG_FN void kg_place_shape_pairs(int k, kg_u32 a, kg_u32 b, const kg_shape_arrays* s, KG_GLOBAL const kg_xf* xf,
+                                KG_GLOBAL const kg_vec2* velocity, float speculative_distance, float dt,
+                                KG_GLOBAL const kg_u32* run, KG_GLOBAL kg_shape_pair* out,
+                                KG_GLOBAL kg_u32* item_pairs)
+{
+    kg_u32 first = run[k], n = run[k + 1] - run[k];
+    kg_expand_pair(a, b, s, xf, velocity, speculative_distance, dt, out + first, (int)n);
+    for (kg_u32 j = first; j < first + n; ++j) {
+        item_pairs[2u * j] = a;
+        item_pairs[2u * j + 1u] = b;
     }
-    kg_shape_pair key = kg_one_shape_key(a, b, first_shape);
-    kg_contact c;
-    c.manifold = manifolds[k];
-    c.base = bases[k];
-    int old = kg_previous_contact(previous, previous_count, key, generation);
-    kg_contact_set_bodies(&c, a, b, key.shape_a, key.shape_b, generation, friction[a], friction[b], restitution[a],
-                          restitution[b]);
-    if (old >= 0) {
-        KG_PRIVATE_VIEW(kg_manifold, carried, previous[old].manifold);
-        kg_contact_carry_impulses(&c.manifold, carried);
-        c.color = previous[old].color;
-    }
-    contacts[index[k]] = c;
 }
 
 #endif

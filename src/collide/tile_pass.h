@@ -324,7 +324,11 @@ KG_FN void kg_tile_pass_slot(kg_u32 i, kg_tile_pass_params prm, KG_GLOBAL const 
                              KG_GLOBAL const float* restitution, KG_GLOBAL const kg_contact* previous,
                              KG_GLOBAL const kg_vec2* last_origin, KG_GLOBAL const kg_u32* last_generation,
                              KG_GLOBAL kg_vec2* next_origin, KG_GLOBAL kg_u32* next_generation,
-                             KG_GLOBAL const kg_u32* first_shape, KG_GLOBAL kg_u32* run, kg_u32 first,
+                             KG_GLOBAL const kg_u32* first_shape, KG_GLOBAL const kg_u32* shape_count,
+                             KG_GLOBAL const kg_u32* shape_next, KG_GLOBAL const kg_u32* shape_flags,
+                             KG_GLOBAL const kg_shape* shape_geometry, KG_GLOBAL const kg_u32* shape_category,
+                             KG_GLOBAL const kg_u32* shape_mask, KG_GLOBAL const float* shape_friction,
+                             KG_GLOBAL const float* shape_restitution, KG_GLOBAL kg_u32* run, kg_u32 first,
                              KG_GLOBAL kg_contact* contacts)
 {
     kg_tile_terrain terrain = {maps, cells, protos, prm.map_count, prm.speculative, prm.linear_slop};
@@ -332,7 +336,12 @@ KG_FN void kg_tile_pass_slot(kg_u32 i, kg_tile_pass_params prm, KG_GLOBAL const 
                               prm.write ? first + run[i] : 0u, prm.write ? prm.capacity : 0u, 0u, 0, 0};
     kg_tile_bodies bodies = {flags, aabb,       xf,       shape,       center,      category,    mask,
                              generation, friction, restitution, last_origin, last_generation, first_shape};
-    kg_tile_collide_body(i, &terrain, &bodies, &found);
+    kg_tile_bodies shapes = {flags,       aabb,           xf,          shape_geometry, center,
+                             shape_category, shape_mask,  generation,  shape_friction, shape_restitution,
+                             last_origin, last_generation, first_shape};
+    kg_shape_arrays arrays = {shape_count, first_shape, shape,       shape_geometry,
+                              shape_next,  shape_flags, shape_category, shape_mask};
+    kg_tile_collide_slot(i, &terrain, &bodies, &shapes, &arrays, &found);
     if (prm.write) {
         kg_tile_remember_origin(i, xf, generation, next_origin, next_generation);
     } else {

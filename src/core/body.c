@@ -453,6 +453,7 @@ kg_result kg_body_set_friction(kg_world* world, kg_body body, float friction)
     for (kg_u32 s = p->first_shape[i]; s != KG_NULL_INDEX; s = world->shapes.next[s]) {
         world->shapes.friction[s] = friction;
     }
+    world->shapes.version += 1u;
     return KG_OK;
 }
 
@@ -468,6 +469,7 @@ kg_result kg_body_set_restitution(kg_world* world, kg_body body, float restituti
     for (kg_u32 s = p->first_shape[i]; s != KG_NULL_INDEX; s = world->shapes.next[s]) {
         world->shapes.restitution[s] = restitution;
     }
+    world->shapes.version += 1u;
     return KG_OK;
 }
 

@@ -48,6 +48,7 @@ void kg_shape_attach(kg_world* world, int s, int i, const kg_body_shape_def* def
         sp->generation[s] = 1;
     }
     kg_shape_list_insert(sp, &world->bodies.first_shape[i], (kg_u32)s);
+    sp->version += 1u;
 }
 
 /* A box in the body frame around every shape of the list from first: the bounds of a
@@ -142,6 +143,7 @@ void kg_body_material_changed(kg_world* world, kg_body_pool* p, int i)
     }
     p->category[i] = category;
     p->mask[i] = mask;
+    world->shapes.version += 1u;
     if (first != KG_NULL_INDEX) {
         p->friction[i] = sp->friction[first];
         p->restitution[i] = sp->restitution[first];

@@ -52,6 +52,7 @@ static kg_result kg_shape_pool_grow(kg_shape_pool* pool, int capacity)
     grown.count = pool->count;
     grown.first_free = pool->first_free;
     grown.held = pool->held;
+    grown.version = pool->version;
     grown.compound_bodies = pool->compound_bodies;
     kg_shape_pool_free(pool);
     *pool = grown;
@@ -97,6 +98,7 @@ void kg_shape_pool_release(kg_shape_pool* pool, int index)
     }
     pool->count -= 1;
     pool->held += 1;
+    pool->version += 1u;
 }
 
 void kg_shape_pool_free_held(kg_shape_pool* pool)
