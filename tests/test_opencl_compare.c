@@ -26,6 +26,7 @@ static int g_steps = 300;
 typedef void kg_scene_fn(kg_world* world);
 
 static int g_bitwise_expected;
+static int g_max_bodies = 2100; /* of the worlds kg_make_world makes */
 
 static kg_body kg_add(kg_world* world, kg_body_type type, kg_vec2 position, float angle, kg_shape_def shape)
 {
@@ -347,7 +348,7 @@ static kg_world* kg_make_world(kg_backend backend, kg_scene_fn* scene)
 {
     kg_world_def def = kg_default_world_def();
     def.backend = backend;
-    def.max_bodies = 2100;
+    def.max_bodies = g_max_bodies;
     kg_world* world = NULL;
     KG_CHECK_OK(kg_create_world(&def, &world));
     if (world) {
@@ -575,6 +576,31 @@ static void test_rain_2000_colored_in_rounds(void)
     unsetenv("KGYRO_CL_COLOR_SERIAL_MAX");
 }
 static void test_tiles(void) { kg_compare_scene("tiles", kg_tiles_scene); }
+/* Twelve bodies of five shapes each in a world of 16 bodies: the shape pool grows past
+ * its first 16 slots (twice) before the first step, on the host and so on the device. */
+static void kg_many_shapes_scene(kg_world* world)
+{
+    kg_ground(world, 40.0f);
+    for (int k = 0; k < 12; ++k) {
+        kg_body body = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-4.0f + 0.7f * (float)k, 1.0f + 0.6f * (float)(k % 3)},
+                              k % 2 ? 3.0f : 0.2f, kg_box_shape(1.0f, 0.2f)); /* every other one discs down */
+        for (int j = 0; j < 4; ++j) {
+            kg_body_shape_def part = kg_default_body_shape_def();
+            part.geometry = kg_shape_moved(kg_circle_shape(0.1f), (kg_vec2){-0.45f + 0.3f * (float)j, 0.2f}, 0.0f);
+            kg_shape_id id;
+            KG_CHECK_OK(kg_create_shape(world, body, &part, &id));
+        }
+    }
+}
+
+static void test_compound_shape_pool_grows(void)
+{
+    g_max_bodies = 16;
+    int on_host = kg_compare_scene_edited("many shapes", kg_many_shapes_scene, NULL);
+    g_max_bodies = 2100;
+    KG_CHECK(on_host <= 2);
+}
+
 /* Compound bodies collide on the device (the pairs of shapes found there), all but the
  * steps where the pool grows. */
 static void test_compound(void)
@@ -626,7 +652,7 @@ int main(void)
            g_bitwise_expected ? "required" : "not required (no correctly rounded divide/sqrt)");
     static const kg_test_case tests[] = {KG_TEST(test_projectile), KG_TEST(test_applicators), KG_TEST(test_stack),
                                          KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_rain_2000_colored_in_rounds),
-                                         KG_TEST(test_sizes), KG_TEST(test_piles), KG_TEST(test_compound),
+                                         KG_TEST(test_sizes), KG_TEST(test_piles), KG_TEST(test_compound), KG_TEST(test_compound_shape_pool_grows),
                                          KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device),
                                          KG_TEST(test_sleep_and_wake), KG_TEST(test_sleep_and_wake_islands_in_rounds)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
