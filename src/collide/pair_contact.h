@@ -1,9 +1,10 @@
-/* A shape pair's contact, shared by the CPU's narrowphase (collide/collide.c) and the
- * kernels (kg_collide.cl): last step's contact of the pair found in last step's list
- * (sorted by (a, b, shape_a, shape_b), like the pairs), the manifold computed or kept (collide/recycle.h),
- * and the contact's bodies and material. The CPU builds its contacts in place, a block
- * of pairs at a time; the device in two passes over the pairs, a manifold each, then,
- * after the prefix sum of those that touch, their contacts. */
+/* A pair of shapes' contact, shared by the CPU's narrowphase (collide/collide.c) and the
+ * kernels (kg_collide.cl): a pair of bodies expanded into the pairs of their shapes that
+ * may touch, last step's contact of a pair found in last step's list (sorted by (a, b,
+ * shape_a, shape_b), like the pairs), the manifold computed or kept (collide/recycle.h),
+ * and the contact's bodies, shapes and material. The CPU builds its contacts in place, a
+ * block of pairs at a time; the device in two passes over the pairs, a manifold each,
+ * then, after the prefix sum of those that touch, their contacts. */
 #ifndef KG_PAIR_CONTACT_H
 #define KG_PAIR_CONTACT_H
 

@@ -30,10 +30,9 @@ typedef struct kg_body_pool {
     kg_aabb* aabb;         /* world bounds of the shape, derived */
 
     /* properties */
-    kg_shape* shape;       /* what bounds the body, in its frame: its shape when it has one
-                            * (every path that knows one shape a body uses it: the device's
-                            * narrowphase, tile maps), else a box around its shapes (the
-                            * bounds, the broadphase and sleeping's extent read it) */
+    kg_shape* shape;       /* in the body frame: its shape when it has one (the shape pool
+                            * keeps no copy), else a box around its shapes; the bounds, the
+                            * broadphase and sleeping's extent read it either way */
     kg_u32* first_shape;   /* its shapes (core/shape_pool.h), lowest slot first; KG_NULL_INDEX: none */
     kg_u32* shape_count;
     kg_vec2* local_center; /* centre of mass in the body frame */
