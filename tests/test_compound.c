@@ -432,6 +432,40 @@ static void test_compound_on_tiles(void)
     kg_destroy_world(world);
 }
 
+/* Sleeping bodies wake when a shape added reaches them: one added to the static floor
+ * under a sleeping box (the floor cannot wake it through a contact), and one added to a
+ * dynamic body beside another sleeping box (its contact wakes it in the wake stage). */
+static void test_new_shapes_wake_what_they_reach(void)
+{
+    kg_world_def wd = kg_default_world_def();
+    wd.max_bodies = 16;
+    kg_world* world = NULL;
+    KG_CHECK_OK(kg_create_world(&wd, &world));
+    kg_body floor = kg_floor(world);
+    kg_body_def def = kg_default_body_def();
+    def.shape = kg_box_shape(1.0f, 1.0f);
+    def.position = (kg_vec2){-3.0f, 0.5f};
+    kg_body on_floor;
+    KG_CHECK_OK(kg_create_body(world, &def, &on_floor));
+    def.position = (kg_vec2){3.0f, 0.5f};
+    kg_body neighbour, other;
+    KG_CHECK_OK(kg_create_body(world, &def, &neighbour));
+    def.position = (kg_vec2){5.0f, 0.5f};
+    KG_CHECK_OK(kg_create_body(world, &def, &other));
+    kg_step_for(world, 2.0f);
+    KG_CHECK(!kg_body_is_awake(world, on_floor) && !kg_body_is_awake(world, neighbour));
+    kg_add_shape(world, floor, kg_offset_box_shape(1.0f, 0.2f, (kg_vec2){-3.0f, 0.55f}, 0.0f), 1.0f);
+    KG_CHECK(kg_body_is_awake(world, on_floor));
+    kg_add_shape(world, other, kg_offset_box_shape(1.0f, 0.5f, (kg_vec2){-1.0f, 0.0f}, 0.0f), 1.0f);
+    KG_CHECK_OK(kg_world_step(world, KG_DT));
+    KG_CHECK(kg_body_is_awake(world, neighbour));
+    kg_step_for(world, 1.0f);
+    kg_body_state st;
+    KG_CHECK_OK(kg_body_get_state(world, on_floor, &st));
+    KG_CHECK_NEAR(st.position.y, 0.65, 0.005); /* on the floor's new step, its top at 0.15 (floor origin -0.5) */
+    kg_destroy_world(world);
+}
+
 /* Stale, foreign and null handles are refused; a destroyed body takes its shapes. */
 static void test_handles(void)
 {
@@ -631,6 +665,7 @@ int main(void)
                                          KG_TEST(test_adding_and_destroying_shapes),
                                          KG_TEST(test_replaced_shape_gets_its_own_contact),
                                          KG_TEST(test_compound_on_tiles),
+                                         KG_TEST(test_new_shapes_wake_what_they_reach),
                                          KG_TEST(test_handles),
                                          KG_TEST(test_bad_arguments),
                                          KG_TEST(test_body_setters_reach_every_shape),

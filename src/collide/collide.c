@@ -299,8 +299,8 @@ static int kg_expand_pairs(kg_world* world, int pair_count)
     int n = 0;
     for (int k = 0; k < pair_count; ++k) {
         int room = n < c->shape_pair_capacity ? c->shape_pair_capacity - n : 0;
-        n += kg_expand_pair(c->pairs[k].a, c->pairs[k].b, &shapes, p->xf, p->velocity, world->def.speculative_distance,
-                            world->last_dt, c->shape_pairs + (room > 0 ? n : 0), room);
+        n += kg_expand_pair(c->pairs[k].a, c->pairs[k].b, &shapes, p->xf, p->velocity, p->aabb,
+                            world->def.speculative_distance, world->last_dt, c->shape_pairs + (room > 0 ? n : 0), room);
     }
     return n;
 }

@@ -228,13 +228,26 @@ static kg_result kg_prepare_shape(const kg_body_shape_def* def, kg_shape* geomet
 }
 
 /* The pool for writing (the backend syncs and uploads) with body i woken, and whatever
- * touched its bounds, which it may stop or start touching. */
+ * touched its bounds, which may lose what it rests on. */
 static kg_body_pool* kg_edit_body(kg_world* world, int i)
 {
     kg_body_pool* p = kg_world_write_pool(world);
     kg_wake_slot(p, i);
     kg_wake_touching(p, p->aabb[i], world->def.speculative_distance);
     return p;
+}
+
+/* After body i gained a shape: the sleeping bodies it now reaches, when it cannot wake
+ * them itself. A moving body, awake now, wakes the islands its new contacts reach in the
+ * wake stage; a static or kinematic one does not, and would hold them asleep in its new
+ * shape. (Asking every body, as for a removal, made building a world of compound bodies
+ * quadratic: 4,000 of them spent 0.4 G instructions waking nothing.) */
+static void kg_wake_reached(kg_world* world, kg_body_pool* p, int i)
+{
+    kg_wake_slot(p, i);
+    if (!kg_pool_collides(p, i)) {
+        kg_wake_touching(p, p->aabb[i], world->def.speculative_distance);
+    }
 }
 
 kg_result kg_create_shape(kg_world* world, kg_body body, const kg_body_shape_def* def, kg_shape_id* out)
@@ -253,7 +266,7 @@ kg_result kg_create_shape(kg_world* world, kg_body body, const kg_body_shape_def
     if (s < 0) {
         return kg_last_result();
     }
-    kg_body_pool* p = kg_edit_body(world, i);
+    kg_body_pool* p = kg_world_write_pool(world);
     int before = (int)p->shape_count[i];
     if (before == 1) { /* its first shape's geometry was the body pool's alone */
         world->shapes.geometry[p->first_shape[i]] = p->shape[i];
@@ -261,7 +274,7 @@ kg_result kg_create_shape(kg_world* world, kg_body body, const kg_body_shape_def
     world->shapes.geometry[s] = geometry;
     kg_shape_attach(world, s, i, def);
     kg_body_shapes_changed(world, p, i, before);
-    kg_wake_touching(p, p->aabb[i], world->def.speculative_distance); /* what it now reaches */
+    kg_wake_reached(world, p, i);
     out->index = (uint32_t)s;
     out->generation = world->shapes.generation[s];
     return KG_OK;

@@ -74,7 +74,8 @@ static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
     KG_TRY(kg_cl_scan(b, c->touching, c->touching, pairs, KG_CC_CONTACTS, label));
     KG_LAUNCH(b, BUILD_CONTACTS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->manifolds),
               KG_MEM(c->bases), KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count),
-              KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FIRST_SHAPE)), KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)), KG_MEM(next));
+              KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FIRST_SHAPE)), KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)),
+              KG_MEM(next));
     return KG_OK;
 }
 
@@ -92,7 +93,8 @@ static kg_result kg_expand_pairs(kg_world* world, kg_cl_backend* b, int pairs, i
     const char* label = "kg_narrowphase";
     float speculative = world->def.speculative_distance, dt = world->last_dt;
     KG_LAUNCH(b, COUNT_SHAPE_PAIRS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_SHAPE_ARGS(b),
-              KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)), KG_FLOAT(speculative), KG_FLOAT(dt), KG_MEM(c->shape_run));
+              KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(AABB)), KG_FLOAT(speculative), KG_FLOAT(dt),
+              KG_MEM(c->shape_run));
     KG_TRY(kg_cl_scan(b, c->shape_run, c->shape_run, pairs, KG_CC_SHAPE_PAIRS, label));
     cl_uint total = 0u;
     KG_TRY(kg_cl_read(b, c->counts, KG_CC_SHAPE_PAIRS * sizeof total, sizeof total, &total));
@@ -101,8 +103,8 @@ static kg_result kg_expand_pairs(kg_world* world, kg_cl_backend* b, int pairs, i
         return KG_OK;
     }
     KG_LAUNCH(b, WRITE_SHAPE_PAIRS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_SHAPE_ARGS(b),
-              KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)), KG_FLOAT(speculative), KG_FLOAT(dt), KG_MEM(c->shape_run),
-              KG_MEM(c->shape_items), KG_MEM(c->item_pairs));
+              KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(AABB)), KG_FLOAT(speculative), KG_FLOAT(dt),
+              KG_MEM(c->shape_run), KG_MEM(c->shape_items), KG_MEM(c->item_pairs));
     return KG_OK;
 }
 

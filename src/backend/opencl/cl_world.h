@@ -72,7 +72,7 @@ typedef enum kg_cl_array {
     X(RESET_ISLANDS, kg_reset_islands, 4) X(HOOK_ROUND, kg_hook_round, 6)                                     \
     X(SHORTEN_ISLANDS, kg_shorten_islands, 2) X(ISLAND_LEAST, kg_island_least, 5)                             \
     X(ISLAND_STIRS, kg_island_stirs, 7) X(FALL_ASLEEP, kg_fall_asleep, 14)                                    \
-    X(COUNT_SHAPE_PAIRS, kg_count_shape_pairs, 15) X(WRITE_SHAPE_PAIRS, kg_write_shape_pairs, 17)             \
+    X(COUNT_SHAPE_PAIRS, kg_count_shape_pairs, 16) X(WRITE_SHAPE_PAIRS, kg_write_shape_pairs, 18)             \
     X(NARROWPHASE_SHAPES, kg_narrowphase_shapes, 20) X(BUILD_SHAPE_CONTACTS, kg_build_shape_contacts, 11)
 
 typedef enum kg_cl_kernel_id {

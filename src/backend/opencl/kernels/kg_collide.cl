@@ -45,14 +45,15 @@ __kernel void kg_count_shape_pairs(int count, __global const uint2* pairs, __glo
                                    __global const kg_shape* geometry, __global const kg_u32* next,
                                    __global const kg_u32* shape_flags, __global const kg_u32* shape_category,
                                    __global const kg_u32* shape_mask, __global const kg_xf* xf,
-                                   __global const kg_vec2* velocity, float speculative_distance, float dt,
+                                   __global const kg_vec2* velocity, __global const kg_aabb* aabb,
+                                   float speculative_distance, float dt,
                                    __global uint* run)
 {
     int k = (int)get_global_id(0);
     if (k < count) {
         kg_shape_arrays s = {shape_count, first_shape,  body_shape,     geometry,
                              next,        shape_flags, shape_category, shape_mask};
-        run[k] = (uint)kg_expand_pair(pairs[k].x, pairs[k].y, &s, xf, velocity, speculative_distance, dt, 0, 0);
+        run[k] = (uint)kg_expand_pair(pairs[k].x, pairs[k].y, &s, xf, velocity, aabb, speculative_distance, dt, 0, 0);
     }
 }
 
@@ -62,15 +63,16 @@ __kernel void kg_write_shape_pairs(int count, __global const uint2* pairs, __glo
                                    __global const kg_shape* geometry, __global const kg_u32* next,
                                    __global const kg_u32* shape_flags, __global const kg_u32* shape_category,
                                    __global const kg_u32* shape_mask, __global const kg_xf* xf,
-                                   __global const kg_vec2* velocity, float speculative_distance, float dt,
+                                   __global const kg_vec2* velocity, __global const kg_aabb* aabb,
+                                   float speculative_distance, float dt,
                                    __global const uint* run, __global kg_shape_pair* items, __global uint* item_pairs)
 {
     int k = (int)get_global_id(0);
     if (k < count) {
         kg_shape_arrays s = {shape_count, first_shape,  body_shape,     geometry,
                              next,        shape_flags, shape_category, shape_mask};
-        kg_place_shape_pairs(k, pairs[k].x, pairs[k].y, &s, xf, velocity, speculative_distance, dt, run, items,
-                             item_pairs);
+        kg_place_shape_pairs(k, pairs[k].x, pairs[k].y, &s, xf, velocity, aabb, speculative_distance, dt, run,
+                             items, item_pairs);
     }
 }
 
