@@ -218,6 +218,58 @@ static void test_peers_say_what_they_are(void)
     KG_CHECK(kg_peer_find("havok") == -1);
 }
 
+/* A scene of compound bodies (a dumbbell, an L with a heavier foot, a crate with a sensor,
+ * a static table), level, so that kgyro's bounds, those of a box around each body's
+ * shapes, are exactly theirs: each peer builds every shape with kgyro's masses, and the
+ * dumbbell falls onto the table as in kgyro (its height after a second within 5 cm). */
+static void test_peers_build_compound_bodies(void)
+{
+    const char* json = "{\"bodies\": ["
+                       "{\"type\": \"static\", \"position\": [0, 0], \"shapes\": ["
+                       " {\"type\": \"box\", \"width\": 4, \"height\": 0.2, \"center\": [0, 1]},"
+                       " {\"type\": \"box\", \"width\": 0.2, \"height\": 1, \"center\": [-1.9, 0.5]},"
+                       " {\"type\": \"box\", \"width\": 0.2, \"height\": 1, \"center\": [1.9, 0.5]}]},"
+                       "{\"name\": \"dumbbell\", \"position\": [0, 3], \"shapes\": ["
+                       " {\"type\": \"box\", \"width\": 2, \"height\": 0.1},"
+                       " {\"type\": \"circle\", \"radius\": 0.3, \"center\": [-1, 0], \"density\": 2},"
+                       " {\"type\": \"circle\", \"radius\": 0.3, \"center\": [1, 0], \"density\": 2}]},"
+                       "{\"position\": [6, 0.5], \"shapes\": ["
+                       " {\"type\": \"box\", \"width\": 1.5, \"height\": 0.3, \"center\": [0.75, 0.15],"
+                       "  \"density\": 4},"
+                       " {\"type\": \"box\", \"width\": 0.3, \"height\": 2, \"center\": [0.15, 1.3]}]},"
+                       "{\"position\": [-6, 0.5], \"shapes\": ["
+                       " {\"type\": \"box\", \"width\": 1, \"height\": 1},"
+                       " {\"type\": \"polygon\", \"vertices\": [[-0.4, 0], [0.4, 0], [0, 0.5]], \"center\": [0, 0.5],"
+                       "  \"sensor\": true}]}]}";
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_parse(json, strlen(json), "compound.json", &scene));
+    if (!scene) {
+        return;
+    }
+    scene_totals want = built_in_kgyro(scene);
+    for (int e = 0; e < KG_PEER_ENGINE_COUNT; ++e) {
+        if (!kg_peer_available((kg_peer_engine)e)) {
+            continue;
+        }
+        scene_totals got = built_in_peer((kg_peer_engine)e, scene);
+        check_same("compound", kg_peer_name((kg_peer_engine)e), &got, &want);
+        kg_peer_world* world = NULL;
+        KG_CHECK_OK(kg_peer_create((kg_peer_engine)e, scene, 1, &world));
+        for (int k = 0; world && k < 60; ++k) {
+            kg_peer_step(world, 1.0f / 60.0f);
+        }
+        kg_body_state states[4];
+        if (world) {
+            kg_peer_get_states(world, states);
+            printf("     %s: the dumbbell at %.3f m after 1 s (on the table: 1.1 + 0.3 = 1.4)\n",
+                   kg_peer_name((kg_peer_engine)e), (double)states[1].position.y);
+            KG_CHECK_NEAR(states[1].position.y, 1.4, 0.05);
+        }
+        kg_peer_destroy(world);
+    }
+    kg_scene_destroy(scene);
+}
+
 static void test_peers_refuse_scene_forces(void)
 {
     kg_scene* scene = generate("pyramid_3");
@@ -234,7 +286,7 @@ static void test_peers_refuse_scene_forces(void)
 
 KG_TEST_MAIN(KG_TEST(test_kgyro_builds_the_described_scenes), KG_TEST(test_peers_build_the_described_scenes),
              KG_TEST(test_peers_turn_the_tumbler_walls), KG_TEST(test_peers_say_what_they_are),
-             KG_TEST(test_peers_refuse_scene_forces))
+             KG_TEST(test_peers_refuse_scene_forces), KG_TEST(test_peers_build_compound_bodies))
 
 #else
 

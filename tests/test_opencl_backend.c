@@ -14,7 +14,7 @@
 
 #define KG_SKIP 77
 #define KG_DT (1.0f / 60.0f)
-#define KG_CONTACT_BYTES 208 /* sizeof(kg_contact), the layout the device keeps contacts in */
+#define KG_CONTACT_BYTES 216 /* sizeof(kg_contact), the layout the device keeps contacts in */
 
 static kg_world* kg_make_world(kg_backend backend)
 {

@@ -26,6 +26,7 @@ static int g_steps = 300;
 typedef void kg_scene_fn(kg_world* world);
 
 static int g_bitwise_expected;
+static int g_max_bodies = 2100; /* of the worlds kg_make_world makes */
 
 static kg_body kg_add(kg_world* world, kg_body_type type, kg_vec2 position, float angle, kg_shape_def shape)
 {
@@ -377,11 +378,56 @@ static void kg_tunnelling_scene(kg_world* world)
     }
 }
 
+/* Compound bodies (dumbbells of two discs and a bar, Ls of two boxes) piled with boxes on
+ * the ground, and beside it on a tile map's slopes (per shape tile contacts); part way, an
+ * L loses a shape and a box gains one (kg_compound_edit). */
+static void kg_compound_scene(kg_world* world)
+{
+    kg_ground(world, 40.0f);
+    kg_tile_shape tile_shapes[3] = {kg_tile_empty(), kg_tile_box(), kg_tile_slope(KG_TILE_BOTTOM_RIGHT)};
+    uint16_t tiles[2 * 12] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0, 2, 0, 0, 2, 1, 0, 0, 0, 2, 1, 1};
+    kg_tilemap_def map = kg_default_tilemap_def();
+    map.width = 12;
+    map.height = 2;
+    map.origin = (kg_vec2){21.0f, -1.0f};
+    map.shapes = tile_shapes;
+    map.shape_count = 3;
+    map.tiles = tiles;
+    kg_tilemap handle;
+    KG_CHECK_OK(kg_create_tilemap(world, &map, &handle));
+    for (int k = 0; k < 4; ++k) {
+        kg_body body = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){23.0f + 2.5f * (float)k, 2.0f}, 0.3f * (float)k,
+                              kg_box_shape(1.4f, 0.2f));
+        kg_body_shape_def disc = kg_default_body_shape_def();
+        disc.geometry = kg_shape_moved(kg_circle_shape(0.25f), (kg_vec2){0.7f, 0.0f}, 0.0f);
+        kg_shape_id id;
+        KG_CHECK_OK(kg_create_shape(world, body, &disc, &id));
+    }
+    for (int k = 0; k < 60; ++k) {
+        float x = -6.0f + (float)(k % 6) * 2.2f, y = 1.0f + (float)(k / 6) * 1.3f;
+        kg_body body = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){x, y}, 0.2f * (float)(k % 7), kg_box_shape(1.2f, 0.3f));
+        kg_body_shape_def part = kg_default_body_shape_def();
+        kg_shape_id id;
+        if (k % 3 == 0) {
+            part.geometry = kg_shape_moved(kg_circle_shape(0.3f), (kg_vec2){-0.7f, 0.0f}, 0.0f);
+            KG_CHECK_OK(kg_create_shape(world, body, &part, &id));
+            part.geometry = kg_shape_moved(kg_circle_shape(0.3f), (kg_vec2){0.7f, 0.0f}, 0.0f);
+            part.friction = 0.2f;
+            KG_CHECK_OK(kg_create_shape(world, body, &part, &id));
+        } else if (k % 3 == 1) {
+            part.geometry = kg_offset_box_shape(0.3f, 1.2f, (kg_vec2){0.45f, 0.45f}, 0.0f);
+            part.density = 2.0f;
+            part.restitution = 0.3f;
+            KG_CHECK_OK(kg_create_shape(world, body, &part, &id));
+        }
+    }
+}
+
 static kg_world* kg_make_world(kg_backend backend, kg_scene_fn* scene)
 {
     kg_world_def def = kg_default_world_def();
     def.backend = backend;
-    def.max_bodies = 2100;
+    def.max_bodies = g_max_bodies;
     kg_world* world = NULL;
     KG_CHECK_OK(kg_create_world(&def, &world));
     if (world) {
@@ -439,19 +485,71 @@ static int kg_compare_states(kg_world* cpu, kg_world* cl, double* max_position)
     return differing;
 }
 
-static void kg_compare_scene(const char* name, kg_scene_fn* scene)
+/* Body 2 (an L) loses its post and body 3 (a box) gains a disc, as the pile settles. */
+static void kg_compound_edit(kg_world* world)
+{
+    kg_body bodies[4];
+    int count = 0;
+    KG_CHECK_OK(kg_world_get_bodies(world, bodies, 4, &count));
+    kg_shape_id shapes[2];
+    KG_CHECK_OK(kg_body_get_shapes(world, bodies[2], shapes, 2, &count));
+    KG_CHECK_OK(kg_destroy_shape(world, shapes[1]));
+    kg_body_shape_def disc = kg_default_body_shape_def();
+    disc.geometry = kg_shape_moved(kg_circle_shape(0.4f), (kg_vec2){0.0f, 0.4f}, 0.0f);
+    KG_CHECK_OK(kg_create_shape(world, bodies[3], &disc, &shapes[0]));
+}
+
+static int kg_compare_scene_edited(const char* name, kg_scene_fn* scene, kg_scene_fn* edit_at_100);
+
+/* At step 100 the world's first compound body appears: a shot at the static wall of the
+ * tunnelling scene gains a second shape, so that continuous collision walks a list of
+ * shapes whose geometry the device had no buffer for until then. */
+static void kg_first_compound_edit(kg_world* world)
+{
+    kg_body bodies[64];
+    int count = 0;
+    KG_CHECK_OK(kg_world_get_bodies(world, bodies, 64, &count));
+    kg_body_shape_def tail = kg_default_body_shape_def();
+    tail.geometry = kg_offset_box_shape(0.3f, 0.05f, (kg_vec2){-0.2f, 0.0f}, 0.0f);
+    kg_shape_id id;
+    KG_CHECK_OK(kg_create_shape(world, bodies[count - 1], &tail, &id));
+}
+
+static void kg_compare_scene(const char* name, kg_scene_fn* scene) { kg_compare_scene_edited(name, scene, NULL); }
+
+/* Whether the world's last step ran its collide stage on the host. */
+static int kg_collided_on_host(const kg_world* world)
+{
+    kg_stage_times t;
+    KG_CHECK_OK(kg_world_get_stage_times(world, &t));
+    for (int k = 0; k < t.count; ++k) {
+        if (strcmp(t.names[k], "collide (host)") == 0) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Steps a scene on both backends and compares them; edit_at_100 (or NULL) changes both
+ * worlds after step 100. Returns how many steps the OpenCL world collided on the host. */
+static int kg_compare_scene_edited(const char* name, kg_scene_fn* scene, kg_scene_fn* edit_at_100)
 {
     kg_world* cpu = kg_make_world(KG_BACKEND_CPU, scene);
     kg_world* cl = kg_make_world(KG_BACKEND_OPENCL, scene);
     if (!cpu || !cl) {
         kg_destroy_world(cpu);
         kg_destroy_world(cl);
-        return;
+        return 0;
     }
-    int count_mismatch = 0, list_mismatch = 0, max_contacts = 0;
+    int count_mismatch = 0, list_mismatch = 0, max_contacts = 0, on_host = 0;
     for (int s = 0; s < g_steps; ++s) {
+        if (s == 100 && edit_at_100) {
+            edit_at_100(cpu);
+            edit_at_100(cl);
+        }
         KG_CHECK_OK(kg_world_step(cpu, KG_DT));
         KG_CHECK_OK(kg_world_step(cl, KG_DT));
+        on_host += kg_collided_on_host(cl);
         int nc = kg_world_contact_count(cpu);
         count_mismatch += nc != kg_world_contact_count(cl);
         max_contacts = nc > max_contacts ? nc : max_contacts;
@@ -465,14 +563,15 @@ static void kg_compare_scene(const char* name, kg_scene_fn* scene)
     double max_position = 0.0;
     int differing = kg_compare_states(cpu, cl, &max_position);
     printf("     %-12s %4d bodies, up to %4d contacts: %d steps with other contact counts, %d floats not bitwise "
-           "equal, positions within %.3g m\n",
-           name, kg_world_body_count(cpu), max_contacts, count_mismatch, differing, max_position);
+           "equal, positions within %.3g m; %d steps collided on the host\n",
+           name, kg_world_body_count(cpu), max_contacts, count_mismatch, differing, max_position, on_host);
     KG_CHECK_NEAR(max_position, 0.0, 1e-4);
     if (g_bitwise_expected) {
         KG_CHECK(differing == 0);
     }
     kg_destroy_world(cpu);
     kg_destroy_world(cl);
+    return on_host;
 }
 
 /* Two piles of 50 boxes apart on the ground, and a kinematic pusher sliding towards the
@@ -572,6 +671,42 @@ static void test_rain_2000_colored_in_rounds(void)
 static void test_tiles(void) { kg_compare_scene("tiles", kg_tiles_scene); }
 static void test_capsules(void) { kg_compare_scene("capsules", kg_capsules_scene); }
 static void test_tunnelling(void) { kg_compare_scene("tunnelling", kg_tunnelling_scene); }
+static void test_tunnelling_first_compound(void)
+{
+    kg_compare_scene_edited("tunnelling, first compound body at step 100", kg_tunnelling_scene, kg_first_compound_edit);
+}
+/* Twelve bodies of five shapes each in a world of 16 bodies: the shape pool grows past
+ * its first 16 slots (twice) before the first step, on the host and so on the device. */
+static void kg_many_shapes_scene(kg_world* world)
+{
+    kg_ground(world, 40.0f);
+    for (int k = 0; k < 12; ++k) {
+        kg_body body = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-4.0f + 0.7f * (float)k, 1.0f + 0.6f * (float)(k % 3)},
+                              k % 2 ? 3.0f : 0.2f, kg_box_shape(1.0f, 0.2f)); /* every other one discs down */
+        for (int j = 0; j < 4; ++j) {
+            kg_body_shape_def part = kg_default_body_shape_def();
+            part.geometry = kg_shape_moved(kg_circle_shape(0.1f), (kg_vec2){-0.45f + 0.3f * (float)j, 0.2f}, 0.0f);
+            kg_shape_id id;
+            KG_CHECK_OK(kg_create_shape(world, body, &part, &id));
+        }
+    }
+}
+
+static void test_compound_shape_pool_grows(void)
+{
+    g_max_bodies = 16;
+    int on_host = kg_compare_scene_edited("many shapes", kg_many_shapes_scene, NULL);
+    g_max_bodies = 2100;
+    KG_CHECK(on_host <= 2);
+}
+
+/* Compound bodies collide on the device (the pairs of shapes found there), all but the
+ * steps where the pool grows. */
+static void test_compound(void)
+{
+    int on_host = kg_compare_scene_edited("compound", kg_compound_scene, kg_compound_edit);
+    KG_CHECK(on_host <= 2);
+}
 
 /* With a tile map, the collide stage runs on the device: no "collide (host)" in the
  * stage times, with profiling off or on, and the world stays on the OpenCL backend. */
@@ -616,9 +751,9 @@ int main(void)
            g_bitwise_expected ? "required" : "not required (no correctly rounded divide/sqrt)");
     static const kg_test_case tests[] = {KG_TEST(test_projectile), KG_TEST(test_applicators), KG_TEST(test_stack),
                                          KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_rain_2000_colored_in_rounds),
-                                         KG_TEST(test_sizes), KG_TEST(test_piles),
+                                         KG_TEST(test_sizes), KG_TEST(test_piles), KG_TEST(test_compound), KG_TEST(test_compound_shape_pool_grows),
                                          KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device), KG_TEST(test_capsules),
-                                         KG_TEST(test_tunnelling),
+                                         KG_TEST(test_tunnelling), KG_TEST(test_tunnelling_first_compound),
                                          KG_TEST(test_sleep_and_wake), KG_TEST(test_sleep_and_wake_islands_in_rounds)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

@@ -234,6 +234,20 @@ static const error_case kErrorStrings[] = {
     {"{\"generators\": [{\"type\": \"particles\", \"count\": 2, \"region\": [0, 0, 1, 1], \"mass\": 1, "
      "\"density\": 1}]}",
      "generators[0].mass: give density or mass, not both"},
+    {"{\"bodies\": [{\"shape\": {\"type\": \"circle\", \"radius\": 1}, \"shapes\": []}]}",
+     "bodies[0].shapes: give shape or shapes, not both"},
+    {"{\"bodies\": [{\"shapes\": []}]}", "bodies[0].shapes: must hold 1 to 64 shapes (got 0)"},
+    {"{\"bodies\": [{\"shapes\": [{\"type\": \"circle\", \"radius\": 1, \"sensor\": true}]}]}",
+     "bodies[0].shapes[0].sensor: the first shape of a dynamic body must be solid"},
+    {"{\"bodies\": [{\"shapes\": [{\"type\": \"circle\", \"radius\": 1}, {\"type\": \"box\", \"width\": 1, "
+     "\"height\": 1, \"colour\": 2}]}]}",
+     "bodies[0].shapes[1].colour: unknown field"},
+    {"{\"bodies\": [{\"shapes\": [{\"type\": \"circle\", \"radius\": 1}, {\"type\": \"circle\", \"radius\": 1, "
+     "\"restitution\": 2}]}]}",
+     "bodies[0].shapes[1].restitution: must be in [0, 1]"},
+    {"{\"bodies\": [{\"mass\": 2, \"shapes\": [{\"type\": \"circle\", \"radius\": 1}, {\"type\": \"circle\", "
+     "\"radius\": 1}]}]}",
+     "bodies[0].mass: is for a body of one shape: give each of its shapes a density"},
 };
 
 static void test_error_strings(void)
@@ -248,6 +262,45 @@ static void test_error_strings(void)
     }
 }
 
+/* "shapes": the first entry is the body def's shape with its material, the others follow
+ * with theirs (the body's where left out), placed by "center" and "angle"; instantiated,
+ * the body has them all and its mass is theirs. */
+static void test_compound_body(void)
+{
+    const char* json = "{\"bodies\": [{\"name\": \"l\", \"friction\": 0.4, \"shapes\": ["
+                       "{\"type\": \"box\", \"width\": 2, \"height\": 0.5, \"center\": [1, 0.25], \"density\": 2},"
+                       "{\"type\": \"polygon\", \"vertices\": [[-0.25, -0.75], [0.25, -0.75], [0.25, 0.75], [-0.25, 0.75]],"
+                       " \"center\": [0.25, 1.25], \"angle\": 0, \"restitution\": 0.5},"
+                       "{\"type\": \"circle\", \"radius\": 0.1, \"center\": [2, 1], \"sensor\": true, \"mask\": 4}]}]}";
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_parse(json, strlen(json), "inline.json", &scene));
+    if (!scene) {
+        return;
+    }
+    KG_CHECK(kg_scene_body_shape_count(scene, 0) == 3);
+    kg_body_shape_def first, second, third;
+    KG_CHECK_OK(kg_scene_get_body_shape(scene, 0, 0, &first));
+    KG_CHECK_OK(kg_scene_get_body_shape(scene, 0, 1, &second));
+    KG_CHECK_OK(kg_scene_get_body_shape(scene, 0, 2, &third));
+    KG_CHECK(first.density == 2.0f && first.friction == 0.4f && first.geometry.type == KG_SHAPE_POLYGON);
+    KG_CHECK(second.density == 1.0f && second.restitution == 0.5f && second.friction == 0.4f);
+    KG_CHECK(same_vec(second.geometry.vertices[0], (kg_vec2){0.0f, 0.5f}));
+    KG_CHECK(third.is_sensor == 1 && third.mask == 4u && same_vec(third.geometry.center, (kg_vec2){2.0f, 1.0f}));
+    KG_CHECK(kg_scene_get_body_shape(scene, 0, 3, &third) == KG_ERROR_INVALID_ARGUMENT);
+    kg_world* world = NULL;
+    kg_body body;
+    KG_CHECK_OK(kg_scene_instantiate(scene, NULL, &world, &body));
+    if (world) {
+        KG_CHECK(kg_body_shape_count(world, body) == 3);
+        kg_mass_data md;
+        KG_CHECK_OK(kg_body_get_mass_data(world, body, &md));
+        double circle = 3.14159265358979 * 0.01;
+        KG_CHECK_NEAR(md.mass, 2.0 + 0.75 + circle, 1e-5);
+        kg_destroy_world(world);
+    }
+    kg_scene_destroy(scene);
+}
+
 static void test_unreadable_file(void)
 {
     kg_scene* scene = NULL;
@@ -259,7 +312,8 @@ static void test_unreadable_file(void)
 
 static void test_samples_load(void)
 {
-    static const char* const samples[] = {"box_stack.json", "pyramid.json", "rain_wind.json", "particles.json"};
+    static const char* const samples[] = {"box_stack.json", "pyramid.json", "rain_wind.json", "particles.json",
+                                          "compound.json"};
     for (size_t i = 0; i < sizeof samples / sizeof samples[0]; ++i) {
         char path[512];
         snprintf(path, sizeof path, "%s/samples/%s", KG_SOURCE_DIR, samples[i]);
@@ -705,7 +759,7 @@ static void test_generated_scenes_instantiate(void)
 }
 
 KG_TEST_MAIN(KG_TEST(test_full_scene_fields), KG_TEST(test_defaults), KG_TEST(test_capsule_and_segment), KG_TEST(test_error_files),
-             KG_TEST(test_error_strings), KG_TEST(test_unreadable_file), KG_TEST(test_samples_load),
+             KG_TEST(test_error_strings), KG_TEST(test_compound_body), KG_TEST(test_unreadable_file), KG_TEST(test_samples_load),
              KG_TEST(test_json_generators), KG_TEST(test_large_pyramid), KG_TEST(test_many_pyramids),
              KG_TEST(test_smash), KG_TEST(test_tumbler_layout), KG_TEST(test_rain),
              KG_TEST(test_particles_and_small_generators), KG_TEST(test_generator_names), KG_TEST(test_builder),

@@ -174,35 +174,66 @@ void SetSceneMass(b2Body* body, const kg_body_def* def, float density)
     body->SetMassData(&data);
 }
 
-const char* AddFixture(Box2DWorld* w, b2Body* body, const kg_peer_body* pb)
+// A fixture of the shape with its density, material and filter.
+const char* AddShape(Box2DWorld* w, b2Body* body, const kg_body_shape_def* shape)
 {
-    const kg_body_def* def = pb->def;
-    if (!FitsFilter(def->category)) {
+    if (!FitsFilter(shape->category)) {
         return "collision categories above bit 15 do not fit Box2D 2.4's 16-bit filter";
     }
     b2FixtureDef fd;
-    fd.density = pb->density;
-    fd.friction = def->friction;
-    fd.restitution = def->restitution;
+    fd.density = shape->density;
+    fd.friction = shape->friction;
+    fd.restitution = shape->restitution;
     fd.restitutionThreshold = w->restitution_threshold;
-    fd.filter.categoryBits = static_cast<uint16>(def->category & 0xFFFFu);
-    fd.filter.maskBits = static_cast<uint16>(def->mask & 0xFFFFu);
+    fd.isSensor = shape->is_sensor != 0;
+    fd.filter.categoryBits = static_cast<uint16>(shape->category & 0xFFFFu);
+    fd.filter.maskBits = static_cast<uint16>(shape->mask & 0xFFFFu);
     b2PolygonShape polygon;
     b2CircleShape circle;
-    if (def->shape.type == KG_SHAPE_POLYGON) {
+    const kg_shape_def* geometry = &shape->geometry;
+    if (geometry->type == KG_SHAPE_POLYGON) {
         b2Vec2 points[b2_maxPolygonVertices];
-        int count = def->shape.count < b2_maxPolygonVertices ? def->shape.count : b2_maxPolygonVertices;
-        InsetPolygon(&def->shape, b2_polygonRadius, points, count);
+        int count = geometry->count < b2_maxPolygonVertices ? geometry->count : b2_maxPolygonVertices;
+        InsetPolygon(geometry, b2_polygonRadius, points, count);
         polygon.Set(points, count);
         fd.shape = &polygon;
     } else {
-        circle.m_p = ToB2(def->shape.center);
-        circle.m_radius = def->shape.radius;
+        circle.m_p = ToB2(geometry->center);
+        circle.m_radius = geometry->radius;
         fd.shape = &circle;
     }
     body->CreateFixture(&fd);
-    if (body->GetType() == b2_dynamicBody) {
+    return NULL;
+}
+
+// A body of one shape: the def's, at the resolved density.
+const char* AddFixture(Box2DWorld* w, b2Body* body, const kg_peer_body* pb)
+{
+    const kg_body_def* def = pb->def;
+    kg_body_shape_def shape = {def->shape, pb->density, def->friction, def->restitution, def->category, def->mask,
+                               0, NULL};
+    const char* why = AddShape(w, body, &shape);
+    if (!why && body->GetType() == b2_dynamicBody) {
         SetSceneMass(body, def, pb->density);
+    }
+    return why;
+}
+
+// A compound body: a fixture per shape, the mass data of them all (kgyro's).
+const char* AddFixtures(Box2DWorld* w, b2Body* body, const kg_peer_body* pb)
+{
+    for (int k = 0; k < pb->shape_count; ++k) {
+        const char* why = AddShape(w, body, &pb->shapes[k]);
+        if (why) {
+            return why;
+        }
+    }
+    if (body->GetType() == b2_dynamicBody) {
+        b2MassData data;
+        data.mass = pb->mass.mass;
+        data.center = ToB2(pb->mass.center);
+        data.I = pb->mass.inertia + pb->mass.mass * b2Dot(data.center, data.center);
+        body->SetMassData(&data);
     }
     return NULL;
 }
@@ -224,6 +255,9 @@ const char* AddBody(void* world, const kg_peer_body* pb)
     b2BodyDef bd = MakeBodyDef(def);
     b2Body* body = w->world->CreateBody(&bd);
     w->bodies[w->count++] = body;
+    if (pb->shapes) {
+        return AddFixtures(w, body, pb);
+    }
     if (def->shape.type != KG_SHAPE_NONE) {
         return AddFixture(w, body, pb);
     }
@@ -282,15 +316,17 @@ kg_aabb Bounds(const void* world, int index)
         Include(&box, xf.p, 0.0f);
         return box;
     }
-    const b2Shape* shape = fixture->GetShape();
-    if (shape->GetType() == b2Shape::e_circle) {
-        const b2CircleShape* circle = static_cast<const b2CircleShape*>(shape);
-        Include(&box, b2Mul(xf, circle->m_p), circle->m_radius);
-        return box;
-    }
-    const b2PolygonShape* polygon = static_cast<const b2PolygonShape*>(shape);
-    for (int32 i = 0; i < polygon->m_count; ++i) {
-        Include(&box, b2Mul(xf, polygon->m_vertices[i]), polygon->m_radius);
+    for (; fixture; fixture = fixture->GetNext()) {
+        const b2Shape* shape = fixture->GetShape();
+        if (shape->GetType() == b2Shape::e_circle) {
+            const b2CircleShape* circle = static_cast<const b2CircleShape*>(shape);
+            Include(&box, b2Mul(xf, circle->m_p), circle->m_radius);
+            continue;
+        }
+        const b2PolygonShape* polygon = static_cast<const b2PolygonShape*>(shape);
+        for (int32 i = 0; i < polygon->m_count; ++i) {
+            Include(&box, b2Mul(xf, polygon->m_vertices[i]), polygon->m_radius);
+        }
     }
     return box;
 }

@@ -1,4 +1,5 @@
-/* Chipmunk 7 adapter: one cpBody with at most one cpShape per scene body.
+/* Chipmunk 7 adapter: one cpBody per scene body, with its shape (none for a point
+ * particle), or a compound body's shapes.
  *
  * Chipmunk's conventions differ from kgyro's in ways that matter here:
  *  - a body's position is its centre of gravity; shapes are given in body-local
@@ -25,10 +26,17 @@
 
 enum { KG_CP_ITERATIONS = 10, KG_CP_MAX_THREADS = 2 };
 
+typedef struct kg_cp_shape {
+    cpShape* shape;
+    kg_shape_type type;
+} kg_cp_shape;
+
 typedef struct kg_cp_item {
     cpBody* body;
     cpShape* shape; /* NULL for a point particle */
     kg_shape_type shape_type;
+    kg_cp_shape* more; /* a compound body's shapes after the first */
+    int more_count;
     cpFloat linear_damping, angular_damping;
 } kg_cp_item;
 
@@ -84,6 +92,10 @@ static void kg_cp_destroy(void* world)
     }
     for (int i = 0; i < w->count; ++i) {
         cpShapeFree(w->items[i].shape);
+        for (int k = 0; k < w->items[i].more_count; ++k) {
+            cpShapeFree(w->items[i].more[k].shape);
+        }
+        free(w->items[i].more);
         cpBodyFree(w->items[i].body);
     }
     free(w->items);
@@ -109,7 +121,11 @@ static kg_cp_mass_props kg_cp_mass_of(const kg_peer_body* pb)
     const kg_body_def* def = pb->def;
     const kg_shape_def* shape = &def->shape;
     kg_cp_mass_props m = {def->mass, INFINITY, cpvzero};
-    if (shape->type == KG_SHAPE_POLYGON) {
+    if (pb->shapes) { /* a compound body: kgyro's mass data of its shapes */
+        m.mass = pb->mass.mass;
+        m.cog = cpv(pb->mass.center.x, pb->mass.center.y);
+        m.moment = pb->mass.inertia;
+    } else if (shape->type == KG_SHAPE_POLYGON) {
         cpVect verts[KG_MAX_POLYGON_VERTICES];
         int n = kg_cp_polygon_vertices(shape, verts);
         m.mass = pb->density * cpAreaForPoly(n, verts, 0.0);
@@ -170,9 +186,9 @@ static cpBody* kg_cp_new_body(kg_cp_item* item, const kg_peer_body* pb)
     return body;
 }
 
-static cpShape* kg_cp_new_shape(cpBody* body, const kg_body_def* def)
+static cpShape* kg_cp_new_shape(cpBody* body, const kg_body_shape_def* def)
 {
-    const kg_shape_def* shape = &def->shape;
+    const kg_shape_def* shape = &def->geometry;
     cpShape* s;
     if (shape->type == KG_SHAPE_POLYGON) {
         cpVect verts[KG_MAX_POLYGON_VERTICES];
@@ -184,7 +200,23 @@ static cpShape* kg_cp_new_shape(cpBody* body, const kg_body_def* def)
     cpShapeSetFriction(s, sqrt(def->friction));
     cpShapeSetElasticity(s, sqrt(def->restitution));
     cpShapeSetFilter(s, cpShapeFilterNew(CP_NO_GROUP, def->category, def->mask));
+    cpShapeSetSensor(s, def->is_sensor ? cpTrue : cpFalse);
     return s;
+}
+
+/* A compound body's shapes after its first, into item->more. */
+static const char* kg_cp_add_more_shapes(kg_cp_world* w, kg_cp_item* item, const kg_peer_body* pb)
+{
+    item->more = calloc((size_t)pb->shape_count, sizeof *item->more);
+    if (!item->more) {
+        return "out of memory";
+    }
+    for (int k = 1; k < pb->shape_count; ++k) {
+        kg_cp_shape* more = &item->more[item->more_count++];
+        more->shape = cpSpaceAddShape(w->space, kg_cp_new_shape(item->body, &pb->shapes[k]));
+        more->type = pb->shapes[k].geometry.type;
+    }
+    return NULL;
 }
 
 static const char* kg_cp_add_body(void* world, const kg_peer_body* pb)
@@ -193,13 +225,16 @@ static const char* kg_cp_add_body(void* world, const kg_peer_body* pb)
     if (pb->def->shape.type == KG_SHAPE_POLYGON && pb->def->shape.count < 3) {
         return "a polygon needs at least 3 vertices";
     }
+    const kg_body_def* def = pb->def;
     kg_cp_item* item = &w->items[w->count++];
     item->body = cpSpaceAddBody(w->space, kg_cp_new_body(item, pb));
-    item->shape_type = pb->def->shape.type;
+    item->shape_type = def->shape.type;
+    kg_body_shape_def first = {def->shape, pb->density, def->friction, def->restitution, def->category, def->mask,
+                               0, NULL};
     if (item->shape_type != KG_SHAPE_NONE) {
-        item->shape = cpSpaceAddShape(w->space, kg_cp_new_shape(item->body, pb->def));
+        item->shape = cpSpaceAddShape(w->space, kg_cp_new_shape(item->body, pb->shapes ? &pb->shapes[0] : &first));
     }
-    return NULL;
+    return pb->shapes ? kg_cp_add_more_shapes(w, item, pb) : NULL;
 }
 
 static void kg_cp_step(void* world, float dt)
@@ -251,20 +286,30 @@ static void kg_cp_include(kg_aabb* box, cpVect p, cpFloat radius)
 }
 
 /* From the shape's vertices: the shape's cached box is only refreshed when it is stepped. */
+/* A shape of body (a polygon or a circle) into box. */
+static void kg_cp_include_shape(kg_aabb* box, const cpBody* body, const cpShape* shape, kg_shape_type type)
+{
+    if (type == KG_SHAPE_POLYGON) {
+        for (int i = 0; i < cpPolyShapeGetCount(shape); ++i) {
+            kg_cp_include(box, cpBodyLocalToWorld(body, cpPolyShapeGetVert(shape, i)), 0.0);
+        }
+    } else {
+        kg_cp_include(box, cpBodyLocalToWorld(body, cpCircleShapeGetOffset(shape)), cpCircleShapeGetRadius(shape));
+    }
+}
+
 static kg_aabb kg_cp_bounds(const void* world, int index)
 {
     const kg_cp_item* item = &((const kg_cp_world*)world)->items[index];
     const cpBody* body = item->body;
-    const cpShape* shape = item->shape;
     kg_aabb box = {{INFINITY, INFINITY}, {-INFINITY, -INFINITY}};
     if (item->shape_type == KG_SHAPE_NONE) {
         kg_cp_include(&box, cpBodyGetPosition(body), 0.0);
-    } else if (item->shape_type == KG_SHAPE_POLYGON) {
-        for (int i = 0; i < cpPolyShapeGetCount(shape); ++i) {
-            kg_cp_include(&box, cpBodyLocalToWorld(body, cpPolyShapeGetVert(shape, i)), 0.0);
-        }
-    } else {
-        kg_cp_include(&box, cpBodyLocalToWorld(body, cpCircleShapeGetOffset(shape)), cpCircleShapeGetRadius(shape));
+        return box;
+    }
+    kg_cp_include_shape(&box, body, item->shape, item->shape_type);
+    for (int k = 0; k < item->more_count; ++k) {
+        kg_cp_include_shape(&box, body, item->more[k].shape, item->more[k].type);
     }
     return box;
 }

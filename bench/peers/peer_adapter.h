@@ -4,11 +4,13 @@
 #ifndef KG_PEER_ADAPTER_H
 #define KG_PEER_ADAPTER_H
 
-#include "kgyro/body.h"
+#include "kgyro/shape.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+#define KG_PEER_MAX_SHAPES 64 /* of one body, as the scene format allows */
 
 typedef struct kg_peer_setup {
     kg_vec2 gravity;
@@ -20,10 +22,14 @@ typedef struct kg_peer_setup {
 
 /* A body to add. density is resolved: a def with a mass override and a shape comes with
  * the density that gives that mass; a def without a shape (a point particle) uses
- * def->mass. */
+ * def->mass. A compound body comes with all its shapes (the def's first, each with its
+ * own material and filter) and their mass data, kgyro's, for the engine to be given. */
 typedef struct kg_peer_body {
     const kg_body_def* def;
     float density;
+    const kg_body_shape_def* shapes; /* NULL for a body of one shape (def->shape) */
+    int shape_count;
+    kg_mass_data mass;               /* of the shapes, when shapes is not NULL */
 } kg_peer_body;
 
 typedef struct kg_peer_adapter {

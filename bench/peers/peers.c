@@ -107,12 +107,58 @@ static float kg_peer_density(const kg_body_def* def)
     return def->mass / unit.mass;
 }
 
+/* Mass data of shapes [0, count) at their densities, as kgyro computes a compound body's:
+ * the masses summed, the centre their weighted mean, the inertia about it (parallel axis). */
+static kg_mass_data kg_peer_compound_mass(const kg_body_shape_def* shapes, int count)
+{
+    kg_mass_data parts[KG_PEER_MAX_SHAPES];
+    double mass = 0.0, x = 0.0, y = 0.0, inertia = 0.0;
+    for (int k = 0; k < count; ++k) {
+        kg_mass_data unit = {0.0f, {0.0f, 0.0f}, 0.0f};
+        kg_shape_mass(&shapes[k].geometry, 1.0f, &unit);
+        parts[k] = unit;
+        double m = (double)unit.mass * shapes[k].density;
+        mass += m;
+        x += m * unit.center.x;
+        y += m * unit.center.y;
+    }
+    x = mass > 0.0 ? x / mass : 0.0;
+    y = mass > 0.0 ? y / mass : 0.0;
+    for (int k = 0; k < count; ++k) {
+        double m = (double)parts[k].mass * shapes[k].density, dx = parts[k].center.x - x, dy = parts[k].center.y - y;
+        inertia += (double)parts[k].inertia * shapes[k].density + m * (dx * dx + dy * dy);
+    }
+    kg_mass_data out = {(float)mass, {(float)x, (float)y}, (float)inertia};
+    return out;
+}
+
+/* Body i's every shape into shapes (room for KG_PEER_MAX_SHAPES) and its peer body. */
+static const char* kg_peer_compound(const kg_scene* scene, int i, kg_body_shape_def* shapes, kg_peer_body* body)
+{
+    int count = kg_scene_body_shape_count(scene, i);
+    if (count > KG_PEER_MAX_SHAPES) {
+        return "more shapes than the peer adapters take";
+    }
+    if (body->def->mass > 0.0f) {
+        return "a compound body with a mass override (give its shapes densities)";
+    }
+    for (int k = 0; k < count; ++k) {
+        kg_scene_get_body_shape(scene, i, k, &shapes[k]);
+    }
+    body->shapes = shapes;
+    body->shape_count = count;
+    body->mass = kg_peer_compound_mass(shapes, count);
+    return NULL;
+}
+
 static kg_result kg_peer_add_bodies(kg_peer_world* world, const kg_scene* scene)
 {
+    kg_body_shape_def shapes[KG_PEER_MAX_SHAPES];
     for (int i = 0; i < world->body_count; ++i) {
         const kg_body_def* def = kg_scene_body_def(scene, i);
-        kg_peer_body body = {def, kg_peer_density(def)};
-        const char* why = world->adapter->add_body(world->impl, &body);
+        kg_peer_body body = {def, kg_peer_density(def), NULL, 0, {0.0f, {0.0f, 0.0f}, 0.0f}};
+        const char* why = kg_scene_body_shape_count(scene, i) > 1 ? kg_peer_compound(scene, i, shapes, &body) : NULL;
+        why = why ? why : world->adapter->add_body(world->impl, &body);
         if (why) {
             return kg_peer_fail(KG_ERROR_UNSUPPORTED, "%s: body %d ('%s'): %s", world->adapter->name, i,
                                 kg_scene_body_name(scene, i), why);

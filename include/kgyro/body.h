@@ -70,9 +70,11 @@ typedef struct kg_body_def {
     float angle;              /* radians; ignored for particles */
     kg_vec2 velocity;         /* m/s */
     float angular_velocity;   /* rad/s */
-    kg_shape_def shape;
+    kg_shape_def shape;       /* the body's first shape, with the density, friction, restitution,
+                               * category and mask below (more: kg_create_shape) */
     float density;            /* kg/m^2, used when mass is 0 */
-    float mass;               /* kg; > 0 overrides density */
+    float mass;               /* kg; > 0 overrides density (and then adding or removing shapes
+                               * leaves the mass as given) */
     float friction;           /* Coulomb coefficient, >= 0 */
     float restitution;        /* 0 = no bounce, 1 = elastic, in [0, 1] */
     float linear_damping;     /* 1/s, >= 0 */
@@ -125,21 +127,25 @@ KG_API kg_result kg_body_get_angle(const kg_world* world, kg_body body, float* o
 KG_API kg_result kg_body_get_velocity(const kg_world* world, kg_body body, kg_vec2* out);
 KG_API kg_result kg_body_get_angular_velocity(const kg_world* world, kg_body body, float* out);
 KG_API kg_result kg_body_get_type(const kg_world* world, kg_body body, kg_body_type* out);
+/* The body's first shape (kgyro/shape.h has them all: kg_body_get_shapes). */
 KG_API kg_result kg_body_get_shape(const kg_world* world, kg_body body, kg_shape_def* out);
 KG_API kg_result kg_body_get_mass_data(const kg_world* world, kg_body body, kg_mass_data* out);
 /* Inverse mass and inverse rotational inertia; 0 means infinite. */
 KG_API kg_result kg_body_get_inverse_mass(const kg_world* world, kg_body body, float* inv_mass,
                                           float* inv_inertia);
-/* World bounds of the shape, swept by the body's motion over one more step of the last dt. */
+/* World bounds of the shape (of a compound body: of the box around its shapes, in its
+ * frame), swept by the body's motion over one more step of the last dt. */
 KG_API kg_result kg_body_get_aabb(const kg_world* world, kg_body body, kg_aabb* out);
 KG_API void* kg_body_get_user_data(const kg_world* world, kg_body body);
 
 KG_API kg_result kg_body_set_transform(kg_world* world, kg_body body, kg_vec2 position, float angle);
 KG_API kg_result kg_body_set_velocity(kg_world* world, kg_body body, kg_vec2 velocity);
 KG_API kg_result kg_body_set_angular_velocity(kg_world* world, kg_body body, float omega);
-/* Overrides mass properties. inv_mass/inv_inertia 0 = infinite; only for dynamic bodies. */
+/* Overrides mass properties. inv_mass/inv_inertia 0 = infinite; only for dynamic bodies.
+ * Adding or removing shapes later leaves them as set. */
 KG_API kg_result kg_body_set_inverse_mass(kg_world* world, kg_body body, float inv_mass,
                                           float inv_inertia);
+/* Friction, restitution and filter of every shape of the body (kg_shape_set_* sets one's). */
 KG_API kg_result kg_body_set_friction(kg_world* world, kg_body body, float friction);
 KG_API kg_result kg_body_set_restitution(kg_world* world, kg_body body, float restitution);
 KG_API kg_result kg_body_set_damping(kg_world* world, kg_body body, float linear, float angular);

@@ -2,16 +2,19 @@
 #ifndef KGYRO_COLLISION_H
 #define KGYRO_COLLISION_H
 
-#include "types.h"
+#include "shape.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-/* One touching (or speculatively close) pair. The normal points from a to b.
- * depth > 0 is penetration; depth < 0 is a gap within the speculative distance. */
+/* One touching (or speculatively close) pair of shapes. The normal points from a to b.
+ * depth > 0 is penetration; depth < 0 is a gap within the speculative distance. A contact
+ * with a tile map has b and shape_b null. */
 typedef struct kg_contact_info {
     kg_body a, b;
+    kg_shape_id shape_a, shape_b; /* the shapes that touch (null: a tile map's, or a shape
+                                   * destroyed since the step) */
     kg_vec2 normal;
     int point_count;
     kg_vec2 points[2];          /* world frame */

@@ -16,6 +16,7 @@
 #include "types.h"
 #include "world.h"
 #include "body.h"
+#include "shape.h"
 #include "force.h"
 #include "collision.h"
 #include "tilemap.h"

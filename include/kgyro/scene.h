@@ -8,6 +8,7 @@
 #include "types.h"
 #include "world.h"
 #include "body.h"
+#include "shape.h"
 #include "tilemap.h"
 
 #ifdef __cplusplus
@@ -46,6 +47,9 @@ KG_API kg_result kg_scene_load_tiled(const char* path, kg_scene** out);
 KG_API kg_result kg_scene_create(kg_scene** out);
 KG_API void kg_scene_destroy(kg_scene* scene);
 KG_API kg_result kg_scene_add_body(kg_scene* scene, const char* name, const kg_body_def* def);
+/* Adds a shape to body index (a compound body): def.shape is its first shape, these
+ * follow in the order added. Checked when instantiated, not here. */
+KG_API kg_result kg_scene_add_body_shape(kg_scene* scene, int index, const kg_body_shape_def* def);
 KG_API kg_result kg_scene_add_force(kg_scene* scene, const kg_scene_force* force);
 KG_API kg_world_def* kg_scene_world_def(kg_scene* scene); /* editable in place */
 KG_API float kg_scene_dt(const kg_scene* scene);
@@ -65,6 +69,11 @@ KG_API kg_result kg_scene_add_tilemap(kg_scene* scene, const kg_tilemap_def* def
 KG_API int kg_scene_body_count(const kg_scene* scene);
 KG_API const kg_body_def* kg_scene_body_def(const kg_scene* scene, int index);
 KG_API const char* kg_scene_body_name(const kg_scene* scene, int index);
+/* How many shapes body index has (1 + those added by kg_scene_add_body_shape; 0 for an
+ * index out of range), and shape k of them: k = 0 is the body def's shape with its
+ * material and filter. */
+KG_API int kg_scene_body_shape_count(const kg_scene* scene, int index);
+KG_API kg_result kg_scene_get_body_shape(const kg_scene* scene, int index, int k, kg_body_shape_def* out);
 /* The index of the body called name, or -1. */
 KG_API int kg_scene_find_body(const kg_scene* scene, const char* name);
 /* Non-zero when body index has a pivot (then written to out, which may be NULL). */

@@ -70,7 +70,7 @@ KG_FN kg_tile_segment kg_chain_segment_of(const kg_shape* chain, kg_vec2 origin)
 }
 
 /* A body's shape moved by xf, its centroid with it (the one-sided test reads it). */
-KG_FN kg_shape kg_shape_moved(const kg_shape* shape, kg_xf xf)
+KG_FN kg_shape kg_shape_in_frame(const kg_shape* shape, kg_xf xf)
 {
     kg_shape out = kg_polygon_in_frame(shape, xf);
     out.centroid = kg_xf_point(xf, shape->centroid);
@@ -85,7 +85,7 @@ KG_FN kg_manifold kg_collide_chain_segment(const kg_shape* chain, kg_xf xfa, con
 {
     kg_vec2 origin = chain->vertices[0];
     kg_tile_segment s = kg_chain_segment_of(chain, origin);
-    kg_shape moved = kg_shape_moved(body, kg_relative_xf(xfa, origin, xfb));
+    kg_shape moved = kg_shape_in_frame(body, kg_relative_xf(xfa, origin, xfb));
     kg_tile_hit hit = moved.count >= 2
                           ? kg_tile_collide_rounded(&s, &moved, 0, speculative_distance)
                           : kg_tile_collide_circle(&s, moved.vertices[0], moved.radius, 0, speculative_distance);

@@ -3,6 +3,7 @@
 #ifndef KG_COLLIDE_H
 #define KG_COLLIDE_H
 
+#include "collide/pair_contact.h"
 #include "core/world.h"
 #include "kgyro/collision.h"
 
@@ -38,6 +39,9 @@ int kg_collision_budget(const kg_world* world);
 /* Adds a persisting contact's points to the step's warm-start counts (kg_stage_times):
  * carried of its points found last step's impulses, the rest started cold. */
 void kg_count_warm_starts(kg_world* world, int points, int carried);
+
+/* The world's shapes as the shared pair code reads them (collide/pair_contact.h). */
+kg_shape_arrays kg_world_shape_arrays(const kg_world* world);
 
 /* The contacts of the current step: body pairs sorted by (a, b), then tile contacts. */
 kg_contact* kg_collision_contacts(kg_world* world, int* count);

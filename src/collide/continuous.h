@@ -15,6 +15,7 @@
 
 #include "collide/aabb.h"
 #include "collide/chain.h"
+#include "collide/pair_contact.h"
 #include "collide/tile_pass.h"
 #include "collide/toi.h"
 
@@ -41,14 +42,12 @@ typedef struct kg_continuous_bodies {
     KG_GLOBAL kg_rot* rot;
     KG_GLOBAL const kg_xf* xf; /* at the start of the step for the bodies being swept */
     KG_GLOBAL const kg_aabb* aabb;
-    KG_GLOBAL const kg_shape* shape;
     KG_GLOBAL const kg_vec2* local_center;
-    KG_GLOBAL const kg_u32* category;
-    KG_GLOBAL const kg_u32* mask;
     KG_GLOBAL const kg_static_entry* statics; /* the static bodies' index, static_count long, */
     int static_count;
     int large_count;                 /* of which the first large_count are the large ones */
     int slot_count;                  /* the pool's high water: bullets look at [0, slot_count) */
+    kg_shape_arrays shapes;          /* each body's shapes: a compound body is swept, and met, shape by shape */
 } kg_continuous_bodies;
 
 /* Which pass a body is swept in: the non-bullets first, then the bullets against them. */
@@ -84,6 +83,25 @@ KG_FN int kg_bullet_target(kg_u32 flags)
 KG_FN int kg_filters_meet(kg_u32 category_a, kg_u32 mask_a, kg_u32 category_b, kg_u32 mask_b)
 {
     return (category_a & mask_b) != 0u && (category_b & mask_a) != 0u;
+}
+
+/* A body's extents over its solid shapes: the least of their least extents (its thinnest
+ * part decides whether it can pass through something) and the farthest any of their
+ * points lies from its centre of mass. None solid: it is never fast. */
+KG_FN kg_extents kg_body_extents(const kg_shape_arrays* shapes, kg_u32 i, kg_vec2 local_center)
+{
+    kg_extents e;
+    e.min = KG_FLT_MAX;
+    e.max = 0.0f;
+    for (kg_u32 sa = shapes->first_shape[i]; sa != KG_NULL_INDEX; sa = shapes->next[sa]) {
+        if ((shapes->flags[sa] & KG_SHAPE_SENSOR) == 0u) {
+            KG_PRIVATE_VIEW(kg_shape, shape, *kg_shape_of(shapes, i, sa));
+            kg_extents x = kg_shape_extents(shape, local_center);
+            e.min = kg_minf(e.min, x.min);
+            e.max = kg_maxf(e.max, x.max);
+        }
+    }
+    return e;
 }
 
 /* Body slot i's sweep over the step. */
@@ -146,19 +164,25 @@ KG_FN float kg_toi_with_edge(const kg_shape* shape, const kg_sweep* s, kg_vec2 p
     return kg_shape_time_of_impact(shape, s, &edge, cell, prm, limit);
 }
 
-/* The earliest fraction (below limit) at which the shape meets body slot j (a chain segment
- * one-sided, as a tile's edge). */
-KG_FN float kg_toi_with_body(const kg_continuous_bodies* b, kg_u32 i, const kg_shape* shape, const kg_sweep* s,
+/* The earliest fraction (below limit) at which the shape (slot sa of the body swept) meets
+ * body slot j: each of j's solid shapes that its filter meets and the sweep's bounds reach
+ * (a chain segment one-sided, as a tile's edge). */
+KG_FN float kg_toi_with_body(const kg_continuous_bodies* b, kg_u32 sa, const kg_shape* shape, const kg_sweep* s,
                              kg_aabb box, kg_u32 j, kg_toi_params prm, float limit)
 {
-    if (!kg_aabb_overlap(box, b->aabb[j]) || !kg_filters_meet(b->category[i], b->mask[i], b->category[j], b->mask[j])) {
+    if (!kg_aabb_overlap(box, b->aabb[j])) {
         return limit;
     }
-    KG_PRIVATE_VIEW(kg_shape, other, b->shape[j]);
-    if (kg_is_chain_segment(other)) {
-        return kg_toi_with_edge(shape, s, other->vertices[0], other->vertices[1], b->xf[j], prm, limit);
+    for (kg_u32 sb = b->shapes.first_shape[j]; sb != KG_NULL_INDEX; sb = b->shapes.next[sb]) {
+        KG_PRIVATE_VIEW(kg_shape, other, *kg_shape_of(&b->shapes, j, sb));
+        if (!kg_shapes_pair(&b->shapes, sa, sb) || !kg_aabb_overlap(box, kg_shape_aabb(other, b->xf[j]))) {
+            continue;
+        }
+        limit = kg_is_chain_segment(other)
+                    ? kg_toi_with_edge(shape, s, other->vertices[0], other->vertices[1], b->xf[j], prm, limit)
+                    : kg_shape_time_of_impact(shape, s, other, b->xf[j], prm, limit);
     }
-    return kg_shape_time_of_impact(shape, s, other, b->xf[j], prm, limit);
+    return limit;
 }
 
 /* The first of the sorted entries [lo, hi) whose lower x lies past x. */
@@ -178,16 +202,16 @@ KG_FN int kg_statics_past(KG_GLOBAL const kg_static_entry* e, int lo, int hi, fl
 /* The earliest fraction at which the shape meets a static body whose bounds meet box:
  * every large one, and the small ones from the last not past box back to the first
  * that nothing before can reach box from (kg_static_entry). */
-KG_FN float kg_toi_with_statics(const kg_continuous_bodies* b, kg_u32 i, const kg_shape* shape, const kg_sweep* s,
+KG_FN float kg_toi_with_statics(const kg_continuous_bodies* b, kg_u32 sa, const kg_shape* shape, const kg_sweep* s,
                                 kg_aabb box, kg_toi_params prm, float limit)
 {
     KG_GLOBAL const kg_static_entry* e = b->statics;
     for (int k = 0; k < b->large_count; ++k) {
-        limit = kg_toi_with_body(b, i, shape, s, box, e[k].slot, prm, limit);
+        limit = kg_toi_with_body(b, sa, shape, s, box, e[k].slot, prm, limit);
     }
     int last = kg_statics_past(e, b->large_count, b->static_count, box.upper.x) - 1;
     for (int k = last; k >= b->large_count && e[k].reach >= box.lower.x; --k) {
-        limit = kg_toi_with_body(b, i, shape, s, box, e[k].slot, prm, limit);
+        limit = kg_toi_with_body(b, sa, shape, s, box, e[k].slot, prm, limit);
     }
     return limit;
 }
@@ -241,22 +265,37 @@ KG_FN float kg_toi_with_map(const kg_tile_terrain* t, const kg_tile_map_info* m,
     return limit;
 }
 
-/* The earliest fraction of the sweep at which slot i meets what it is swept against. */
-KG_FN_NOINLINE float kg_body_time_of_impact(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
-                                   const kg_shape* shape, const kg_sweep* s, kg_toi_params prm)
+/* The earliest fraction of the sweep, below limit, at which shape slot sa of slot i meets
+ * what it is swept against. */
+KG_FN_NOINLINE float kg_shape_sweep_impact(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i,
+                                           kg_u32 sa, int pass, const kg_sweep* s, kg_toi_params prm, float limit)
 {
+    KG_PRIVATE_VIEW(kg_shape, shape, *kg_shape_of(&b->shapes, i, sa));
     kg_aabb box = kg_sweep_bounds(s, prm.target);
-    float limit = 1.0f;
-    limit = kg_toi_with_statics(b, i, shape, s, box, prm, limit);
+    limit = kg_toi_with_statics(b, sa, shape, s, box, prm, limit);
     for (int n = 0; n < t->map_count; ++n) {
         KG_PRIVATE_VIEW(kg_tile_map_info, m, t->maps[n]);
-        if (kg_filters_meet(b->category[i], b->mask[i], m->category, m->mask)) {
+        if (kg_filters_meet(b->shapes.category[sa], b->shapes.mask[sa], m->category, m->mask)) {
             limit = kg_toi_with_map(t, m, shape, s, box, prm, limit);
         }
     }
     for (int j = 0; pass == KG_CONTINUOUS_PASS_BULLETS && j < b->slot_count; ++j) {
         if (kg_bullet_target(b->flags[j])) {
-            limit = kg_toi_with_body(b, i, shape, s, box, (kg_u32)j, prm, limit);
+            limit = kg_toi_with_body(b, sa, shape, s, box, (kg_u32)j, prm, limit);
+        }
+    }
+    return limit;
+}
+
+/* The earliest fraction of the sweep at which slot i meets what it is swept against: the
+ * earliest of its solid shapes'. */
+KG_FN float kg_body_time_of_impact(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
+                                   const kg_sweep* s, kg_toi_params prm)
+{
+    float limit = 1.0f;
+    for (kg_u32 sa = b->shapes.first_shape[i]; sa != KG_NULL_INDEX; sa = b->shapes.next[sa]) {
+        if ((b->shapes.flags[sa] & KG_SHAPE_SENSOR) == 0u) {
+            limit = kg_shape_sweep_impact(b, t, i, sa, pass, s, prm, limit);
         }
     }
     return limit;
@@ -268,8 +307,7 @@ KG_FN void kg_sweep_fast_body(const kg_continuous_bodies* b, const kg_tile_terra
                               kg_toi_params prm, float max_extent)
 {
     kg_sweep s = kg_body_sweep(b, i, max_extent);
-    KG_PRIVATE_VIEW(kg_shape, shape, b->shape[i]);
-    float t_hit = kg_body_time_of_impact(b, t, i, pass, shape, &s, prm);
+    float t_hit = kg_body_time_of_impact(b, t, i, pass, &s, prm);
     if (t_hit < 1.0f) {
         b->center[i] = kg_sweep_center(&s, t_hit);
         b->rot[i] = kg_sweep_rot(&s, t_hit);

@@ -1,13 +1,15 @@
 /* The tile pass: one body against every tile map, over the maps as flat arrays. The CPU
  * backend (collide/tilemap.c) calls kg_tile_collide_body for each body slot in order,
  * the kernel kg_tile_collide_bodies for its work-item's, so both backends find the same
- * contacts, with the same bits, in the same order: per body, maps by key, layers, rows,
- * columns, so a body's contacts come out sorted by tile key. The layout of the arrays is
+ * contacts, with the same bits, in the same order: per body, per shape (a compound body,
+ * on the CPU: collide/tilemap.c), maps by key, layers, rows, columns, so a body's
+ * contacts come out sorted by shape and tile key. The layout of the arrays is
  * described in collide/tilemap.h, the collision with one tile in collide/tile_collide.h. */
 #ifndef KG_TILE_PASS_H
 #define KG_TILE_PASS_H
 
 #include "collide/aabb.h"
+#include "collide/pair_contact.h"
 #include "collide/recycle.h"
 #include "collide/tile_collide.h"
 #include "core/body_flags.h"
@@ -40,7 +42,7 @@ typedef struct kg_tile_terrain {
     float linear_slop;
 } kg_tile_terrain;
 
-/* Last step's tile contacts, previous[begin, end) sorted by (body, key), and where the
+/* Last step's tile contacts, previous[begin, end) sorted by (body, shape, key), and where the
  * body's contacts go: the n-th to out[base + n] while base + n < room (room 0: counted
  * only). found counts them all; points and carried, the warm starts of those written. */
 typedef struct kg_tile_contacts {
@@ -53,7 +55,10 @@ typedef struct kg_tile_contacts {
 } kg_tile_contacts;
 
 /* The body pool's arrays the pass reads. A body's fields are read where they are used,
- * not once up front: most bodies are near no tile. */
+ * not once up front: most bodies are near no tile. shape, category, mask, friction and
+ * restitution are a shape's, at an index g of their own: the body pool's (g = the body's
+ * slot) for a body of one shape, the shape pool's (g = the shape's slot) for each shape
+ * of a compound body (on the CPU; the device collides compound worlds on the host). */
 typedef struct kg_tile_bodies {
     KG_GLOBAL const kg_u32* flags;
     KG_GLOBAL const kg_aabb* aabb;
@@ -67,6 +72,7 @@ typedef struct kg_tile_bodies {
     KG_GLOBAL const float* restitution;
     KG_GLOBAL const kg_vec2* last_origin; /* at the last collision, where last_generation */
     KG_GLOBAL const kg_u32* last_generation; /* is the body's generation (else unknown) */
+    KG_GLOBAL const kg_u32* first_shape;  /* names a one-shape body's shape in its contacts */
 } kg_tile_bodies;
 
 KG_FN kg_u32 kg_tile_cell_index(const kg_tile_map_info* m, int layer, int x, int y)
@@ -89,21 +95,22 @@ KG_FN int kg_tile_span(float a, float b, int count, int* lo, int* hi)
     return *lo <= *hi;
 }
 
-/* Last step's contact of (body, key) among previous[begin, end), or -1. It matches slot
- * and key only, as the pairs' do. */
-KG_FN int kg_find_previous_tile(KG_GLOBAL const kg_contact* previous, int begin, int end, kg_u32 body, kg_u32 key)
+/* Last step's contact of (body, shape, key) among previous[begin, end), sorted so, or -1.
+ * It matches slots and key only, as the pairs' do. */
+KG_FN int kg_find_previous_tile(KG_GLOBAL const kg_contact* previous, int begin, int end, kg_u32 body, kg_u32 shape,
+                                kg_u32 key)
 {
     int lo = begin, hi = end;
     while (lo < hi) {
         int mid = lo + (hi - lo) / 2;
-        kg_u32 ma = previous[mid].a, mk = previous[mid].tile;
-        if (ma < body || (ma == body && mk < key)) {
+        kg_u32 ma = previous[mid].a, ms = previous[mid].shape_a, mk = previous[mid].tile;
+        if (ma < body || (ma == body && (ms < shape || (ms == shape && mk < key)))) {
             lo = mid + 1;
         } else {
             hi = mid;
         }
     }
-    return lo < end && previous[lo].a == body && previous[lo].tile == key ? lo : -1;
+    return lo < end && previous[lo].a == body && previous[lo].shape_a == shape && previous[lo].tile == key ? lo : -1;
 }
 
 /* The tile at (layer, x, y) of map m and its eight neighbours. */
@@ -144,11 +151,12 @@ KG_FN int kg_one_way_accepts(const kg_tile_bodies* b, kg_u32 i, const kg_manifol
     return previous_separation >= -linear_slop;
 }
 
-/* Counts the body's contact with the tile of key, and writes it if there is room: the
- * manifold (cell frame, the body's pose in it xf) moved to the world, last step's
- * impulses and colour (previous[old], unless -1) carried over. */
-KG_FN void kg_tile_emit(kg_tile_contacts* c, const kg_tile_bodies* b, kg_u32 i, const kg_tile_map_info* m,
-                        kg_u32 key, const kg_manifold* in_cell, kg_vec2 cell_origin, kg_xf xf, int old)
+/* Counts the contact of body i's shape (g, named shape) with the tile of key, and writes
+ * it if there is room: the manifold (cell frame, the body's pose in it xf) moved to the
+ * world, last step's impulses and colour (previous[old], unless -1) carried over. */
+KG_FN void kg_tile_emit(kg_tile_contacts* c, const kg_tile_bodies* b, kg_u32 i, kg_u32 g, kg_u32 shape,
+                        const kg_tile_map_info* m, kg_u32 key, const kg_manifold* in_cell, kg_vec2 cell_origin,
+                        kg_xf xf, int old)
 {
     kg_u32 at = c->base + c->found;
     c->found += 1u;
@@ -166,9 +174,11 @@ KG_FN void kg_tile_emit(kg_tile_contacts* c, const kg_tile_bodies* b, kg_u32 i, 
     }
     ct.a = i;
     ct.b = KG_NULL_INDEX;
+    ct.shape_a = shape;
+    ct.shape_b = KG_NULL_INDEX;
     ct.tile = key;
-    ct.friction = sqrtf(b->friction[i] * m->friction);
-    ct.restitution = fmaxf(b->restitution[i], m->restitution);
+    ct.friction = sqrtf(b->friction[g] * m->friction);
+    ct.restitution = fmaxf(b->restitution[g], m->restitution);
     ct.generation_a = b->generation[i];
     ct.generation_b = 0u;
     ct.base = kg_no_contact_base();
@@ -183,9 +193,11 @@ KG_FN int kg_tile_may_touch(const kg_tile_terrain* t, const kg_tile_map_info* m,
     return t->protos[m->proto_offset + kg_cell_id(word)].shape.count == 1 || (word >> KG_CELL_START_SHIFT) != 0u;
 }
 
-/* The body against the tile at (layer, x, y) of map m, one that may touch. */
+/* Body i's shape (g, named shape) against the tile at (layer, x, y) of map m, one that
+ * may touch. */
 KG_FN_NOINLINE void kg_tile_collide_cell(const kg_tile_terrain* t, const kg_tile_map_info* m, const kg_tile_bodies* b,
-                                         kg_u32 i, int layer, int x, int y, kg_tile_contacts* c)
+                                         kg_u32 i, kg_u32 g, kg_u32 shape, int layer, int x, int y,
+                                         kg_tile_contacts* c)
 {
     kg_u32 index = kg_tile_cell_index(m, layer, x, y);
     kg_u32 word = t->cells[m->cell_offset + index];
@@ -193,26 +205,26 @@ KG_FN_NOINLINE void kg_tile_collide_cell(const kg_tile_terrain* t, const kg_tile
     kg_vec2 cell_origin = kg_v2(m->origin.x + (float)x * m->tile_size.x, m->origin.y + (float)y * m->tile_size.y);
     kg_xf xf = b->xf[i];
     xf.p = kg_sub(xf.p, cell_origin);
-    kg_shape shape = kg_shape_in_cell(&b->shape[i], xf);
+    kg_shape in_cell = kg_shape_in_cell(&b->shape[g], xf);
     kg_tile_neighbourhood nb = kg_tile_neighbourhood_of(t, m, layer, x, y);
-    kg_tile_hit hit = kg_tile_collide(&nb, &shape, t->speculative);
+    kg_tile_hit hit = kg_tile_collide(&nb, &in_cell, t->speculative);
     if (hit.manifold.point_count == 0) {
         return;
     }
     kg_u32 key = m->key_base + index;
-    int old = kg_find_previous_tile(c->previous, c->previous_begin, c->previous_end, i, key);
+    int old = kg_find_previous_tile(c->previous, c->previous_begin, c->previous_end, i, shape, key);
     if ((proto->flags & KG_TILE_FLAG_ONE_WAY) && !kg_one_way_accepts(b, i, &hit.manifold, old >= 0, t->linear_slop)) {
         return;
     }
-    kg_tile_emit(c, b, i, m, key, &hit.manifold, cell_origin, xf, old);
+    kg_tile_emit(c, b, i, g, shape, m, key, &hit.manifold, cell_origin, xf, old);
 }
 
-/* The body against the cells of map m that its fattened bounds cover, if the filters let
- * them touch. */
+/* Body i's shape (g, named shape) against the cells of map m that box (the body's
+ * fattened bounds) covers, if the filters let them touch. */
 KG_FN void kg_tile_collide_map(const kg_tile_terrain* t, const kg_tile_map_info* m, const kg_tile_bodies* b, kg_u32 i,
-                               kg_aabb box, kg_tile_contacts* c)
+                               kg_u32 g, kg_u32 shape, kg_aabb box, kg_tile_contacts* c)
 {
-    if ((b->category[i] & m->mask) == 0u || (m->category & b->mask[i]) == 0u) {
+    if ((b->category[g] & m->mask) == 0u || (m->category & b->mask[g]) == 0u) {
         return;
     }
     kg_vec2 size = m->tile_size, origin = m->origin;
@@ -225,23 +237,46 @@ KG_FN void kg_tile_collide_map(const kg_tile_terrain* t, const kg_tile_map_info*
         for (int y = y0; y <= y1; ++y) {
             for (int x = x0; x <= x1; ++x) {
                 if (kg_tile_may_touch(t, m, kg_tile_cell_index(m, layer, x, y))) {
-                    kg_tile_collide_cell(t, m, b, i, layer, x, y, c);
+                    kg_tile_collide_cell(t, m, b, i, g, shape, layer, x, y, c);
                 }
             }
         }
     }
 }
 
-/* Body slot i against every tile map, if it collides: its contacts into c. */
-KG_FN void kg_tile_collide_body(kg_u32 i, const kg_tile_terrain* t, const kg_tile_bodies* b, kg_tile_contacts* c)
+/* A shape of body slot i (g, named shape; see kg_tile_bodies) against every tile map: its
+ * contacts into c. The body's bounds pick the cells to try. */
+KG_FN void kg_tile_collide_shape(kg_u32 i, kg_u32 g, kg_u32 shape, const kg_tile_terrain* t, const kg_tile_bodies* b,
+                                 kg_tile_contacts* c)
 {
-    if (!kg_flags_collide(b->flags[i])) {
-        return;
-    }
     kg_aabb box = kg_aabb_fatten(b->aabb[i], t->speculative);
     for (int n = 0; n < t->map_count; ++n) {
         KG_PRIVATE_VIEW(kg_tile_map_info, m, t->maps[n]);
-        kg_tile_collide_map(t, m, b, i, box, c);
+        kg_tile_collide_map(t, m, b, i, g, shape, box, c);
+    }
+}
+
+/* Body slot i, of one shape, against every tile map, if it collides: its contacts into c. */
+KG_FN void kg_tile_collide_body(kg_u32 i, const kg_tile_terrain* t, const kg_tile_bodies* b, kg_tile_contacts* c)
+{
+    if (kg_flags_collide(b->flags[i])) {
+        kg_tile_collide_shape(i, i, b->first_shape[i], t, b, c);
+    }
+}
+
+/* Body slot i against the tile maps: its one shape (bodies: the body pool's arrays), or
+ * each solid shape of a compound body (shapes: the shape pool's; s says which they are). */
+KG_FN void kg_tile_collide_slot(kg_u32 i, const kg_tile_terrain* t, const kg_tile_bodies* bodies,
+                                const kg_tile_bodies* shapes, const kg_shape_arrays* s, kg_tile_contacts* c)
+{
+    if (s->shape_count[i] <= 1u || !kg_flags_collide(bodies->flags[i])) {
+        kg_tile_collide_body(i, t, bodies, c);
+        return;
+    }
+    for (kg_u32 shape = s->first_shape[i]; shape != KG_NULL_INDEX; shape = s->next[shape]) {
+        if ((s->flags[shape] & KG_SHAPE_SENSOR) == 0u) { /* a sensor's overlaps with tiles: issue 13, from here */
+            kg_tile_collide_shape(i, shape, shape, t, shapes, c);
+        }
     }
 }
 
@@ -288,15 +323,25 @@ KG_FN void kg_tile_pass_slot(kg_u32 i, kg_tile_pass_params prm, KG_GLOBAL const 
                              KG_GLOBAL const kg_u32* generation, KG_GLOBAL const float* friction,
                              KG_GLOBAL const float* restitution, KG_GLOBAL const kg_contact* previous,
                              KG_GLOBAL const kg_vec2* last_origin, KG_GLOBAL const kg_u32* last_generation,
-                             KG_GLOBAL kg_vec2* next_origin, KG_GLOBAL kg_u32* next_generation, KG_GLOBAL kg_u32* run,
-                             kg_u32 first, KG_GLOBAL kg_contact* contacts)
+                             KG_GLOBAL kg_vec2* next_origin, KG_GLOBAL kg_u32* next_generation,
+                             KG_GLOBAL const kg_u32* first_shape, KG_GLOBAL const kg_u32* shape_count,
+                             KG_GLOBAL const kg_u32* shape_next, KG_GLOBAL const kg_u32* shape_flags,
+                             KG_GLOBAL const kg_shape* shape_geometry, KG_GLOBAL const kg_u32* shape_category,
+                             KG_GLOBAL const kg_u32* shape_mask, KG_GLOBAL const float* shape_friction,
+                             KG_GLOBAL const float* shape_restitution, KG_GLOBAL kg_u32* run, kg_u32 first,
+                             KG_GLOBAL kg_contact* contacts)
 {
     kg_tile_terrain terrain = {maps, cells, protos, prm.map_count, prm.speculative, prm.linear_slop};
     kg_tile_contacts found = {previous, prm.previous_begin, prm.previous_end, contacts,
                               prm.write ? first + run[i] : 0u, prm.write ? prm.capacity : 0u, 0u, 0, 0};
-    kg_tile_bodies bodies = {flags, aabb,       xf,       shape,       center,      category,
-                             mask,  generation, friction, restitution, last_origin, last_generation};
-    kg_tile_collide_body(i, &terrain, &bodies, &found);
+    kg_tile_bodies bodies = {flags, aabb,       xf,       shape,       center,      category,    mask,
+                             generation, friction, restitution, last_origin, last_generation, first_shape};
+    kg_tile_bodies shapes = {flags,       aabb,           xf,          shape_geometry, center,
+                             shape_category, shape_mask,  generation,  shape_friction, shape_restitution,
+                             last_origin, last_generation, first_shape};
+    kg_shape_arrays arrays = {shape_count, first_shape, shape,       shape_geometry,
+                              shape_next,  shape_flags, shape_category, shape_mask};
+    kg_tile_collide_slot(i, &terrain, &bodies, &shapes, &arrays, &found);
     if (prm.write) {
         kg_tile_remember_origin(i, xf, generation, next_origin, next_generation);
     } else {

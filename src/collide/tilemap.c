@@ -639,10 +639,17 @@ int kg_tilemap_collide(kg_world* world, kg_contact* out, int room, const kg_cont
                                world->def.linear_slop};
     kg_tile_bodies bodies = {p->flags,    p->aabb,     p->xf,          p->shape,          p->center,
                              p->category, p->mask,     p->generation,  p->friction,       p->restitution,
-                             t->last_origin, t->last_generation};
+                             t->last_origin, t->last_generation, p->first_shape};
+    kg_tile_bodies shapes = bodies; /* a compound body's shapes: the shape pool's, by shape slot */
+    shapes.shape = world->shapes.geometry;
+    shapes.category = world->shapes.category;
+    shapes.mask = world->shapes.mask;
+    shapes.friction = world->shapes.friction;
+    shapes.restitution = world->shapes.restitution;
+    kg_shape_arrays arrays = kg_world_shape_arrays(world);
     kg_tile_contacts c = {previous, 0, previous_count, out, 0u, (kg_u32)room, 0u, 0, 0};
     for (kg_u32 i = 0; i < (kg_u32)p->high_water; ++i) {
-        kg_tile_collide_body(i, &terrain, &bodies, &c);
+        kg_tile_collide_slot(i, &terrain, &bodies, &shapes, &arrays, &c);
         kg_tile_remember_origin(i, p->xf, p->generation, t->last_origin, t->last_generation);
     }
     kg_count_warm_starts(world, c.points, c.carried);

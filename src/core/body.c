@@ -2,6 +2,7 @@
  * fails changes nothing. */
 #include "backend/backend.h"
 #include "collide/shape.h"
+#include "core/body_shapes.h"
 #include "core/error.h"
 #include "core/world.h"
 #include "solve/sleep.h"
@@ -135,8 +136,11 @@ static void kg_body_write(kg_body_pool* p, int i, const kg_body_def* d, const kg
     p->category[i] = d->category;
     p->mask[i] = d->mask;
     p->user_data[i] = d->user_data;
-    p->flags[i] = KG_FLAG_ALIVE | ((kg_u32)d->type << KG_TYPE_SHIFT) | (d->fixed_rotation ? KG_FLAG_FIXED_ROTATION : 0u) |
+    p->flags[i] = KG_FLAG_ALIVE | ((kg_u32)d->type << KG_TYPE_SHIFT) |
+                  (d->fixed_rotation ? KG_FLAG_FIXED_ROTATION : 0u) | (d->mass > 0.0f ? KG_FLAG_MASS_SET : 0u) |
                   (d->bullet ? KG_FLAG_BULLET : 0u);
+    p->first_shape[i] = KG_NULL_INDEX;
+    p->shape_count[i] = 1u;
     if (p->generation[i] == 0) {
         p->generation[i] = 1;
     }
@@ -192,8 +196,15 @@ kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_b
     if (i < 0) {
         return kg_fail(KG_ERROR_POOL_FULL, "body pool full (max_bodies = %d)", p->capacity);
     }
+    int s = kg_shape_pool_acquire(&world->shapes);
+    if (s < 0) {
+        kg_body_pool_release(p, i);
+        return kg_last_result();
+    }
     kg_body_write(p, i, def, &shape, &md);
     kg_note_static_edit(world, p, i);
+    kg_body_shape_def first = kg_first_shape_def(def);
+    kg_shape_attach(world, s, i, &first); /* its geometry is the body pool's shape */
     out_body->index = (uint32_t)i;
     out_body->generation = p->generation[i];
     return KG_OK;
@@ -208,6 +219,7 @@ kg_result kg_destroy_body(kg_world* world, kg_body body)
     kg_body_pool* p = kg_world_write_pool(world);
     kg_wake_touching(p, p->aabb[i], world->def.speculative_distance); /* what rested on it */
     kg_note_static_edit(world, p, i);
+    kg_body_release_shapes(world, i);
     kg_body_pool_release(p, i);
     if (p->generation[i] == 0) {
         p->generation[i] = 1;
@@ -290,7 +302,14 @@ KG_BODY_GETTER(kg_body_get_angle, float, atan2f(p->rot[i].s, p->rot[i].c))
 KG_BODY_GETTER(kg_body_get_velocity, kg_vec2, p->velocity[i])
 KG_BODY_GETTER(kg_body_get_angular_velocity, float, p->omega[i])
 KG_BODY_GETTER(kg_body_get_type, kg_body_type, kg_pool_type(p, i))
-KG_BODY_GETTER(kg_body_get_shape, kg_shape_def, kg_shape_describe(&p->shape[i]))
+/* The first shape's geometry (a particle's point, or the bounds of a body left with no shape). */
+static const kg_shape* kg_first_geometry(const kg_world* world, int i)
+{
+    kg_u32 first = world->bodies.first_shape[i];
+    return first != KG_NULL_INDEX ? kg_shape_geometry(&world->bodies, &world->shapes, first) : &world->bodies.shape[i];
+}
+
+KG_BODY_GETTER(kg_body_get_shape, kg_shape_def, kg_shape_describe(kg_first_geometry(world, i)))
 KG_BODY_GETTER(kg_body_get_aabb, kg_aabb, p->aabb[i])
 KG_BODY_GETTER(kg_body_get_mass_data, kg_mass_data, ((kg_mass_data){p->mass[i], p->local_center[i], p->inertia[i]}))
 
@@ -437,6 +456,7 @@ kg_result kg_body_set_inverse_mass(kg_world* world, kg_body body, float inv_mass
     }
     p->inv_mass[i] = inv_mass;
     p->inv_inertia[i] = t == KG_BODY_PARTICLE ? 0.0f : inv_inertia;
+    p->flags[i] |= KG_FLAG_MASS_SET;
     p->mass[i] = inv_mass > 0.0f ? 1.0f / inv_mass : 0.0f;
     p->inertia[i] = inv_inertia > 0.0f ? 1.0f / inv_inertia : 0.0f;
     return KG_OK;
@@ -450,6 +470,10 @@ kg_result kg_body_set_friction(kg_world* world, kg_body body, float friction)
         return kg_read_error();
     }
     p->friction[i] = friction;
+    for (kg_u32 s = p->first_shape[i]; s != KG_NULL_INDEX; s = world->shapes.next[s]) {
+        world->shapes.friction[s] = friction;
+    }
+    world->shapes.version += 1u;
     return KG_OK;
 }
 
@@ -462,6 +486,10 @@ kg_result kg_body_set_restitution(kg_world* world, kg_body body, float restituti
         return kg_read_error();
     }
     p->restitution[i] = restitution;
+    for (kg_u32 s = p->first_shape[i]; s != KG_NULL_INDEX; s = world->shapes.next[s]) {
+        world->shapes.restitution[s] = restitution;
+    }
+    world->shapes.version += 1u;
     return KG_OK;
 }
 
@@ -486,8 +514,11 @@ kg_result kg_body_set_filter(kg_world* world, kg_body body, uint32_t category, u
         return kg_read_error();
     }
     kg_wake_touching(p, p->aabb[i], world->def.speculative_distance); /* contacts it may lose */
-    p->category[i] = category;
-    p->mask[i] = mask;
+    for (kg_u32 s = p->first_shape[i]; s != KG_NULL_INDEX; s = world->shapes.next[s]) {
+        world->shapes.category[s] = category;
+        world->shapes.mask[s] = mask;
+    }
+    kg_body_material_changed(world, p, i); /* the body's filter, of its solid shapes */
     return KG_OK;
 }
 

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #define KG_POOL_ARRAYS(X)                                                                          \
-    X(center) X(rot) X(velocity) X(omega) X(force) X(torque) X(drag) X(sleep_time) X(island) X(xf) X(aabb) X(shape) X(local_center) \
+    X(center) X(rot) X(velocity) X(omega) X(force) X(torque) X(drag) X(sleep_time) X(island) X(xf) X(aabb) X(shape) X(first_shape) X(shape_count) X(local_center) \
     X(mass) X(inertia) X(inv_mass) X(inv_inertia) X(friction) X(restitution) X(linear_damping)      \
     X(angular_damping) X(category) X(mask) X(flags) X(generation) X(user_data)
 

@@ -30,7 +30,11 @@ typedef struct kg_body_pool {
     kg_aabb* aabb;         /* world bounds of the shape, derived */
 
     /* properties */
-    kg_shape* shape;
+    kg_shape* shape;       /* in the body frame: its shape when it has one (the shape pool
+                            * keeps no copy), else a box around its shapes; the bounds, the
+                            * broadphase and sleeping's extent read it either way */
+    kg_u32* first_shape;   /* its shapes (core/shape_pool.h), lowest slot first; KG_NULL_INDEX: none */
+    kg_u32* shape_count;
     kg_vec2* local_center; /* centre of mass in the body frame */
     float* mass;
     float* inertia;        /* about the centre of mass */
@@ -40,8 +44,8 @@ typedef struct kg_body_pool {
     float* restitution;
     float* linear_damping;
     float* angular_damping;
-    kg_u32* category;
-    kg_u32* mask;
+    kg_u32* category;      /* of its solid shapes, or-ed: the broadphase pairs bodies whose */
+    kg_u32* mask;          /* shapes may collide; the narrowphase filters the shapes */
     kg_u32* flags;
     kg_u32* generation;
     void** user_data;

@@ -27,6 +27,11 @@ typedef struct kg_shape {
     kg_u32 pad;
 } kg_shape;
 
+/* A shape's flags in the shape pool (core/shape_pool.h), read by the shared pair code. */
+#define KG_SHAPE_ALIVE 0x1u
+#define KG_SHAPE_SENSOR 0x2u /* never makes a solid contact */
+#define KG_SHAPE_HELD 0x4u   /* destroyed; the slot is free after the next step */
+
 /* Feature id of a contact point: which features of a and b made it, stable across
  * steps while the same features touch, so impulses can be carried over. */
 #define KG_FEATURE_ID(a, b) ((((kg_u32)(a) & 0xFFu) << 8) | ((kg_u32)(b) & 0xFFu))
@@ -61,12 +66,15 @@ typedef struct kg_contact_base {
     kg_xf pose;         /* b's pose in a's frame */
 } kg_contact_base;
 
-/* A persistent contact: between two bodies (slots a < b, tile == KG_NULL_INDEX), or
- * between body a and a tile of a tile map (b == KG_NULL_INDEX, tile = its key). */
+/* A persistent contact: between a shape of body a and a shape of body b (body slots
+ * a < b, shape slots shape_a and shape_b of the shape pool, tile == KG_NULL_INDEX), or
+ * between body a and a tile of a tile map (b, shape_a and shape_b == KG_NULL_INDEX,
+ * tile = its key). Body contacts are kept sorted by (a, b, shape_a, shape_b). */
 typedef struct kg_contact {
     kg_manifold manifold;
     kg_u32 a, b;
     kg_u32 tile;        /* tile key (map, layer, cell) for tile contacts */
+    kg_u32 shape_a, shape_b; /* the shapes that touch (core/shape_pool.h), slots */
     float friction;     /* mixed: sqrt(fa * fb) */
     float restitution;  /* mixed: max(ra, rb) */
     kg_u32 generation_a, generation_b; /* of the bodies when the contact was made: a slot
@@ -101,6 +109,6 @@ KG_STATIC_ASSERT(sizeof(kg_shape) == 152, shape_size);
 KG_STATIC_ASSERT(sizeof(kg_manifold_point) == 48, manifold_point_size);
 KG_STATIC_ASSERT(sizeof(kg_manifold) == 112, manifold_size);
 KG_STATIC_ASSERT(sizeof(kg_contact_base) == 64, contact_base_size);
-KG_STATIC_ASSERT(sizeof(kg_contact) == 208, contact_size);
+KG_STATIC_ASSERT(sizeof(kg_contact) == 216, contact_size);
 
 #endif

@@ -6,6 +6,7 @@
 #include "backend/backend.h"
 #include "core/error.h"
 #include "core/step.h"
+#include "core/world.h"
 
 #include <math.h>
 #include <time.h>
@@ -64,6 +65,9 @@ kg_result kg_world_step(kg_world* world, float dt)
     kg_result r = kg_run_stages(world, dt, &redo);
     if (redo) {
         r = kg_run_stages(world, dt, &redo);
+    }
+    if (r == KG_OK) {
+        kg_shape_pool_free_held(&world->shapes); /* the new contacts name no shape destroyed before the step */
     }
     world->step_index += 1;
     return r;

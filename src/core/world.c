@@ -96,6 +96,9 @@ kg_result kg_create_world(const kg_world_def* def, kg_world** out_world)
     }
     r = kg_body_pool_init(&w->bodies, w->def.max_bodies);
     if (r == KG_OK) {
+        r = kg_shape_pool_init(&w->shapes, w->def.max_bodies);
+    }
+    if (r == KG_OK) {
         w->applicators = kg_alloc_zeroed((size_t)(w->def.max_applicators + 1) * sizeof *w->applicators);
         w->handle_scratch = kg_alloc_zeroed((size_t)w->def.max_bodies * sizeof *w->handle_scratch);
         r = (w->applicators && w->handle_scratch) ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate a world");
@@ -143,6 +146,7 @@ void kg_destroy_world(kg_world* world)
     kg_free(world->applicators);
     kg_free(world->handle_scratch);
     kg_body_pool_free(&world->bodies);
+    kg_shape_pool_free(&world->shapes);
     kg_free(world);
 }
 

@@ -3,6 +3,7 @@
 #define KG_WORLD_INTERNAL_H
 
 #include "core/body_pool.h"
+#include "core/shape_pool.h"
 #include "kgyro/force.h"
 #include "kgyro/world.h"
 
@@ -35,6 +36,7 @@ struct kg_sleep;
 struct kg_world {
     kg_world_def def;
     kg_body_pool bodies;
+    kg_shape_pool shapes;
     kg_applicator_slot* applicators;
     kg_body* handle_scratch; /* capacity max_bodies: the body list handed to applicators */
     struct kg_collision* collision;

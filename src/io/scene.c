@@ -2,6 +2,7 @@
  * refer to bodies by scene index, and turning all of it into a world. */
 #include "kgyro/scene.h"
 #include "kgyro/force.h"
+#include "kgyro/shape.h"
 
 #include "core/error.h"
 #include "io/json_util.h"
@@ -18,6 +19,12 @@ typedef struct kg_scene_pivot {
     kg_vec2 point;
 } kg_scene_pivot;
 
+/* A body's shape after its first (kg_scene_add_body_shape), in its body's list. */
+typedef struct kg_scene_shape {
+    kg_body_shape_def def;
+    int next; /* the body's next shape, or -1 */
+} kg_scene_shape;
+
 /* A tile map: def's shapes and tiles point at the scene's own copies. */
 typedef struct kg_scene_tilemap {
     kg_tilemap_def def;
@@ -32,6 +39,11 @@ struct kg_scene {
 
     int body_count, body_capacity;
     kg_body_def* bodies;
+    int* first_extra;     /* per body: its second shape in shapes, or -1 */
+    int* last_extra;
+    int* extra_count;
+    int shape_count, shape_capacity;
+    kg_scene_shape* shapes; /* the bodies' shapes after their first */
     size_t* name_offsets; /* into names, one per body */
     char* names;          /* NUL-terminated names back to back */
     size_t names_length, names_capacity;
@@ -104,6 +116,10 @@ void kg_scene_destroy(kg_scene* scene)
     free(scene->names);
     free(scene->name_offsets);
     free(scene->bodies);
+    free(scene->first_extra);
+    free(scene->last_extra);
+    free(scene->extra_count);
+    free(scene->shapes);
     free(scene);
 }
 
@@ -271,6 +287,17 @@ static int kg_reserve_bodies(kg_scene* scene, int needed)
         return 0;
     }
     scene->name_offsets = offsets;
+    int* per_body[3] = {scene->first_extra, scene->last_extra, scene->extra_count};
+    for (int k = 0; k < 3; ++k) {
+        int* grown = realloc(per_body[k], (size_t)capacity * sizeof *grown);
+        if (!grown) {
+            return 0;
+        }
+        per_body[k] = grown;
+        scene->first_extra = per_body[0];
+        scene->last_extra = per_body[1];
+        scene->extra_count = per_body[2];
+    }
     scene->body_capacity = capacity;
     return 1;
 }
@@ -301,8 +328,62 @@ kg_result kg_scene_add_body(kg_scene* scene, const char* name, const kg_body_def
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_add_body: out of memory");
     }
     scene->bodies[scene->body_count] = *def;
+    scene->first_extra[scene->body_count] = -1;
+    scene->last_extra[scene->body_count] = -1;
+    scene->extra_count[scene->body_count] = 0;
     scene->name_table[kg_name_slot(scene, name)] = scene->body_count + 1;
     scene->body_count++;
+    return KG_OK;
+}
+
+kg_result kg_scene_add_body_shape(kg_scene* scene, int index, const kg_body_shape_def* def)
+{
+    if (!scene || !def || index < 0 || index >= scene->body_count) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_add_body_shape: NULL argument or body %d out of range",
+                       index);
+    }
+    if (!kg_grow((void**)&scene->shapes, &scene->shape_capacity, scene->shape_count + 1, sizeof *scene->shapes)) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_add_body_shape: out of memory");
+    }
+    int at = scene->shape_count++;
+    scene->shapes[at].def = *def;
+    scene->shapes[at].next = -1;
+    if (scene->last_extra[index] >= 0) {
+        scene->shapes[scene->last_extra[index]].next = at;
+    } else {
+        scene->first_extra[index] = at;
+    }
+    scene->last_extra[index] = at;
+    scene->extra_count[index] += 1;
+    return KG_OK;
+}
+
+int kg_scene_body_shape_count(const kg_scene* scene, int index)
+{
+    return scene && index >= 0 && index < scene->body_count ? 1 + scene->extra_count[index] : 0;
+}
+
+kg_result kg_scene_get_body_shape(const kg_scene* scene, int index, int k, kg_body_shape_def* out)
+{
+    if (!out || k < 0 || k >= kg_scene_body_shape_count(scene, index)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_get_body_shape: no shape %d of body %d", k, index);
+    }
+    const kg_body_def* body = &scene->bodies[index];
+    if (k == 0) {
+        *out = kg_default_body_shape_def();
+        out->geometry = body->shape;
+        out->density = body->density;
+        out->friction = body->friction;
+        out->restitution = body->restitution;
+        out->category = body->category;
+        out->mask = body->mask;
+        return KG_OK;
+    }
+    int at = scene->first_extra[index];
+    for (int step = 1; step < k; ++step) {
+        at = scene->shapes[at].next;
+    }
+    *out = scene->shapes[at].def;
     return KG_OK;
 }
 
@@ -489,6 +570,10 @@ static kg_result kg_create_scene_bodies(const kg_scene* scene, kg_world* world, 
 {
     for (int i = 0; i < scene->body_count; ++i) {
         kg_result r = kg_create_body(world, &scene->bodies[i], &handles[i]);
+        for (int at = scene->first_extra[i]; r == KG_OK && at >= 0; at = scene->shapes[at].next) {
+            kg_shape_id shape;
+            r = kg_create_shape(world, handles[i], &scene->shapes[at].def, &shape);
+        }
         if (r != KG_OK) {
             char reason[256];
             snprintf(reason, sizeof reason, "%s", kg_last_error());

@@ -22,7 +22,7 @@ typedef struct kg_loader {
 static const char* const kSceneFields[] = {"description", "gravity", "dt", "steps", "substeps", "sleep",
                                            "continuous", "bodies", "forces", "generators", "tilemap", NULL};
 static const char* const kBodyFields[] = {"name", "type", "position", "angle", "velocity", "angular_velocity",
-                                          "shape", "density", "mass", "friction", "restitution",
+                                          "shape", "shapes", "density", "mass", "friction", "restitution",
                                           "linear_damping", "angular_damping", "category", "mask",
                                           "fixed_rotation", "bullet", "pivot", NULL};
 static const char* const kBoxFields[] = {"type", "width", "height", "center", "angle", NULL};
@@ -30,6 +30,14 @@ static const char* const kCircleFields[] = {"type", "radius", "center", NULL};
 static const char* const kPolygonFields[] = {"type", "vertices", NULL};
 static const char* const kCapsuleFields[] = {"type", "center1", "center2", "radius", NULL};
 static const char* const kSegmentFields[] = {"type", "point1", "point2", NULL};
+/* An entry of a body's "shapes": the geometry placed by "center" and "angle", and its own
+ * material and filter (the body's when left out). */
+#define KG_SHAPE_ENTRY_FIELDS "center", "angle", "density", "friction", "restitution", "category", "mask", "sensor"
+static const char* const kBoxEntryFields[] = {"type", "width", "height", KG_SHAPE_ENTRY_FIELDS, NULL};
+static const char* const kCircleEntryFields[] = {"type", "radius", KG_SHAPE_ENTRY_FIELDS, NULL};
+static const char* const kPolygonEntryFields[] = {"type", "vertices", KG_SHAPE_ENTRY_FIELDS, NULL};
+static const char* const kCapsuleEntryFields[] = {"type", "center1", "center2", "radius", KG_SHAPE_ENTRY_FIELDS, NULL};
+static const char* const kSegmentEntryFields[] = {"type", "point1", "point2", KG_SHAPE_ENTRY_FIELDS, NULL};
 
 static const char* const kBodyTypes[] = {"static", "dynamic", "kinematic", "particle", NULL};
 
@@ -60,11 +68,11 @@ static kg_result kg_read_choice(const kg_json_reader* reader, const cJSON* objec
 /* ---- shapes ---- */
 
 static kg_result kg_read_box(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
-                             kg_shape_def* out)
+                             int entry, kg_shape_def* out)
 {
     float width = 0.0f, height = 0.0f, angle = 0.0f;
     kg_vec2 center = {0.0f, 0.0f};
-    KG_TRY(kg_json_check_object(reader, json, path, kBoxFields));
+    KG_TRY(kg_json_check_object(reader, json, path, entry ? kBoxEntryFields : kBoxFields));
     KG_TRY(kg_json_require(reader, json, path, "width"));
     KG_TRY(kg_json_require(reader, json, path, "height"));
     KG_TRY(kg_json_float(reader, json, path, "width", KG_JSON_POSITIVE, &width));
@@ -76,11 +84,11 @@ static kg_result kg_read_box(const kg_json_reader* reader, const cJSON* json, co
 }
 
 static kg_result kg_read_circle(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
-                                kg_shape_def* out)
+                                int entry, kg_shape_def* out)
 {
     float radius = 0.0f;
     kg_vec2 center = {0.0f, 0.0f};
-    KG_TRY(kg_json_check_object(reader, json, path, kCircleFields));
+    KG_TRY(kg_json_check_object(reader, json, path, entry ? kCircleEntryFields : kCircleFields));
     KG_TRY(kg_json_require(reader, json, path, "radius"));
     KG_TRY(kg_json_float(reader, json, path, "radius", KG_JSON_POSITIVE, &radius));
     KG_TRY(kg_json_vec2(reader, json, path, "center", &center));
@@ -89,12 +97,25 @@ static kg_result kg_read_circle(const kg_json_reader* reader, const cJSON* json,
     return KG_OK;
 }
 
+/* An entry of "shapes" placed in the body frame by its "center" and "angle" (a box and a
+ * circle read their own placement). */
+static kg_result kg_place_entry(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                kg_shape_def* out)
+{
+    kg_vec2 center = {0.0f, 0.0f};
+    float angle = 0.0f;
+    KG_TRY(kg_json_vec2(reader, json, path, "center", &center));
+    KG_TRY(kg_json_float(reader, json, path, "angle", KG_JSON_ANY, &angle));
+    *out = kg_shape_moved(*out, center, angle);
+    return KG_OK;
+}
+
 static kg_result kg_read_capsule(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
-                                 kg_shape_def* out)
+                                 int entry, kg_shape_def* out)
 {
     kg_vec2 center1 = {0.0f, 0.0f}, center2 = {0.0f, 0.0f};
     float radius = 0.0f;
-    KG_TRY(kg_json_check_object(reader, json, path, kCapsuleFields));
+    KG_TRY(kg_json_check_object(reader, json, path, entry ? kCapsuleEntryFields : kCapsuleFields));
     KG_TRY(kg_json_require(reader, json, path, "center1"));
     KG_TRY(kg_json_require(reader, json, path, "center2"));
     KG_TRY(kg_json_require(reader, json, path, "radius"));
@@ -102,20 +123,20 @@ static kg_result kg_read_capsule(const kg_json_reader* reader, const cJSON* json
     KG_TRY(kg_json_vec2(reader, json, path, "center2", &center2));
     KG_TRY(kg_json_float(reader, json, path, "radius", KG_JSON_POSITIVE, &radius));
     *out = kg_capsule_shape(center1, center2, radius);
-    return KG_OK;
+    return entry ? kg_place_entry(reader, json, path, out) : KG_OK;
 }
 
 static kg_result kg_read_segment(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
-                                 kg_shape_def* out)
+                                 int entry, kg_shape_def* out)
 {
     kg_vec2 point1 = {0.0f, 0.0f}, point2 = {0.0f, 0.0f};
-    KG_TRY(kg_json_check_object(reader, json, path, kSegmentFields));
+    KG_TRY(kg_json_check_object(reader, json, path, entry ? kSegmentEntryFields : kSegmentFields));
     KG_TRY(kg_json_require(reader, json, path, "point1"));
     KG_TRY(kg_json_require(reader, json, path, "point2"));
     KG_TRY(kg_json_vec2(reader, json, path, "point1", &point1));
     KG_TRY(kg_json_vec2(reader, json, path, "point2", &point2));
     *out = kg_segment_shape(point1, point2);
-    return KG_OK;
+    return entry ? kg_place_entry(reader, json, path, out) : KG_OK;
 }
 
 /* A JSON array of 3 to KG_MAX_POLYGON_VERTICES [x, y] points, for body and tile polygons. */
@@ -136,9 +157,9 @@ static kg_result kg_read_vertex_list(const kg_json_reader* reader, const cJSON* 
 }
 
 static kg_result kg_read_polygon(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
-                                 kg_shape_def* out)
+                                 int entry, kg_shape_def* out)
 {
-    KG_TRY(kg_json_check_object(reader, json, path, kPolygonFields));
+    KG_TRY(kg_json_check_object(reader, json, path, entry ? kPolygonEntryFields : kPolygonFields));
     KG_TRY(kg_json_require(reader, json, path, "vertices"));
     kg_json_path vertices_path = kg_json_path_key(path, "vertices");
     kg_vec2 points[KG_MAX_POLYGON_VERTICES];
@@ -146,7 +167,7 @@ static kg_result kg_read_polygon(const kg_json_reader* reader, const cJSON* json
     KG_TRY(kg_read_vertex_list(reader, cJSON_GetObjectItemCaseSensitive(json, "vertices"), &vertices_path, points,
                                &count));
     *out = kg_polygon_shape(points, count);
-    return KG_OK;
+    return entry ? kg_place_entry(reader, json, path, out) : KG_OK;
 }
 
 /* Whether the library accepts the shape: with its mass at density 1, or for a segment,
@@ -175,7 +196,9 @@ static kg_result kg_check_shape(const kg_json_reader* reader, const kg_shape_def
     return kg_json_fail(reader, &where, "%s", reason);
 }
 
-static kg_result kg_read_shape(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+/* A shape: a body's "shape" (entry 0) or an entry of its "shapes" (entry 1: placed by
+ * "center" and "angle", with material fields the caller reads). */
+static kg_result kg_read_shape(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path, int entry,
                                kg_shape_def* out)
 {
     static const char* const kinds[] = {"box", "circle", "polygon", "capsule", "segment", NULL};
@@ -187,19 +210,19 @@ static kg_result kg_read_shape(const kg_json_reader* reader, const cJSON* json, 
     KG_TRY(kg_read_choice(reader, json, path, "type", kinds, &kind));
     switch (kind) {
     case 0:
-        KG_TRY(kg_read_box(reader, json, path, out));
+        KG_TRY(kg_read_box(reader, json, path, entry, out));
         break;
     case 1:
-        KG_TRY(kg_read_circle(reader, json, path, out));
+        KG_TRY(kg_read_circle(reader, json, path, entry, out));
         break;
     case 3:
-        KG_TRY(kg_read_capsule(reader, json, path, out));
+        KG_TRY(kg_read_capsule(reader, json, path, entry, out));
         break;
     case 4:
-        KG_TRY(kg_read_segment(reader, json, path, out));
+        KG_TRY(kg_read_segment(reader, json, path, entry, out));
         break;
     default:
-        KG_TRY(kg_read_polygon(reader, json, path, out));
+        KG_TRY(kg_read_polygon(reader, json, path, entry, out));
         break;
     }
     return kg_check_shape(reader, out, path);
@@ -266,9 +289,16 @@ static kg_result kg_read_body_shape(const kg_json_reader* reader, const cJSON* j
                                     kg_body_def* def)
 {
     const cJSON* shape = cJSON_GetObjectItemCaseSensitive(json, "shape");
+    if (shape && kg_has(json, "shapes")) {
+        kg_json_path shapes_path = kg_json_path_key(path, "shapes");
+        return kg_json_fail(reader, &shapes_path, "give shape or shapes, not both");
+    }
+    if (kg_has(json, "shapes")) {
+        return KG_OK; /* read after the body's material, their fallback (kg_read_shape_entries) */
+    }
     if (shape) {
         kg_json_path shape_path = kg_json_path_key(path, "shape");
-        KG_TRY(kg_read_shape(reader, shape, &shape_path, &def->shape));
+        KG_TRY(kg_read_shape(reader, shape, &shape_path, 0, &def->shape));
         int moves = def->type == KG_BODY_DYNAMIC || def->type == KG_BODY_PARTICLE;
         if (moves && def->shape.type == KG_SHAPE_SEGMENT) {
             return kg_json_fail(reader, &shape_path, "a segment has no area: only static and kinematic bodies may have one");
@@ -284,6 +314,73 @@ static kg_result kg_read_body_shape(const kg_json_reader* reader, const cJSON* j
         return kg_json_fail(reader, &mass_path, "is required for a particle without a shape");
     }
     def->shape.type = KG_SHAPE_NONE;
+    return KG_OK;
+}
+
+/* An entry of "shapes": its geometry, and its material and filter, the body's where left out. */
+static kg_result kg_read_shape_entry(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                     const kg_body_def* body, kg_body_shape_def* out)
+{
+    *out = kg_default_body_shape_def();
+    KG_TRY(kg_read_shape(reader, json, path, 1, &out->geometry));
+    out->density = body->density;
+    out->friction = body->friction;
+    out->restitution = body->restitution;
+    out->category = body->category;
+    out->mask = body->mask;
+    KG_TRY(kg_json_float(reader, json, path, "density", KG_JSON_NON_NEGATIVE, &out->density));
+    KG_TRY(kg_json_float(reader, json, path, "friction", KG_JSON_NON_NEGATIVE, &out->friction));
+    KG_TRY(kg_json_float(reader, json, path, "restitution", KG_JSON_UNIT, &out->restitution));
+    KG_TRY(kg_json_uint32(reader, json, path, "category", &out->category));
+    KG_TRY(kg_json_uint32(reader, json, path, "mask", &out->mask));
+    return kg_json_bool(reader, json, path, "sensor", &out->is_sensor);
+}
+
+/* A body's "shapes", non-empty: the first becomes the body def's shape (so it must be
+ * solid, and massive on a moving body: the body is made with it), the others *extras
+ * (*extra_count of them, at most KG_SCENE_MAX_SHAPES - 1). */
+#define KG_SCENE_MAX_SHAPES 64
+static kg_result kg_read_shape_entries(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                       kg_body_def* def, kg_body_shape_def* extras, int* extra_count)
+{
+    const cJSON* shapes = cJSON_GetObjectItemCaseSensitive(json, "shapes");
+    *extra_count = 0;
+    if (!shapes) {
+        return KG_OK;
+    }
+    kg_json_path shapes_path = kg_json_path_key(path, "shapes");
+    KG_TRY(kg_json_check_array(reader, shapes, &shapes_path));
+    int count = cJSON_GetArraySize(shapes);
+    if (count < 1 || count > KG_SCENE_MAX_SHAPES) {
+        return kg_json_fail(reader, &shapes_path, "must hold 1 to %d shapes (got %d)", KG_SCENE_MAX_SHAPES, count);
+    }
+    if (count > 1 && def->mass > 0.0f) {
+        kg_json_path mass_path = kg_json_path_key(path, "mass");
+        return kg_json_fail(reader, &mass_path, "is for a body of one shape: give each of its shapes a density");
+    }
+    const kg_body_def body = *def; /* the fallbacks, before the first shape's material replaces them */
+    int k = 0;
+    for (const cJSON* entry = shapes->child; entry; entry = entry->next, ++k) {
+        kg_json_path entry_path = kg_json_path_index(&shapes_path, k);
+        kg_body_shape_def shape;
+        KG_TRY(kg_read_shape_entry(reader, entry, &entry_path, &body, &shape));
+        if (k > 0) {
+            extras[(*extra_count)++] = shape;
+            continue;
+        }
+        int moves = def->type == KG_BODY_DYNAMIC || def->type == KG_BODY_PARTICLE;
+        if (shape.is_sensor || (moves && def->mass == 0.0f && !(shape.density > 0.0f))) {
+            kg_json_path field_path = kg_json_path_key(&entry_path, shape.is_sensor ? "sensor" : "density");
+            return kg_json_fail(reader, &field_path, "the first shape of a %s body must be %s", kBodyTypes[def->type],
+                                shape.is_sensor ? "solid" : "of density > 0");
+        }
+        def->shape = shape.geometry;
+        def->density = shape.density;
+        def->friction = shape.friction;
+        def->restitution = shape.restitution;
+        def->category = shape.category;
+        def->mask = shape.mask;
+    }
     return KG_OK;
 }
 
@@ -317,6 +414,9 @@ static kg_result kg_read_body(kg_loader* loader, const cJSON* json, const kg_jso
     KG_TRY(kg_read_body_shape(reader, json, path, &def));
     KG_TRY(kg_read_mass(reader, json, path, &def));
     KG_TRY(kg_read_material(reader, json, path, &def));
+    kg_body_shape_def extras[KG_SCENE_MAX_SHAPES];
+    int extra_count = 0;
+    KG_TRY(kg_read_shape_entries(reader, json, path, &def, extras, &extra_count));
     kg_vec2 pivot;
     int has_pivot = kg_has(json, "pivot");
     KG_TRY(kg_json_vec2(reader, json, path, "pivot", &pivot));
@@ -325,6 +425,12 @@ static kg_result kg_read_body(kg_loader* loader, const cJSON* json, const kg_jso
         return kg_json_fail(reader, &pivot_path, "only kinematic bodies can have a pivot");
     }
     KG_TRY(kg_add_named_body(loader, json, path, &def));
+    int index = kg_scene_body_count(loader->scene) - 1;
+    for (int k = 0; k < extra_count; ++k) {
+        if (kg_scene_add_body_shape(loader->scene, index, &extras[k]) != KG_OK) {
+            return kg_json_fail(reader, path, "out of memory for its shapes");
+        }
+    }
     if (has_pivot) {
         KG_TRY(kg_scene_set_body_pivot(loader->scene, kg_scene_body_count(loader->scene) - 1, pivot));
     }

@@ -29,13 +29,14 @@
 #define KG_BODY_GRAIN 256
 #define KG_CONSTRAINT_GRAIN 64
 
-/* A body's extents, computed once for each body that takes the slot (a body's shape
- * never changes): generation is the body's (0: none yet). Each slot is written by its
- * own body only, so threads share nothing. */
-typedef struct kg_body_extents {
+/* A body's extents, computed once for each body that takes the slot and again when a
+ * shape of the world was added or removed: generation is the body's (0: none yet). Each
+ * slot is written by its own body only, so threads share nothing. */
+typedef struct kg_cached_extents {
     kg_extents extents;
     kg_u32 generation;
-} kg_body_extents;
+    kg_u32 shapes_version; /* the shape pool's when computed: a shape added or removed moves it */
+} kg_cached_extents;
 
 struct kg_solver {
     const kg_contact_rows* rows; /* the SIMD width's row code */
@@ -53,7 +54,7 @@ struct kg_solver {
     kg_velocity_step* velocity_steps; /* per body, made once a step */
     kg_static_list statics;           /* continuous collision's index of the static bodies, */
     int statics_listed;               /* made at statics.edits (statics_listed: ever) */
-    kg_body_extents* extents;         /* per body slot: its shape's, for continuous collision */
+    kg_cached_extents* extents;         /* per body slot: its shape's, for continuous collision */
 };
 
 static kg_result kg_reserve_blocks(struct kg_solver* s, int blocks)
@@ -433,15 +434,18 @@ typedef struct kg_finalize_job {
     kg_continuous_bodies bodies;
     kg_tile_terrain terrain;
     kg_toi_params toi;
+    kg_u32 shapes_version; /* the shape pool's (the extents cache's key) */
 } kg_finalize_job;
 
-/* Slot i's extents, from the cache (kg_body_extents). */
-static kg_extents kg_extents_of(kg_body_extents* cache, const kg_body_pool* p, int i)
+/* Slot i's extents, from the cache (kg_cached_extents). */
+static kg_extents kg_extents_of(kg_cached_extents* cache, const kg_continuous_bodies* b, kg_u32 generation,
+                                kg_u32 shapes_version, int i)
 {
-    kg_body_extents e = cache[i];
-    if (e.generation != p->generation[i]) {
-        e.extents = kg_shape_extents(&p->shape[i], p->local_center[i]);
-        e.generation = p->generation[i];
+    kg_cached_extents e = cache[i];
+    if (e.generation != generation || e.shapes_version != shapes_version) {
+        e.extents = kg_body_extents(&b->shapes, (kg_u32)i, b->local_center[i]);
+        e.generation = generation;
+        e.shapes_version = shapes_version;
         cache[i] = e;
     }
     return e.extents;
@@ -457,7 +461,7 @@ static kg_extents kg_extents_of(kg_body_extents* cache, const kg_body_pool* p, i
 static void kg_continuous_block(const kg_finalize_job* job, int begin, int end)
 {
     kg_body_pool* p = job->pool;
-    kg_body_extents* cache = job->solver->extents;
+    kg_cached_extents* cache = job->solver->extents;
     kg_u32 fast[KG_SWEEP_BLOCK];
     float reach[KG_SWEEP_BLOCK];
     int n = 0;
@@ -465,7 +469,7 @@ static void kg_continuous_block(const kg_finalize_job* job, int begin, int end)
         if (!kg_continuous_takes(p->flags[i], job->pass)) {
             continue; /* a dead slot's shape is no body's: its extents are not kept */
         }
-        kg_extents e = kg_extents_of(cache, p, i);
+        kg_extents e = kg_extents_of(cache, &job->bodies, p->generation[i], job->shapes_version, i);
         fast[n] = (kg_u32)i;
         reach[n] = e.max;
         n += kg_moves_fast(p->velocity[i], p->omega[i], job->dt, e);
@@ -596,11 +600,13 @@ void kg_stage_finalize(kg_world* world)
     job.continuous = world->def.enable_continuous;
     if (job.continuous) {
         kg_list_statics(world, s);
-        kg_continuous_bodies b = {p->flags,          p->velocity,     p->omega,   p->center,
-                                  p->rot,            p->xf,           p->aabb,    p->shape,
-                                  p->local_center,   p->category,     p->mask,    s->statics.entries,
-                                  s->statics.count,  s->statics.large_count, p->high_water};
+        kg_continuous_bodies b = {p->flags,         p->velocity,       p->omega,
+                                  p->center,        p->rot,            p->xf,
+                                  p->aabb,          p->local_center,   s->statics.entries,
+                                  s->statics.count, s->statics.large_count, p->high_water,
+                                  kg_world_shape_arrays(world)};
         job.bodies = b;
+        job.shapes_version = world->shapes.version;
         job.terrain = kg_terrain_of(world);
         job.toi = kg_toi_params_of(&world->def);
     }

@@ -43,6 +43,18 @@ if(TARGET kgyro_cli AND KGYRO_STB_INCLUDE_DIR)
   set_tests_properties(render_cli_tiled PROPERTIES WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
     PASS_REGULAR_EXPRESSION "wrote .*platformer.png: 160x80")
   set_tests_properties(render_cli_tiled_pixels PROPERTIES DEPENDS render_cli_tiled)
+  # Compound bodies: 160x80 showing x in [-8, 8], y in [-1, 7] (10 px/m, pixel
+  # (10 (x + 8), 80 - 10 (y + 1))) after one step: the dumbbell's two discs, (-6.92, 2.61)
+  # and (-5.08, 3.39), the empty middle above its bar (-6, 3.5), the L's post (-1.97, 2.20).
+  add_test(NAME render_cli_compound
+    COMMAND $<TARGET_FILE:kgyro_cli> render samples/compound.json --backend cpu --steps 1 --size 160x80
+            --view -8,-1,8,7 --png ${KG_RENDER_OUT}/compound.png)
+  add_test(NAME render_cli_compound_pixels
+    COMMAND kg_png_probe ${KG_RENDER_OUT}/compound.png at 11 44 body at 29 36 body at 20 34 background
+            at 60 48 body)
+  set_tests_properties(render_cli_compound PROPERTIES WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
+    PASS_REGULAR_EXPRESSION "wrote .*compound.png: 160x80")
+  set_tests_properties(render_cli_compound_pixels PROPERTIES DEPENDS render_cli_compound)
   add_test(NAME render_cli_bad_option COMMAND $<TARGET_FILE:kgyro_cli> render samples/demo_pyramid.json --size 10)
   set_tests_properties(render_cli_bad_option PROPERTIES WILL_FAIL ON)
 

@@ -8,6 +8,7 @@
 #define KG_NORMAL_LENGTH 12.0f
 #define KG_CONTACT_SIZE 2
 #define KG_PARTICLE_RADIUS 1.6f
+#define KG_DRAW_MAX_SHAPES 64 /* of one body; a body with more draws its first 64 */
 #define KG_OUTLINE_MIN_SIZE 7.0f /* smaller shapes are filled only: outlines would hide them */
 
 kg_point kg_camera_to_screen(const kg_camera* camera, kg_vec2 world)
@@ -267,14 +268,29 @@ static void kg_draw_shape(kg_canvas* canvas, const kg_camera* camera, const kg_s
     }
 }
 
+/* Every shape of a body (a compound body has several), in the body's colours. */
+static void kg_draw_body_shapes(kg_canvas* canvas, const kg_camera* camera, const kg_world* world, kg_body body,
+                                const kg_body_state* state, kg_body_type type)
+{
+    kg_shape_id shapes[KG_DRAW_MAX_SHAPES];
+    int count = 0;
+    if (kg_body_get_shapes(world, body, shapes, KG_DRAW_MAX_SHAPES, &count) != KG_OK) {
+        return;
+    }
+    for (int k = 0; k < count && k < KG_DRAW_MAX_SHAPES; ++k) {
+        kg_body_shape_def def;
+        if (kg_shape_get_def(world, shapes[k], &def) == KG_OK) {
+            kg_draw_shape(canvas, camera, &def.geometry, state, type, body);
+        }
+    }
+}
+
 void kg_draw_body(kg_canvas* canvas, const kg_camera* camera, const kg_world* world, kg_body body)
 {
     kg_body_state state;
     kg_body_type type;
-    kg_shape_def shape;
-    if (kg_body_get_state(world, body, &state) == KG_OK && kg_body_get_type(world, body, &type) == KG_OK &&
-        kg_body_get_shape(world, body, &shape) == KG_OK) {
-        kg_draw_shape(canvas, camera, &shape, &state, type, body);
+    if (kg_body_get_state(world, body, &state) == KG_OK && kg_body_get_type(world, body, &type) == KG_OK) {
+        kg_draw_body_shapes(canvas, camera, world, body, &state, type);
     }
 }
 
@@ -338,9 +354,8 @@ static void kg_draw_bodies(kg_canvas* canvas, const kg_camera* camera, const kg_
     }
     for (int i = 0; i < count; ++i) {
         kg_body_type type;
-        kg_shape_def shape;
-        if (kg_body_get_type(world, bodies[i], &type) == KG_OK && kg_body_get_shape(world, bodies[i], &shape) == KG_OK) {
-            kg_draw_shape(canvas, camera, &shape, &states[i], type, bodies[i]);
+        if (kg_body_get_type(world, bodies[i], &type) == KG_OK) {
+            kg_draw_body_shapes(canvas, camera, world, bodies[i], &states[i], type);
         }
     }
     free(states);

@@ -110,6 +110,23 @@ static int kg_shape_contains(const kg_shape_def* shape, kg_vec2 p)
     return shape->type == KG_SHAPE_POLYGON && sides != 3;
 }
 
+/* Whether a shape of body holds the body-frame point p. */
+static int kg_body_contains(const kg_world* world, kg_body body, kg_vec2 p)
+{
+    kg_shape_id shapes[64];
+    int count = 0;
+    if (kg_body_get_shapes(world, body, shapes, 64, &count) != KG_OK) {
+        return 0;
+    }
+    for (int k = 0; k < count && k < 64; ++k) {
+        kg_body_shape_def def;
+        if (kg_shape_get_def(world, shapes[k], &def) == KG_OK && kg_shape_contains(&def.geometry, p)) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* The last drawn dynamic body or particle under world point p. */
 static int kg_pick_body(const kg_viewer* v, kg_vec2 p, kg_body* out)
 {
@@ -117,13 +134,11 @@ static int kg_pick_body(const kg_viewer* v, kg_vec2 p, kg_body* out)
         kg_body body = v->sim.bodies[i];
         kg_body_type type;
         kg_body_state state;
-        kg_shape_def shape;
         if (kg_body_get_type(v->sim.world, body, &type) != KG_OK || type == KG_BODY_STATIC ||
-            type == KG_BODY_KINEMATIC || kg_body_get_state(v->sim.world, body, &state) != KG_OK ||
-            kg_body_get_shape(v->sim.world, body, &shape) != KG_OK) {
+            type == KG_BODY_KINEMATIC || kg_body_get_state(v->sim.world, body, &state) != KG_OK) {
             continue;
         }
-        if (kg_shape_contains(&shape, kg_to_body(&state, p))) {
+        if (kg_body_contains(v->sim.world, body, kg_to_body(&state, p))) {
             *out = body;
             return 1;
         }

@@ -32,8 +32,8 @@ const char* kg_cl_stage_label(const kg_world* world, const kg_cl_backend* b, kg_
 void kg_cl_request_fallback(kg_cl_backend* b);
 /* The collision stage on the device (cl_collide.c), tile maps included: this step's
  * contacts built into b->contacts[!b->current], b->step_pairs set. *fits is 0 when the
- * pairs outgrow the contact pool: then nothing is built, and the host's stage must run
- * (it grows the pool). */
+ * pairs (or, while a body has several shapes, the pairs of shapes) outgrow the contact
+ * pool: then nothing is built, and the host's stage must run (it grows the pool). */
 kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits);
 /* Colours the contacts the device built (solve/coloring.h) and reads back how many there
  * are, *count, the first *body_count between bodies, with b->coloring's colour ranges set

@@ -70,12 +70,54 @@ static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
     cl_mem previous = b->contacts[b->current], next = b->contacts[b->current ^ 1];
     KG_LAUNCH(b, NARROWPHASE, pairs, label, KG_INT(pairs), KG_FLOAT(world->def.speculative_distance),
               KG_FLOAT(world->last_dt), KG_MEM(c->pairs), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)),
-              KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)), KG_MEM(c->manifolds),
-              KG_MEM(c->bases), KG_MEM(c->touching));
+              KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FIRST_SHAPE)),
+              KG_MEM(c->manifolds), KG_MEM(c->bases), KG_MEM(c->touching));
     KG_TRY(kg_cl_scan(b, c->touching, c->touching, pairs, KG_CC_CONTACTS, label));
     KG_LAUNCH(b, BUILD_CONTACTS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->manifolds),
-              KG_MEM(c->bases), KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)),
-              KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)), KG_MEM(next));
+              KG_MEM(c->bases), KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count),
+              KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FIRST_SHAPE)), KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)),
+              KG_MEM(next));
+    return KG_OK;
+}
+
+/* While a body has several shapes: the pairs of bodies expanded into pairs of shapes
+ * (collide/pair_contact.h's kg_expand_pair, as on the host), their count read back into
+ * *items; written only when they fit in capacity. */
+static kg_result kg_expand_pairs(kg_world* world, kg_cl_backend* b, int pairs, int capacity, int* items)
+{
+    kg_cl_collide_buffers* c = &b->collide;
+    const char* label = "kg_narrowphase";
+    float speculative = world->def.speculative_distance, dt = world->last_dt;
+    KG_LAUNCH(b, COUNT_SHAPE_PAIRS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_SHAPE_ARGS(b),
+              KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(AABB)), KG_FLOAT(speculative), KG_FLOAT(dt),
+              KG_MEM(c->shape_run));
+    KG_TRY(kg_cl_scan(b, c->shape_run, c->shape_run, pairs, KG_CC_SHAPE_PAIRS, label));
+    cl_uint total = 0u;
+    KG_TRY(kg_cl_read(b, c->counts, KG_CC_SHAPE_PAIRS * sizeof total, sizeof total, &total));
+    *items = (int)total;
+    if (*items > capacity) {
+        return KG_OK;
+    }
+    KG_LAUNCH(b, WRITE_SHAPE_PAIRS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_SHAPE_ARGS(b),
+              KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(AABB)), KG_FLOAT(speculative), KG_FLOAT(dt),
+              KG_MEM(c->shape_run), KG_MEM(c->shape_items), KG_MEM(c->item_pairs));
+    return KG_OK;
+}
+
+/* kg_build_contacts over the pairs of shapes. */
+static kg_result kg_build_shape_contacts(kg_world* world, kg_cl_backend* b, int items)
+{
+    kg_cl_collide_buffers* c = &b->collide;
+    const char* label = "kg_narrowphase";
+    cl_mem previous = b->contacts[b->current], next = b->contacts[b->current ^ 1];
+    KG_LAUNCH(b, NARROWPHASE_SHAPES, items, label, KG_INT(items), KG_FLOAT(world->def.speculative_distance),
+              KG_FLOAT(world->last_dt), KG_MEM(c->shape_items), KG_SHAPE_ARGS(b), KG_MEM(KG_A(XF)),
+              KG_MEM(KG_A(VELOCITY)), KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)),
+              KG_MEM(c->manifolds), KG_MEM(c->bases), KG_MEM(c->touching));
+    KG_TRY(kg_cl_scan(b, c->touching, c->touching, items, KG_CC_CONTACTS, label));
+    KG_LAUNCH(b, BUILD_SHAPE_CONTACTS, items, label, KG_INT(items), KG_MEM(c->shape_items), KG_MEM(c->manifolds),
+              KG_MEM(c->bases), KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count),
+              KG_MEM(KG_A(GENERATION)), KG_MEM(b->shape_friction), KG_MEM(b->shape_restitution), KG_MEM(next));
     return KG_OK;
 }
 
@@ -228,7 +270,10 @@ static kg_result kg_collide_tiles(kg_world* world, kg_cl_backend* b, int capacit
                   KG_MEM(KG_A(XF)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(CATEGORY)),
                   KG_MEM(KG_A(MASK)), KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FRICTION)), KG_MEM(KG_A(RESTITUTION)),
                   KG_MEM(previous), KG_MEM(c->last_origin[in]), KG_MEM(c->last_generation[in]),
-                  KG_MEM(c->last_origin[out]), KG_MEM(c->last_generation[out]), KG_MEM(c->tile_run),
+                  KG_MEM(c->last_origin[out]), KG_MEM(c->last_generation[out]), KG_MEM(KG_A(FIRST_SHAPE)),
+                  KG_MEM(KG_A(SHAPE_COUNT)), KG_MEM(b->shape_next), KG_MEM(b->shape_flags),
+                  KG_MEM(b->shape_geometry), KG_MEM(b->shape_category), KG_MEM(b->shape_mask),
+                  KG_MEM(b->shape_friction), KG_MEM(b->shape_restitution), KG_MEM(c->tile_run),
                   KG_MEM(c->counts), KG_MEM(next));
     }
     b->tiles_ran = 1;
@@ -311,6 +356,7 @@ static kg_result kg_take_color_ranges(kg_cl_backend* b)
 kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits)
 {
     int capacity = kg_device_contact_capacity(world, b);
+    KG_TRY(kg_cl_sync_shapes(b, world));
     KG_TRY(kg_find_pairs(world, b, capacity));
     KG_TRY(kg_read_counters(b, KG_CC_PAIRS + 1)); /* the pair count */
     *fits = b->counters[KG_CC_PAIRS] <= (cl_uint)capacity;
@@ -318,8 +364,21 @@ kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits)
         return KG_OK;
     }
     b->step_pairs = (int)b->counters[KG_CC_PAIRS];
+    b->step_pair_list = b->collide.pairs;
     KG_TRY(kg_order_pairs(world, b, b->step_pairs));
-    KG_TRY(kg_build_contacts(world, b, b->step_pairs));
+    if (world->shapes.compound_bodies == 0) {
+        KG_TRY(kg_build_contacts(world, b, b->step_pairs));
+        return kg_collide_tiles(world, b, capacity);
+    }
+    int items = 0;
+    KG_TRY(kg_expand_pairs(world, b, b->step_pairs, capacity, &items));
+    *fits = items <= capacity;
+    if (!*fits) {
+        return KG_OK;
+    }
+    b->step_pairs = items;
+    b->step_pair_list = b->collide.item_pairs;
+    KG_TRY(kg_build_shape_contacts(world, b, items));
     return kg_collide_tiles(world, b, capacity);
 }
 

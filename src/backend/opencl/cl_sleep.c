@@ -22,7 +22,7 @@ kg_result kg_cl_wake_on_device(kg_world* world, kg_cl_backend* b, int pairs)
     }
     kg_cl_collide_buffers* c = &b->collide;
     int slots = world->bodies.high_water;
-    KG_LAUNCH(b, WAKE_TOUCHED, pairs, kLabel, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->touching),
+    KG_LAUNCH(b, WAKE_TOUCHED, pairs, kLabel, KG_INT(pairs), KG_MEM(b->step_pair_list), KG_MEM(c->touching),
               KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(VELOCITY)), KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(ISLAND)),
               KG_MEM(b->wake_marks));
     KG_LAUNCH(b, WAKE_MARKED, slots, kLabel, KG_INT(slots), KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(ISLAND)),

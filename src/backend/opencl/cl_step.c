@@ -360,9 +360,9 @@ static kg_result kg_finalize_pass(kg_world* world, kg_cl_backend* b, float dt, i
     KG_LAUNCH(b, FINALIZE, bodies, NULL, KG_INT(bodies), KG_FLOAT(dt), KG_INT(pass), KG_INT(continuous), KG_VALUE(prm),
               KG_MEM(KG_A(FLAGS)), KG_MEM(KG_A(CENTER)), KG_MEM(KG_A(ROT)), KG_MEM(KG_A(VELOCITY)),
               KG_MEM(KG_A(OMEGA)), KG_MEM(KG_A(FORCE)), KG_MEM(KG_A(TORQUE)), KG_MEM(KG_A(DRAG)), KG_MEM(KG_A(XF)),
-              KG_MEM(KG_A(AABB)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(KG_A(CATEGORY)),
-              KG_MEM(KG_A(MASK)), KG_MEM(c->statics), KG_INT(statics->count), KG_INT(statics->large_count),
-              KG_MEM(c->tile_maps), KG_MEM(c->tile_cells), KG_MEM(c->tile_protos), KG_INT(maps));
+              KG_MEM(KG_A(AABB)), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(LOCAL_CENTER)), KG_MEM(c->statics),
+              KG_INT(statics->count), KG_INT(statics->large_count), KG_MEM(c->tile_maps), KG_MEM(c->tile_cells),
+              KG_MEM(c->tile_protos), KG_INT(maps), KG_SHAPE_ARGS(b));
     return KG_OK;
 }
 
@@ -370,6 +370,7 @@ static kg_result kg_stage_finalize_on_device(kg_world* world, kg_cl_backend* b, 
 {
     kg_static_list statics = {NULL, 0, 0, 0, 0u};
     if (world->def.enable_continuous) {
+        KG_TRY(kg_cl_sync_shapes(b, world));
         KG_TRY(kg_cl_sync_statics(world, b, &statics));
         KG_TRY(kg_cl_sync_tiles(world, b));
     }

@@ -507,12 +507,81 @@ static kg_result kg_cl_create_buffers(kg_cl_backend* b, const kg_world* world)
     return r;
 }
 
+static void kg_cl_release_shapes(kg_cl_backend* b)
+{
+    cl_mem* list[] = {&b->shape_next, &b->shape_flags,    &b->shape_geometry,   &b->shape_category,
+                      &b->shape_mask, &b->shape_friction, &b->shape_restitution};
+    for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
+        kg_cl_release(b, list[k]);
+    }
+    b->shape_capacity = 0;
+    b->shape_geometry_held = 0;
+}
+
+/* Shape buffers of capacity slots (geometry too when the host has it), contents lost. */
+static kg_result kg_cl_size_shapes(kg_cl_backend* b, const kg_shape_pool* sp, int capacity)
+{
+    kg_cl_release_shapes(b);
+    size_t n = (size_t)capacity, words = sizeof(cl_uint);
+    const kg_cl_sized_buffer list[] = {
+        {&b->shape_next, n * words},
+        {&b->shape_flags, n * words},
+        {&b->shape_geometry, (sp->geometry ? n : 1u) * sizeof(kg_shape)},
+        {&b->shape_category, n * words},
+        {&b->shape_mask, n * words},
+        {&b->shape_friction, n * sizeof(float)},
+        {&b->shape_restitution, n * sizeof(float)},
+    };
+    KG_TRY(kg_cl_buffers(b, list, (int)(sizeof list / sizeof list[0])));
+    b->shape_capacity = capacity;
+    b->shape_geometry_held = sp->geometry != NULL;
+    b->shape_version = sp->version - 1u; /* what the buffers hold is no version */
+    return KG_OK;
+}
+
+kg_result kg_cl_sync_shapes(kg_cl_backend* b, const kg_world* world)
+{
+    const kg_shape_pool* sp = &world->shapes;
+    /* the pairs of shapes read them while a body has several; continuous collision walks
+     * every body's list of shapes */
+    if (sp->compound_bodies == 0 && !world->def.enable_continuous) {
+        return b->shape_capacity > 0 ? KG_OK : kg_cl_size_shapes(b, sp, 1); /* read by no kernel yet */
+    }
+    if (b->shape_capacity < sp->capacity || b->shape_capacity == 1 || (sp->geometry && !b->shape_geometry_held)) {
+        KG_TRY(kg_cl_size_shapes(b, sp, sp->capacity));
+    }
+    if (b->shape_version == sp->version) {
+        return KG_OK;
+    }
+    size_t n = (size_t)sp->high_water;
+    const struct {
+        cl_mem buffer;
+        const void* data;
+        size_t size;
+    } list[] = {
+        {b->shape_next, sp->next, n * sizeof *sp->next},
+        {b->shape_flags, sp->flags, n * sizeof *sp->flags},
+        {b->shape_geometry, sp->geometry, n * sizeof *sp->geometry},
+        {b->shape_category, sp->category, n * sizeof *sp->category},
+        {b->shape_mask, sp->mask, n * sizeof *sp->mask},
+        {b->shape_friction, sp->friction, n * sizeof *sp->friction},
+        {b->shape_restitution, sp->restitution, n * sizeof *sp->restitution},
+    };
+    for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
+        if (list[k].data) { /* no geometry before the first compound body: one-shape bodies' is the body pool's */
+            KG_TRY(kg_cl_write(b, list[k].buffer, 0, list[k].size, list[k].data, 1));
+        }
+    }
+    b->shape_version = sp->version;
+    return KG_OK;
+}
+
 static void kg_cl_release_contact_buffers(kg_cl_backend* b)
 {
     kg_cl_collide_buffers* c = &b->collide;
     cl_mem* list[] = {&b->contacts[0], &b->contacts[1], &b->constraints, &b->colored, &b->order,
                       &c->raw_pairs, &c->pairs, &c->manifolds, &c->bases, &c->touching, &c->colors,
-                      &c->color_items, &c->sorted_colors};
+                      &c->color_items, &c->sorted_colors, &c->shape_run, &c->shape_items, &c->item_pairs};
     for (int k = 0; k < (int)(sizeof list / sizeof list[0]); ++k) {
         kg_cl_release(b, list[k]);
     }
@@ -543,6 +612,9 @@ kg_result kg_cl_reserve_contacts(kg_cl_backend* b, int capacity)
         {&c->colors, n * words},
         {&c->color_items, n * words},
         {&c->sorted_colors, n * words},
+        {&c->shape_run, (n + 1) * words},
+        {&c->shape_items, n * 4u * words},
+        {&c->item_pairs, n * 2u * words},
     };
     kg_result r = kg_cl_buffers(b, list, (int)(sizeof list / sizeof list[0]));
     if (r == KG_OK) {
@@ -634,6 +706,7 @@ void kg_cl_close_device(kg_cl_backend* b)
     kg_cl_release(b, &b->island_parent);
     kg_cl_release(b, &b->island_least);
     kg_cl_release_contact_buffers(b);
+    kg_cl_release_shapes(b);
     kg_cl_collide_buffers* c = &b->collide;
     cl_mem* list[] = {&c->counts, &c->proxies, &c->sorted, &c->keys, &c->items, &c->large_keys,
                       &c->large_items, &c->key_scratch, &c->item_scratch, &c->found, &c->histogram, &c->grid,

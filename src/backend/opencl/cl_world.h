@@ -32,7 +32,8 @@
     X(INV_MASS, inv_mass, 0) X(INV_INERTIA, inv_inertia, 0)                     \
     X(LINEAR_DAMPING, linear_damping, 0) X(ANGULAR_DAMPING, angular_damping, 0) \
     X(FRICTION, friction, 0) X(RESTITUTION, restitution, 0)                     \
-    X(CATEGORY, category, 0) X(MASK, mask, 0) X(GENERATION, generation, 0)
+    X(CATEGORY, category, 0) X(MASK, mask, 0) X(GENERATION, generation, 0)     \
+    X(FIRST_SHAPE, first_shape, 0) X(SHAPE_COUNT, shape_count, 0)
 
 typedef enum kg_cl_array {
 #define KG_CL_ARRAY_ENUM(id, member, state) KG_CL_##id,
@@ -55,22 +56,24 @@ typedef enum kg_cl_array {
     X(STORE_BODIES, kg_store_bodies, 11) X(PREPARE_CONTACTS, kg_prepare_contacts, 9)                          \
     X(GATHER_COLORED, kg_gather_colored, 4) X(SOLVE_COLOR, kg_solve_color, 7)                                 \
     X(SOLVE_COLORS_IN_GROUP, kg_solve_colors_in_group, 5) X(STORE_IMPULSES, kg_store_impulses, 3)             \
-    X(FINALIZE, kg_finalize, 26) X(SCAN_BLOCKS, kg_scan_blocks, 4) X(SCAN_APPLY, kg_scan_apply, 7)            \
+    X(FINALIZE, kg_finalize, 32) X(SCAN_BLOCKS, kg_scan_blocks, 4) X(SCAN_APPLY, kg_scan_apply, 7)            \
     X(SORT_COUNT, kg_sort_count, 6) X(SORT_SCATTER, kg_sort_scatter, 9) X(BP_CLEAR, kg_bp_clear, 3)           \
     X(BP_PROXIES, kg_bp_proxies, 11) X(BP_CELLS, kg_bp_cells, 2) X(BP_BOUNDS, kg_bp_bounds, 4)                \
     X(BP_BUILD_GRID, kg_bp_build_grid, 2) X(BP_KEYS, kg_bp_keys, 7) X(BP_GATHER, kg_bp_gather, 7)             \
     X(BP_COUNT_PAIRS, kg_bp_count_pairs, 8) X(BP_WRITE_PAIRS, kg_bp_write_pairs, 10)                          \
     X(BP_COUNT_RUNS, kg_bp_count_runs, 3) X(BP_SCATTER, kg_bp_scatter, 5)                                     \
-    X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 13)                                    \
-    X(BUILD_CONTACTS, kg_build_contacts, 11) X(COLOR_CONTACTS, kg_color_contacts, 7)                          \
+    X(BP_SORT_RUNS, kg_bp_sort_runs, 3) X(NARROWPHASE, kg_narrowphase, 14)                                    \
+    X(BUILD_CONTACTS, kg_build_contacts, 12) X(COLOR_CONTACTS, kg_color_contacts, 7)                          \
     X(RESET_COLORS, kg_reset_colors, 8) X(KEEP_COLORS, kg_keep_colors, 5)                                     \
     X(BID_COLORS, kg_bid_colors, 6) X(TAKE_COLORS, kg_take_colors, 10)                                        \
-    X(COLOR_RANGES, kg_color_ranges, 3) X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 23)                    \
+    X(COLOR_RANGES, kg_color_ranges, 3) X(TILE_COLLIDE_BODIES, kg_tile_collide_bodies, 32)                    \
     X(TILE_TOTAL, kg_tile_total, 2) X(WAKE_TOUCHED, kg_wake_touched, 8)                                       \
     X(WAKE_MARKED, kg_wake_marked, 5) X(FIND_ISLANDS, kg_find_islands, 9)                                     \
     X(RESET_ISLANDS, kg_reset_islands, 4) X(HOOK_ROUND, kg_hook_round, 6)                                     \
     X(SHORTEN_ISLANDS, kg_shorten_islands, 2) X(ISLAND_LEAST, kg_island_least, 5)                             \
-    X(ISLAND_STIRS, kg_island_stirs, 7) X(FALL_ASLEEP, kg_fall_asleep, 14)
+    X(ISLAND_STIRS, kg_island_stirs, 7) X(FALL_ASLEEP, kg_fall_asleep, 14)                                    \
+    X(COUNT_SHAPE_PAIRS, kg_count_shape_pairs, 16) X(WRITE_SHAPE_PAIRS, kg_write_shape_pairs, 18)             \
+    X(NARROWPHASE_SHAPES, kg_narrowphase_shapes, 20) X(BUILD_SHAPE_CONTACTS, kg_build_shape_contacts, 11)
 
 typedef enum kg_cl_kernel_id {
 #define KG_CL_KERNEL_ENUM(id, name, args) KG_CL_K_##id,
@@ -142,6 +145,9 @@ typedef struct kg_cl_collide_buffers {
     cl_mem manifolds;      /* one per pair */
     cl_mem bases;          /* one per pair: the manifold as computed (collide/recycle.h) */
     cl_mem touching;       /* per pair, then its prefix sum: the contact index (pairs + 1) */
+    cl_mem shape_run;      /* per pair, then its prefix sum: its pairs of shapes (pairs + 1) */
+    cl_mem shape_items;    /* the pairs of shapes (kg_shape_pair), while a body has several */
+    cl_mem item_pairs;     /* each one's two bodies (uint2), what the wake stage reads */
     cl_mem colors;         /* colour per contact */
     cl_mem color_items;    /* per contact, its index: what the sort by colour carries */
     cl_mem sorted_colors;  /* the colours sorted */
@@ -166,6 +172,14 @@ typedef struct kg_cl_backend {
     cl_mem color_start;                   /* kg_graph_coloring.color_start of the step */
     int contact_capacity;
     kg_cl_collide_buffers collide;
+    /* the shape pool (core/shape_pool.h) while a body has several shapes: uploaded whole
+     * when the host's changed, grown with it; one element each before */
+    cl_mem shape_next, shape_flags, shape_geometry, shape_category, shape_mask, shape_friction, shape_restitution;
+    int shape_capacity;   /* slots the shape buffers hold */
+    int shape_geometry_held; /* whether shape_geometry holds them too (it waits for the first compound body) */
+    unsigned shape_version; /* of the host's pool they hold */
+    cl_mem step_pair_list; /* this step's items' bodies (uint2 each), step_pairs of them: the
+                            * pairs, or the pairs of shapes' bodies */
     int color_serial_max;                 /* contacts coloured by one work-item at most */
     int island_group_max;                 /* bodies whose islands one work-group finds at most */
     cl_mem targets;                       /* applicator targets (solve/force_body.h), max_bodies */
@@ -236,6 +250,9 @@ size_t kg_cl_pick_group_size(kg_cl_backend* b, cl_kernel kernel);
 
 /* A buffer of size bytes (KGYRO_CL_FAIL=alloc counts here). */
 kg_result kg_cl_buffer(kg_cl_backend* b, size_t size, cl_mem* out);
+/* The shape pool on the device as the host's is (at least its capacity, its contents
+ * when a body has several shapes). */
+kg_result kg_cl_sync_shapes(kg_cl_backend* b, const kg_world* world);
 /* Grows the contact buffers to hold capacity contacts (only when a step finds more than
  * ever before: the collide stage grows its pool then too). */
 kg_result kg_cl_reserve_contacts(kg_cl_backend* b, int capacity);
@@ -270,6 +287,12 @@ typedef struct kg_cl_kernel_arg {
 #define KG_FLOAT(v) {sizeof(cl_float), &(cl_float){(v)}}
 /* a struct passed by value (a shared header's, laid out alike on both sides) */
 #define KG_VALUE(lvalue) {sizeof(lvalue), &(lvalue)}
+
+/* The shape arrays, in kg_shape_arrays' order (collide/pair_contact.h), as the kernels
+ * that read a body's shapes take them. */
+#define KG_SHAPE_ARGS(b)                                                                                        \
+    KG_MEM(KG_A(SHAPE_COUNT)), KG_MEM(KG_A(FIRST_SHAPE)), KG_MEM(KG_A(SHAPE)), KG_MEM((b)->shape_geometry),      \
+        KG_MEM((b)->shape_next), KG_MEM((b)->shape_flags), KG_MEM((b)->shape_category), KG_MEM((b)->shape_mask)
 
 /* The launch convention, the only one: every argument of the kernel set in order at the
  * call site, then the kernel launched over items work-items (rounded up to its work-group

@@ -16,7 +16,8 @@
 #define KG_CC_BODY_CONTACTS 3 /* the touching pairs, the first contacts */
 #define KG_CC_WAITING 4       /* contacts left uncoloured by a colouring round, 2 words */
 #define KG_CC_HOOKED 6        /* islands hooked by a round of the sleep stage, 2 words */
-#define KG_CC_WORDS 8
+#define KG_CC_SHAPE_PAIRS 8   /* while a body has several shapes: the pairs of shapes */
+#define KG_CC_WORDS 9
 
 /* The broadphase's words on the device: the grid's bounds (collide/broadphase_grid.h),
  * then how many boxes are small and how many large (where their sorted keys end). */

@@ -117,26 +117,30 @@ __kernel void kg_store_impulses(int count, __global const kg_contact_constraint*
 
 /* Finalize pass `pass` (collide/continuous.h): with continuous collision on, a body that
  * takes part is first moved back to its time of impact (its extents computed here, the
- * CPU keeps them per slot: the same function of the shape). */
+ * CPU keeps them per slot: the same function of the shapes). The shape arrays come in
+ * kg_shape_arrays' order. */
 __kernel void kg_finalize(int count, float dt, int pass, int continuous, kg_toi_params prm, __global kg_u32* flags,
                           __global kg_vec2* center, __global kg_rot* rot, __global kg_vec2* velocity,
                           __global float* omega, __global kg_vec2* force, __global float* torque, __global float* drag,
                           __global kg_xf* xf, __global kg_aabb* aabb, __global const kg_shape* shape,
-                          __global const kg_vec2* local_center, __global const kg_u32* category,
-                          __global const kg_u32* mask, __global const kg_static_entry* statics, int static_count, int large_count,
-                          __global const kg_tile_map_info* maps, __global const kg_u32* cells,
-                          __global const kg_tile_proto* protos, int map_count)
+                          __global const kg_vec2* local_center, __global const kg_static_entry* statics,
+                          int static_count, int large_count, __global const kg_tile_map_info* maps,
+                          __global const kg_u32* cells, __global const kg_tile_proto* protos, int map_count,
+                          __global const kg_u32* shape_count, __global const kg_u32* first_shape,
+                          __global const kg_shape* body_shape, __global const kg_shape* geometry, __global const kg_u32* next,
+                          __global const kg_u32* shape_flags, __global const kg_u32* shape_category,
+                          __global const kg_u32* shape_mask)
 {
     int i = (int)get_global_id(0);
     if (i >= count || !kg_finalized_in_pass(flags[i], continuous, pass)) {
         return;
     }
     if (continuous && kg_continuous_takes(flags[i], pass)) {
-        kg_continuous_bodies b = {flags, velocity, omega, center, rot, xf, aabb, shape, local_center, category, mask,
-                                  statics, static_count, large_count, count};
+        kg_shape_arrays s = {shape_count, first_shape, body_shape, geometry, next, shape_flags, shape_category, shape_mask};
+        kg_continuous_bodies b = {flags,   velocity,     omega,       center,      rot,   xf, aabb,
+                                  local_center, statics, static_count, large_count, count, s};
         kg_tile_terrain t = {maps, cells, protos, map_count, 0.0f, 0.0f};
-        KG_PRIVATE_VIEW(kg_shape, s, shape[i]);
-        kg_continuous_body(&b, &t, (kg_u32)i, pass, prm, dt, kg_shape_extents(s, local_center[i]));
+        kg_continuous_body(&b, &t, (kg_u32)i, pass, prm, dt, kg_body_extents(&s, (kg_u32)i, local_center[i]));
     }
     kg_finalize_body((kg_u32)i, dt, flags, center, rot, velocity, omega, force, torque, drag, xf, aabb, shape,
                      local_center);
