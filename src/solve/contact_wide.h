@@ -27,9 +27,10 @@ KG_STATIC_ASSERT(sizeof(kg_lane_impulses) == 8 * sizeof(float), lane_impulses_ar
 typedef struct kg_contact_rows {
     int width;
     size_t block_size; /* bytes of a block of width rows */
-    /* Prepares block `block` from width consecutive heads and inputs. */
+    /* Prepares lanes [first, end) of block `block` from width consecutive heads and inputs
+     * (all width lanes are read); its other lanes are left as they are. */
     void (*prepare)(void* blocks, int block, const kg_row_head* heads, const kg_prepare_input* inputs,
-                    kg_solver_params prm);
+                    kg_solver_params prm, int first, int end);
     /* The impulses and approach speeds of blocks [begin, end), lane by lane, into out
      * (block * width + lane). */
     void (*unpack_impulses)(const void* blocks, int begin, int end, kg_lane_impulses* out);

@@ -70,11 +70,28 @@ KG_STATIC_ASSERT(sizeof(KG_ROWFN(kg_prepare_input)) == KG_PREPARE_INPUT_FLOATS *
                  prepare_input_is_lanes_of_floats);
 KG_STATIC_ASSERT(KG_PREPARE_INPUT_FLOATS % KG_W == 0, prepare_input_in_whole_transposes);
 
-/* Block `block` from the heads and inputs of its width constraints. */
-static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_row_head* heads, const kg_prepare_input* inputs,
-                                kg_solver_params prm)
+KG_STATIC_ASSERT(sizeof(kg_wrow) % sizeof(kg_lane) == 0, row_is_fields_of_lanes);
+
+/* Lanes [first, end) of row `from` into row `to`: every field of a row is W lanes of 4
+ * bytes. Only those lanes' bytes are written (another thread may write the others). */
+static inline void KG_WIDE(kg_copy_lanes)(kg_wrow* to, const kg_wrow* from, int first, int end)
 {
-    kg_wrow* r = (kg_wrow*)blocks + block;
+    unsigned char* out = (unsigned char*)to;
+    const unsigned char* in = (const unsigned char*)from;
+    for (size_t field = 0; field < sizeof(kg_wrow) / sizeof(kg_lane); ++field) {
+        size_t at = (field * KG_W + (size_t)first) * 4u;
+        memcpy(out + at, in + at, (size_t)(end - first) * 4u);
+    }
+}
+
+/* Lanes [first, end) of block `block` from the heads and inputs of its width constraints:
+ * the whole block prepared in place, or a part of it prepared aside and copied. */
+static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_row_head* heads, const kg_prepare_input* inputs,
+                                kg_solver_params prm, int first, int end)
+{
+    kg_wrow* whole = (kg_wrow*)blocks + block;
+    kg_wrow part;
+    kg_wrow* r = first == 0 && end == KG_W ? whole : &part;
     for (int lane = 0; lane < KG_W; ++lane) {
         const kg_row_head* h = &heads[lane];
         KG_LANE_OF(r->a, lane) = h->a;
@@ -99,6 +116,9 @@ static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_row_head* head
         KG_WIDE(kg_rows_to_lanes)(rows, fields + f);
     }
     KG_ROWFN(kg_contact_prepare_lanes)(r, &in, prm);
+    if (r == &part) {
+        KG_WIDE(kg_copy_lanes)(whole, &part, first, end);
+    }
 }
 
 /* An int lane's bits as a float lane's, to be moved with the floats. */
