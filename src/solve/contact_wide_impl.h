@@ -29,17 +29,6 @@ static inline void KG_WIDE(kg_rows_to_lanes)(const float* const rows[KG_W], kg_l
     }
 }
 
-/* Rows from lanes, the other way: rows (W rows of 8 floats, one after the other) get
- * float k of row l from lane l of columns[k]. */
-static inline void KG_WIDE(kg_lanes_to_rows8)(const kg_lane columns[8], float* rows)
-{
-    for (int lane = 0; lane < KG_W; ++lane) {
-        for (int k = 0; k < 8; ++k) {
-            rows[lane * 8 + k] = KG_LANE_OF(columns[k], lane);
-        }
-    }
-}
-
 /* Bit l set where lane l's `moves` column (as gathered) is not zero. */
 static inline unsigned KG_WIDE(kg_movers)(kg_lane moves)
 {
@@ -121,32 +110,12 @@ static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_row_head* head
     }
 }
 
-/* An int lane's bits as a float lane's, to be moved with the floats. */
-#if KG_W == 1
-static inline kg_lane KG_WIDE(kg_int_bits)(kg_lint v)
-{
-    kg_lane f;
-    memcpy(&f, &v, sizeof f);
-    return f;
-}
-#else
-static inline kg_lane KG_WIDE(kg_int_bits)(kg_lint v) { return (kg_lane)v; }
-#endif
-
-/* The impulses and approach speeds of blocks [begin, end), lane by lane, into out (a
- * transpose a block): written in order, where storing them into their contacts (in colour
- * order, scattered over megabytes) cost a cache miss a contact. */
-static void KG_WIDE(kg_unpack_impulses)(const void* blocks, int begin, int end, kg_lane_impulses* out)
-{
-    for (int block = begin; block < end; ++block) {
-        const kg_wrow* r = (const kg_wrow*)blocks + block;
-        const kg_lane columns[8] = {KG_WIDE(kg_int_bits)(r->point_count), r->points[0].normal_impulse,
-                                    r->points[1].normal_impulse,         r->points[0].tangent_impulse,
-                                    r->points[1].tangent_impulse,        r->points[0].relative_velocity,
-                                    r->points[1].relative_velocity,      KG_LZERO};
-        KG_WIDE(kg_lanes_to_rows8)(columns, (float*)&out[block * KG_W]);
-    }
-}
+KG_STATIC_ASSERT(sizeof(kg_wrow) == KG_W * sizeof(kg_contact_constraint), row_is_the_constraint_widened);
+KG_STATIC_ASSERT(offsetof(kg_wrow, point_count) == KG_W * offsetof(kg_contact_constraint, point_count),
+                 row_point_count_widened);
+KG_STATIC_ASSERT(offsetof(kg_wrow, points[1].relative_velocity) ==
+                     KG_W * offsetof(kg_contact_constraint, points[1].relative_velocity),
+                 row_points_widened);
 
 #if KG_W <= KG_BODY_FLOATS
 /* The solver bodies of slots, a lane each, into the columns of their motions (column k's
@@ -206,5 +175,4 @@ static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bo
     }
 }
 
-const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_prepare), KG_WIDE(kg_unpack_impulses),
-                                                  KG_WIDE(kg_run)};
+const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_prepare), KG_WIDE(kg_run)};

@@ -34,7 +34,6 @@
 struct kg_solver {
     const kg_contact_rows* rows; /* the SIMD width's row code */
     void* blocks;                /* rows of width lanes, colour by colour: what the passes run over */
-    kg_lane_impulses* impulses;  /* per lane of the blocks: what the solve leaves, for the contacts */
     kg_row_head* heads;          /* per lane of the blocks: what prepare reads */
     kg_prepare_input* inputs;
     int block_capacity;
@@ -53,15 +52,13 @@ struct kg_solver {
 static kg_result kg_reserve_blocks(struct kg_solver* s, int blocks)
 {
     kg_free(s->blocks);
-    kg_free(s->impulses);
     kg_free(s->heads);
     kg_free(s->inputs);
     size_t lanes = (size_t)blocks * (size_t)s->rows->width;
     s->blocks = kg_alloc_zeroed((size_t)blocks * s->rows->block_size);
-    s->impulses = kg_alloc_zeroed(lanes * sizeof *s->impulses);
     s->heads = kg_alloc_zeroed(lanes * sizeof *s->heads);
     s->inputs = kg_alloc_zeroed(lanes * sizeof *s->inputs);
-    int ok = s->blocks && s->impulses && s->heads && s->inputs;
+    int ok = s->blocks && s->heads && s->inputs;
     s->block_capacity = ok ? blocks : 0;
     return ok ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d constraint blocks", blocks);
 }
@@ -117,7 +114,6 @@ void kg_solver_destroy(kg_world* world)
         return;
     }
     kg_free(s->blocks);
-    kg_free(s->impulses);
     kg_free(s->heads);
     kg_free(s->inputs);
     kg_free_constraints(s);
@@ -349,34 +345,41 @@ static void kg_prepare_chunks(void* context, int begin, int end)
     }
 }
 
-static void kg_unpack_impulses_range(void* context, int begin, int end)
-{
-    const kg_constraint_job* job = context;
-    job->solver->rows->unpack_impulses(job->solver->blocks, begin, end, job->solver->impulses);
-}
-
 /* Chunks [begin, end): the contacts, in their own order, take their impulses back for
- * warm starting the next step (and the API): written in order, read from the lanes'
- * compact copy, found with a running count per colour as prepare found them. An empty
- * lane (nothing solved) leaves its contact's impulses as they were. */
+ * warm starting the next step (and the API), read from their lanes, found with a running
+ * count per colour as prepare found them: the writes a stream, the reads from a few
+ * blocks at a time (one per colour). An empty lane (nothing solved) leaves its contact's
+ * impulses as they were. */
 static void kg_store_impulses_range(void* context, int begin, int end)
 {
     const kg_constraint_job* job = context;
     const struct kg_solver* s = job->solver;
     const int* from = kg_chunk_start(s, begin);
+    int width = s->rows->width, shift = kg_lowest_bit((unsigned)width); /* a power of two */
     int lanes[KG_COLOR_COUNT + 1], steps[KG_COLOR_COUNT + 1];
     for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
         lanes[c] = kg_lane_at(s, c, from[c]);
-        steps[c] = c == KG_COLOR_COUNT ? s->rows->width : 1;
+        steps[c] = c == KG_COLOR_COUNT ? width : 1;
     }
+    size_t point_at[2] = {offsetof(kg_contact_constraint, points[0]), offsetof(kg_contact_constraint, points[1])};
     int last = end * KG_CHUNK < job->count ? end * KG_CHUNK : job->count;
     for (int k = begin * KG_CHUNK; k < last; ++k) {
-        int c = s->colors[k];
-        const kg_lane_impulses* in = &s->impulses[lanes[c]];
+        int c = s->colors[k], block = lanes[c] >> shift, lane = lanes[c] & (width - 1);
         lanes[c] += steps[c];
+        kg_i32 point_count;
+        memcpy(&point_count, kg_lane_field(s->blocks, s->rows, block, lane, offsetof(kg_contact_constraint, point_count)),
+               sizeof point_count);
         kg_manifold* m = &job->contacts[k].manifold;
-        for (int j = 0; j < in->point_count; ++j) {
-            kg_store_point(&m->points[j], in->normal_impulse[j], in->tangent_impulse[j], in->relative_velocity[j]);
+        for (int j = 0; j < point_count; ++j) {
+            float impulse[3]; /* normal, tangent, approach speed */
+            size_t fields[3] = {offsetof(kg_constraint_point, normal_impulse),
+                                offsetof(kg_constraint_point, tangent_impulse),
+                                offsetof(kg_constraint_point, relative_velocity)};
+            for (int f = 0; f < 3; ++f) {
+                memcpy(&impulse[f], kg_lane_field(s->blocks, s->rows, block, lane, point_at[j] + fields[f]),
+                       sizeof impulse[f]);
+            }
+            kg_store_point(&m->points[j], impulse[0], impulse[1], impulse[2]);
         }
     }
 }
@@ -452,7 +455,6 @@ void kg_stage_solve(kg_world* world, float dt)
         kg_warn_once("solver-grow", "out of memory for contact constraints: contacts ignored this step");
     }
     int blocks = s->block_start[KG_COLOR_COUNT + 1];
-    int grain = KG_CONSTRAINT_GRAIN / s->rows->width;
     if (blocks > 0) { /* else there are no contacts, or no rows to put them in */
         kg_parallel_for(world->threads, s->chunks, 1, kg_prepare_chunks, &cjob);
     }
@@ -467,7 +469,6 @@ void kg_stage_solve(kg_world* world, float dt)
         kg_constraint_pass_run(world, &cjob, KG_PASS_RESTITUTION);
     }
     if (blocks > 0) {
-        kg_parallel_for(world->threads, blocks, grain, kg_unpack_impulses_range, &cjob);
         kg_parallel_for(world->threads, s->chunks, 1, kg_store_impulses_range, &cjob);
     }
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_store_bodies, &bjob);
