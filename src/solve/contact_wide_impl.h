@@ -59,28 +59,29 @@ KG_STATIC_ASSERT(sizeof(KG_ROWFN(kg_prepare_input)) == KG_PREPARE_INPUT_FLOATS *
                  prepare_input_is_lanes_of_floats);
 KG_STATIC_ASSERT(KG_PREPARE_INPUT_FLOATS % KG_W == 0, prepare_input_in_whole_transposes);
 
-KG_STATIC_ASSERT(sizeof(kg_wrow) % sizeof(kg_lane) == 0, row_is_fields_of_lanes);
+extern const kg_contact_rows KG_WIDE(kg_contact_rows);
 
-/* Lanes [first, end) of row `from` into row `to`: every field of a row is W lanes of 4
- * bytes. Only those lanes' bytes are written (another thread may write the others). */
-static inline void KG_WIDE(kg_copy_lanes)(kg_wrow* to, const kg_wrow* from, int first, int end)
+/* Block `block` from the heads and inputs staged in it (contact_wide.h): the heads copied
+ * out and the inputs moved into lanes, all of them read before the rows are written over
+ * them. */
+static void KG_WIDE(kg_prepare)(void* blocks, int block, kg_solver_params prm)
 {
-    unsigned char* out = (unsigned char*)to;
-    const unsigned char* in = (const unsigned char*)from;
-    for (size_t field = 0; field < sizeof(kg_wrow) / sizeof(kg_lane); ++field) {
-        size_t at = (field * KG_W + (size_t)first) * 4u;
-        memcpy(out + at, in + at, (size_t)(end - first) * 4u);
+    const kg_contact_rows* rows = &KG_WIDE(kg_contact_rows);
+    const kg_prepare_input* inputs = kg_staged_input(blocks, rows, block, 0);
+    kg_row_head heads[KG_W];
+    memcpy(heads, kg_staged_head(blocks, rows, block, 0), sizeof heads);
+    /* the inputs, all floats in the same order at every width, W fields at a time */
+    KG_ROWFN(kg_prepare_input) in;
+    kg_lane* fields = (kg_lane*)&in;
+    for (int f = 0; f < KG_PREPARE_INPUT_FLOATS; f += KG_W) {
+        const float* lanes[KG_W];
+        for (int lane = 0; lane < KG_W; ++lane) {
+            lanes[lane] = (const float*)&inputs[lane] + f;
+        }
+        KG_WIDE(kg_rows_to_lanes)(lanes, fields + f);
     }
-}
-
-/* Lanes [first, end) of block `block` from the heads and inputs of its width constraints:
- * the whole block prepared in place, or a part of it prepared aside and copied. */
-static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_row_head* heads, const kg_prepare_input* inputs,
-                                kg_solver_params prm, int first, int end)
-{
-    kg_wrow* whole = (kg_wrow*)blocks + block;
-    kg_wrow part;
-    kg_wrow* r = first == 0 && end == KG_W ? whole : &part;
+    __asm__ __volatile__("" ::: "memory"); /* no read of the sources moved below a write of the rows */
+    kg_wrow* r = (kg_wrow*)blocks + block;
     for (int lane = 0; lane < KG_W; ++lane) {
         const kg_row_head* h = &heads[lane];
         KG_LANE_OF(r->a, lane) = h->a;
@@ -94,20 +95,7 @@ static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_row_head* head
         KG_LANE_OF(r->inv_mass_b, lane) = h->inv_mass_b;
         KG_LANE_OF(r->inv_i_b, lane) = h->inv_i_b;
     }
-    /* the inputs, all floats in the same order at every width, W fields at a time */
-    KG_ROWFN(kg_prepare_input) in;
-    kg_lane* fields = (kg_lane*)&in;
-    for (int f = 0; f < KG_PREPARE_INPUT_FLOATS; f += KG_W) {
-        const float* rows[KG_W];
-        for (int lane = 0; lane < KG_W; ++lane) {
-            rows[lane] = (const float*)&inputs[lane] + f;
-        }
-        KG_WIDE(kg_rows_to_lanes)(rows, fields + f);
-    }
     KG_ROWFN(kg_contact_prepare_lanes)(r, &in, prm);
-    if (r == &part) {
-        KG_WIDE(kg_copy_lanes)(whole, &part, first, end);
-    }
 }
 
 KG_STATIC_ASSERT(sizeof(kg_wrow) == KG_W * sizeof(kg_contact_constraint), row_is_the_constraint_widened);

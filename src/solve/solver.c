@@ -34,8 +34,7 @@
 struct kg_solver {
     const kg_contact_rows* rows; /* the SIMD width's row code */
     void* blocks;                /* rows of width lanes, colour by colour: what the passes run over */
-    kg_row_head* heads;          /* per lane of the blocks: what prepare reads */
-    kg_prepare_input* inputs;
+    atomic_int* filled;          /* per block: the lanes staged so far by the ranges sharing it; 0 between steps */
     int block_capacity;
     int block_start[KG_COLOR_COUNT + 2]; /* colour c's blocks are [block_start[c], block_start[c+1]) */
     int* colors;                         /* per contact: its colour, KG_COLOR_COUNT for the overflow */
@@ -52,13 +51,10 @@ struct kg_solver {
 static kg_result kg_reserve_blocks(struct kg_solver* s, int blocks)
 {
     kg_free(s->blocks);
-    kg_free(s->heads);
-    kg_free(s->inputs);
-    size_t lanes = (size_t)blocks * (size_t)s->rows->width;
+    kg_free(s->filled);
     s->blocks = kg_alloc_zeroed((size_t)blocks * s->rows->block_size);
-    s->heads = kg_alloc_zeroed(lanes * sizeof *s->heads);
-    s->inputs = kg_alloc_zeroed(lanes * sizeof *s->inputs);
-    int ok = s->blocks && s->heads && s->inputs;
+    s->filled = kg_alloc_zeroed((size_t)blocks * sizeof *s->filled);
+    int ok = s->blocks && s->filled;
     s->block_capacity = ok ? blocks : 0;
     return ok ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d constraint blocks", blocks);
 }
@@ -114,8 +110,7 @@ void kg_solver_destroy(kg_world* world)
         return;
     }
     kg_free(s->blocks);
-    kg_free(s->heads);
-    kg_free(s->inputs);
+    kg_free(s->filled);
     kg_free_constraints(s);
     kg_free(s->bodies);
     kg_free(s->velocity_steps);
@@ -226,8 +221,8 @@ static void kg_empty_source(kg_u32 still, kg_row_head* head, kg_prepare_input* i
  * the rows name them: the still body for the static world and for an empty lane. Not
  * inlined: in kg_prepare_chunks' loop it spilled registers (some 30 instructions a
  * contact more, measured with callgrind). */
-static __attribute__((noinline)) void kg_prepare_source_of(const kg_constraint_job* job, int k, kg_row_head* head,
-                                                           kg_prepare_input* in)
+KG_FN_NOINLINE void kg_prepare_source_of(const kg_constraint_job* job, int k, kg_row_head* head,
+                                          kg_prepare_input* in)
 {
     const kg_body_pool* p = job->pool;
     kg_u32 still = job->solver->still;
@@ -265,32 +260,6 @@ static void kg_count_colors(struct kg_solver* s, int count)
     }
 }
 
-/* Lanes [first, end) of block `block` prepared: those before `live` from their sources,
- * the rest empty (past a colour's end). The block's other lanes are a neighbouring
- * range's, written by it (perhaps meanwhile): they are read as empty and left as they are. */
-static void kg_prepare_block(const kg_constraint_job* job, int block, int first, int live, int end)
-{
-    const struct kg_solver* s = job->solver;
-    int width = s->rows->width;
-    const kg_row_head* heads = &s->heads[block * width];
-    const kg_prepare_input* inputs = &s->inputs[block * width];
-    if (first == 0 && live == width) {
-        s->rows->prepare(s->blocks, block, heads, inputs, job->prm, 0, width);
-        return;
-    }
-    kg_row_head lane_heads[KG_MAX_LANES];
-    kg_prepare_input lane_inputs[KG_MAX_LANES];
-    for (int lane = 0; lane < width; ++lane) {
-        if (lane >= first && lane < live) {
-            lane_heads[lane] = heads[lane];
-            lane_inputs[lane] = inputs[lane];
-        } else {
-            kg_empty_source(s->still, &lane_heads[lane], &lane_inputs[lane]);
-        }
-    }
-    s->rows->prepare(s->blocks, block, lane_heads, lane_inputs, job->prm, first, end);
-}
-
 /* Where a range of chunks writes a colour's constraints: the lane (block * width + lane)
  * of the next one, how far the next one's is (1, or a block for the overflow's), the
  * lane past the range's last one, and the first lane of the current block it holds. */
@@ -306,19 +275,50 @@ static int kg_lane_at(const struct kg_solver* s, int c, int at)
     return s->block_start[c] * width + (c == KG_COLOR_COUNT ? at * width : at);
 }
 
+/* Block `block` prepared once the lanes [first, end) that a range of chunks holds of it
+ * are staged: at once where they are all of its lanes, else by whichever of the ranges
+ * sharing it (where one's constraints of a colour end and the next's begin) stages its
+ * last lanes; the count of lanes staged passes the others' writes on to it. */
+static void kg_prepare_when_staged(const kg_constraint_job* job, int block, int first, int end)
+{
+    const struct kg_solver* s = job->solver;
+    int width = s->rows->width, lanes = end - first;
+    if (lanes < width && atomic_fetch_add_explicit(&s->filled[block], lanes, memory_order_acq_rel) + lanes < width) {
+        return;
+    }
+    atomic_store_explicit(&s->filled[block], 0, memory_order_relaxed); /* for the next step */
+    s->rows->prepare(s->blocks, block, job->prm);
+}
+
+/* A range's part of the block of `lane` (the lane it staged last) staged: the empty
+ * lanes after a colour's last constraint staged too, and the block prepared when it can
+ * be. Out of line, as it runs once a block: the contacts' loop keeps fewer values alive
+ * across its calls. */
+KG_FN_NOINLINE void kg_close_block(const kg_constraint_job* job, kg_color_cursor* at, int lane)
+{
+    const struct kg_solver* s = job->solver;
+    int width = s->rows->width, block = lane / width;
+    int full = (at->lane & (width - 1)) == 0;
+    int staged = full || at->holds_end ? width : lane % width + 1;
+    for (int empty = lane % width + 1; empty < staged; ++empty) {
+        kg_empty_source(s->still, kg_staged_head(s->blocks, s->rows, block, empty),
+                        kg_staged_input(s->blocks, s->rows, block, empty));
+    }
+    kg_prepare_when_staged(job, block, at->first, staged);
+    at->first = 0;
+}
+
 /* Chunks [begin, end): the contacts, read in their own order (a stream, where reading
- * them in colour order jumps through megabytes), give their sources at their lanes, and
- * a block is prepared as soon as the last of its lanes that this range holds is written,
- * its sources still in the cache. A block that two ranges share (where one's constraints
- * of a colour end and the next's begin) is prepared by each for its own lanes; the range
- * with a colour's last constraint prepares the empty lanes after it. The width is a
- * power of two. */
+ * them in colour order jumps through megabytes), stage their sources in their lanes, and
+ * a block is prepared as soon as its lanes are staged, its sources still in the cache.
+ * The range with a colour's last constraint stages the empty lanes after it. The width
+ * is a power of two. */
 static void kg_prepare_chunks(void* context, int begin, int end)
 {
     const kg_constraint_job* job = context;
     const struct kg_solver* s = job->solver;
     const int *from = kg_chunk_start(s, begin), *to = kg_chunk_start(s, end), *sizes = kg_chunk_start(s, s->chunks);
-    int width = s->rows->width;
+    int width = s->rows->width, shift = kg_lowest_bit((unsigned)width);
     kg_color_cursor cursors[KG_COLOR_COUNT + 1];
     for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
         kg_color_cursor* at = &cursors[c];
@@ -328,19 +328,18 @@ static void kg_prepare_chunks(void* context, int begin, int end)
         at->first = at->lane & (width - 1);
         at->holds_end = to[c] == sizes[c];
     }
-    kg_row_head* heads = s->heads;
-    kg_prepare_input* inputs = s->inputs;
+    void* blocks = s->blocks;
+    const kg_contact_rows* rows = s->rows;
+    const int* colors = s->colors;
     int last = end * KG_CHUNK < job->count ? end * KG_CHUNK : job->count;
     for (int k = begin * KG_CHUNK; k < last; ++k) {
-        kg_color_cursor* at = &cursors[s->colors[k]];
-        int lane = at->lane;
-        kg_prepare_source_of(job, k, &heads[lane], &inputs[lane]);
+        kg_color_cursor* at = &cursors[colors[k]];
+        int lane = at->lane, block = lane >> shift, in_block = lane & (width - 1);
+        kg_prepare_source_of(job, k, kg_staged_head(blocks, rows, block, in_block),
+                             kg_staged_input(blocks, rows, block, in_block));
         at->lane = lane + at->step;
-        int fills_block = (at->lane & (width - 1)) == 0;
-        if (fills_block || at->lane == at->stop) {
-            int live = (lane & (width - 1)) + 1;
-            kg_prepare_block(job, lane / width, at->first, live, fills_block || at->holds_end ? width : live);
-            at->first = 0;
+        if ((at->lane & (width - 1)) == 0 || at->lane == at->stop) {
+            kg_close_block(job, at, lane);
         }
     }
 }
