@@ -17,7 +17,7 @@ static inline kg_vf kg_join_w16(__m256 lo, __m256 hi)
     return (kg_vf)_mm512_castpd_ps(joined);
 }
 
-/* Eight columns from 16 rows of 8 floats at offset: lane l of out[k] is rows[l][offset + k]. */
+/* Eight columns from 16 rows at offset: lane l of out[k] is rows[l][offset + k], k < 8. */
 static inline void kg_rows8_to_lanes_w16(const float* const rows[16], int offset, kg_vf out[8])
 {
     __m256 lo[8], hi[8];
@@ -79,4 +79,5 @@ static inline void kg_columns_to_rows_w16(kg_solver_body* bodies, kg_vu slots, u
 }
 
 #define KG_TRANSPOSES
+#define KG_ROWS8_TO_LANES
 #include "solve/contact_wide_impl.h"

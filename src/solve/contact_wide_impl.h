@@ -59,17 +59,46 @@ KG_STATIC_ASSERT(sizeof(KG_ROWFN(kg_prepare_input)) == KG_PREPARE_INPUT_FLOATS *
                  prepare_input_is_lanes_of_floats);
 KG_STATIC_ASSERT(KG_PREPARE_INPUT_FLOATS % KG_W == 0, prepare_input_in_whole_transposes);
 
+#if KG_W > 1 && !defined(KG_ROWS8_TO_LANES)
+KG_STATIC_ASSERT(8 % KG_W == 0, eight_floats_in_whole_transposes);
+/* Eight columns from W rows at offset: lane l of out[k] is rows[l][offset + k], k < 8, W
+ * floats at a time. (A width wider than 8 brings its own: KG_ROWS8_TO_LANES.) */
+static inline void KG_WIDE(kg_rows8_to_lanes)(const float* const rows[KG_W], int offset, kg_lane out[8])
+{
+    for (int f = 0; f < 8; f += KG_W) {
+        const float* part[KG_W];
+        for (int lane = 0; lane < KG_W; ++lane) {
+            part[lane] = rows[lane] + offset + f;
+        }
+        KG_WIDE(kg_rows_to_lanes)(part, out + f);
+    }
+}
+#endif
+
+/* A head's first eight fields are moved into lanes as floats, its last two one at a time. */
+KG_STATIC_ASSERT(offsetof(kg_row_head, inv_i_a) == 7 * sizeof(float), head_starts_with_eight_fields);
+
 extern const kg_contact_rows KG_WIDE(kg_contact_rows);
 
-/* Block `block` from the heads and inputs staged in it (contact_wide.h): the heads copied
- * out and the inputs moved into lanes, all of them read before the rows are written over
- * them. */
+/* Block `block` from the heads and inputs staged in it (contact_wide.h), moved into lanes
+ * by the width's transposes, all of them read before the rows are written over them. */
 static void KG_WIDE(kg_prepare)(void* blocks, int block, kg_solver_params prm)
 {
     const kg_contact_rows* rows = &KG_WIDE(kg_contact_rows);
+    const kg_row_head* heads = kg_staged_head(blocks, rows, block, 0);
     const kg_prepare_input* inputs = kg_staged_input(blocks, rows, block, 0);
-    kg_row_head heads[KG_W];
-    memcpy(heads, kg_staged_head(blocks, rows, block, 0), sizeof heads);
+#if KG_W == 1
+    kg_row_head head = heads[0];
+#else
+    kg_lane head[8], inv_mass_b, inv_i_b; /* a, b, contact, point_count, friction, restitution, inv_mass_a, inv_i_a */
+    const float* head_rows[KG_W];
+    for (int lane = 0; lane < KG_W; ++lane) {
+        head_rows[lane] = (const float*)&heads[lane];
+        KG_LANE_OF(inv_mass_b, lane) = heads[lane].inv_mass_b;
+        KG_LANE_OF(inv_i_b, lane) = heads[lane].inv_i_b;
+    }
+    KG_WIDE(kg_rows8_to_lanes)(head_rows, 0, head);
+#endif
     /* the inputs, all floats in the same order at every width, W fields at a time */
     KG_ROWFN(kg_prepare_input) in;
     kg_lane* fields = (kg_lane*)&in;
@@ -82,19 +111,20 @@ static void KG_WIDE(kg_prepare)(void* blocks, int block, kg_solver_params prm)
     }
     __asm__ __volatile__("" ::: "memory"); /* no read of the sources moved below a write of the rows */
     kg_wrow* r = (kg_wrow*)blocks + block;
-    for (int lane = 0; lane < KG_W; ++lane) {
-        const kg_row_head* h = &heads[lane];
-        KG_LANE_OF(r->a, lane) = h->a;
-        KG_LANE_OF(r->b, lane) = h->b;
-        KG_LANE_OF(r->contact, lane) = h->contact;
-        KG_LANE_OF(r->point_count, lane) = h->point_count;
-        KG_LANE_OF(r->friction, lane) = h->friction;
-        KG_LANE_OF(r->restitution, lane) = h->restitution;
-        KG_LANE_OF(r->inv_mass_a, lane) = h->inv_mass_a;
-        KG_LANE_OF(r->inv_i_a, lane) = h->inv_i_a;
-        KG_LANE_OF(r->inv_mass_b, lane) = h->inv_mass_b;
-        KG_LANE_OF(r->inv_i_b, lane) = h->inv_i_b;
-    }
+#if KG_W == 1
+    kg_constraint_head(r, &head);
+#else
+    r->a = (kg_lindex)head[0]; /* the bits, as they were staged */
+    r->b = (kg_lindex)head[1];
+    r->contact = (kg_lindex)head[2];
+    r->point_count = (kg_lint)head[3];
+    r->friction = head[4];
+    r->restitution = head[5];
+    r->inv_mass_a = head[6];
+    r->inv_i_a = head[7];
+    r->inv_mass_b = inv_mass_b;
+    r->inv_i_b = inv_i_b;
+#endif
     KG_ROWFN(kg_contact_prepare_lanes)(r, &in, prm);
 }
 
