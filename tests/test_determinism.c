@@ -8,7 +8,9 @@
  *
  * The scenes are big enough that the parallel loops are really split: more than 256
  * bodies (the body loops' grain) and colours of more than 64 constraints (the constraint
- * loops' grain), and they are violent (fast impacts, many new contacts every step).
+ * loops' grain), and they are violent (fast impacts, many new contacts every step); one
+ * small scene has a body with more contacts than there are colours, so that the overflow
+ * (solved serially, one constraint a block) is compared too.
  *
  *   test_determinism          the quick set (also run by the sanitizer build)
  *   test_determinism NAME...  the named tests (tests/cases/solver_slow.cmake runs the rest)
@@ -23,6 +25,7 @@
 #include "solve/contact_wide.h" /* white box: which SIMD widths this CPU runs */
 #include "kgyro/kgyro.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 #include <time.h>
@@ -132,6 +135,20 @@ static void pile_of_1000(kg_world* w)
         kg_shape_def shape = (i % 2 == 0) ? kg_box_shape(0.4f + 0.6f * rnd(), 0.4f + 0.6f * rnd())
                                           : kg_circle_shape(0.2f + 0.3f * rnd());
         add(w, KG_BODY_DYNAMIC, shape, p, angle, (kg_vec2){0, 0}, 1.0f);
+    }
+}
+
+/* A hub with more contacts than colours: a disc of radius 4 held 1 m above the ground,
+ * ringed by 48 small circles touching it, so that half of its contacts go to the overflow
+ * (solved serially, one constraint a block) until the ring falls away. */
+static void hub_and_ring(kg_world* w)
+{
+    add(w, KG_BODY_STATIC, kg_box_shape(40.0f, 1.0f), (kg_vec2){0.0f, -0.5f}, 0.0f, (kg_vec2){0, 0}, 1.0f);
+    add(w, KG_BODY_DYNAMIC, kg_circle_shape(4.0f), (kg_vec2){0.0f, 5.0f}, 0.0f, (kg_vec2){0, 0}, 1.0f);
+    for (int i = 0; i < 48; ++i) {
+        float angle = 6.2831853f * (float)i / 48.0f;
+        kg_vec2 p = {4.25f * cosf(angle), 5.0f + 4.25f * sinf(angle)};
+        add(w, KG_BODY_DYNAMIC, kg_circle_shape(0.25f), p, 0.0f, (kg_vec2){0, 0}, 1.0f);
     }
 }
 
@@ -285,11 +302,17 @@ static void test_pile_of_1000_same_bits_with_1_to_4_threads(void)
     same_bits_for_every_thread_count("pile of 1000 (seed 1234)", pile_of_1000, 240, 500);
 }
 
+static void test_hub_with_overflow_contacts_same_bits_with_1_to_4_threads(void)
+{
+    same_bits_for_every_thread_count("hub ringed by 48 circles (overflow colour)", hub_and_ring, 60, 20);
+}
+
 static const kg_test_case all_tests[] = {
     KG_TEST(test_pyramid_24_hit_by_ball_same_bits_with_1_to_4_threads),
+    KG_TEST(test_hub_with_overflow_contacts_same_bits_with_1_to_4_threads),
     KG_TEST(test_pyramid_40_hit_by_ball_same_bits_with_1_to_4_threads),
     KG_TEST(test_pile_of_1000_same_bits_with_1_to_4_threads),
 };
-enum { QUICK_TESTS = 1, ALL_TESTS = (int)(sizeof all_tests / sizeof all_tests[0]) };
+enum { QUICK_TESTS = 2, ALL_TESTS = (int)(sizeof all_tests / sizeof all_tests[0]) };
 
 int main(int argc, char** argv) { return kg_run_chosen_tests(all_tests, ALL_TESTS, QUICK_TESTS, argc, argv); }

@@ -12,7 +12,7 @@
  * after the colours. The result depends only on the contacts (bodies and carried colours)
  * and the bodies' motion.
  *
- * The CPU colours serially (kg_color_constraints), walking the priorities or, when few
+ * The CPU colours serially (kg_color_serially), walking the priorities or, when few
  * contacts wait, sorting them by priority.
  *
  * Why the scramble: a GPU colours large worlds in rounds (Jones-Plassmann): in each
@@ -238,15 +238,14 @@ KG_FN void kg_color_listed(KG_GLOBAL int* list, int n, int bits, KG_GLOBAL kg_co
 }
 
 /* Colours the constraints of contacts [0, count), serially: colors[k] is contact k's
- * colour (or KG_COLOR_COUNT), also in its colour word, and the lists are
- * kg_order_by_color's. used (per body slot: the colours its contacts took) must be zero
- * for the contacts' bodies before; it is left as the colouring made it (clearing it
- * through the contacts would read them a third time). The contacts that kept no colour
- * are listed in order (free until the lists are made); when they are few (a settled
- * pile: tens of 10,000), sorting them costs less than going through every priority. */
-KG_FN void kg_color_constraints(int count, KG_GLOBAL kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
-                                KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors, KG_GLOBAL int* order,
-                                KG_GLOBAL int* rank, KG_GLOBAL int* color_start)
+ * colour (or KG_COLOR_COUNT), also in its colour word. used (per body slot: the colours
+ * its contacts took) must be zero for the contacts' bodies before; it is left as the
+ * colouring made it (clearing it through the contacts would read them a third time). The
+ * contacts that kept no colour are listed in waiting (count ints); when they are few (a
+ * settled pile: tens of 10,000), sorting them costs less than going through every
+ * priority. */
+KG_FN void kg_color_serially(int count, KG_GLOBAL kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                             KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors, KG_GLOBAL int* waiting_list)
 {
     int waiting = 0;
     for (kg_u32 k = 0u; k < (kg_u32)count; ++k) {
@@ -256,14 +255,23 @@ KG_FN void kg_color_constraints(int count, KG_GLOBAL kg_contact* contacts, KG_GL
         if (c != KG_UNCOLORED) {
             kg_mark_color(used, e, c);
         }
-        order[waiting] = (int)k;
+        waiting_list[waiting] = (int)k;
         waiting += c == KG_UNCOLORED;
     }
     if (waiting > 0 && waiting <= count / KG_COLOR_FEW_WAITING) {
-        kg_color_listed(order, waiting, (int)kg_bits_for((kg_u32)count), contacts, flags, used, colors);
+        kg_color_listed(waiting_list, waiting, (int)kg_bits_for((kg_u32)count), contacts, flags, used, colors);
     } else if (waiting > 0) {
         kg_color_in_priority_order(count, contacts, flags, used, colors);
     }
+}
+
+/* kg_color_serially, then the lists of kg_order_by_color (order is the waiting list
+ * until then). */
+KG_FN void kg_color_constraints(int count, KG_GLOBAL kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                                KG_GLOBAL kg_u32* used, KG_GLOBAL int* colors, KG_GLOBAL int* order,
+                                KG_GLOBAL int* rank, KG_GLOBAL int* color_start)
+{
+    kg_color_serially(count, contacts, flags, used, colors, order);
     kg_order_by_color(count, colors, order, rank, color_start);
 }
 

@@ -14,28 +14,44 @@
 
 #define KG_MAX_LANES 16
 
-/* What the solve leaves of a constraint lane, for its contact: how many points it solved
- * (none for an empty lane) and each point's impulses and approach speed. */
-typedef struct kg_lane_impulses {
-    kg_i32 point_count;
-    float normal_impulse[2], tangent_impulse[2], relative_velocity[2];
-    float pad; /* eight floats: a lane's record is one transposed row */
-} kg_lane_impulses;
-
-KG_STATIC_ASSERT(sizeof(kg_lane_impulses) == 8 * sizeof(float), lane_impulses_are_eight_floats);
-
 typedef struct kg_contact_rows {
     int width;
     size_t block_size; /* bytes of a block of width rows */
-    /* Prepares block `block` from width consecutive heads and inputs. */
-    void (*prepare)(void* blocks, int block, const kg_row_head* heads, const kg_prepare_input* inputs,
-                    kg_solver_params prm);
-    /* The impulses and approach speeds of blocks [begin, end), lane by lane, into out
-     * (block * width + lane). */
-    void (*unpack_impulses)(const void* blocks, int begin, int end, kg_lane_impulses* out);
+    /* Prepares block `block` from the sources of its width lanes, staged in it
+     * (kg_staged_head, kg_staged_input). */
+    void (*prepare)(void* blocks, int block, kg_solver_params prm);
     /* One pass over blocks [begin, end): gathers the lanes' bodies, runs the pass, scatters. */
     void (*run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm, kg_constraint_pass pass);
 } kg_contact_rows;
+
+/* A block of width W is the width-1 constraint (kg_contact_constraint) with each of its
+ * 4-byte fields widened to W lanes, in the same order: lane l of the field at byte
+ * offset f of the constraint is at byte W f + 4 l of the block (contact_wide_impl.h
+ * checks it). */
+static inline const unsigned char* kg_lane_field(const void* blocks, const kg_contact_rows* rows, int block, int lane,
+                                                 size_t offset)
+{
+    return (const unsigned char*)blocks + (size_t)block * rows->block_size + (size_t)rows->width * offset +
+           4u * (size_t)lane;
+}
+
+/* Until a block is prepared its own memory holds its lanes' sources: width heads, then
+ * width prepare inputs (168 of each lane's 176 bytes), so that they are written where
+ * the rows will be, in the cache when prepare reads them, and need no memory of their
+ * own. Prepare reads them all before it writes a row. */
+KG_STATIC_ASSERT(sizeof(kg_row_head) + sizeof(kg_prepare_input) <= sizeof(kg_contact_constraint),
+                 sources_fit_in_their_rows);
+
+static inline kg_row_head* kg_staged_head(void* blocks, const kg_contact_rows* rows, int block, int lane)
+{
+    return (kg_row_head*)((unsigned char*)blocks + (size_t)block * rows->block_size) + lane;
+}
+
+static inline kg_prepare_input* kg_staged_input(void* blocks, const kg_contact_rows* rows, int block, int lane)
+{
+    unsigned char* heads = (unsigned char*)blocks + (size_t)block * rows->block_size;
+    return (kg_prepare_input*)(heads + (size_t)rows->width * sizeof(kg_row_head)) + lane;
+}
 
 /* A solver body read as floats: v.x, v.y, w, dp.x, dp.y, dq.c, dq.s, then moves. */
 #define KG_BODY_FLOATS 8

@@ -17,7 +17,7 @@ static inline kg_vf kg_join_w16(__m256 lo, __m256 hi)
     return (kg_vf)_mm512_castpd_ps(joined);
 }
 
-/* Eight columns from 16 rows of 8 floats at offset: lane l of out[k] is rows[l][offset + k]. */
+/* Eight columns from 16 rows at offset: lane l of out[k] is rows[l][offset + k], k < 8. */
 static inline void kg_rows8_to_lanes_w16(const float* const rows[16], int offset, kg_vf out[8])
 {
     __m256 lo[8], hi[8];
@@ -50,21 +50,6 @@ static inline void kg_rows_to_columns_w16(const kg_solver_body* bodies, kg_vu sl
     kg_rows8_to_lanes_w16(rows, 0, columns);
 }
 
-static inline void kg_lanes_to_rows8_w16(const kg_vf columns[8], float* rows)
-{
-    __m256 lo[8], hi[8];
-    for (int k = 0; k < 8; ++k) {
-        lo[k] = _mm512_castps512_ps256((__m512)columns[k]);
-        hi[k] = _mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd((__m512)columns[k]), 1));
-    }
-    kg_transpose8(lo);
-    kg_transpose8(hi);
-    for (int lane = 0; lane < 8; ++lane) {
-        _mm256_storeu_ps(rows + lane * 8, lo[lane]);
-        _mm256_storeu_ps(rows + (lane + 8) * 8, hi[lane]);
-    }
-}
-
 /* Bit l set where lane l's moves (as gathered) is not zero. */
 static inline unsigned kg_movers_w16(kg_vf moves)
 {
@@ -94,4 +79,5 @@ static inline void kg_columns_to_rows_w16(kg_solver_body* bodies, kg_vu slots, u
 }
 
 #define KG_TRANSPOSES
+#define KG_ROWS8_TO_LANES
 #include "solve/contact_wide_impl.h"

@@ -21,20 +21,6 @@ static inline void kg_rows_to_lanes_w4(const float* const rows[4], kg_vf out[4])
     }
 }
 
-static inline void kg_lanes_to_rows8_w4(const kg_vf columns[8], float* rows)
-{
-    for (int half = 0; half < 2; ++half) {
-        __m128 r[4];
-        for (int k = 0; k < 4; ++k) {
-            r[k] = (__m128)columns[4 * half + k];
-        }
-        _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
-        for (int lane = 0; lane < 4; ++lane) {
-            _mm_storeu_ps(rows + lane * 8 + 4 * half, r[lane]);
-        }
-    }
-}
-
 /* Bit l set where lane l's moves (0 or 1, as gathered) is 1: shifted into the sign bit. */
 static inline unsigned kg_movers_w4(kg_vf moves)
 {

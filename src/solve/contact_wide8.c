@@ -21,18 +21,6 @@ static inline void kg_rows_to_lanes_w8(const float* const rows[8], kg_vf out[8])
     }
 }
 
-static inline void kg_lanes_to_rows8_w8(const kg_vf columns[8], float* rows)
-{
-    __m256 r[8];
-    for (int k = 0; k < 8; ++k) {
-        r[k] = (__m256)columns[k];
-    }
-    kg_transpose8(r);
-    for (int lane = 0; lane < 8; ++lane) {
-        _mm256_storeu_ps(rows + lane * 8, r[lane]);
-    }
-}
-
 /* Bit l set where lane l's moves (0 or 1, as gathered) is 1: shifted into the sign bit. */
 static inline unsigned kg_movers_w8(kg_vf moves)
 {

@@ -29,17 +29,6 @@ static inline void KG_WIDE(kg_rows_to_lanes)(const float* const rows[KG_W], kg_l
     }
 }
 
-/* Rows from lanes, the other way: rows (W rows of 8 floats, one after the other) get
- * float k of row l from lane l of columns[k]. */
-static inline void KG_WIDE(kg_lanes_to_rows8)(const kg_lane columns[8], float* rows)
-{
-    for (int lane = 0; lane < KG_W; ++lane) {
-        for (int k = 0; k < 8; ++k) {
-            rows[lane * 8 + k] = KG_LANE_OF(columns[k], lane);
-        }
-    }
-}
-
 /* Bit l set where lane l's `moves` column (as gathered) is not zero. */
 static inline unsigned KG_WIDE(kg_movers)(kg_lane moves)
 {
@@ -70,63 +59,81 @@ KG_STATIC_ASSERT(sizeof(KG_ROWFN(kg_prepare_input)) == KG_PREPARE_INPUT_FLOATS *
                  prepare_input_is_lanes_of_floats);
 KG_STATIC_ASSERT(KG_PREPARE_INPUT_FLOATS % KG_W == 0, prepare_input_in_whole_transposes);
 
-/* Block `block` from the heads and inputs of its width constraints. */
-static void KG_WIDE(kg_prepare)(void* blocks, int block, const kg_row_head* heads, const kg_prepare_input* inputs,
-                                kg_solver_params prm)
+#if KG_W > 1 && !defined(KG_ROWS8_TO_LANES)
+KG_STATIC_ASSERT(8 % KG_W == 0, eight_floats_in_whole_transposes);
+/* Eight columns from W rows at offset: lane l of out[k] is rows[l][offset + k], k < 8, W
+ * floats at a time. (A width wider than 8 brings its own: KG_ROWS8_TO_LANES.) */
+static inline void KG_WIDE(kg_rows8_to_lanes)(const float* const rows[KG_W], int offset, kg_lane out[8])
 {
-    kg_wrow* r = (kg_wrow*)blocks + block;
-    for (int lane = 0; lane < KG_W; ++lane) {
-        const kg_row_head* h = &heads[lane];
-        KG_LANE_OF(r->a, lane) = h->a;
-        KG_LANE_OF(r->b, lane) = h->b;
-        KG_LANE_OF(r->contact, lane) = h->contact;
-        KG_LANE_OF(r->point_count, lane) = h->point_count;
-        KG_LANE_OF(r->friction, lane) = h->friction;
-        KG_LANE_OF(r->restitution, lane) = h->restitution;
-        KG_LANE_OF(r->inv_mass_a, lane) = h->inv_mass_a;
-        KG_LANE_OF(r->inv_i_a, lane) = h->inv_i_a;
-        KG_LANE_OF(r->inv_mass_b, lane) = h->inv_mass_b;
-        KG_LANE_OF(r->inv_i_b, lane) = h->inv_i_b;
+    for (int f = 0; f < 8; f += KG_W) {
+        const float* part[KG_W];
+        for (int lane = 0; lane < KG_W; ++lane) {
+            part[lane] = rows[lane] + offset + f;
+        }
+        KG_WIDE(kg_rows_to_lanes)(part, out + f);
     }
+}
+#endif
+
+/* A head's first eight fields are moved into lanes as floats, its last two one at a time. */
+KG_STATIC_ASSERT(offsetof(kg_row_head, inv_i_a) == 7 * sizeof(float), head_starts_with_eight_fields);
+
+extern const kg_contact_rows KG_WIDE(kg_contact_rows);
+
+/* Block `block` from the heads and inputs staged in it (contact_wide.h), moved into lanes
+ * by the width's transposes, all of them read before the rows are written over them. */
+static void KG_WIDE(kg_prepare)(void* blocks, int block, kg_solver_params prm)
+{
+    const kg_contact_rows* rows = &KG_WIDE(kg_contact_rows);
+    const kg_row_head* heads = kg_staged_head(blocks, rows, block, 0);
+    const kg_prepare_input* inputs = kg_staged_input(blocks, rows, block, 0);
+#if KG_W == 1
+    kg_row_head head = heads[0];
+#else
+    kg_lane head[8], inv_mass_b, inv_i_b; /* a, b, contact, point_count, friction, restitution, inv_mass_a, inv_i_a */
+    const float* head_rows[KG_W];
+    for (int lane = 0; lane < KG_W; ++lane) {
+        head_rows[lane] = (const float*)&heads[lane];
+        KG_LANE_OF(inv_mass_b, lane) = heads[lane].inv_mass_b;
+        KG_LANE_OF(inv_i_b, lane) = heads[lane].inv_i_b;
+    }
+    KG_WIDE(kg_rows8_to_lanes)(head_rows, 0, head);
+#endif
     /* the inputs, all floats in the same order at every width, W fields at a time */
     KG_ROWFN(kg_prepare_input) in;
     kg_lane* fields = (kg_lane*)&in;
     for (int f = 0; f < KG_PREPARE_INPUT_FLOATS; f += KG_W) {
-        const float* rows[KG_W];
+        const float* lanes[KG_W];
         for (int lane = 0; lane < KG_W; ++lane) {
-            rows[lane] = (const float*)&inputs[lane] + f;
+            lanes[lane] = (const float*)&inputs[lane] + f;
         }
-        KG_WIDE(kg_rows_to_lanes)(rows, fields + f);
+        KG_WIDE(kg_rows_to_lanes)(lanes, fields + f);
     }
+    __asm__ __volatile__("" ::: "memory"); /* no read of the sources moved below a write of the rows */
+    kg_wrow* r = (kg_wrow*)blocks + block;
+#if KG_W == 1
+    kg_constraint_head(r, &head);
+#else
+    r->a = (kg_lindex)head[0]; /* the bits, as they were staged */
+    r->b = (kg_lindex)head[1];
+    r->contact = (kg_lindex)head[2];
+    r->point_count = (kg_lint)head[3];
+    r->friction = head[4];
+    r->restitution = head[5];
+    r->inv_mass_a = head[6];
+    r->inv_i_a = head[7];
+    r->inv_mass_b = inv_mass_b;
+    r->inv_i_b = inv_i_b;
+#endif
     KG_ROWFN(kg_contact_prepare_lanes)(r, &in, prm);
 }
 
-/* An int lane's bits as a float lane's, to be moved with the floats. */
-#if KG_W == 1
-static inline kg_lane KG_WIDE(kg_int_bits)(kg_lint v)
-{
-    kg_lane f;
-    memcpy(&f, &v, sizeof f);
-    return f;
-}
-#else
-static inline kg_lane KG_WIDE(kg_int_bits)(kg_lint v) { return (kg_lane)v; }
-#endif
-
-/* The impulses and approach speeds of blocks [begin, end), lane by lane, into out (a
- * transpose a block): written in order, where storing them into their contacts (in colour
- * order, scattered over megabytes) cost a cache miss a contact. */
-static void KG_WIDE(kg_unpack_impulses)(const void* blocks, int begin, int end, kg_lane_impulses* out)
-{
-    for (int block = begin; block < end; ++block) {
-        const kg_wrow* r = (const kg_wrow*)blocks + block;
-        const kg_lane columns[8] = {KG_WIDE(kg_int_bits)(r->point_count), r->points[0].normal_impulse,
-                                    r->points[1].normal_impulse,         r->points[0].tangent_impulse,
-                                    r->points[1].tangent_impulse,        r->points[0].relative_velocity,
-                                    r->points[1].relative_velocity,      KG_LZERO};
-        KG_WIDE(kg_lanes_to_rows8)(columns, (float*)&out[block * KG_W]);
-    }
-}
+KG_STATIC_ASSERT(sizeof(kg_wrow) == KG_W * sizeof(kg_contact_constraint), row_is_the_constraint_widened);
+KG_STATIC_ASSERT(offsetof(kg_wrow, point_count) == KG_W * offsetof(kg_contact_constraint, point_count),
+                 row_point_count_widened);
+KG_STATIC_ASSERT(offsetof(kg_wrow, points[1].relative_velocity) ==
+                     KG_W * offsetof(kg_contact_constraint, points[1].relative_velocity),
+                 row_points_widened);
 
 #if KG_W <= KG_BODY_FLOATS
 /* The solver bodies of slots, a lane each, into the columns of their motions (column k's
@@ -186,5 +193,4 @@ static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bo
     }
 }
 
-const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_prepare), KG_WIDE(kg_unpack_impulses),
-                                                  KG_WIDE(kg_run)};
+const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_prepare), KG_WIDE(kg_run)};

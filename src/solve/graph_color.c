@@ -9,8 +9,7 @@ kg_result kg_graph_coloring_init(kg_graph_coloring* g, int body_capacity, int co
     memset(g, 0, sizeof *g);
     g->used = kg_alloc_zeroed((size_t)body_capacity * sizeof *g->used);
     g->order = kg_alloc_zeroed((size_t)constraint_capacity * sizeof *g->order);
-    g->rank = kg_alloc_zeroed((size_t)constraint_capacity * sizeof *g->rank);
-    if (!g->used || !g->order || !g->rank) {
+    if (!g->used || !g->order) {
         kg_graph_coloring_free(g);
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the constraint graph colouring");
     }
@@ -21,16 +20,21 @@ void kg_graph_coloring_free(kg_graph_coloring* g)
 {
     kg_free(g->used);
     kg_free(g->order);
-    kg_free(g->rank);
     g->used = NULL;
     g->order = NULL;
-    g->rank = NULL;
+}
+
+void kg_graph_color_contacts(kg_graph_coloring* g, kg_contact* contacts, int count, const kg_body_pool* bodies,
+                             int* colors)
+{
+    memset(g->used, 0, (size_t)bodies->high_water * sizeof *g->used);
+    kg_color_serially(count, contacts, bodies->flags, g->used, colors, g->order);
 }
 
 void kg_graph_color(kg_graph_coloring* g, kg_contact* contacts, int count, const kg_body_pool* bodies,
                     int* scratch_colors)
 {
-    memset(g->used, 0, (size_t)bodies->high_water * sizeof *g->used);
-    kg_color_constraints(count, contacts, bodies->flags, g->used, scratch_colors, g->order, g->rank, g->color_start);
+    kg_graph_color_contacts(g, contacts, count, bodies, scratch_colors);
+    kg_order_by_color(count, scratch_colors, g->order, NULL, g->color_start);
     g->color_count = kg_colors_in_use(g->color_start);
 }

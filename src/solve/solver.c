@@ -1,6 +1,7 @@
 /* The solve stage (Box2D v3's soft step, see contact_solver.h and docs/design.md):
  *
- *   colour the constraint graph; prepare constraints from the contacts, in colour order
+ *   colour the constraint graph; prepare constraints from the contacts into their
+ *   colours' rows
  *   for each sub-step:
  *       integrate velocities; warm start; solve (soft push-out);
  *       integrate positions; relax (no push-out)
@@ -28,6 +29,10 @@
 
 #define KG_BODY_GRAIN 256
 #define KG_CONSTRAINT_GRAIN 64
+/* The contacts are prepared (and take their impulses back) a chunk of this many at a
+ * time: a chunk's constraints of a colour follow those of the chunks before it, in
+ * contact order, so chunks run in parallel, each with a running count per colour. */
+#define KG_CHUNK 256
 
 /* A body's extents, computed once for each body that takes the slot and again when a
  * shape of the world was added or removed: generation is the body's (0: none yet). Each
@@ -41,12 +46,13 @@ typedef struct kg_cached_extents {
 struct kg_solver {
     const kg_contact_rows* rows; /* the SIMD width's row code */
     void* blocks;                /* rows of width lanes, colour by colour: what the passes run over */
-    kg_lane_impulses* impulses;  /* per lane of the blocks: what the solve leaves, for the contacts */
+    atomic_int* filled;          /* per block: the lanes staged so far by the ranges sharing it; 0 between steps */
     int block_capacity;
     int block_start[KG_COLOR_COUNT + 2]; /* colour c's blocks are [block_start[c], block_start[c+1]) */
-    int* scratch_colors;
-    kg_row_head* heads;         /* per constraint, in colour order: what prepare reads */
-    kg_prepare_input* inputs;
+    int* colors;                         /* per contact: its colour, KG_COLOR_COUNT for the overflow */
+    int* chunk_start; /* per chunk, and one past the last: how many of each colour's constraints
+                       * (KG_COLOR_COUNT + 1 ints) the chunks before it have; the last, the sizes */
+    int chunks;
     int capacity;
     kg_graph_coloring coloring;
     kg_solver_body* bodies;           /* per body slot, then the still body (slot `still`) */
@@ -60,30 +66,28 @@ struct kg_solver {
 static kg_result kg_reserve_blocks(struct kg_solver* s, int blocks)
 {
     kg_free(s->blocks);
-    kg_free(s->impulses);
+    kg_free(s->filled);
     s->blocks = kg_alloc_zeroed((size_t)blocks * s->rows->block_size);
-    s->impulses = kg_alloc_zeroed((size_t)blocks * (size_t)s->rows->width * sizeof *s->impulses);
-    int ok = s->blocks && s->impulses;
+    s->filled = kg_alloc_zeroed((size_t)blocks * sizeof *s->filled);
+    int ok = s->blocks && s->filled;
     s->block_capacity = ok ? blocks : 0;
     return ok ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d constraint blocks", blocks);
 }
 
 static void kg_free_constraints(struct kg_solver* s)
 {
-    kg_free(s->scratch_colors);
-    kg_free(s->heads);
-    kg_free(s->inputs);
+    kg_free(s->colors);
+    kg_free(s->chunk_start);
     kg_graph_coloring_free(&s->coloring);
 }
 
 static kg_result kg_solver_reserve(struct kg_solver* s, int body_capacity, int capacity)
 {
     kg_free_constraints(s);
-    s->scratch_colors = kg_alloc_zeroed((size_t)capacity * sizeof *s->scratch_colors);
-    s->heads = kg_alloc_zeroed((size_t)capacity * sizeof *s->heads);
-    s->inputs = kg_alloc_zeroed((size_t)capacity * sizeof *s->inputs);
+    s->colors = kg_alloc_zeroed((size_t)capacity * sizeof *s->colors);
+    s->chunk_start = kg_alloc_zeroed(((size_t)capacity / KG_CHUNK + 2) * (KG_COLOR_COUNT + 1) * sizeof(int));
     kg_result r = kg_graph_coloring_init(&s->coloring, body_capacity, capacity);
-    if (r == KG_OK && (!s->scratch_colors || !s->heads || !s->inputs)) {
+    if (r == KG_OK && (!s->colors || !s->chunk_start)) {
         r = kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate %d contact constraints", capacity);
     }
     s->capacity = r == KG_OK ? capacity : 0; /* a failed reserve is tried again next step */
@@ -123,7 +127,7 @@ void kg_solver_destroy(kg_world* world)
         return;
     }
     kg_free(s->blocks);
-    kg_free(s->impulses);
+    kg_free(s->filled);
     kg_free_constraints(s);
     kg_free(s->bodies);
     kg_free(s->velocity_steps);
@@ -190,6 +194,7 @@ typedef struct kg_constraint_job {
     kg_body_pool* pool;
     kg_solver_body* bodies;
     kg_contact* contacts;
+    int count;
     const struct kg_solver* solver;
     int first_block; /* of the colour a pass runs over */
     atomic_int* bounces; /* set by prepare when a constraint has restitution */
@@ -232,8 +237,11 @@ static void kg_empty_source(kg_u32 still, kg_row_head* head, kg_prepare_input* i
 }
 
 /* Contact k's constraint head and prepare input (contact_solver.h), its bodies named as
- * the rows name them: the still body for the static world and for an empty lane. */
-static void kg_prepare_source_of(const kg_constraint_job* job, int k, kg_row_head* head, kg_prepare_input* in)
+ * the rows name them: the still body for the static world and for an empty lane. Not
+ * inlined: in kg_prepare_chunks' loop it spilled registers (some 30 instructions a
+ * contact more, measured with callgrind). */
+KG_FN_NOINLINE void kg_prepare_source_of(const kg_constraint_job* job, int k, kg_row_head* head,
+                                          kg_prepare_input* in)
 {
     const kg_body_pool* p = job->pool;
     kg_u32 still = job->solver->still;
@@ -249,87 +257,147 @@ static void kg_prepare_source_of(const kg_constraint_job* job, int k, kg_row_hea
     }
 }
 
-/* Contacts [begin, end), read in their own order (a stream, where reading them in
- * colour order jumps through megabytes), to their places in colour order. */
-static void kg_gather_sources_range(void* context, int begin, int end)
+/* Where chunk `chunk`'s constraints start in each colour (KG_COLOR_COUNT + 1 ints); at
+ * chunk s->chunks, the colours' sizes. */
+static const int* kg_chunk_start(const struct kg_solver* s, int chunk)
 {
-    const kg_constraint_job* job = context;
-    const struct kg_solver* s = job->solver;
-    for (int k = begin; k < end; ++k) {
-        int at = s->coloring.rank[k];
-        kg_prepare_source_of(job, k, &s->heads[at], &s->inputs[at]);
+    return s->chunk_start + (size_t)chunk * (KG_COLOR_COUNT + 1);
+}
+
+/* The chunks' places in their colours and the colours' sizes (kg_chunk_start), counted
+ * from the contacts' colours. */
+static void kg_count_colors(struct kg_solver* s, int count)
+{
+    int next[KG_COLOR_COUNT + 1] = {0};
+    s->chunks = (count + KG_CHUNK - 1) / KG_CHUNK;
+    for (int chunk = 0; chunk <= s->chunks; ++chunk) {
+        memcpy(s->chunk_start + (size_t)chunk * (KG_COLOR_COUNT + 1), next, sizeof next);
+        int end = (chunk + 1) * KG_CHUNK < count ? (chunk + 1) * KG_CHUNK : count;
+        for (int k = chunk * KG_CHUNK; k < end; ++k) {
+            next[s->colors[k]] += 1;
+        }
     }
 }
 
-/* The colour a block belongs to. */
-static int kg_color_of_block(const struct kg_solver* s, int block)
-{
-    int c = 0;
-    while (block >= s->block_start[c + 1]) {
-        ++c;
-    }
-    return c;
-}
+/* Where a range of chunks writes a colour's constraints: the lane (block * width + lane)
+ * of the next one, how far the next one's is (1, or a block for the overflow's), the
+ * lane past the range's last one, and the first lane of the current block it holds. */
+typedef struct kg_color_cursor {
+    int lane, step, stop, first;
+    int holds_end; /* the colour's last constraint: the range prepares the empty lanes after it */
+} kg_color_cursor;
 
-/* Blocks [begin, end) from the sources in colour order: width consecutive ones (one in
- * the overflow); lanes past the colour's end are empty. */
-static void kg_prepare_range(void* context, int begin, int end)
+/* The lane of the at-th constraint of colour c. */
+static int kg_lane_at(const struct kg_solver* s, int c, int at)
 {
-    const kg_constraint_job* job = context;
-    const struct kg_solver* s = job->solver;
-    const kg_graph_coloring* g = &s->coloring;
     int width = s->rows->width;
-    kg_row_head heads[KG_MAX_LANES];
-    kg_prepare_input inputs[KG_MAX_LANES];
-    for (int block = begin; block < end; ++block) {
-        int c = kg_color_of_block(s, block);
-        int lanes = c == KG_COLOR_COUNT ? 1 : width;
-        int first = g->color_start[c] + (block - s->block_start[c]) * lanes;
-        int live = g->color_start[c + 1] - first < lanes ? g->color_start[c + 1] - first : lanes;
-        if (live == width) {
-            s->rows->prepare(s->blocks, block, &s->heads[first], &s->inputs[first], job->prm);
-            continue;
-        }
-        for (int lane = 0; lane < width; ++lane) {
-            if (lane < live) {
-                heads[lane] = s->heads[first + lane];
-                inputs[lane] = s->inputs[first + lane];
-            } else {
-                kg_empty_source(s->still, &heads[lane], &inputs[lane]);
-            }
-        }
-        s->rows->prepare(s->blocks, block, heads, inputs, job->prm);
-    }
-}
-
-static void kg_unpack_impulses_range(void* context, int begin, int end)
-{
-    const kg_constraint_job* job = context;
-    job->solver->rows->unpack_impulses(job->solver->blocks, begin, end, job->solver->impulses);
-}
-
-/* Where contact k's constraint was solved: its block's lane, block * width + lane. A
- * colour's constraints fill its blocks' lanes one after another; the overflow's take the
- * first lane of a block each. */
-static int kg_lane_of_contact(const struct kg_solver* s, int k)
-{
-    const kg_graph_coloring* g = &s->coloring;
-    int c = s->scratch_colors[k], width = s->rows->width;
-    int at = g->rank[k] - g->color_start[c];
     return s->block_start[c] * width + (c == KG_COLOR_COUNT ? at * width : at);
 }
 
-/* Contacts [begin, end), in their own order, take their impulses back for warm starting
- * the next step (and the API): written in order, read from the lanes' compact copy. An
- * empty lane (nothing solved) leaves its contact's impulses as they were. */
+/* Block `block` prepared once the lanes [first, end) that a range of chunks holds of it
+ * are staged: at once where they are all of its lanes, else by whichever of the ranges
+ * sharing it (where one's constraints of a colour end and the next's begin) stages its
+ * last lanes; the count of lanes staged passes the others' writes on to it. */
+static void kg_prepare_when_staged(const kg_constraint_job* job, int block, int first, int end)
+{
+    const struct kg_solver* s = job->solver;
+    int width = s->rows->width, lanes = end - first;
+    if (lanes < width && atomic_fetch_add_explicit(&s->filled[block], lanes, memory_order_acq_rel) + lanes < width) {
+        return;
+    }
+    atomic_store_explicit(&s->filled[block], 0, memory_order_relaxed); /* for the next step */
+    s->rows->prepare(s->blocks, block, job->prm);
+}
+
+/* A range's part of the block of `lane` (the lane it staged last) staged: the empty
+ * lanes after a colour's last constraint staged too, and the block prepared when it can
+ * be. Out of line, as it runs once a block: the contacts' loop keeps fewer values alive
+ * across its calls. */
+KG_FN_NOINLINE void kg_close_block(const kg_constraint_job* job, kg_color_cursor* at, int lane)
+{
+    const struct kg_solver* s = job->solver;
+    int width = s->rows->width, block = lane / width;
+    int full = (at->lane & (width - 1)) == 0;
+    int staged = full || at->holds_end ? width : lane % width + 1;
+    for (int empty = lane % width + 1; empty < staged; ++empty) {
+        kg_empty_source(s->still, kg_staged_head(s->blocks, s->rows, block, empty),
+                        kg_staged_input(s->blocks, s->rows, block, empty));
+    }
+    kg_prepare_when_staged(job, block, at->first, staged);
+    at->first = 0;
+}
+
+/* Chunks [begin, end): the contacts, read in their own order (a stream, where reading
+ * them in colour order jumps through megabytes), stage their sources in their lanes, and
+ * a block is prepared as soon as its lanes are staged, its sources still in the cache.
+ * The range with a colour's last constraint stages the empty lanes after it. The width
+ * is a power of two. */
+static void kg_prepare_chunks(void* context, int begin, int end)
+{
+    const kg_constraint_job* job = context;
+    const struct kg_solver* s = job->solver;
+    const int *from = kg_chunk_start(s, begin), *to = kg_chunk_start(s, end), *sizes = kg_chunk_start(s, s->chunks);
+    int width = s->rows->width, shift = kg_lowest_bit((unsigned)width);
+    kg_color_cursor cursors[KG_COLOR_COUNT + 1];
+    for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
+        kg_color_cursor* at = &cursors[c];
+        at->lane = kg_lane_at(s, c, from[c]);
+        at->step = c == KG_COLOR_COUNT ? width : 1;
+        at->stop = kg_lane_at(s, c, to[c]);
+        at->first = at->lane & (width - 1);
+        at->holds_end = to[c] == sizes[c];
+    }
+    void* blocks = s->blocks;
+    const kg_contact_rows* rows = s->rows;
+    const int* colors = s->colors;
+    int last = end * KG_CHUNK < job->count ? end * KG_CHUNK : job->count;
+    for (int k = begin * KG_CHUNK; k < last; ++k) {
+        kg_color_cursor* at = &cursors[colors[k]];
+        int lane = at->lane, block = lane >> shift, in_block = lane & (width - 1);
+        kg_prepare_source_of(job, k, kg_staged_head(blocks, rows, block, in_block),
+                             kg_staged_input(blocks, rows, block, in_block));
+        at->lane = lane + at->step;
+        if ((at->lane & (width - 1)) == 0 || at->lane == at->stop) {
+            kg_close_block(job, at, lane);
+        }
+    }
+}
+
+/* Chunks [begin, end): the contacts, in their own order, take their impulses back for
+ * warm starting the next step (and the API), read from their lanes, found with a running
+ * count per colour as prepare found them: the writes a stream, the reads from a few
+ * blocks at a time (one per colour). An empty lane (nothing solved) leaves its contact's
+ * impulses as they were. */
 static void kg_store_impulses_range(void* context, int begin, int end)
 {
     const kg_constraint_job* job = context;
-    for (int k = begin; k < end; ++k) {
-        const kg_lane_impulses* in = &job->solver->impulses[kg_lane_of_contact(job->solver, k)];
+    const struct kg_solver* s = job->solver;
+    const int* from = kg_chunk_start(s, begin);
+    int width = s->rows->width, shift = kg_lowest_bit((unsigned)width); /* a power of two */
+    int lanes[KG_COLOR_COUNT + 1], steps[KG_COLOR_COUNT + 1];
+    for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
+        lanes[c] = kg_lane_at(s, c, from[c]);
+        steps[c] = c == KG_COLOR_COUNT ? width : 1;
+    }
+    size_t point_at[2] = {offsetof(kg_contact_constraint, points[0]), offsetof(kg_contact_constraint, points[1])};
+    int last = end * KG_CHUNK < job->count ? end * KG_CHUNK : job->count;
+    for (int k = begin * KG_CHUNK; k < last; ++k) {
+        int c = s->colors[k], block = lanes[c] >> shift, lane = lanes[c] & (width - 1);
+        lanes[c] += steps[c];
+        kg_i32 point_count;
+        memcpy(&point_count, kg_lane_field(s->blocks, s->rows, block, lane, offsetof(kg_contact_constraint, point_count)),
+               sizeof point_count);
         kg_manifold* m = &job->contacts[k].manifold;
-        for (int j = 0; j < in->point_count; ++j) {
-            kg_store_point(&m->points[j], in->normal_impulse[j], in->tangent_impulse[j], in->relative_velocity[j]);
+        for (int j = 0; j < point_count; ++j) {
+            float impulse[3]; /* normal, tangent, approach speed */
+            size_t fields[3] = {offsetof(kg_constraint_point, normal_impulse),
+                                offsetof(kg_constraint_point, tangent_impulse),
+                                offsetof(kg_constraint_point, relative_velocity)};
+            for (int f = 0; f < 3; ++f) {
+                memcpy(&impulse[f], kg_lane_field(s->blocks, s->rows, block, lane, point_at[j] + fields[f]),
+                       sizeof impulse[f]);
+            }
+            kg_store_point(&m->points[j], impulse[0], impulse[1], impulse[2]);
         }
     }
 }
@@ -338,11 +406,11 @@ static void kg_store_impulses_range(void* context, int begin, int end)
  * an unusual colouring needs more than were reserved. */
 static kg_result kg_plan_blocks(struct kg_solver* s)
 {
-    const kg_graph_coloring* g = &s->coloring;
+    const int* sizes = kg_chunk_start(s, s->chunks);
     int width = s->rows->width;
     s->block_start[0] = 0;
     for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
-        int n = g->color_start[c + 1] - g->color_start[c];
+        int n = sizes[c];
         s->block_start[c + 1] = s->block_start[c] + (c == KG_COLOR_COUNT ? n : (n + width - 1) / width);
     }
     int needed = s->block_start[KG_COLOR_COUNT + 1];
@@ -395,17 +463,19 @@ void kg_stage_solve(kg_world* world, float dt)
     kg_body_job bjob = {p, s->bodies, s->velocity_steps, {world->def.gravity, h, world->def.max_linear_speed},
                         kg_rest_params_of(&world->def, dt)};
     atomic_int bounces = 0;
-    kg_constraint_job cjob = {p, s->bodies, contacts, s, 0, &bounces, kg_solver_params_of(&world->def, h), KG_PASS_SOLVE};
+    kg_constraint_job cjob = {p, s->bodies, contacts, count, s, 0, &bounces, kg_solver_params_of(&world->def, h),
+                              KG_PASS_SOLVE};
 
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_load_bodies, &bjob);
-    kg_graph_color(&s->coloring, contacts, count, p, s->scratch_colors);
+    kg_graph_color_contacts(&s->coloring, contacts, count, p, s->colors);
+    kg_count_colors(s, count);
     if (kg_plan_blocks(s) != KG_OK) {
         kg_warn_once("solver-grow", "out of memory for contact constraints: contacts ignored this step");
     }
     int blocks = s->block_start[KG_COLOR_COUNT + 1];
-    int grain = KG_CONSTRAINT_GRAIN / s->rows->width;
-    kg_parallel_for(world->threads, count, KG_CONSTRAINT_GRAIN, kg_gather_sources_range, &cjob);
-    kg_parallel_for(world->threads, blocks, grain, kg_prepare_range, &cjob);
+    if (blocks > 0) { /* else there are no contacts, or no rows to put them in */
+        kg_parallel_for(world->threads, s->chunks, 1, kg_prepare_chunks, &cjob);
+    }
     for (int step = 0; step < n; ++step) {
         kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_integrate_velocities, &bjob);
         kg_constraint_pass_run(world, &cjob, KG_PASS_WARM_START);
@@ -417,8 +487,7 @@ void kg_stage_solve(kg_world* world, float dt)
         kg_constraint_pass_run(world, &cjob, KG_PASS_RESTITUTION);
     }
     if (blocks > 0) {
-        kg_parallel_for(world->threads, blocks, grain, kg_unpack_impulses_range, &cjob);
-        kg_parallel_for(world->threads, count, KG_CONSTRAINT_GRAIN, kg_store_impulses_range, &cjob);
+        kg_parallel_for(world->threads, s->chunks, 1, kg_store_impulses_range, &cjob);
     }
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_store_bodies, &bjob);
 }
