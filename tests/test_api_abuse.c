@@ -352,7 +352,7 @@ static void shape_faults(faults* f, shape_class cls, kg_body_type type, int type
     } else if (cls == SHAPE_TINY_CIRCLE && type_ok && moves(type)) {
         f->uncertain |= RESULT_BIT(KG_ERROR_INVALID_ARGUMENT);
     } else if (cls == SHAPE_POINT) {
-        fault_if(f, type_ok && type != KG_BODY_PARTICLE, KG_ERROR_INVALID_ARGUMENT);
+        fault_if(f, type_ok && type == KG_BODY_DYNAMIC, KG_ERROR_INVALID_ARGUMENT); /* static, kinematic: no shape */
     }
 }
 

@@ -1,10 +1,13 @@
 /* Chains (collide/chain.h): one-sided segments that know their neighbours. A body sliding
  * along a straight run of many short segments must see only the run's normal, at every
  * join (no ghost collision); at a convex corner of a loop exactly one segment owns each
- * contact; a body behind a segment gets nothing from it; an open end is a free end. */
+ * contact; a body behind a segment gets nothing from it; an open end is a free end. In a
+ * world (kg_create_chain): a box sliding along 1,000 segments keeps its normal speed
+ * under 1e-4 m/s; a bad chain is refused and changes nothing. */
 #include "kg_test.h"
 #include "collide/chain.h"
 #include "collide/shape.h"
+#include "kgyro/kgyro.h"
 
 static kg_shape built(kg_shape_def def)
 {
@@ -176,6 +179,103 @@ static void test_far_from_the_origin(void)
     }
 }
 
+/* A frictionless box settles on a run of 1,000 segments of 0.1 m (on a static body made
+ * without a shape), is pushed to 10 m/s along it and slides over 900 joins: a ghost bump
+ * at any of them would throw it up at a good fraction of a metre a second. */
+static void test_box_slides_along_a_chain_of_1000_segments(void)
+{
+    static kg_vec2 points[RUN];
+    straight_run(points);
+    kg_world_def wd = kg_default_world_def();
+    wd.backend = KG_BACKEND_CPU;
+    kg_world* w = NULL;
+    KG_CHECK_OK(kg_create_world(&wd, &w));
+    kg_body_def gd = kg_default_body_def();
+    gd.type = KG_BODY_STATIC;
+    kg_body ground;
+    KG_CHECK_OK(kg_create_body(w, &gd, &ground));
+    kg_chain_def cd = kg_default_chain_def();
+    cd.points = points;
+    cd.count = RUN;
+    cd.friction = 0.0f;
+    KG_CHECK_OK(kg_create_chain(w, ground, &cd, NULL));
+    KG_CHECK(kg_body_shape_count(w, ground) == RUN - 1);
+
+    kg_body_def bd = kg_default_body_def();
+    bd.shape = kg_box_shape(0.5f, 0.5f);
+    bd.position = kg_v2(2.0f, 0.25f);
+    bd.friction = 0.0f;
+    kg_body box;
+    KG_CHECK_OK(kg_create_body(w, &bd, &box));
+    for (int k = 0; k < 60; ++k) {
+        KG_CHECK_OK(kg_world_step(w, 1.0f / 60.0f));
+    }
+    KG_CHECK_OK(kg_body_set_velocity(w, box, kg_v2(10.0f, 0.0f)));
+    double worst = 0.0;
+    kg_body_state st;
+    for (int k = 0; k < 540; ++k) {
+        KG_CHECK_OK(kg_world_step(w, 1.0f / 60.0f));
+        KG_CHECK_OK(kg_body_get_state(w, box, &st));
+        worst = fabs((double)st.velocity.y) > worst ? fabs((double)st.velocity.y) : worst;
+    }
+    measured("box sliding at 10 m/s over a 1000-segment chain for 9 s: x %.3f m, vx %.5f m/s, largest |vy| %.3g m/s, "
+             "height %.5f m\n",
+             st.position.x, st.velocity.x, worst, st.position.y);
+    KG_CHECK(worst < 1e-4);
+    KG_CHECK_NEAR(st.velocity.x, 10.0, 1e-3);
+    KG_CHECK(st.position.x > 91.0f);
+    kg_destroy_world(w);
+}
+
+/* A chain on a dynamic body, too few points, coincident points or a NaN are refused, and
+ * the body keeps the shapes it had. */
+static void test_bad_chains_are_refused(void)
+{
+    kg_world_def wd = kg_default_world_def();
+    wd.backend = KG_BACKEND_CPU;
+    kg_world* w = NULL;
+    KG_CHECK_OK(kg_create_world(&wd, &w));
+    kg_body_def bd = kg_default_body_def();
+    bd.shape = kg_box_shape(1.0f, 1.0f);
+    kg_body moving, ground;
+    KG_CHECK_OK(kg_create_body(w, &bd, &moving));
+    bd.type = KG_BODY_STATIC;
+    KG_CHECK_OK(kg_create_body(w, &bd, &ground));
+    const kg_vec2 good[3] = {{0.0f, 0.0f}, {1.0f, 0.0f}, {2.0f, 0.5f}};
+    const kg_vec2 twice[3] = {{0.0f, 0.0f}, {1.0f, 0.0f}, {1.0f, 0.0f}};
+    const kg_vec2 nan_point[3] = {{0.0f, 0.0f}, {NAN, 0.0f}, {2.0f, 0.0f}};
+    kg_chain_def cd = kg_default_chain_def();
+    cd.points = good;
+    cd.count = 3;
+    KG_CHECK(kg_create_chain(w, moving, &cd, NULL) == KG_ERROR_INVALID_ARGUMENT);
+    cd.count = 1;
+    KG_CHECK(kg_create_chain(w, ground, &cd, NULL) == KG_ERROR_INVALID_ARGUMENT);
+    cd.count = 3;
+    cd.points = twice;
+    KG_CHECK(kg_create_chain(w, ground, &cd, NULL) == KG_ERROR_DEGENERATE_SHAPE);
+    cd.points = nan_point;
+    KG_CHECK(kg_create_chain(w, ground, &cd, NULL) == KG_ERROR_INVALID_ARGUMENT);
+    cd.points = good;
+    cd.friction = -1.0f;
+    KG_CHECK(kg_create_chain(w, ground, &cd, NULL) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_body_shape_count(w, ground) == 1);
+    KG_CHECK(kg_body_shape_count(w, moving) == 1);
+
+    cd.friction = 0.6f;
+    cd.loop = 1;
+    kg_shape_id segments[3];
+    KG_CHECK_OK(kg_create_chain(w, ground, &cd, segments));
+    KG_CHECK(kg_body_shape_count(w, ground) == 4);
+    for (int k = 0; k < 3; ++k) {
+        kg_body_shape_def sd;
+        KG_CHECK_OK(kg_shape_get_def(w, segments[k], &sd));
+        KG_CHECK(sd.geometry.type == KG_SHAPE_SEGMENT);
+        KG_CHECK_NEAR(sd.geometry.vertices[0].x, good[k].x, 0.0);
+        KG_CHECK_NEAR(sd.geometry.vertices[1].x, good[(k + 1) % 3].x, 0.0);
+    }
+    kg_destroy_world(w);
+}
+
 int main(void)
 {
     const kg_test_case tests[] = {
@@ -186,6 +286,8 @@ int main(void)
         KG_TEST(test_convex_corner_of_a_loop),
         KG_TEST(test_open_end_is_free),
         KG_TEST(test_far_from_the_origin),
+        KG_TEST(test_box_slides_along_a_chain_of_1000_segments),
+        KG_TEST(test_bad_chains_are_refused),
     };
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }

@@ -16,7 +16,8 @@ typedef enum kg_body_type {
 } kg_body_type;
 
 typedef enum kg_shape_type {
-    KG_SHAPE_NONE = 0,    /* a point: only for particles, which then need a mass */
+    KG_SHAPE_NONE = 0,    /* a particle's point (it then needs a mass); a static or kinematic
+                           * body's no shape at all (add shapes or a chain later) */
     KG_SHAPE_CIRCLE = 1,
     KG_SHAPE_POLYGON = 2, /* convex, up to KG_MAX_POLYGON_VERTICES; boxes are polygons */
     KG_SHAPE_CAPSULE = 3, /* two centres and a radius: a segment swept by a disc */

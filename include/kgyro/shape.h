@@ -73,6 +73,38 @@ KG_API kg_result kg_shape_set_friction(kg_world* world, kg_shape_id shape, float
 KG_API kg_result kg_shape_set_restitution(kg_world* world, kg_shape_id shape, float restitution);
 KG_API kg_result kg_shape_set_filter(kg_world* world, kg_shape_id shape, uint32_t category, uint32_t mask);
 
+/* A chain: a polyline (or, with loop, a closed outline) of one-sided segments that know
+ * their neighbours, so that a body sliding along it never catches on a join (no ghost
+ * collision), as tile-map edges. For terrain outlines and Tiled polylines. Each segment
+ * is solid on the left of its direction from point i to point i + 1: its normal points
+ * to the right. A ground listed right to left has its normal up; a loop listed
+ * counter-clockwise is solid inside (a wall around a room: clockwise). A body behind a
+ * segment gets nothing from it. Points are in the body frame; the chain keeps a copy. */
+typedef struct kg_chain_def {
+    const kg_vec2* points;
+    int count;          /* at least 2 (3 for a loop); consecutive points distinct */
+    int loop;           /* non-zero: the last point joins the first */
+    float friction;     /* every segment's, as kg_body_shape_def's */
+    float restitution;
+    uint32_t category;
+    uint32_t mask;
+    void* user_data;    /* every segment's */
+} kg_chain_def;
+
+/* No points, friction 0.6, restitution 0, category 1, mask all. */
+KG_API kg_chain_def kg_default_chain_def(void);
+
+/* Adds a chain to a static or kinematic body (a body with no shape may be created for it:
+ * kg_body_def.shape left at type NONE): one shape a segment, in order, listed by
+ * kg_body_get_shapes and removable one by one with kg_destroy_shape. Segments have no
+ * mass, so a dynamic body or a particle is refused (give it capsules or polygons). Fails,
+ * changing nothing, with KG_ERROR_INVALID_HANDLE for a stale body, INVALID_ARGUMENT for
+ * too few or non-finite points or a bad material, DEGENERATE_SHAPE naming the segment
+ * whose points coincide, OUT_OF_MEMORY when the shape pool cannot grow. out_segments
+ * (optional, NULL for none) receives the segments' shapes in order: count - 1 of them,
+ * count for a loop. */
+KG_API kg_result kg_create_chain(kg_world* world, kg_body body, const kg_chain_def* def, kg_shape_id* out_segments);
+
 #ifdef __cplusplus
 }
 #endif

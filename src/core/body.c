@@ -67,8 +67,9 @@ static kg_result kg_validate_body_def(const kg_body_def* d)
     if (!kg_nonneg(d->linear_damping) || !kg_nonneg(d->angular_damping)) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "damping must be finite and >= 0");
     }
-    if (d->shape.type == KG_SHAPE_NONE && d->type != KG_BODY_PARTICLE) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "only particles may have no shape");
+    if (d->shape.type == KG_SHAPE_NONE && d->type == KG_BODY_DYNAMIC) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "a dynamic body needs a shape (only particles, static and "
+                                                  "kinematic bodies may have none)");
     }
     if (d->shape.type == KG_SHAPE_SEGMENT && (d->type == KG_BODY_DYNAMIC || d->type == KG_BODY_PARTICLE)) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT,
@@ -78,6 +79,12 @@ static kg_result kg_validate_body_def(const kg_body_def* d)
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "only a dynamic body can be a bullet");
     }
     return KG_OK;
+}
+
+/* A static or kinematic body made without a shape has none (a particle's is a point). */
+static int kg_is_shapeless(const kg_body_def* d)
+{
+    return d->shape.type == KG_SHAPE_NONE && d->type != KG_BODY_PARTICLE;
 }
 
 /* Mass properties from the definition: an explicit mass scales the shape's distribution. */
@@ -196,15 +203,21 @@ kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_b
     if (i < 0) {
         return kg_fail(KG_ERROR_POOL_FULL, "body pool full (max_bodies = %d)", p->capacity);
     }
-    int s = kg_shape_pool_acquire(&world->shapes);
+    int shapeless = kg_is_shapeless(def);
+    int s = shapeless ? 0 : kg_shape_pool_acquire(&world->shapes);
     if (s < 0) {
         kg_body_pool_release(p, i);
         return kg_last_result();
     }
     kg_body_write(p, i, def, &shape, &md);
     kg_note_static_edit(world, p, i);
-    kg_body_shape_def first = kg_first_shape_def(def);
-    kg_shape_attach(world, s, i, &first); /* its geometry is the body pool's shape */
+    if (shapeless) { /* a static or kinematic body waiting for its shapes or chains */
+        p->shape_count[i] = 0u;
+        kg_body_material_changed(world, p, i); /* collides with nothing */
+    } else {
+        kg_body_shape_def first = kg_first_shape_def(def);
+        kg_shape_attach(world, s, i, &first); /* its geometry is the body pool's shape */
+    }
     out_body->index = (uint32_t)i;
     out_body->generation = p->generation[i];
     return KG_OK;

@@ -33,7 +33,8 @@ kg_body_shape_def kg_first_shape_def(const kg_body_def* d)
     return def;
 }
 
-void kg_shape_attach(kg_world* world, int s, int i, const kg_body_shape_def* def)
+/* kg_shape_attach, inserting into body i's list from link on (a place in it below s). */
+static void kg_shape_attach_at(kg_world* world, int s, int i, const kg_body_shape_def* def, kg_u32* link)
 {
     kg_shape_pool* sp = &world->shapes;
     sp->body[s] = (kg_u32)i;
@@ -47,8 +48,13 @@ void kg_shape_attach(kg_world* world, int s, int i, const kg_body_shape_def* def
     if (sp->generation[s] == 0) {
         sp->generation[s] = 1;
     }
-    kg_shape_list_insert(sp, &world->bodies.first_shape[i], (kg_u32)s);
+    kg_shape_list_insert(sp, link, (kg_u32)s);
     sp->version += 1u;
+}
+
+void kg_shape_attach(kg_world* world, int s, int i, const kg_body_shape_def* def)
+{
+    kg_shape_attach_at(world, s, i, def, &world->bodies.first_shape[i]);
 }
 
 /* A box in the body frame around every shape of the list from first: the bounds of a
@@ -410,5 +416,74 @@ kg_result kg_shape_set_filter(kg_world* world, kg_shape_id shape, uint32_t categ
     world->shapes.category[s] = category;
     world->shapes.mask[s] = mask;
     kg_body_material_changed(world, &world->bodies, (int)world->shapes.body[s]);
+    return KG_OK;
+}
+
+/* ---- chains --------------------------------------------------------------------------- */
+
+kg_chain_def kg_default_chain_def(void)
+{
+    kg_chain_def def;
+    memset(&def, 0, sizeof def);
+    def.friction = 0.6f;
+    def.category = 1u;
+    def.mask = 0xFFFFFFFFu;
+    return def;
+}
+
+/* Everything kg_create_chain checks before it changes anything: body slot i may hold it. */
+static kg_result kg_check_chain(const kg_world* world, int i, const kg_chain_def* def)
+{
+    kg_body_type type = kg_pool_type(&world->bodies, i);
+    if (type != KG_BODY_STATIC && type != KG_BODY_KINEMATIC) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT,
+                       "a chain has no mass: only static and kinematic bodies may hold one (use capsules or polygons)");
+    }
+    KG_TRY(kg_check_material(0.0f, def->friction, def->restitution));
+    return kg_check_chain_points(def->points, def->count, def->loop);
+}
+
+kg_result kg_create_chain(kg_world* world, kg_body body, const kg_chain_def* def, kg_shape_id* out_segments)
+{
+    if (!world || !def) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_create_chain: NULL argument");
+    }
+    int i = kg_world_resolve(world, body);
+    if (i < 0) {
+        return kg_last_result();
+    }
+    KG_TRY(kg_check_chain(world, i, def));
+    int segments = def->loop ? def->count : def->count - 1;
+    kg_shape_pool* sp = &world->shapes;
+    KG_TRY(kg_shape_pool_reserve_geometry(sp));
+    KG_TRY(kg_shape_pool_reserve(sp, segments)); /* from here on nothing fails */
+    kg_body_pool* p = kg_world_write_pool(world);
+    int before = (int)p->shape_count[i];
+    if (before == 1) { /* its first shape's geometry was the body pool's alone */
+        sp->geometry[p->first_shape[i]] = p->shape[i];
+    }
+    kg_body_shape_def material = kg_default_body_shape_def();
+    material.density = 0.0f;
+    material.friction = def->friction;
+    material.restitution = def->restitution;
+    material.category = def->category;
+    material.mask = def->mask;
+    material.user_data = def->user_data;
+    kg_u32 last = KG_NULL_INDEX;
+    for (int k = 0; k < segments; ++k) {
+        int s = kg_shape_pool_acquire(sp);
+        sp->geometry[s] = kg_chain_segment_build(def->points, def->count, def->loop, k);
+        /* slots mostly come in ascending order: go on from the last segment's place in the
+         * list rather than walk it from the start for each (a long chain was quadratic) */
+        kg_u32* from = (last != KG_NULL_INDEX && last < (kg_u32)s) ? &sp->next[last] : &p->first_shape[i];
+        kg_shape_attach_at(world, s, i, &material, from);
+        last = (kg_u32)s;
+        if (out_segments) {
+            out_segments[k].index = (uint32_t)s;
+            out_segments[k].generation = sp->generation[s];
+        }
+    }
+    kg_body_shapes_changed(world, p, i, before);
+    kg_wake_reached(world, p, i);
     return KG_OK;
 }

@@ -59,6 +59,19 @@ static kg_result kg_shape_pool_grow(kg_shape_pool* pool, int capacity)
     return KG_OK;
 }
 
+kg_result kg_shape_pool_reserve(kg_shape_pool* pool, int more)
+{
+    int64_t need = (int64_t)pool->count + pool->held + more;
+    if (need <= pool->capacity) {
+        return KG_OK;
+    }
+    int64_t want = need + need / 2;
+    if (want > (1 << 28) || kg_shape_pool_grow(pool, (int)want) != KG_OK) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot grow the shape pool to %lld shapes", (long long)need);
+    }
+    return KG_OK;
+}
+
 kg_result kg_shape_pool_reserve_geometry(kg_shape_pool* pool)
 {
     if (!pool->geometry) {

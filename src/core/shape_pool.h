@@ -58,6 +58,9 @@ void kg_shape_pool_free_held(kg_shape_pool* pool);
 /* The slot of a live handle, or -1 (with the error set) for a stale or foreign one. */
 int kg_shape_pool_resolve(const kg_shape_pool* pool, kg_shape_id handle);
 
+/* Grows the pool, when needed, so that the next more acquisitions cannot fail; unchanged
+ * (OUT_OF_MEMORY set) when it cannot. */
+kg_result kg_shape_pool_reserve(kg_shape_pool* pool, int more);
 /* Allocates the geometry array (at the pool's capacity) if it is not yet. */
 kg_result kg_shape_pool_reserve_geometry(kg_shape_pool* pool);
 
