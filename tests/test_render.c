@@ -137,6 +137,34 @@ static void test_capsules_and_segments(void)
     kg_destroy_world(world);
 }
 
+/* A chain of 100 segments of 0.08 m along y = -2 is drawn to its last segment (a body's
+ * shapes beyond the 64 that fit the stack are drawn too). */
+static void test_long_chain(void)
+{
+    kg_world* world = kg_test_world((kg_vec2){0.0f, 0.0f});
+    kg_body_def def = kg_default_body_def();
+    def.type = KG_BODY_STATIC;
+    kg_body ground = KG_NULL_BODY_INIT;
+    KG_CHECK_OK(kg_create_body(world, &def, &ground));
+    kg_vec2 points[101];
+    for (int i = 0; i <= 100; ++i) {
+        points[i] = (kg_vec2){4.0f - 0.08f * (float)i, -2.0f};
+    }
+    kg_chain_def chain = kg_default_chain_def();
+    chain.points = points;
+    chain.count = 101;
+    KG_CHECK_OK(kg_create_chain(world, ground, &chain, NULL));
+    kg_canvas canvas;
+    KG_CHECK(kg_canvas_init(&canvas, 100, 100) == 0);
+    kg_draw_plain(&canvas, world, 0);
+    for (int x = 12; x <= 88; x += 4) { /* world x from -3.8 to 3.8 */
+        KG_CHECK(kg_canvas_get(&canvas, x, 70) == KG_COLOR_STATIC_LINE);
+    }
+    KG_CHECK(kg_canvas_get(&canvas, 50, 68) == KG_COLOR_BACKGROUND);
+    kg_canvas_free(&canvas);
+    kg_destroy_world(world);
+}
+
 /* A body is drawn where the world has moved it: one second of free fall. */
 static void test_bodies_are_drawn_at_their_pose(void)
 {
@@ -394,7 +422,7 @@ static void test_gif_round_trip(void)
 #define KG_FILE_TESTS
 #endif
 
-KG_TEST_MAIN(KG_TEST(test_camera_maps_both_ways), KG_TEST(test_bodies_fill_their_centres), KG_TEST(test_capsules_and_segments),
+KG_TEST_MAIN(KG_TEST(test_camera_maps_both_ways), KG_TEST(test_bodies_fill_their_centres), KG_TEST(test_capsules_and_segments), KG_TEST(test_long_chain),
              KG_TEST(test_bodies_are_drawn_at_their_pose), KG_TEST(test_bounding_boxes_and_rotation),
              KG_TEST(test_particles_and_kinematic_bodies), KG_TEST(test_tile_layer_where_the_map_says),
              KG_TEST(test_text), KG_TEST(test_clipping) KG_FILE_TESTS)

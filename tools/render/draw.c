@@ -8,7 +8,7 @@
 #define KG_NORMAL_LENGTH 12.0f
 #define KG_CONTACT_SIZE 2
 #define KG_PARTICLE_RADIUS 1.6f
-#define KG_DRAW_MAX_SHAPES 64 /* of one body; a body with more draws its first 64 */
+#define KG_DRAW_STACK_SHAPES 64 /* of one body, on the stack */
 #define KG_OUTLINE_MIN_SIZE 7.0f /* smaller shapes are filled only: outlines would hide them */
 
 kg_point kg_camera_to_screen(const kg_camera* camera, kg_vec2 world)
@@ -268,20 +268,24 @@ static void kg_draw_shape(kg_canvas* canvas, const kg_camera* camera, const kg_s
     }
 }
 
-/* Every shape of a body (a compound body has several), in the body's colours. */
+/* Every shape of a body (a compound body has several, a chain one a segment), in the
+ * body's colours. Most bodies' shapes fit the stack; a long chain's are allocated. */
 static void kg_draw_body_shapes(kg_canvas* canvas, const kg_camera* camera, const kg_world* world, kg_body body,
                                 const kg_body_state* state, kg_body_type type)
 {
-    kg_shape_id shapes[KG_DRAW_MAX_SHAPES];
-    int count = 0;
-    if (kg_body_get_shapes(world, body, shapes, KG_DRAW_MAX_SHAPES, &count) != KG_OK) {
-        return;
-    }
-    for (int k = 0; k < count && k < KG_DRAW_MAX_SHAPES; ++k) {
-        kg_body_shape_def def;
-        if (kg_shape_get_def(world, shapes[k], &def) == KG_OK) {
-            kg_draw_shape(canvas, camera, &def.geometry, state, type, body);
+    kg_shape_id on_stack[KG_DRAW_STACK_SHAPES];
+    int count = kg_body_shape_count(world, body);
+    kg_shape_id* shapes = count <= KG_DRAW_STACK_SHAPES ? on_stack : malloc((size_t)count * sizeof *shapes);
+    if (shapes && kg_body_get_shapes(world, body, shapes, count, &count) == KG_OK) {
+        for (int k = 0; k < count; ++k) {
+            kg_body_shape_def def;
+            if (kg_shape_get_def(world, shapes[k], &def) == KG_OK) {
+                kg_draw_shape(canvas, camera, &def.geometry, state, type, body);
+            }
         }
+    }
+    if (shapes != on_stack) {
+        free(shapes);
     }
 }
 
