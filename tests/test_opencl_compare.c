@@ -499,6 +499,51 @@ static void kg_compound_edit(kg_world* world)
     KG_CHECK_OK(kg_create_shape(world, bodies[3], &disc, &shapes[0]));
 }
 
+/* Chains: a hilly ground of 40 one-sided segments on a static body made without a shape,
+ * a square loop standing on it, a kinematic chain sweeping above, and boxes, circles and
+ * capsules dropped on them, some of them fast enough (40 to 200 m/s, downwards) for times
+ * of impact against the chain. */
+static void kg_chains_scene(kg_world* world)
+{
+    kg_body_def d = kg_default_body_def();
+    d.type = KG_BODY_STATIC;
+    kg_body ground, sweeper;
+    KG_CHECK_OK(kg_create_body(world, &d, &ground));
+    kg_vec2 hills[41];
+    for (int i = 0; i <= 40; ++i) { /* right to left: the normal up */
+        float x = 20.0f - (float)i;
+        hills[i] = (kg_vec2){x, 0.6f * sinf(0.4f * x) + 0.02f * x};
+    }
+    kg_chain_def chain = kg_default_chain_def();
+    chain.points = hills;
+    chain.count = 41;
+    KG_CHECK_OK(kg_create_chain(world, ground, &chain, NULL));
+    const kg_vec2 square[4] = {{-2.0f, 1.0f}, {2.0f, 1.0f}, {2.0f, 3.0f}, {-2.0f, 3.0f}};
+    chain.points = square;
+    chain.count = 4;
+    chain.loop = 1;
+    KG_CHECK_OK(kg_create_chain(world, ground, &chain, NULL));
+    d.type = KG_BODY_KINEMATIC;
+    d.position = (kg_vec2){-12.0f, 6.0f};
+    d.velocity = (kg_vec2){1.5f, 0.0f};
+    KG_CHECK_OK(kg_create_body(world, &d, &sweeper));
+    const kg_vec2 bar[3] = {{1.5f, 0.0f}, {0.0f, -0.3f}, {-1.5f, 0.0f}};
+    chain.points = bar;
+    chain.count = 3;
+    chain.loop = 0;
+    KG_CHECK_OK(kg_create_chain(world, sweeper, &chain, NULL));
+    for (int k = 0; k < 60; ++k) {
+        kg_shape_def shape = k % 3 == 0   ? kg_box_shape(0.4f, 0.3f)
+                             : k % 3 == 1 ? kg_circle_shape(0.2f)
+                                          : kg_capsule_shape((kg_vec2){-0.2f, 0.0f}, (kg_vec2){0.2f, 0.0f}, 0.15f);
+        kg_body body = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-15.0f + 0.5f * (float)k, 8.0f + 0.3f * (float)(k % 7)},
+                              0.1f * (float)k, shape);
+        if (k % 10 == 5) {
+            KG_CHECK_OK(kg_body_set_velocity(world, body, (kg_vec2){0.0f, -40.0f - 16.0f * (float)(k / 10)}));
+        }
+    }
+}
+
 static int kg_compare_scene_edited(const char* name, kg_scene_fn* scene, kg_scene_fn* edit_at_100);
 
 /* At step 100 the world's first compound body appears: a shot at the static wall of the
@@ -671,6 +716,7 @@ static void test_rain_2000_colored_in_rounds(void)
 static void test_tiles(void) { kg_compare_scene("tiles", kg_tiles_scene); }
 static void test_capsules(void) { kg_compare_scene("capsules", kg_capsules_scene); }
 static void test_tunnelling(void) { kg_compare_scene("tunnelling", kg_tunnelling_scene); }
+static void test_chains(void) { kg_compare_scene("chains", kg_chains_scene); }
 static void test_tunnelling_first_compound(void)
 {
     kg_compare_scene_edited("tunnelling, first compound body at step 100", kg_tunnelling_scene, kg_first_compound_edit);
@@ -753,7 +799,7 @@ int main(void)
                                          KG_TEST(test_pyramid_20), KG_TEST(test_rain_2000), KG_TEST(test_rain_2000_colored_in_rounds),
                                          KG_TEST(test_sizes), KG_TEST(test_piles), KG_TEST(test_compound), KG_TEST(test_compound_shape_pool_grows),
                                          KG_TEST(test_tiles), KG_TEST(test_tiles_collide_on_device), KG_TEST(test_capsules),
-                                         KG_TEST(test_tunnelling), KG_TEST(test_tunnelling_first_compound),
+                                         KG_TEST(test_tunnelling), KG_TEST(test_tunnelling_first_compound), KG_TEST(test_chains),
                                          KG_TEST(test_sleep_and_wake), KG_TEST(test_sleep_and_wake_islands_in_rounds)};
     return kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
 }
