@@ -10,7 +10,8 @@
 #   bash scripts/device-check.sh --fetch-debs  fill .debs/ here, to carry to a machine offline
 #
 # Environment: DEVICE_CHECK_MAX (largest N; default 1000000 with 8 CPUs or more, else
-# 100000), DEVICE_CHECK_STEPS (60), DEVICE_CHECK_BUDGET (seconds a run may step before the
+# 100000), DEVICE_CHECK_BACKENDS (cpu,opencl), DEVICE_CHECK_STEPS (60),
+# DEVICE_CHECK_BUDGET (seconds a run may step before the
 # larger sizes of its series are skipped; 10), DEVICE_CHECK_TIMEOUT (a run is killed
 # after it; 90), JOBS (parallel build and test jobs; nproc).
 set -euo pipefail
@@ -72,36 +73,39 @@ install_deps() {
   fi
 }
 
-# The ICD loader finds vendors through /etc/OpenCL/vendors/*.icd. A GPU machine whose
-# driver is mounted into the image (NVIDIA's /usr/local/nvidia) has the library but no
-# .icd file: write one naming it.
-setup_icd() {
-  local vendors=/etc/OpenCL/vendors lib="" dir
-  if ls "$vendors"/*.icd >/dev/null 2>&1; then
-    echo "icd:" "$vendors"/*.icd
-    return
-  fi
+# The ICD loader finds vendors through /etc/OpenCL/vendors/*.icd, or the folder that
+# OCL_ICD_VENDORS names. The tests and the bench use OpenCL device 0, and a GPU machine's
+# image may list a CPU device first (PoCL: the first check on an H200 ran everything on
+# it). So where NVIDIA's library is found (a driver mounted into the image at
+# /usr/local/nvidia, or installed), the loader is given a private folder holding its
+# .icd alone: device 0 is then the GPU. Elsewhere the system's vendors stay as they are.
+find_nvidia_opencl() {
+  local dir
   for dir in /usr/local/nvidia/lib64 /usr/local/nvidia/lib /usr/lib/x86_64-linux-gnu /usr/lib64; do
-    [ -e "$dir/libnvidia-opencl.so.1" ] && { lib="$dir/libnvidia-opencl.so.1"; break; }
+    [ -e "$dir/libnvidia-opencl.so.1" ] && { echo "$dir/libnvidia-opencl.so.1"; return; }
   done
-  [ -n "$lib" ] || lib=$(ldconfig -p 2>/dev/null | awk '/libnvidia-opencl\.so\.1 /{print $NF; exit}')
+  ldconfig -p 2>/dev/null | awk '/libnvidia-opencl\.so\.1 /{print $NF; exit}' | grep . ||
+    find /usr /lib /opt -name 'libnvidia-opencl.so.1' 2>/dev/null | head -n 1
+}
+
+setup_icd() {
+  local lib vendors="$out/icd"
+  lib=$(find_nvidia_opencl)
   if [ -z "$lib" ]; then
-    echo "icd: no .icd file in $vendors and no libnvidia-opencl.so.1 found" >&2
+    if ls /etc/OpenCL/vendors/*.icd >/dev/null 2>&1; then
+      echo "icd:" /etc/OpenCL/vendors/*.icd
+    else
+      echo "icd: no .icd file in /etc/OpenCL/vendors and no libnvidia-opencl.so.1 found" >&2
+    fi
     return
   fi
-  if [ -w /etc ] || [ -w "$vendors" ]; then
-    mkdir -p "$vendors"
-    echo "$lib" >"$vendors/nvidia.icd"
-  else # not root: a private vendors folder, which the loader takes from OCL_ICD_VENDORS
-    vendors="$out/icd"
-    mkdir -p "$vendors"
-    echo "$lib" >"$vendors/nvidia.icd"
-    export OCL_ICD_VENDORS="$vendors"
-  fi
+  mkdir -p "$vendors"
+  echo "$lib" >"$vendors/nvidia.icd"
+  export OCL_ICD_VENDORS="$vendors"
   # The library's own dependencies (libcuda, the PTX compiler) sit beside it.
   LD_LIBRARY_PATH="${lib%/*}${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
   export LD_LIBRARY_PATH
-  echo "icd: wrote $vendors/nvidia.icd -> $lib"
+  echo "icd: OCL_ICD_VENDORS=$vendors: NVIDIA's $lib alone, so that device 0 is the GPU"
 }
 
 build() {
@@ -116,15 +120,20 @@ show_device() {
   info=$("$build/kgyro" info)
   echo "$info"
   case "$info" in *"device 0:"*) ;; *) echo "device-check: no OpenCL device found" >&2; exit 1 ;; esac
+  if echo "$info" | grep -q "(GPU" && ! echo "$info" | grep -q "device 0: .*(GPU"; then
+    echo "device-check: warning: a GPU is listed but device 0, which the tests and the bench use, is not it" >&2
+  fi
 }
 
 # Every test labelled opencl (tests/cases/opencl.cmake). They skip (exit 77) without a
-# device, which ctest counts as passing: a skip fails the check here.
+# device, which ctest counts as passing: a skip fails the check here. A failure is
+# reported at the end, after the bench has run: both are worth having from one lease.
 run_tests() {
-  (cd "$build" && ctest -L opencl --output-on-failure -j"$jobs") | tee "$out/ctest.txt"
+  (cd "$build" && ctest -L opencl --output-on-failure -j"$jobs") >"$out/ctest.txt" 2>&1 || tests_failed=1
+  cat "$out/ctest.txt"
   if grep -q -E "Not Run|Skipped" "$out/ctest.txt"; then
     echo "device-check: an OpenCL test was skipped (no device?)" >&2
-    exit 1
+    tests_failed=1
   fi
 }
 
@@ -139,7 +148,7 @@ run_bench() {
   # One run each, largest sizes cut by the budget: the whole check must stay under about
   # 9 minutes on a GPU machine. The bench exits non-zero when a row is not ok (a skipped
   # size): the table says which, so that does not stop the check.
-  "$build/kgyro" bench "${scenes[@]}" --engines kgyro --backend cpu,opencl --runs 1 \
+  "$build/kgyro" bench "${scenes[@]}" --engines kgyro --backend "${DEVICE_CHECK_BACKENDS:-cpu,opencl}" --runs 1 \
     --steps "${DEVICE_CHECK_STEPS:-60}" --budget "${DEVICE_CHECK_BUDGET:-10}" \
     --timeout "${DEVICE_CHECK_TIMEOUT:-90}" --csv "$out/results.csv" --plot "$out" || true
   [ -s "$out/results.csv" ] || { echo "device-check: the bench wrote no results" >&2; exit 1; }
@@ -198,6 +207,7 @@ main() {
   build="${1:-build}"
   case "$build" in /*) ;; *) build="$root/$build" ;; esac
   jobs=${JOBS:-$(nproc)}
+  tests_failed=0
   mkdir -p "$out"
   rm -f "$out"/results*.csv "$out"/*.png "$out"/*.gp "$out"/table.md
   exec > >(tee "$out/log.txt") 2>&1
@@ -214,6 +224,10 @@ main() {
   echo
   echo "device-check: done in $((SECONDS - start)) s; out/device-check/table.md:"
   cat "$out/table.md"
+  if [ "$tests_failed" != 0 ]; then
+    echo "device-check: an OpenCL test failed (out/device-check/ctest.txt)" >&2
+    exit 1
+  fi
 }
 
 main "$@"
