@@ -11,7 +11,7 @@
 #
 # Environment: DEVICE_CHECK_MAX (largest N; default 1000000 with 8 CPUs or more, else
 # 100000), DEVICE_CHECK_BACKENDS (cpu,opencl), DEVICE_CHECK_STEPS (60),
-# DEVICE_CHECK_BUDGET (seconds a run may step before the
+# DEVICE_CHECK_TESTS (1; 0 skips the tests), DEVICE_CHECK_BUDGET (seconds a run may step before the
 # larger sizes of its series are skipped; 10), DEVICE_CHECK_TIMEOUT (a run is killed
 # after it; 90), JOBS (parallel build and test jobs; nproc).
 set -euo pipefail
@@ -73,12 +73,11 @@ install_deps() {
   fi
 }
 
-# The ICD loader finds vendors through /etc/OpenCL/vendors/*.icd, or the folder that
-# OCL_ICD_VENDORS names. The tests and the bench use OpenCL device 0, and a GPU machine's
-# image may list a CPU device first (PoCL: the first check on an H200 ran everything on
-# it). So where NVIDIA's library is found (a driver mounted into the image at
-# /usr/local/nvidia, or installed), the loader is given a private folder holding its
-# .icd alone: device 0 is then the GPU. Elsewhere the system's vendors stay as they are.
+# The ICD loader finds vendors through /etc/OpenCL/vendors/*.icd. A GPU machine whose
+# driver is mounted into the image (NVIDIA's /usr/local/nvidia) may have the library but
+# no .icd file: one naming it is written. (The H200 image lists PoCL's CPU device first
+# and NVIDIA's second, through CUDA's own loader, which ignores OCL_ICD_VENDORS: the
+# bench picks the GPU by its index, show_device below.)
 find_nvidia_opencl() {
   local dir
   for dir in /usr/local/nvidia/lib64 /usr/local/nvidia/lib /usr/lib/x86_64-linux-gnu /usr/lib64; do
@@ -89,23 +88,24 @@ find_nvidia_opencl() {
 }
 
 setup_icd() {
-  local lib vendors="$out/icd"
+  local vendors=/etc/OpenCL/vendors lib
   lib=$(find_nvidia_opencl)
-  if [ -z "$lib" ]; then
-    if ls /etc/OpenCL/vendors/*.icd >/dev/null 2>&1; then
-      echo "icd:" /etc/OpenCL/vendors/*.icd
-    else
-      echo "icd: no .icd file in /etc/OpenCL/vendors and no libnvidia-opencl.so.1 found" >&2
+  if [ -n "$lib" ] && ! grep -qs nvidia "$vendors"/*.icd; then
+    if [ -w /etc ] || [ -w "$vendors" ]; then
+      mkdir -p "$vendors"
+      echo "$lib" >"$vendors/nvidia.icd"
+    else # not root: a private vendors folder, which ocl-icd takes from OCL_ICD_VENDORS
+      vendors="$out/icd"
+      mkdir -p "$vendors"
+      echo "$lib" >"$vendors/nvidia.icd"
+      export OCL_ICD_VENDORS="$vendors"
     fi
-    return
+    # The library's own dependencies (libcuda, the PTX compiler) sit beside it.
+    LD_LIBRARY_PATH="${lib%/*}${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+    export LD_LIBRARY_PATH
+    echo "icd: wrote $vendors/nvidia.icd -> $lib"
   fi
-  mkdir -p "$vendors"
-  echo "$lib" >"$vendors/nvidia.icd"
-  export OCL_ICD_VENDORS="$vendors"
-  # The library's own dependencies (libcuda, the PTX compiler) sit beside it.
-  LD_LIBRARY_PATH="${lib%/*}${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
-  export LD_LIBRARY_PATH
-  echo "icd: OCL_ICD_VENDORS=$vendors: NVIDIA's $lib alone, so that device 0 is the GPU"
+  ls "$vendors"/*.icd >/dev/null 2>&1 && echo "icd:" "$vendors"/*.icd || echo "icd: no .icd file in $vendors" >&2
 }
 
 build() {
@@ -120,8 +120,18 @@ show_device() {
   info=$("$build/kgyro" info)
   echo "$info"
   case "$info" in *"device 0:"*) ;; *) echo "device-check: no OpenCL device found" >&2; exit 1 ;; esac
-  if echo "$info" | grep -q "(GPU" && ! echo "$info" | grep -q "device 0: .*(GPU"; then
-    echo "device-check: warning: a GPU is listed but device 0, which the tests and the bench use, is not it" >&2
+  gpu_device=$(echo "$info" | sed -n 's/^ *device \([0-9]*\): .*(GPU.*/\1/p' | head -n 1)
+  if [ -n "$gpu_device" ] && [ "$gpu_device" != 0 ]; then
+    echo "device-check: warning: the tests run on device 0, not on the GPU (device $gpu_device); the bench does"
+  fi
+}
+
+# DEVICE_CHECK_TESTS=0 skips the tests (a short lease: the bench alone).
+run_tests_if_asked() {
+  if [ "${DEVICE_CHECK_TESTS:-1}" = 0 ]; then
+    echo "tests: skipped (DEVICE_CHECK_TESTS=0)"
+  else
+    run_tests
   fi
 }
 
@@ -147,10 +157,23 @@ run_bench() {
   done
   # One run each, largest sizes cut by the budget: the whole check must stay under about
   # 9 minutes on a GPU machine. The bench exits non-zero when a row is not ok (a skipped
-  # size): the table says which, so that does not stop the check.
-  "$build/kgyro" bench "${scenes[@]}" --engines kgyro --backend "${DEVICE_CHECK_BACKENDS:-cpu,opencl}" --runs 1 \
-    --steps "${DEVICE_CHECK_STEPS:-60}" --budget "${DEVICE_CHECK_BUDGET:-10}" \
-    --timeout "${DEVICE_CHECK_TIMEOUT:-90}" --csv "$out/results.csv" --plot "$out" || true
+  # size): the table says which, so that does not stop the check. Each backend is a run
+  # of its own, the OpenCL one on the GPU (KGYRO_BACKEND=opencl:N, which would turn the
+  # CPU rows into OpenCL ones too), their CSVs joined.
+  local backend csv
+  for backend in $(echo "${DEVICE_CHECK_BACKENDS:-cpu,opencl}" | tr ',' ' '); do
+    csv="$out/results_$backend.csv"
+    if [ "$backend" = opencl ] && [ -n "$gpu_device" ]; then
+      echo "bench: OpenCL device $gpu_device, the GPU"
+      export KGYRO_BACKEND="opencl:$gpu_device"
+    fi
+    "$build/kgyro" bench "${scenes[@]}" --engines kgyro --backend "$backend" --runs 1 \
+      --steps "${DEVICE_CHECK_STEPS:-60}" --budget "${DEVICE_CHECK_BUDGET:-10}" \
+      --timeout "${DEVICE_CHECK_TIMEOUT:-90}" --csv "$csv" --plot "$out" || true
+    unset KGYRO_BACKEND
+    [ -s "$csv" ] || continue
+    if [ -s "$out/results.csv" ]; then tail -n +2 "$csv" >>"$out/results.csv"; else cp "$csv" "$out/results.csv"; fi
+  done
   [ -s "$out/results.csv" ] || { echo "device-check: the bench wrote no results" >&2; exit 1; }
 }
 
@@ -208,6 +231,7 @@ main() {
   case "$build" in /*) ;; *) build="$root/$build" ;; esac
   jobs=${JOBS:-$(nproc)}
   tests_failed=0
+  gpu_device=""
   mkdir -p "$out"
   rm -f "$out"/results*.csv "$out"/*.png "$out"/*.gp "$out"/table.md
   exec > >(tee "$out/log.txt") 2>&1
@@ -217,7 +241,7 @@ main() {
   setup_icd
   build
   show_device
-  run_tests
+  run_tests_if_asked
   run_bench
   write_table
   write_chart
