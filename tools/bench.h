@@ -33,6 +33,7 @@ typedef struct bench_config {
     double budget_s;  /* a run stepping longer skips the larger sizes of its series; 0 = none */
     double timeout_s; /* a run taking longer is killed; 0 = none */
     int no_continuous; /* kgyro with continuous collision off */
+    int device;        /* OpenCL device of kgyro's opencl backend (kgyro info lists them) */
 } bench_config;
 
 typedef struct bench_scene_info {
@@ -92,7 +93,7 @@ typedef struct bench_row {
 void bench_run(const bench_engine* engine, kg_scene* scene, const bench_scene_info* info,
                const bench_config* config, bench_result* out);
 /* Whether kgyro can make a world on backend; if not, why says why. */
-int bench_kgyro_backend_works(kg_backend backend, int threads, char* why, size_t size);
+int bench_kgyro_backend_works(kg_backend backend, const bench_config* config, char* why, size_t size);
 /* Whether kgyro's contact solver is in: a box dropped on a static ground box must come
  * to rest on it. Writes what happened to message. */
 int bench_kgyro_solver_check(char* message, size_t size);

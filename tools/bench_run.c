@@ -35,6 +35,7 @@ static int bench_kgyro_create(bench_sim* sim, const bench_config* config, char* 
 {
     kg_world_def def = *kg_scene_world_def(sim->scene);
     def.backend = sim->engine->backend;
+    def.device_index = config->device;
     def.threads = config->threads;
     def.substeps = config->substeps > 0 ? config->substeps : def.substeps;
     def.enable_sleep = 0; /* the peers run with sleeping off: every engine simulates every body */
@@ -551,12 +552,13 @@ const char* bench_status_name(bench_status status)
 
 /* ---- can kgyro run on this backend? ---- */
 
-static void bench_try_backend(kg_backend backend, int threads, int fd)
+static void bench_try_backend(kg_backend backend, const bench_config* config, int fd)
 {
     char message[BENCH_MESSAGE_MAX] = "";
     kg_world_def def = kg_default_world_def();
     def.backend = backend;
-    def.threads = threads;
+    def.device_index = config->device;
+    def.threads = config->threads;
     kg_world* world = NULL;
     kg_result r = kg_create_world(&def, &world);
     if (r != KG_OK) {
@@ -571,7 +573,7 @@ static void bench_try_backend(kg_backend backend, int threads, int fd)
 
 /* Tried in a child: an OpenCL runtime started in this process would not survive the
  * forks of the runs. */
-int bench_kgyro_backend_works(kg_backend backend, int threads, char* why, size_t size)
+int bench_kgyro_backend_works(kg_backend backend, const bench_config* config, char* why, size_t size)
 {
     int fds[2];
     if (pipe(fds) != 0) {
@@ -582,7 +584,7 @@ int bench_kgyro_backend_works(kg_backend backend, int threads, char* why, size_t
     pid_t pid = fork();
     if (pid == 0) {
         close(fds[0]);
-        bench_try_backend(backend, threads, fds[1]);
+        bench_try_backend(backend, config, fds[1]);
     }
     close(fds[1]);
     size_t got = pid > 0 ? bench_read_all(fds[0], why, size - 1) : 0;

@@ -68,7 +68,8 @@ static void bench_usage(FILE* out)
             "\n"
             "options:\n"
             "  --engines LIST   kgyro,box2d,chipmunk (default: all three)\n"
-            "  --backend LIST   kgyro backends: cpu,opencl (default: cpu)\n"
+            "  --backend LIST   kgyro backends: cpu,opencl (default: cpu); KGYRO_BACKEND is ignored\n"
+            "  --device N       OpenCL device of the opencl backend (default 0; kgyro info lists them)\n"
             "  --threads N      worker threads for kgyro and Chipmunk (default 1; Box2D 2.4 has one)\n"
             "  --substeps N     kgyro's solver sub-steps (default 0: the engine's own, 4, as Box2D\n"
             "                   v3's). The peers have none: Box2D 2.4 iterates, Chipmunk too\n"
@@ -125,6 +126,8 @@ static int bench_set_option(bench_options* o, const char* name, const char* valu
         o->plot_dir = value;
     } else if (strcmp(name, "--threads") == 0) {
         return bench_parse_int(value, 1, &c->threads);
+    } else if (strcmp(name, "--device") == 0) {
+        return bench_parse_int(value, 0, &c->device);
     } else if (strcmp(name, "--steps") == 0) {
         return bench_parse_int(value, 1, &c->steps);
     } else if (strcmp(name, "--substeps") == 0) {
@@ -234,7 +237,7 @@ static void bench_add_kgyro(bench_session* s, kg_backend backend, const char* na
     e->backend = backend;
     snprintf(e->label, sizeof e->label, "kgyro/%s", name);
     char why[BENCH_MESSAGE_MAX];
-    e->available = bench_kgyro_backend_works(backend, s->options.config.threads, why, sizeof why);
+    e->available = bench_kgyro_backend_works(backend, &s->options.config, why, sizeof why);
     if (!e->available) {
         snprintf(e->about, sizeof e->about, "%s backend unavailable: %s", name, why);
         return;
@@ -244,8 +247,12 @@ static void bench_add_kgyro(bench_session* s, kg_backend backend, const char* na
     if (c->substeps > 0) {
         snprintf(substeps, sizeof substeps, "%d", c->substeps);
     }
-    snprintf(e->about, sizeof e->about, "KineticGyro %d.%d.%d, %s backend, %s sub-steps, %d thread%s",
-             KGYRO_VERSION_MAJOR, KGYRO_VERSION_MINOR, KGYRO_VERSION_PATCH, name, substeps, c->threads,
+    char device[32] = "";
+    if (backend == KG_BACKEND_OPENCL) {
+        snprintf(device, sizeof device, " (device %d)", c->device);
+    }
+    snprintf(e->about, sizeof e->about, "KineticGyro %d.%d.%d, %s backend%s, %s sub-steps, %d thread%s",
+             KGYRO_VERSION_MAJOR, KGYRO_VERSION_MINOR, KGYRO_VERSION_PATCH, name, device, substeps, c->threads,
              c->threads == 1 ? "" : "s");
 }
 
@@ -518,6 +525,15 @@ int kg_cmd_bench(int argc, char** argv)
     const char** scenes = calloc((size_t)argc + 1, sizeof *scenes);
     if (!scenes) {
         return 1;
+    }
+    /* The environment's backend would turn the rows' backends into its own, and the
+     * checks this process makes on the CPU into OpenCL worlds whose runtime (NVIDIA's)
+     * does not survive the runs' forks: every run crashed on an H200. */
+    if (getenv("KGYRO_BACKEND")) {
+        fprintf(stderr, "kgyro bench: KGYRO_BACKEND=%s ignored: the rows' backends are --backend's, the device "
+                        "--device's\n",
+                getenv("KGYRO_BACKEND"));
+        unsetenv("KGYRO_BACKEND");
     }
     int code = bench_parse_options(argc, argv, &s.options, scenes);
     if (code == 0 && !bench_make_engines(&s)) {
