@@ -248,6 +248,37 @@ static const error_case kErrorStrings[] = {
     {"{\"bodies\": [{\"mass\": 2, \"shapes\": [{\"type\": \"circle\", \"radius\": 1}, {\"type\": \"circle\", "
      "\"radius\": 1}]}]}",
      "bodies[0].mass: is for a body of one shape: give each of its shapes a density"},
+    {"{\"bodies\": [{\"shape\": {\"type\": \"chain\", \"points\": [[0, 0], [1, 0]]}}]}",
+     "bodies[0].shape: a chain has no mass: only static and kinematic bodies may hold one (use capsules or polygons)"},
+    {"{\"bodies\": [{\"type\": \"particle\", \"mass\": 1, \"shapes\": [{\"type\": \"chain\", \"points\": [[0, 0], [1, 0]]}]}]}",
+     "bodies[0].shapes[0]: a chain has no mass: only static and kinematic bodies may hold one (use capsules or polygons)"},
+    {"{\"bodies\": [{\"type\": \"static\", \"shape\": {\"type\": \"chain\", \"points\": [[0, 0]]}}]}",
+     "bodies[0].shape.points: a chain needs at least 2 points (got 1)"},
+    {"{\"bodies\": [{\"type\": \"static\", \"shape\": {\"type\": \"chain\", \"loop\": true, \"points\": [[0, 0], [1, 0]]}}]}",
+     "bodies[0].shape.points: a chain loop needs at least 3 points (got 2)"},
+    {"{\"bodies\": [{\"type\": \"static\", \"shape\": {\"type\": \"chain\", \"points\": [[0, 0], [1e999, 0]]}}]}",
+     "bodies[0].shape.points[1][0]: must be a finite number (got inf)"},
+    {"{\"bodies\": [{\"type\": \"static\", \"shapes\": [{\"type\": \"chain\", \"points\": [[0, 0], [3e38, 0]],"
+     " \"center\": [3e38, 0]}]}]}",
+     "bodies[0].shapes[0].points: chain point 1 is not finite"},
+    {"{\"bodies\": [{\"type\": \"static\", \"shape\": {\"type\": \"chain\", \"points\": [[0, 0], [1, 0], [1, 0], [2, 0]]}}]}",
+     "bodies[0].shape.points: chain segment 1 (points 1 and 2): segment points coincide (closer than 0.0001 m)"},
+    {"{\"bodies\": [{\"type\": \"kinematic\", \"shape\": {\"type\": \"chain\", \"loop\": true,"
+     " \"points\": [[0, 0], [1, 0], [1, 1], [0, 0]]}}]}",
+     "bodies[0].shape.points: chain segment 3 (points 3 and 0): segment points coincide (closer than 0.0001 m)"},
+    {"{\"bodies\": [{\"type\": \"static\", \"shape\": {\"type\": \"chain\", \"points\": 3}}]}",
+     "bodies[0].shape.points: must be an array"},
+    {"{\"bodies\": [{\"type\": \"static\", \"shape\": {\"type\": \"chain\", \"points\": [[0, 0], [1]]}}]}",
+     "bodies[0].shape.points[1]: must be [x, y] (an array of two numbers)"},
+    {"{\"bodies\": [{\"type\": \"static\", \"shape\": {\"type\": \"chain\"}}]}", "bodies[0].shape.points: is required"},
+    {"{\"bodies\": [{\"type\": \"static\", \"shape\": {\"type\": \"chain\", \"loop\": 1, \"points\": [[0, 0], [1, 0]]}}]}",
+     "bodies[0].shape.loop: must be true or false"},
+    {"{\"bodies\": [{\"type\": \"static\", \"shape\": {\"type\": \"chain\", \"center\": [1, 0], \"points\": [[0, 0], [1, 0]]}}]}",
+     "bodies[0].shape.center: unknown field"},
+    {"{\"bodies\": [{\"type\": \"static\", \"shapes\": [{\"type\": \"chain\", \"sensor\": true, \"points\": [[0, 0], [1, 0]]}]}]}",
+     "bodies[0].shapes[0].sensor: unknown field"},
+    {"{\"bodies\": [{\"type\": \"static\", \"shape\": {\"type\": \"rope\"}}]}",
+     "bodies[0].shape.type: must be one of \"box\", \"circle\", \"polygon\", \"capsule\", \"segment\", \"chain\" (got \"rope\")"},
 };
 
 static void test_error_strings(void)
@@ -301,6 +332,89 @@ static void test_compound_body(void)
     kg_scene_destroy(scene);
 }
 
+/* The chain of body index k of scene, which must be there. */
+static kg_chain_def scene_chain(const kg_scene* scene, int index, int k)
+{
+    kg_chain_def def = kg_default_chain_def();
+    KG_CHECK_OK(kg_scene_get_body_chain(scene, index, k, &def));
+    return def;
+}
+
+/* good_chain.json: chains read with their material, placed by "center" and "angle"; the
+ * world has one segment shape per segment; a box lands on the ground across a join, a ball
+ * on the loop, and a box above a segment whose solid side is up falls through it. */
+static void test_chains(void)
+{
+    kg_scene* scene = load(SCENES "good_chain.json");
+    if (!scene) {
+        return;
+    }
+    KG_CHECK(kg_scene_body_def(scene, 0)->shape.type == KG_SHAPE_NONE && kg_scene_body_chain_count(scene, 0) == 1);
+    kg_chain_def ground = scene_chain(scene, 0, 0);
+    KG_CHECK(ground.count == 5 && !ground.loop && ground.friction == 0.7f);
+    KG_CHECK(same_vec(ground.points[0], (kg_vec2){10.0f, 0.0f}) && same_vec(ground.points[4], (kg_vec2){-10.0f, 0.0f}));
+    /* the island's box is its own shape; its loop turned a quarter round, then moved up 1 m */
+    KG_CHECK(kg_scene_body_shape_count(scene, 2) == 1 && kg_scene_body_chain_count(scene, 2) == 1);
+    KG_CHECK(kg_scene_body_def(scene, 2)->shape.type == KG_SHAPE_POLYGON);
+    kg_chain_def loop = scene_chain(scene, 2, 0);
+    KG_CHECK(loop.count == 4 && loop.loop && loop.friction == 0.3f && loop.category == 2u && loop.mask == 0xFFFFFFFFu);
+    KG_CHECK_NEAR(loop.points[0].x, 1.0, 1e-6);
+    KG_CHECK_NEAR(loop.points[0].y, 0.0, 1e-6);
+    KG_CHECK_NEAR(loop.points[2].x, -1.0, 1e-6);
+    KG_CHECK_NEAR(loop.points[2].y, 2.0, 1e-6);
+    KG_CHECK(kg_scene_get_body_chain(scene, 2, 1, &loop) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_scene_body_chain_count(scene, 3) == 0 && kg_scene_body_chain_count(scene, 99) == 0);
+
+    kg_world* world = NULL;
+    kg_body bodies[6];
+    KG_CHECK_OK(kg_scene_instantiate(scene, NULL, &world, bodies));
+    if (!world) {
+        kg_scene_destroy(scene);
+        return;
+    }
+    KG_CHECK(kg_body_shape_count(world, bodies[0]) == 4 && kg_body_shape_count(world, bodies[1]) == 1);
+    kg_shape_id island[5];
+    int count = 0;
+    KG_CHECK_OK(kg_body_get_shapes(world, bodies[2], island, 5, &count));
+    KG_CHECK(count == 5); /* the box, then the loop's 4 segments */
+    kg_body_shape_def segment;
+    KG_CHECK_OK(kg_shape_get_def(world, island[1], &segment));
+    KG_CHECK(segment.geometry.type == KG_SHAPE_SEGMENT && segment.friction == 0.3f && segment.category == 2u);
+    for (int step = 0; step < 120; ++step) {
+        KG_CHECK_OK(kg_world_step(world, 1.0f / 60.0f));
+    }
+    kg_vec2 box, fallthrough, ball;
+    KG_CHECK_OK(kg_body_get_position(world, bodies[3], &box));
+    KG_CHECK_OK(kg_body_get_position(world, bodies[4], &fallthrough));
+    KG_CHECK_OK(kg_body_get_position(world, bodies[5], &ball));
+    printf("measured: good_chain.json after 2 s: box y %.5f (0.5), ball y %.5f (2.5), box behind a segment y %.3f "
+           "(fell from 3)\n", box.y, ball.y, fallthrough.y);
+    KG_CHECK_NEAR(box.y, 0.5, 5e-3);
+    KG_CHECK_NEAR(box.x, 0.0, 5e-3);
+    KG_CHECK_NEAR(ball.y, 2.5, 5e-3);
+    KG_CHECK(fallthrough.y < -10.0f);
+    kg_destroy_world(world);
+    kg_scene_destroy(scene);
+}
+
+/* A chain of more points than a file may hold is refused before anything else. */
+static void test_chain_points_cap(void)
+{
+    const int count = 100001;
+    const char* head = "{\"bodies\": [{\"type\": \"static\", \"shape\": {\"type\": \"chain\", \"points\": [";
+    size_t size = strlen(head) + 8 * (size_t)count + 16;
+    char* json = malloc(size);
+    size_t used = (size_t)snprintf(json, size, "%s", head);
+    for (int i = 0; i < count; ++i) {
+        used += (size_t)snprintf(json + used, size - used, "%s[%d, 0]", i > 0 ? "," : "", i % 10);
+    }
+    snprintf(json + used, size - used, "]}}]}");
+    kg_scene* scene = (kg_scene*)json; /* must come back NULL */
+    kg_result r = kg_scene_parse(json, strlen(json), "inline.json", &scene);
+    check_error(r, scene, "inline.json: bodies[0].shape.points: must hold at most 100000 points (got 100001)");
+    free(json);
+}
+
 static void test_unreadable_file(void)
 {
     kg_scene* scene = NULL;
@@ -313,7 +427,7 @@ static void test_unreadable_file(void)
 static void test_samples_load(void)
 {
     static const char* const samples[] = {"box_stack.json", "pyramid.json", "rain_wind.json", "particles.json",
-                                          "compound.json"};
+                                          "compound.json", "chain_terrain.json"};
     for (size_t i = 0; i < sizeof samples / sizeof samples[0]; ++i) {
         char path[512];
         snprintf(path, sizeof path, "%s/samples/%s", KG_SOURCE_DIR, samples[i]);
@@ -721,6 +835,45 @@ static void test_pivots_keep_walls_on_circle(void)
 
 /* The builder checks a body as kg_create_body would, so a scene it accepts always
  * instantiates (the scene fuzzer found definitions that did not). */
+/* kg_scene_add_body_chain checks what kg_create_chain will, and keeps its own copy. */
+static void test_builder_chains(void)
+{
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_create(&scene));
+    kg_body_def ground = kg_default_body_def();
+    ground.type = KG_BODY_STATIC;
+    kg_body_def ball = circle_at(0.0f, 1.0f);
+    KG_CHECK_OK(kg_scene_add_body(scene, "ground", &ground));
+    KG_CHECK_OK(kg_scene_add_body(scene, "ball", &ball));
+    kg_vec2 points[3] = {{2.0f, 0.0f}, {0.0f, 0.0f}, {-2.0f, 0.0f}};
+    kg_chain_def def = kg_default_chain_def();
+    def.points = points;
+    def.count = 3;
+    KG_CHECK(kg_scene_add_body_chain(scene, 1, &def) == KG_ERROR_INVALID_ARGUMENT); /* a dynamic body */
+    KG_CHECK(kg_scene_add_body_chain(scene, 2, &def) == KG_ERROR_INVALID_ARGUMENT);
+    points[1].y = NAN;
+    KG_CHECK(kg_scene_add_body_chain(scene, 0, &def) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(strcmp(kg_last_error(), "chain point 1 is not finite") == 0);
+    points[1].y = 0.0f;
+    def.friction = -1.0f;
+    KG_CHECK(kg_scene_add_body_chain(scene, 0, &def) == KG_ERROR_INVALID_ARGUMENT);
+    def.friction = 0.6f;
+    KG_CHECK(kg_scene_body_chain_count(scene, 0) == 0 && kg_scene_body_chain_count(scene, 1) == 0);
+    KG_CHECK_OK(kg_scene_add_body_chain(scene, 0, &def));
+    points[0].x = 5.0f; /* the scene has its own copy */
+    kg_chain_def copy = kg_default_chain_def();
+    KG_CHECK_OK(kg_scene_get_body_chain(scene, 0, 0, &copy));
+    KG_CHECK(copy.count == 3 && copy.points != points && copy.points[0].x == 2.0f);
+    kg_world* world = NULL;
+    kg_body bodies[2];
+    KG_CHECK_OK(kg_scene_instantiate(scene, NULL, &world, bodies));
+    if (world) {
+        KG_CHECK(kg_body_shape_count(world, bodies[0]) == 2);
+        kg_destroy_world(world);
+    }
+    kg_scene_destroy(scene);
+}
+
 static void test_builder_refuses_bad_body(void)
 {
     kg_scene* scene = NULL;
@@ -759,10 +912,11 @@ static void test_generated_scenes_instantiate(void)
 }
 
 KG_TEST_MAIN(KG_TEST(test_full_scene_fields), KG_TEST(test_defaults), KG_TEST(test_capsule_and_segment), KG_TEST(test_error_files),
-             KG_TEST(test_error_strings), KG_TEST(test_compound_body), KG_TEST(test_unreadable_file), KG_TEST(test_samples_load),
+             KG_TEST(test_error_strings), KG_TEST(test_compound_body), KG_TEST(test_chains),
+             KG_TEST(test_chain_points_cap), KG_TEST(test_unreadable_file), KG_TEST(test_samples_load),
              KG_TEST(test_json_generators), KG_TEST(test_large_pyramid), KG_TEST(test_many_pyramids),
              KG_TEST(test_smash), KG_TEST(test_tumbler_layout), KG_TEST(test_rain),
              KG_TEST(test_particles_and_small_generators), KG_TEST(test_generator_names), KG_TEST(test_builder),
              KG_TEST(test_instantiate_bodies), KG_TEST(test_instantiate_forces),
-             KG_TEST(test_pivots_keep_walls_on_circle), KG_TEST(test_builder_refuses_bad_body),
+             KG_TEST(test_pivots_keep_walls_on_circle), KG_TEST(test_builder_chains), KG_TEST(test_builder_refuses_bad_body),
              KG_TEST(test_generated_scenes_instantiate))

@@ -106,8 +106,16 @@ static void check_level_contents(const kg_scene* scene)
     KG_CHECK_NEAR(b->position.y, 7.125, 1e-6);
     KG_CHECK_NEAR(b->friction, 0.2, 1e-6);
     KG_CHECK_NEAR(b->restitution, 0.5, 1e-6);
+    /* a static polygon: a loop, its points as drawn (counter-clockwise once y is up) */
     const kg_body_def* w = kg_scene_body_def(scene, wedge);
-    KG_CHECK(w->type == KG_BODY_STATIC && w->shape.count == 3);
+    kg_chain_def outline;
+    KG_CHECK(w->type == KG_BODY_STATIC && w->shape.type == KG_SHAPE_NONE);
+    KG_CHECK(kg_scene_body_chain_count(scene, wedge) == 1);
+    KG_CHECK_OK(kg_scene_get_body_chain(scene, wedge, 0, &outline));
+    KG_CHECK(outline.loop && outline.count == 3);
+    KG_CHECK_NEAR(outline.points[2].x, 0.5, 1e-6);
+    KG_CHECK_NEAR(outline.points[2].y, 0.5, 1e-6);
+    KG_CHECK_NEAR(outline.friction, 0.6, 1e-6);
     KG_CHECK_NEAR(w->position.x, 10.0, 1e-6);
     KG_CHECK_NEAR(w->position.y, 4.0, 1e-6);
     const kg_body_def* p = kg_scene_body_def(scene, plank);
@@ -171,6 +179,94 @@ static void test_loaded_level_runs(void)
     KG_CHECK_NEAR(crate.position.y, 1.5, 1e-3);
     KG_CHECK_NEAR(ball.position.y, 1.375, 1e-3);
     KG_CHECK_NEAR(plank.position.y, 5.5, 1e-3);
+    kg_destroy_world(world);
+    kg_scene_destroy(scene);
+}
+
+/* ---- chains and capsules: tests/data/tiled/chains.tmj ---- */
+
+/* The chain of body index (its only one), with the point count and loop flag expected. */
+static kg_chain_def chain_of(const kg_scene* scene, int index, int count, int loop)
+{
+    kg_chain_def def = kg_default_chain_def();
+    KG_CHECK(kg_scene_body_def(scene, index)->shape.type == KG_SHAPE_NONE);
+    KG_CHECK(kg_scene_body_chain_count(scene, index) == 1);
+    KG_CHECK_OK(kg_scene_get_body_chain(scene, index, 0, &def));
+    KG_CHECK(def.count == count && def.loop == loop);
+    return def;
+}
+
+/* Twice the signed area of a loop's points: > 0 when counter-clockwise (solid inside). */
+static double twice_area(const kg_chain_def* def)
+{
+    double sum = 0.0;
+    for (int i = 0; i < def->count; ++i) {
+        kg_vec2 a = def->points[i], b = def->points[(i + 1) % def->count];
+        sum += (double)a.x * b.y - (double)b.x * a.y;
+    }
+    return sum;
+}
+
+/* A static layer's polylines are open chains, its polygon (concave, 10 points) a loop; the
+ * ellipses with "capsule" are capsules of their bounding boxes. */
+static void test_chains_and_capsules_load(void)
+{
+    kg_scene* scene = load(DATA "chains.tmj");
+    if (!scene) {
+        return;
+    }
+    KG_CHECK(kg_scene_body_count(scene) == 9 && kg_scene_tilemap_count(scene) == 0);
+    /* drawn left to right at y = 2 m: listed right to left, so that the normal is up */
+    kg_chain_def ground = chain_of(scene, 0, 4, 0);
+    KG_CHECK(ground.points[0].x == 12.0f && ground.points[3].x == 0.0f && ground.points[0].y == 0.0f);
+    KG_CHECK_NEAR(kg_scene_body_def(scene, 0)->position.y, 2.0, 1e-6);
+    /* drawn right to left with chain_flip: kept as drawn, right to left, normal up too */
+    kg_chain_def ledge = chain_of(scene, 1, 2, 0);
+    KG_CHECK(ledge.points[0].x == 0.0f && ledge.points[1].x == -5.0f);
+    /* drawn clockwise: turned counter-clockwise, solid inside, area 2 x 2 + 2 x 1 + 2 x 3 */
+    kg_chain_def block = chain_of(scene, 2, 10, 1);
+    KG_CHECK_NEAR(twice_area(&block), 2.0 * 12.0, 1e-5);
+    /* 32 x 16 px: radius 0.5 m, centres 0.5 m either side along x; 16 x 32 px: along y */
+    const kg_body_def* pill = kg_scene_body_def(scene, 7);
+    const kg_body_def* post = kg_scene_body_def(scene, 8);
+    KG_CHECK(pill->type == KG_BODY_DYNAMIC && pill->shape.type == KG_SHAPE_CAPSULE && post->shape.type == KG_SHAPE_CAPSULE);
+    KG_CHECK(pill->shape.radius == 0.5f && post->shape.radius == 0.5f);
+    KG_CHECK(pill->shape.vertices[0].x == -0.5f && pill->shape.vertices[1].x == 0.5f);
+    KG_CHECK(pill->shape.vertices[0].y == 0.0f && pill->shape.vertices[1].y == 0.0f);
+    KG_CHECK(post->shape.vertices[0].x == 0.0f && post->shape.vertices[1].x == 0.0f);
+    KG_CHECK(post->shape.vertices[0].y == -0.5f && post->shape.vertices[1].y == 0.5f);
+    KG_CHECK_NEAR(pill->position.x, 8.0, 1e-6); /* centre (128, 24) px */
+    KG_CHECK_NEAR(pill->position.y, 8.5, 1e-6);
+    kg_scene_destroy(scene);
+}
+
+/* After 3 s: the balls rest on the ground, on the flipped ledge, on the block's top and in
+ * its notch (a ball of 0.25 m); the capsules on the ground, lying and standing. */
+static void test_chains_and_capsules_run(void)
+{
+    kg_scene* scene = load(DATA "chains.tmj");
+    kg_world_def def = *kg_scene_world_def(scene);
+    def.backend = KG_BACKEND_CPU;
+    kg_world* world = NULL;
+    kg_body bodies[9];
+    KG_CHECK_OK(kg_scene_instantiate(scene, &def, &world, bodies));
+    if (!world) {
+        kg_scene_destroy(scene);
+        return;
+    }
+    KG_CHECK(kg_body_shape_count(world, bodies[0]) == 3 && kg_body_shape_count(world, bodies[2]) == 10);
+    for (int step = 0; step < 180; ++step) {
+        KG_CHECK_OK(kg_scene_step(scene, world, bodies, DT));
+    }
+    static const double expected[] = {2.25, 4.25, 4.25, 3.25, 2.5, 3.0};
+    printf("measured: chains.tmj after 3 s, y (expected):");
+    for (int i = 0; i < 6; ++i) {
+        kg_body_state state;
+        KG_CHECK_OK(kg_body_get_state(world, bodies[3 + i], &state));
+        printf(" %.5f (%.2f)", state.position.y, expected[i]);
+        KG_CHECK_NEAR(state.position.y, expected[i], 5e-3);
+    }
+    printf("\n");
     kg_destroy_world(world);
     kg_scene_destroy(scene);
 }
@@ -321,7 +417,56 @@ static void test_bad_tilemap_sections(void)
                         "unknown field");
 }
 
+/* A map of 4 x 4 tiles of 16 px with one object layer, of body type layer_type, holding
+ * object: refused at where with what. */
+static void check_object_refused(const char* layer_type, const char* object, const char* where, const char* what)
+{
+    char json[1024];
+    snprintf(json, sizeof json,
+             "{\"type\": \"map\", \"width\": 4, \"height\": 4, \"tilewidth\": 16, \"tileheight\": 16,"
+             " \"layers\": [{\"type\": \"objectgroup\", \"properties\": [{\"name\": \"type\", \"type\": \"string\","
+             " \"value\": \"%s\"}], \"objects\": [%s]}]}",
+             layer_type, object);
+    check_scene_refused(json, where, what);
+}
+
+static void test_bad_chain_and_capsule_objects(void)
+{
+    check_object_refused("dynamic", "{\"id\": 1, \"polyline\": [{\"x\": 0, \"y\": 0}, {\"x\": 16, \"y\": 0}]}",
+                         "scene.json: layers[0].objects[0]:",
+                         "a polyline has no area: only static and kinematic bodies may have one");
+    check_object_refused("static", "{\"id\": 1, \"polyline\": [{\"x\": 0, \"y\": 0}]}", "layers[0].objects[0].polyline:",
+                         "a chain needs at least 2 points (got 1)");
+    check_object_refused("static",
+                         "{\"id\": 1, \"polygon\": [{\"x\": 0, \"y\": 0}, {\"x\": 16, \"y\": 0},"
+                         " {\"x\": 16, \"y\": 0}, {\"x\": 0, \"y\": 16}]}",
+                         "layers[0].objects[0].polygon:", "chain segment 1 (points 1 and 2): segment points coincide");
+    check_object_refused("static", "{\"id\": 1, \"polyline\": [{\"x\": 0, \"y\": 0}, {\"x\": 16}]}",
+                         "layers[0].objects[0].polyline[1].y:", "is required");
+    check_object_refused("dynamic", "{\"id\": 1, \"ellipse\": true, \"width\": 10, \"height\": 8}",
+                         "layers[0].objects[0]:", "the ellipse is 10 x 8 pixels; only round ellipses (circles) collide, "
+                         "and ellipses twice as long as wide with the bool property \"capsule\" (capsules)");
+    check_object_refused("dynamic",
+                         "{\"id\": 1, \"ellipse\": true, \"width\": 30, \"height\": 16, \"properties\": [{\"name\":"
+                         " \"capsule\", \"type\": \"bool\", \"value\": true}]}",
+                         "layers[0].objects[0]:", "a capsule ellipse must be twice as long as wide");
+    check_object_refused("dynamic",
+                         "{\"id\": 1, \"width\": 32, \"height\": 16, \"properties\": [{\"name\": \"capsule\","
+                         " \"type\": \"bool\", \"value\": true}]}",
+                         "layers[0].objects[0].properties.capsule:", "only an ellipse object becomes a capsule");
+    check_object_refused("dynamic",
+                         "{\"id\": 1, \"polygon\": [{\"x\": 0, \"y\": 0}, {\"x\": 16, \"y\": 0}, {\"x\": 0, \"y\": 16}],"
+                         " \"properties\": [{\"name\": \"chain_flip\", \"type\": \"bool\", \"value\": true}]}",
+                         "layers[0].objects[0].properties.chain_flip:", "only a chain (a polyline, or a polygon on a static "
+                         "layer) has a side to flip");
+    check_object_refused("static",
+                         "{\"id\": 1, \"polyline\": [{\"x\": 0, \"y\": 0}, {\"x\": 16, \"y\": 0}],"
+                         " \"properties\": [{\"name\": \"chain_flip\", \"type\": \"int\", \"value\": 1}]}",
+                         "layers[0].objects[0].properties.chain_flip.value:", "must be true or false");
+}
+
 KG_TEST_MAIN(KG_TEST(test_embedded_tileset_map), KG_TEST(test_external_tileset_base64_and_groups),
-             KG_TEST(test_loaded_level_runs), KG_TEST(test_broken_maps_are_refused_clearly),
+             KG_TEST(test_loaded_level_runs), KG_TEST(test_chains_and_capsules_load),
+             KG_TEST(test_chains_and_capsules_run), KG_TEST(test_broken_maps_are_refused_clearly),
              KG_TEST(test_scene_with_inline_tilemap), KG_TEST(test_scene_with_tiled_tilemap),
-             KG_TEST(test_bad_tilemap_sections))
+             KG_TEST(test_bad_tilemap_sections), KG_TEST(test_bad_chain_and_capsule_objects))

@@ -157,7 +157,12 @@ static kg_result kg_peer_add_bodies(kg_peer_world* world, const kg_scene* scene)
     for (int i = 0; i < world->body_count; ++i) {
         const kg_body_def* def = kg_scene_body_def(scene, i);
         kg_peer_body body = {def, kg_peer_density(def), NULL, 0, {0.0f, {0.0f, 0.0f}, 0.0f}};
-        const char* why = kg_scene_body_shape_count(scene, i) > 1 ? kg_peer_compound(scene, i, shapes, &body) : NULL;
+        const char* why = NULL;
+        if (kg_scene_body_chain_count(scene, i) > 0) {
+            why = "chains are not supported by the peer adapters"; /* left out, the worlds would differ */
+        } else if (kg_scene_body_shape_count(scene, i) > 1) {
+            why = kg_peer_compound(scene, i, shapes, &body);
+        }
         why = why ? why : world->adapter->add_body(world->impl, &body);
         if (why) {
             return kg_peer_fail(KG_ERROR_UNSUPPORTED, "%s: body %d ('%s'): %s", world->adapter->name, i,

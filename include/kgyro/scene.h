@@ -50,6 +50,11 @@ KG_API kg_result kg_scene_add_body(kg_scene* scene, const char* name, const kg_b
 /* Adds a shape to body index (a compound body): def.shape is its first shape, these
  * follow in the order added. Checked when instantiated, not here. */
 KG_API kg_result kg_scene_add_body_shape(kg_scene* scene, int index, const kg_body_shape_def* def);
+/* Adds a chain (kg_create_chain) to body index, which must be static or kinematic; its
+ * points are copied. It is checked here as kg_create_chain will check it (the points and
+ * the material), so that the scene instantiates. A body's chains are made after its
+ * shapes, in the order added. */
+KG_API kg_result kg_scene_add_body_chain(kg_scene* scene, int index, const kg_chain_def* def);
 KG_API kg_result kg_scene_add_force(kg_scene* scene, const kg_scene_force* force);
 KG_API kg_world_def* kg_scene_world_def(kg_scene* scene); /* editable in place */
 KG_API float kg_scene_dt(const kg_scene* scene);
@@ -74,6 +79,10 @@ KG_API const char* kg_scene_body_name(const kg_scene* scene, int index);
  * material and filter. */
 KG_API int kg_scene_body_shape_count(const kg_scene* scene, int index);
 KG_API kg_result kg_scene_get_body_shape(const kg_scene* scene, int index, int k, kg_body_shape_def* out);
+/* How many chains body index has (0 for an index out of range), and chain k of them: its
+ * points point into the scene. */
+KG_API int kg_scene_body_chain_count(const kg_scene* scene, int index);
+KG_API kg_result kg_scene_get_body_chain(const kg_scene* scene, int index, int k, kg_chain_def* out);
 /* The index of the body called name, or -1. */
 KG_API int kg_scene_find_body(const kg_scene* scene, const char* name);
 /* Non-zero when body index has a pivot (then written to out, which may be NULL). */

@@ -11,6 +11,10 @@
 #include <cjson/cJSON.h>
 #include <stdint.h>
 
+/* The most points a chain of a scene file or a Tiled map may have (a terrain outline of
+ * 100 km at one point a metre): larger is a broken or hostile file. */
+#define KG_MAX_CHAIN_POINTS 100000
+
 /* A JSON path such as "bodies[3].shape.radius"; "" is the document itself. */
 typedef struct kg_json_path {
     char text[192];

@@ -4,6 +4,7 @@
 #include "kgyro/force.h"
 #include "kgyro/shape.h"
 
+#include "collide/shape.h"
 #include "core/error.h"
 #include "io/json_util.h"
 
@@ -25,6 +26,13 @@ typedef struct kg_scene_shape {
     int next; /* the body's next shape, or -1 */
 } kg_scene_shape;
 
+/* A body's chain (kg_scene_add_body_chain), in its body's list: def.points is the scene's
+ * own copy. */
+typedef struct kg_scene_chain {
+    kg_chain_def def;
+    int next; /* the body's next chain, or -1 */
+} kg_scene_chain;
+
 /* A tile map: def's shapes and tiles point at the scene's own copies. */
 typedef struct kg_scene_tilemap {
     kg_tilemap_def def;
@@ -44,6 +52,11 @@ struct kg_scene {
     int* extra_count;
     int shape_count, shape_capacity;
     kg_scene_shape* shapes; /* the bodies' shapes after their first */
+    int* first_chain;       /* per body: its first chain in chains, or -1 */
+    int* last_chain;
+    int* chain_count;
+    int chain_total, chain_capacity;
+    kg_scene_chain* chains;
     size_t* name_offsets; /* into names, one per body */
     char* names;          /* NUL-terminated names back to back */
     size_t names_length, names_capacity;
@@ -120,6 +133,13 @@ void kg_scene_destroy(kg_scene* scene)
     free(scene->last_extra);
     free(scene->extra_count);
     free(scene->shapes);
+    for (int i = 0; i < scene->chain_total; ++i) {
+        free((void*)scene->chains[i].def.points);
+    }
+    free(scene->chains);
+    free(scene->first_chain);
+    free(scene->last_chain);
+    free(scene->chain_count);
     free(scene);
 }
 
@@ -287,16 +307,14 @@ static int kg_reserve_bodies(kg_scene* scene, int needed)
         return 0;
     }
     scene->name_offsets = offsets;
-    int* per_body[3] = {scene->first_extra, scene->last_extra, scene->extra_count};
-    for (int k = 0; k < 3; ++k) {
-        int* grown = realloc(per_body[k], (size_t)capacity * sizeof *grown);
+    int** per_body[] = {&scene->first_extra, &scene->last_extra, &scene->extra_count,
+                        &scene->first_chain, &scene->last_chain, &scene->chain_count};
+    for (size_t k = 0; k < sizeof per_body / sizeof per_body[0]; ++k) {
+        int* grown = realloc(*per_body[k], (size_t)capacity * sizeof *grown);
         if (!grown) {
             return 0;
         }
-        per_body[k] = grown;
-        scene->first_extra = per_body[0];
-        scene->last_extra = per_body[1];
-        scene->extra_count = per_body[2];
+        *per_body[k] = grown;
     }
     scene->body_capacity = capacity;
     return 1;
@@ -331,6 +349,9 @@ kg_result kg_scene_add_body(kg_scene* scene, const char* name, const kg_body_def
     scene->first_extra[scene->body_count] = -1;
     scene->last_extra[scene->body_count] = -1;
     scene->extra_count[scene->body_count] = 0;
+    scene->first_chain[scene->body_count] = -1;
+    scene->last_chain[scene->body_count] = -1;
+    scene->chain_count[scene->body_count] = 0;
     scene->name_table[kg_name_slot(scene, name)] = scene->body_count + 1;
     scene->body_count++;
     return KG_OK;
@@ -384,6 +405,68 @@ kg_result kg_scene_get_body_shape(const kg_scene* scene, int index, int k, kg_bo
         at = scene->shapes[at].next;
     }
     *out = scene->shapes[at].def;
+    return KG_OK;
+}
+
+/* What kg_create_chain checks, so that a scene holding the chain instantiates: the body
+ * may hold one, its material is one a shape may have, its points make a chain. */
+static kg_result kg_check_chain(const kg_body_def* body, const kg_chain_def* def)
+{
+    if (body->type != KG_BODY_STATIC && body->type != KG_BODY_KINEMATIC) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT,
+                       "a chain has no mass: only static and kinematic bodies may hold one (use capsules or polygons)");
+    }
+    kg_body_def material = kg_default_body_def(); /* a static body of no shape: only its material is judged */
+    material.type = KG_BODY_STATIC;
+    material.friction = def->friction;
+    material.restitution = def->restitution;
+    KG_TRY(kg_check_body_def(&material));
+    return kg_check_chain_points(def->points, def->count, def->loop);
+}
+
+kg_result kg_scene_add_body_chain(kg_scene* scene, int index, const kg_chain_def* def)
+{
+    if (!scene || !def || index < 0 || index >= scene->body_count) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_add_body_chain: NULL argument or body %d out of range",
+                       index);
+    }
+    KG_TRY(kg_check_chain(&scene->bodies[index], def));
+    kg_vec2* points = malloc((size_t)def->count * sizeof *points);
+    if (!points ||
+        !kg_grow((void**)&scene->chains, &scene->chain_capacity, scene->chain_total + 1, sizeof *scene->chains)) {
+        free(points);
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_add_body_chain: out of memory");
+    }
+    memcpy(points, def->points, (size_t)def->count * sizeof *points);
+    int at = scene->chain_total++;
+    scene->chains[at].def = *def;
+    scene->chains[at].def.points = points;
+    scene->chains[at].next = -1;
+    if (scene->last_chain[index] >= 0) {
+        scene->chains[scene->last_chain[index]].next = at;
+    } else {
+        scene->first_chain[index] = at;
+    }
+    scene->last_chain[index] = at;
+    scene->chain_count[index] += 1;
+    return KG_OK;
+}
+
+int kg_scene_body_chain_count(const kg_scene* scene, int index)
+{
+    return scene && index >= 0 && index < scene->body_count ? scene->chain_count[index] : 0;
+}
+
+kg_result kg_scene_get_body_chain(const kg_scene* scene, int index, int k, kg_chain_def* out)
+{
+    if (!out || k < 0 || k >= kg_scene_body_chain_count(scene, index)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_get_body_chain: no chain %d of body %d", k, index);
+    }
+    int at = scene->first_chain[index];
+    for (int step = 0; step < k; ++step) {
+        at = scene->chains[at].next;
+    }
+    *out = scene->chains[at].def;
     return KG_OK;
 }
 
@@ -573,6 +656,9 @@ static kg_result kg_create_scene_bodies(const kg_scene* scene, kg_world* world, 
         for (int at = scene->first_extra[i]; r == KG_OK && at >= 0; at = scene->shapes[at].next) {
             kg_shape_id shape;
             r = kg_create_shape(world, handles[i], &scene->shapes[at].def, &shape);
+        }
+        for (int at = scene->first_chain[i]; r == KG_OK && at >= 0; at = scene->chains[at].next) {
+            r = kg_create_chain(world, handles[i], &scene->chains[at].def, NULL);
         }
         if (r != KG_OK) {
             char reason[256];

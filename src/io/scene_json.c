@@ -4,6 +4,7 @@
  * what a valid polygon is. docs/scene-format.md is the format's reference. */
 #include "kgyro/scene.h"
 
+#include "collide/shape.h"
 #include "io/json_util.h"
 #include "io/scene_generate.h"
 #include "io/tiled.h"
@@ -30,6 +31,7 @@ static const char* const kCircleFields[] = {"type", "radius", "center", NULL};
 static const char* const kPolygonFields[] = {"type", "vertices", NULL};
 static const char* const kCapsuleFields[] = {"type", "center1", "center2", "radius", NULL};
 static const char* const kSegmentFields[] = {"type", "point1", "point2", NULL};
+static const char* const kChainFields[] = {"type", "points", "loop", NULL};
 /* An entry of a body's "shapes": the geometry placed by "center" and "angle", and its own
  * material and filter (the body's when left out). */
 #define KG_SHAPE_ENTRY_FIELDS "center", "angle", "density", "friction", "restitution", "category", "mask", "sensor"
@@ -38,8 +40,22 @@ static const char* const kCircleEntryFields[] = {"type", "radius", KG_SHAPE_ENTR
 static const char* const kPolygonEntryFields[] = {"type", "vertices", KG_SHAPE_ENTRY_FIELDS, NULL};
 static const char* const kCapsuleEntryFields[] = {"type", "center1", "center2", "radius", KG_SHAPE_ENTRY_FIELDS, NULL};
 static const char* const kSegmentEntryFields[] = {"type", "point1", "point2", KG_SHAPE_ENTRY_FIELDS, NULL};
+/* No "sensor": a chain cannot be one. Its "density" has no effect, as a segment's: neither
+ * has mass. */
+static const char* const kChainEntryFields[] = {"type", "points", "loop", "center", "angle", "density",
+                                                "friction", "restitution", "category", "mask", NULL};
 
 static const char* const kBodyTypes[] = {"static", "dynamic", "kinematic", "particle", NULL};
+
+/* The most entries of a body's "shapes". */
+#define KG_SCENE_MAX_SHAPES 64
+
+/* The chains of the body being read, added to the scene after the body: their points (the
+ * loader frees them) in the body frame. */
+typedef struct kg_body_chains {
+    kg_chain_def defs[KG_SCENE_MAX_SHAPES];
+    int count;
+} kg_body_chains;
 
 /* The index of value's string in names, or a "must be one of" error. */
 static kg_result kg_read_choice(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
@@ -196,12 +212,88 @@ static kg_result kg_check_shape(const kg_json_reader* reader, const kg_shape_def
     return kg_json_fail(reader, &where, "%s", reason);
 }
 
-/* A shape: a body's "shape" (entry 0) or an entry of its "shapes" (entry 1: placed by
- * "center" and "angle", with material fields the caller reads). */
-static kg_result kg_read_shape(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path, int entry,
-                               kg_shape_def* out)
+/* A chain's "points", into a new array that the caller frees (kg_read_body); whether they
+ * make a chain is judged after. */
+static kg_result kg_read_chain_points(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                      kg_chain_def* def)
 {
-    static const char* const kinds[] = {"box", "circle", "polygon", "capsule", "segment", NULL};
+    KG_TRY(kg_json_require(reader, json, path, "points"));
+    const cJSON* list = cJSON_GetObjectItemCaseSensitive(json, "points");
+    kg_json_path points_path = kg_json_path_key(path, "points");
+    KG_TRY(kg_json_check_array(reader, list, &points_path));
+    int count = cJSON_GetArraySize(list);
+    if (count > KG_MAX_CHAIN_POINTS) {
+        return kg_json_fail(reader, &points_path, "must hold at most %d points (got %d)", KG_MAX_CHAIN_POINTS, count);
+    }
+    kg_vec2* points = malloc((size_t)(count > 0 ? count : 1) * sizeof *points);
+    if (!points) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+    }
+    def->points = points;
+    def->count = count;
+    int i = 0;
+    for (const cJSON* point = list->child; point; point = point->next, ++i) {
+        kg_json_path point_path = kg_json_path_index(&points_path, i);
+        KG_TRY(kg_json_vec2_value(reader, point, &point_path, &points[i]));
+    }
+    return KG_OK;
+}
+
+/* An entry's chain placed in the body frame as kg_shape_moved places a polygon: turned by
+ * "angle" about the origin, then moved by "center". */
+static kg_result kg_place_chain(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
+                                kg_chain_def* def)
+{
+    kg_vec2 center = {0.0f, 0.0f};
+    float angle = 0.0f;
+    KG_TRY(kg_json_vec2(reader, json, path, "center", &center));
+    KG_TRY(kg_json_float(reader, json, path, "angle", KG_JSON_ANY, &angle));
+    float c = cosf(angle), s = sinf(angle);
+    kg_vec2* points = (kg_vec2*)def->points;
+    for (int i = 0; i < def->count; ++i) {
+        kg_vec2 p = points[i];
+        points[i] = (kg_vec2){c * p.x - s * p.y + center.x, s * p.x + c * p.y + center.y};
+    }
+    return KG_OK;
+}
+
+/* A chain of a static or kinematic body, appended to chains with the body's material (an
+ * entry's own is the caller's) and checked as kg_create_chain will check it. */
+static kg_result kg_read_chain(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path, int entry,
+                               const kg_body_def* body, kg_body_chains* chains)
+{
+    if (body->type != KG_BODY_STATIC && body->type != KG_BODY_KINEMATIC) {
+        return kg_json_fail(reader, path, "a chain has no mass: only static and kinematic bodies may hold one "
+                                          "(use capsules or polygons)");
+    }
+    KG_TRY(kg_json_check_object(reader, json, path, entry ? kChainEntryFields : kChainFields));
+    kg_chain_def* def = &chains->defs[chains->count++];
+    *def = kg_default_chain_def();
+    def->friction = body->friction;
+    def->restitution = body->restitution;
+    def->category = body->category;
+    def->mask = body->mask;
+    KG_TRY(kg_json_bool(reader, json, path, "loop", &def->loop));
+    KG_TRY(kg_read_chain_points(reader, json, path, def));
+    if (entry) {
+        KG_TRY(kg_place_chain(reader, json, path, def));
+    }
+    if (kg_check_chain_points(def->points, def->count, def->loop) != KG_OK) {
+        char reason[256];
+        snprintf(reason, sizeof reason, "%s", kg_last_error());
+        kg_json_path points_path = kg_json_path_key(path, "points");
+        return kg_json_fail(reader, &points_path, "%s", reason);
+    }
+    return KG_OK;
+}
+
+/* A shape: a body's "shape" (entry 0) or an entry of its "shapes" (entry 1: placed by
+ * "center" and "angle", with material fields the caller reads). A chain goes to chains
+ * and leaves *out of type NONE. */
+static kg_result kg_read_shape(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path, int entry,
+                               const kg_body_def* body, kg_shape_def* out, kg_body_chains* chains)
+{
+    static const char* const kinds[] = {"box", "circle", "polygon", "capsule", "segment", "chain", NULL};
     if (!cJSON_IsObject(json)) {
         return kg_json_fail(reader, path, "must be an object");
     }
@@ -221,6 +313,9 @@ static kg_result kg_read_shape(const kg_json_reader* reader, const cJSON* json, 
     case 4:
         KG_TRY(kg_read_segment(reader, json, path, entry, out));
         break;
+    case 5:
+        out->type = KG_SHAPE_NONE;
+        return kg_read_chain(reader, json, path, entry, body, chains);
     default:
         KG_TRY(kg_read_polygon(reader, json, path, entry, out));
         break;
@@ -286,7 +381,7 @@ static kg_result kg_read_material(const kg_json_reader* reader, const cJSON* jso
 }
 
 static kg_result kg_read_body_shape(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
-                                    kg_body_def* def)
+                                    kg_body_def* def, kg_body_chains* chains)
 {
     const cJSON* shape = cJSON_GetObjectItemCaseSensitive(json, "shape");
     if (shape && kg_has(json, "shapes")) {
@@ -298,7 +393,9 @@ static kg_result kg_read_body_shape(const kg_json_reader* reader, const cJSON* j
     }
     if (shape) {
         kg_json_path shape_path = kg_json_path_key(path, "shape");
-        KG_TRY(kg_read_shape(reader, shape, &shape_path, 0, &def->shape));
+        kg_shape_def geometry;
+        KG_TRY(kg_read_shape(reader, shape, &shape_path, 0, def, &geometry, chains));
+        def->shape = geometry;
         int moves = def->type == KG_BODY_DYNAMIC || def->type == KG_BODY_PARTICLE;
         if (moves && def->shape.type == KG_SHAPE_SEGMENT) {
             return kg_json_fail(reader, &shape_path, "a segment has no area: only static and kinematic bodies may have one");
@@ -317,12 +414,22 @@ static kg_result kg_read_body_shape(const kg_json_reader* reader, const cJSON* j
     return KG_OK;
 }
 
-/* An entry of "shapes": its geometry, and its material and filter, the body's where left out. */
+/* A chain entry's material and filter: its entry's. */
+static void kg_give_chain_material(kg_chain_def* chain, const kg_body_shape_def* entry)
+{
+    chain->friction = entry->friction;
+    chain->restitution = entry->restitution;
+    chain->category = entry->category;
+    chain->mask = entry->mask;
+}
+
+/* An entry of "shapes": its geometry, and its material and filter, the body's where left
+ * out. A chain goes to chains, with that material, and leaves out->geometry of type NONE. */
 static kg_result kg_read_shape_entry(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
-                                     const kg_body_def* body, kg_body_shape_def* out)
+                                     const kg_body_def* body, kg_body_shape_def* out, kg_body_chains* chains)
 {
     *out = kg_default_body_shape_def();
-    KG_TRY(kg_read_shape(reader, json, path, 1, &out->geometry));
+    KG_TRY(kg_read_shape(reader, json, path, 1, body, &out->geometry, chains));
     out->density = body->density;
     out->friction = body->friction;
     out->restitution = body->restitution;
@@ -333,15 +440,19 @@ static kg_result kg_read_shape_entry(const kg_json_reader* reader, const cJSON* 
     KG_TRY(kg_json_float(reader, json, path, "restitution", KG_JSON_UNIT, &out->restitution));
     KG_TRY(kg_json_uint32(reader, json, path, "category", &out->category));
     KG_TRY(kg_json_uint32(reader, json, path, "mask", &out->mask));
+    if (out->geometry.type == KG_SHAPE_NONE) {
+        kg_give_chain_material(&chains->defs[chains->count - 1], out);
+    }
     return kg_json_bool(reader, json, path, "sensor", &out->is_sensor);
 }
 
-/* A body's "shapes", non-empty: the first becomes the body def's shape (so it must be
- * solid, and massive on a moving body: the body is made with it), the others *extras
- * (*extra_count of them, at most KG_SCENE_MAX_SHAPES - 1). */
-#define KG_SCENE_MAX_SHAPES 64
+/* A body's "shapes", non-empty: chains go to chains; the first other entry becomes the
+ * body def's shape (so it must be solid, and massive on a moving body: the body is made
+ * with it), the others *extras (*extra_count of them, at most KG_SCENE_MAX_SHAPES - 1). A
+ * body of chains only has no shape of its own. */
 static kg_result kg_read_shape_entries(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
-                                       kg_body_def* def, kg_body_shape_def* extras, int* extra_count)
+                                       kg_body_def* def, kg_body_shape_def* extras, int* extra_count,
+                                       kg_body_chains* chains)
 {
     const cJSON* shapes = cJSON_GetObjectItemCaseSensitive(json, "shapes");
     *extra_count = 0;
@@ -359,15 +470,19 @@ static kg_result kg_read_shape_entries(const kg_json_reader* reader, const cJSON
         return kg_json_fail(reader, &mass_path, "is for a body of one shape: give each of its shapes a density");
     }
     const kg_body_def body = *def; /* the fallbacks, before the first shape's material replaces them */
-    int k = 0;
+    int k = 0, first = 1;
     for (const cJSON* entry = shapes->child; entry; entry = entry->next, ++k) {
         kg_json_path entry_path = kg_json_path_index(&shapes_path, k);
         kg_body_shape_def shape;
-        KG_TRY(kg_read_shape_entry(reader, entry, &entry_path, &body, &shape));
-        if (k > 0) {
+        KG_TRY(kg_read_shape_entry(reader, entry, &entry_path, &body, &shape, chains));
+        if (shape.geometry.type == KG_SHAPE_NONE) {
+            continue; /* a chain */
+        }
+        if (!first) {
             extras[(*extra_count)++] = shape;
             continue;
         }
+        first = 0;
         int moves = def->type == KG_BODY_DYNAMIC || def->type == KG_BODY_PARTICLE;
         if (shape.is_sensor || (moves && def->mass == 0.0f && !(shape.density > 0.0f))) {
             kg_json_path field_path = kg_json_path_key(&entry_path, shape.is_sensor ? "sensor" : "density");
@@ -402,7 +517,22 @@ static kg_result kg_add_named_body(kg_loader* loader, const cJSON* json, const k
     return KG_OK;
 }
 
-static kg_result kg_read_body(kg_loader* loader, const cJSON* json, const kg_json_path* path)
+/* A body's chains, after the body (the last added) and its other shapes. */
+static kg_result kg_add_body_chains(kg_loader* loader, const kg_json_path* path, const kg_body_chains* chains)
+{
+    int index = kg_scene_body_count(loader->scene) - 1;
+    for (int k = 0; k < chains->count; ++k) {
+        if (kg_scene_add_body_chain(loader->scene, index, &chains->defs[k]) != KG_OK) {
+            char reason[256];
+            snprintf(reason, sizeof reason, "%s", kg_last_error());
+            return kg_json_fail(&loader->reader, path, "%s", reason);
+        }
+    }
+    return KG_OK;
+}
+
+static kg_result kg_read_body_into(kg_loader* loader, const cJSON* json, const kg_json_path* path,
+                                   kg_body_chains* chains)
 {
     const kg_json_reader* reader = &loader->reader;
     KG_TRY(kg_json_check_object(reader, json, path, kBodyFields));
@@ -411,12 +541,12 @@ static kg_result kg_read_body(kg_loader* loader, const cJSON* json, const kg_jso
     KG_TRY(kg_read_choice(reader, json, path, "type", kBodyTypes, &type));
     def.type = (kg_body_type)type;
     KG_TRY(kg_read_motion(reader, json, path, &def));
-    KG_TRY(kg_read_body_shape(reader, json, path, &def));
+    KG_TRY(kg_read_material(reader, json, path, &def)); /* before the shape: a chain there takes it */
+    KG_TRY(kg_read_body_shape(reader, json, path, &def, chains));
     KG_TRY(kg_read_mass(reader, json, path, &def));
-    KG_TRY(kg_read_material(reader, json, path, &def));
     kg_body_shape_def extras[KG_SCENE_MAX_SHAPES];
     int extra_count = 0;
-    KG_TRY(kg_read_shape_entries(reader, json, path, &def, extras, &extra_count));
+    KG_TRY(kg_read_shape_entries(reader, json, path, &def, extras, &extra_count, chains));
     kg_vec2 pivot;
     int has_pivot = kg_has(json, "pivot");
     KG_TRY(kg_json_vec2(reader, json, path, "pivot", &pivot));
@@ -434,7 +564,18 @@ static kg_result kg_read_body(kg_loader* loader, const cJSON* json, const kg_jso
     if (has_pivot) {
         KG_TRY(kg_scene_set_body_pivot(loader->scene, kg_scene_body_count(loader->scene) - 1, pivot));
     }
-    return KG_OK;
+    return kg_add_body_chains(loader, path, chains);
+}
+
+static kg_result kg_read_body(kg_loader* loader, const cJSON* json, const kg_json_path* path)
+{
+    kg_body_chains chains;
+    chains.count = 0;
+    kg_result r = kg_read_body_into(loader, json, path, &chains);
+    for (int k = 0; k < chains.count; ++k) {
+        free((void*)chains.defs[k].points);
+    }
+    return r;
 }
 
 /* ---- generators ---- */

@@ -1,11 +1,13 @@
 /* The Tiled map loader: Tiled's JSON map format (.tmj, or .json saved by Tiled) into a
  * scene. Orthogonal, finite maps; embedded and external (.tsj) tilesets; tile layers with
  * CSV or uncompressed base64 data, flipped and rotated tiles included; the collision shapes
- * drawn in Tiled's tile collision editor; object layers as bodies. Tiled's y axis points
+ * drawn in Tiled's tile collision editor; object layers as bodies (polylines, and polygons
+ * on static layers, as chains; ellipses as circles or capsules). Tiled's y axis points
  * down, kgyro's up: the map's bottom-left corner is the world origin, pixels_per_meter
  * (a map property, the tile width by default) the scale. Anything this does not support is
  * an error naming the file, the JSON path and what is wrong (docs/tilemaps.md). */
 #include "io/tiled.h"
+#include "collide/shape.h"
 #include "io/json_util.h"
 
 #include <errno.h>
@@ -25,6 +27,9 @@
 #define KG_FILE_SIZE_MAX ((size_t)1 << 28)
 /* Shape points this far outside the tile (in tile sizes) are rounding, not design. */
 #define KG_TILE_SLACK 1.0e-3f
+/* How far (relative) an ellipse may be from round, or from twice as long as wide for a
+ * capsule: hand-drawn sizes are rounded to pixels. */
+#define KG_ELLIPSE_SLACK 1.0e-3f
 
 typedef struct kg_tileset {
     int firstgid;
@@ -375,6 +380,20 @@ static int kg_is_convex(const kg_vec2* p, int count)
     return !(left && right);
 }
 
+/* A point of a polygon or polyline object ({"x": X, "y": Y}, relative to the object) in
+ * the layer's pixels. */
+static kg_result kg_read_object_vertex(const kg_json_reader* reader, const cJSON* point, const kg_json_path* path,
+                                       const kg_object_frame* frame, kg_vec2* out)
+{
+    float x = 0.0f, y = 0.0f;
+    KG_TRY(kg_json_require(reader, point, path, "x"));
+    KG_TRY(kg_json_require(reader, point, path, "y"));
+    KG_TRY(kg_json_float(reader, point, path, "x", KG_JSON_ANY, &x));
+    KG_TRY(kg_json_float(reader, point, path, "y", KG_JSON_ANY, &y));
+    *out = kg_object_point(frame, x, y);
+    return KG_OK;
+}
+
 /* A polygon object's points in the layer's pixels (3 to 8, convex). */
 static kg_result kg_read_polygon_points(const kg_json_reader* reader, const cJSON* object, const kg_json_path* path,
                                         const kg_object_frame* frame, kg_vec2* out, int* count)
@@ -390,12 +409,7 @@ static kg_result kg_read_polygon_points(const kg_json_reader* reader, const cJSO
     int i = 0;
     for (const cJSON* p = points->child; p; p = p->next, ++i) {
         kg_json_path p_path = kg_json_path_index(&points_path, i);
-        float x = 0.0f, y = 0.0f;
-        KG_TRY(kg_json_require(reader, p, &p_path, "x"));
-        KG_TRY(kg_json_require(reader, p, &p_path, "y"));
-        KG_TRY(kg_json_float(reader, p, &p_path, "x", KG_JSON_ANY, &x));
-        KG_TRY(kg_json_float(reader, p, &p_path, "y", KG_JSON_ANY, &y));
-        out[i] = kg_object_point(frame, x, y);
+        KG_TRY(kg_read_object_vertex(reader, p, &p_path, frame, &out[i]));
     }
     if (!kg_is_convex(out, n)) {
         return kg_json_fail(reader, &points_path, "the polygon is concave; only convex shapes collide: split it "
@@ -415,12 +429,13 @@ static kg_result kg_read_object_size(const kg_json_reader* reader, const cJSON* 
     return kg_json_float(reader, object, path, "height", KG_JSON_POSITIVE, height);
 }
 
-/* An ellipse becomes a circle only when it is round. */
-static kg_result kg_check_round(const kg_json_reader* reader, const kg_json_path* path, float width, float height)
+/* An ellipse becomes a circle only when it is round; hint says what else it could be. */
+static kg_result kg_check_round(const kg_json_reader* reader, const kg_json_path* path, float width, float height,
+                                const char* hint)
 {
-    if (fabsf(width - height) > 1.0e-3f * fmaxf(width, height)) {
-        return kg_json_fail(reader, path, "the ellipse is %g x %g pixels; only round ellipses (circles) collide",
-                            (double)width, (double)height);
+    if (fabsf(width - height) > KG_ELLIPSE_SLACK * fmaxf(width, height)) {
+        return kg_json_fail(reader, path, "the ellipse is %g x %g pixels; only round ellipses (circles) collide%s",
+                            (double)width, (double)height, hint);
     }
     return KG_OK;
 }
@@ -459,7 +474,7 @@ static kg_result kg_read_collision_object(const kg_tiled* t, const kg_tileset* t
     float width = 0.0f, height = 0.0f;
     KG_TRY(kg_read_object_size(reader, object, path, &width, &height));
     if (kind == KG_OBJECT_ELLIPSE) {
-        KG_TRY(kg_check_round(reader, path, width, height));
+        KG_TRY(kg_check_round(reader, path, width, height, ""));
         if (t->tile_width != t->tile_height) {
             return kg_json_fail(reader, path, "a circle collides only in square tiles (the map's are %d x %d)",
                                 t->tile_width, t->tile_height);
@@ -904,18 +919,49 @@ static kg_result kg_read_body_properties(const kg_json_reader* reader, const cJS
     return kg_bool_property(reader, owner, path, "fixed_rotation", &def->fixed_rotation);
 }
 
+/* An ellipse object with the property "capsule" must be twice as long as wide. */
+static kg_result kg_check_capsule_ellipse(const kg_json_reader* reader, const kg_json_path* path, float width,
+                                          float height)
+{
+    float longer = fmaxf(width, height), shorter = fminf(width, height);
+    if (fabsf(longer - 2.0f * shorter) > KG_ELLIPSE_SLACK * longer) {
+        return kg_json_fail(reader, path, "the ellipse is %g x %g pixels; a capsule ellipse must be twice as long as "
+                                          "wide", (double)width, (double)height);
+    }
+    return KG_OK;
+}
+
+/* The capsule of an ellipse's bounding box (metres, centred on the origin): the radius half
+ * the short side, the centres on the long axis. */
+static kg_shape_def kg_ellipse_capsule(float width, float height)
+{
+    float radius = 0.5f * fminf(width, height), reach = 0.5f * fabsf(width - height);
+    kg_vec2 axis = width >= height ? (kg_vec2){reach, 0.0f} : (kg_vec2){0.0f, reach};
+    return kg_capsule_shape((kg_vec2){-axis.x, -axis.y}, axis, radius);
+}
+
+/* An object's frame in the layer's pixels (the layer's offset applied), and the angle of
+ * its body, from the object's rotation. */
+static kg_result kg_read_body_frame(const kg_tiled* t, const cJSON* object, const kg_json_path* path,
+                                    kg_object_frame* frame, kg_body_def* def)
+{
+    KG_TRY(kg_read_object_frame(&t->reader, object, path, frame));
+    frame->x += t->object_offset.x;
+    frame->y += t->object_offset.y;
+    def->angle = (float)(-frame->rotation * 3.14159265358979323846 / 180.0);
+    return KG_OK;
+}
+
 /* An object's shape and pose: a rectangle turns about its top-left corner, the pose is its
- * centre; an ellipse (round) is a circle; a polygon keeps the object's origin. */
+ * centre; an ellipse is a circle (round) or a capsule (with the property "capsule"); a
+ * polygon keeps the object's origin. */
 static kg_result kg_read_body_shape(const kg_tiled* t, const cJSON* object, const kg_json_path* path,
                                     kg_object_kind kind, kg_body_def* def)
 {
     const kg_json_reader* reader = &t->reader;
     kg_object_frame frame;
-    KG_TRY(kg_read_object_frame(reader, object, path, &frame));
-    frame.x += t->object_offset.x;
-    frame.y += t->object_offset.y;
+    KG_TRY(kg_read_body_frame(t, object, path, &frame, def));
     float ppm = t->pixels_per_meter;
-    def->angle = (float)(-frame.rotation * 3.14159265358979323846 / 180.0);
     if (kind == KG_OBJECT_POLYGON) {
         kg_object_frame unturned = {0.0, 0.0, 0.0};
         kg_vec2 points[KG_MAX_POLYGON_VERTICES];
@@ -934,8 +980,14 @@ static kg_result kg_read_body_shape(const kg_tiled* t, const cJSON* object, cons
     float width = 0.0f, height = 0.0f;
     KG_TRY(kg_read_object_size(reader, object, path, &width, &height));
     def->position = kg_world_point(t, kg_object_point(&frame, 0.5 * width, 0.5 * height));
-    if (kind == KG_OBJECT_ELLIPSE) {
-        KG_TRY(kg_check_round(reader, path, width, height));
+    int capsule = 0;
+    KG_TRY(kg_bool_property(reader, object, path, "capsule", &capsule));
+    if (capsule) {
+        KG_TRY(kg_check_capsule_ellipse(reader, path, width, height));
+        def->shape = kg_ellipse_capsule(width / ppm, height / ppm);
+    } else if (kind == KG_OBJECT_ELLIPSE) {
+        KG_TRY(kg_check_round(reader, path, width, height,
+                              ", and ellipses twice as long as wide with the bool property \"capsule\" (capsules)"));
         def->shape = kg_circle_shape(0.5f * width / ppm);
     } else {
         def->shape = kg_box_shape(width / ppm, height / ppm);
@@ -974,6 +1026,171 @@ static void kg_body_name(const cJSON* object, char* out, size_t size)
     }
 }
 
+/* Adds the object's body, named after the object. */
+static kg_result kg_add_object_body(kg_tiled* t, const cJSON* object, const kg_json_path* path,
+                                    const kg_body_def* def)
+{
+    const kg_json_reader* reader = &t->reader;
+    char name[64];
+    kg_body_name(object, name, sizeof name);
+    if (kg_scene_find_body(t->scene, name) >= 0) {
+        return kg_json_fail(reader, path, "a second body named '%s' (object ids must be unique)", name);
+    }
+    if (kg_scene_add_body(t->scene, name, def) != KG_OK) {
+        char reason[256];
+        snprintf(reason, sizeof reason, "%s", kg_last_error());
+        return kg_json_fail(reader, path, "%s", reason);
+    }
+    return KG_OK;
+}
+
+/* ---- chains: polylines, and polygons on static layers ---- */
+
+/* Whether an object becomes a chain: a polyline (which has no area) always, a polygon on a
+ * static body (an outline of any shape, concave included; a moving body's polygon stays a
+ * convex polygon, which has mass). */
+static int kg_is_chain_object(kg_object_kind kind, kg_body_type type)
+{
+    return kind == KG_OBJECT_POLYLINE || (kind == KG_OBJECT_POLYGON && type == KG_BODY_STATIC);
+}
+
+/* The points of a polyline or polygon object (its field key) in the body frame (metres, y
+ * up), into a new array *out that the caller frees. */
+static kg_result kg_read_chain_points(const kg_tiled* t, const cJSON* object, const kg_json_path* path,
+                                      const char* key, kg_vec2** out, int* count)
+{
+    const kg_json_reader* reader = &t->reader;
+    const cJSON* list = cJSON_GetObjectItemCaseSensitive(object, key);
+    kg_json_path list_path = kg_json_path_key(path, key);
+    KG_TRY(kg_json_check_array(reader, list, &list_path));
+    int n = cJSON_GetArraySize(list);
+    if (n > KG_MAX_CHAIN_POINTS) {
+        return kg_json_fail(reader, &list_path, "has %d points; a chain may have at most %d", n, KG_MAX_CHAIN_POINTS);
+    }
+    *out = malloc((size_t)(n > 0 ? n : 1) * sizeof **out);
+    if (!*out) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+    }
+    *count = n;
+    const kg_object_frame unturned = {0.0, 0.0, 0.0};
+    int i = 0;
+    for (const cJSON* p = list->child; p; p = p->next, ++i) {
+        kg_json_path p_path = kg_json_path_index(&list_path, i);
+        kg_vec2 pixels;
+        KG_TRY(kg_read_object_vertex(reader, p, &p_path, &unturned, &pixels));
+        (*out)[i] = (kg_vec2){pixels.x / t->pixels_per_meter, -pixels.y / t->pixels_per_meter};
+    }
+    return KG_OK;
+}
+
+/* Twice the signed area of a closed outline: > 0 counter-clockwise (y up). */
+static double kg_twice_area(const kg_vec2* p, int count)
+{
+    double sum = 0.0;
+    for (int i = 0; i < count; ++i) {
+        kg_vec2 a = p[i], b = p[(i + 1) % count];
+        sum += (double)a.x * b.y - (double)b.x * a.y;
+    }
+    return sum;
+}
+
+static void kg_reverse_points(kg_vec2* p, int count)
+{
+    for (int i = 0, j = count - 1; i < j; ++i, --j) {
+        kg_vec2 swap = p[i];
+        p[i] = p[j];
+        p[j] = swap;
+    }
+}
+
+/* Orders a chain object's points (body frame, y up, where a chain is solid on the left of
+ * its direction) so that a polygon is solid inside whichever way it was drawn, and a
+ * polyline solid on the right of the way it was drawn, as seen in Tiled: drawn left to
+ * right it is ground, its normal up. chain_flip turns either over. */
+static void kg_orient_chain(kg_vec2* points, int count, int loop, int flip)
+{
+    int reverse = loop ? kg_twice_area(points, count) < 0.0 : 1;
+    if (reverse != flip) {
+        kg_reverse_points(points, count);
+    }
+}
+
+/* The body of a chain object, at the object's origin with no shape of its own, and its
+ * chain of the given points (the body frame), after the checks kg_create_chain makes. */
+static kg_result kg_add_chain_object(kg_tiled* t, const cJSON* object, const kg_json_path* path, kg_object_kind kind,
+                                     kg_body_def* def, kg_vec2* points, int count)
+{
+    const kg_json_reader* reader = &t->reader;
+    kg_chain_def chain = kg_default_chain_def();
+    chain.points = points;
+    chain.count = count;
+    chain.loop = kind == KG_OBJECT_POLYGON;
+    chain.friction = def->friction;
+    chain.restitution = def->restitution;
+    chain.category = def->category;
+    chain.mask = def->mask;
+    if (kg_check_chain_points(points, count, chain.loop) != KG_OK) { /* in drawing order: its indices are Tiled's */
+        char reason[256];
+        snprintf(reason, sizeof reason, "%s", kg_last_error());
+        kg_json_path points_path = kg_json_path_key(path, chain.loop ? "polygon" : "polyline");
+        return kg_json_fail(reader, &points_path, "%s", reason);
+    }
+    int flip = 0;
+    KG_TRY(kg_bool_property(reader, object, path, "chain_flip", &flip));
+    kg_orient_chain(points, count, chain.loop, flip);
+    kg_object_frame frame;
+    KG_TRY(kg_read_body_frame(t, object, path, &frame, def));
+    def->position = kg_world_point(t, (kg_vec2){(float)frame.x, (float)frame.y});
+    def->shape.type = KG_SHAPE_NONE;
+    KG_TRY(kg_add_object_body(t, object, path, def));
+    if (kg_scene_add_body_chain(t->scene, kg_scene_body_count(t->scene) - 1, &chain) != KG_OK) {
+        char reason[256];
+        snprintf(reason, sizeof reason, "%s", kg_last_error());
+        return kg_json_fail(reader, path, "%s", reason);
+    }
+    return KG_OK;
+}
+
+/* A chain object. Only a polyline can be on a moving body's layer here: a polygon there
+ * stays a convex polygon. */
+static kg_result kg_read_object_chain(kg_tiled* t, const cJSON* object, const kg_json_path* path,
+                                      kg_object_kind kind, kg_body_def* def)
+{
+    if (def->type != KG_BODY_STATIC && def->type != KG_BODY_KINEMATIC) {
+        return kg_json_fail(&t->reader, path, "a polyline has no area: only static and kinematic bodies may have one "
+                                              "(it becomes a chain); draw a polygon for a moving body");
+    }
+    kg_vec2* points = NULL;
+    int count = 0;
+    kg_result r = kg_read_chain_points(t, object, path, kind == KG_OBJECT_POLYGON ? "polygon" : "polyline", &points,
+                                       &count);
+    if (r == KG_OK) {
+        r = kg_add_chain_object(t, object, path, kind, def, points, count);
+    }
+    free(points);
+    return r;
+}
+
+/* The shape properties belong to the objects they shape: "capsule" to ellipses,
+ * "chain_flip" to chains. */
+static kg_result kg_check_shape_properties(const kg_json_reader* reader, const cJSON* object,
+                                          const kg_json_path* path, kg_object_kind kind, int chain)
+{
+    int capsule = 0, flip = 0;
+    KG_TRY(kg_bool_property(reader, object, path, "capsule", &capsule));
+    KG_TRY(kg_bool_property(reader, object, path, "chain_flip", &flip));
+    if (capsule && kind != KG_OBJECT_ELLIPSE) {
+        kg_json_path p = kg_property_path(path, "capsule");
+        return kg_json_fail(reader, &p, "only an ellipse object becomes a capsule");
+    }
+    if (flip && !chain) {
+        kg_json_path p = kg_property_path(path, "chain_flip");
+        return kg_json_fail(reader, &p, "only a chain (a polyline, or a polygon on a static layer) has a side to "
+                                        "flip");
+    }
+    return KG_OK;
+}
+
 static kg_result kg_read_object_body(kg_tiled* t, const cJSON* object, const kg_json_path* path,
                                      const kg_body_def* layer_def)
 {
@@ -985,19 +1202,14 @@ static kg_result kg_read_object_body(kg_tiled* t, const cJSON* object, const kg_
     }
     kg_body_def def = *layer_def;
     KG_TRY(kg_read_body_properties(reader, object, path, &def));
+    int chain = kg_is_chain_object(kind, def.type);
+    KG_TRY(kg_check_shape_properties(reader, object, path, kind, chain));
+    if (chain) {
+        return kg_read_object_chain(t, object, path, kind, &def);
+    }
     KG_TRY(kg_read_body_shape(t, object, path, kind, &def));
     KG_TRY(kg_check_body(reader, path, &def));
-    char name[64];
-    kg_body_name(object, name, sizeof name);
-    if (kg_scene_find_body(t->scene, name) >= 0) {
-        return kg_json_fail(reader, path, "a second body named '%s' (object ids must be unique)", name);
-    }
-    if (kg_scene_add_body(t->scene, name, &def) != KG_OK) {
-        char reason[256];
-        snprintf(reason, sizeof reason, "%s", kg_last_error());
-        return kg_json_fail(reader, path, "%s", reason);
-    }
-    return KG_OK;
+    return kg_add_object_body(t, object, path, &def);
 }
 
 static kg_result kg_read_object_layer(kg_tiled* t, const cJSON* layer, const kg_json_path* path)
