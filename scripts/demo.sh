@@ -18,6 +18,7 @@ fi
 scenes=(
   "demo_pyramid|samples/demo_pyramid.json|--view -15,-1.5,25,28.5 --every 3"
   "demo_rain|samples/demo_rain.json|--view -20,-1.5,20,28.5 --every 4"
+  "demo_chain|samples/chain_terrain.json|--view -22,-1,22,12 --size 800x240 --steps 300 --every 2"
 )
 # The tile-map platform level (the Tiled level samples/platformer.tmj with slopes, one-way
 # platforms, bodies, particles and a wind applicator), wide to fit the level.
