@@ -10,6 +10,7 @@
 #include "collide/manifold.h"
 #include "collide/pair_contact.h"
 #include "collide/recycle.h"
+#include "collide/shape_index.h"
 #include "collide/tilemap.h"
 #include "core/alloc.h"
 #include "core/error.h"
@@ -51,6 +52,7 @@ struct kg_collision {
     int plain_left;         /* of those, still to go */
     kg_pair* pairs;
     kg_shape_pair* shape_pairs; /* while a body has several shapes: the pairs' shape pairs */
+    kg_shape_index* shape_index; /* the shapes of the bodies that have many (a chain's) */
     int shape_pair_capacity;
     int by_shapes;          /* whether the current list was made with a compound body: then
                              * one pair of bodies may have several contacts */
@@ -133,6 +135,10 @@ kg_result kg_collision_create(kg_world* world)
     int64_t initial = (int64_t)KG_INITIAL_CONTACTS_PER_BODY * world->def.max_bodies;
     initial = initial > KG_MIN_CONTACT_SLOTS ? initial : KG_MIN_CONTACT_SLOTS;
     kg_result r = kg_broadphase_create(world->def.max_bodies, &c->broadphase);
+    c->shape_index = kg_shape_index_create();
+    if (r == KG_OK && !c->shape_index) {
+        r = kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the collision state");
+    }
     c->found_count = -1;
     return r == KG_OK ? kg_reserve(world, (int)(initial < c->budget ? initial : c->budget)) : r;
 }
@@ -154,6 +160,7 @@ void kg_collision_destroy(kg_world* world)
     struct kg_collision* c = world->collision;
     if (c) {
         kg_broadphase_destroy(c->broadphase);
+        kg_shape_index_destroy(c->shape_index);
         kg_free_buffers(c);
         kg_free(c);
         world->collision = NULL;
@@ -290,17 +297,15 @@ kg_shape_arrays kg_world_shape_arrays(const kg_world* world)
 }
 
 /* The shape pairs of the body pairs, into c->shape_pairs, as many as fit; returns how
- * many there are. */
+ * many there are. A body of many shapes is searched through the shape index. */
 static int kg_expand_pairs(kg_world* world, int pair_count)
 {
     struct kg_collision* c = world->collision;
-    const kg_body_pool* p = &world->bodies;
-    kg_shape_arrays shapes = kg_world_shape_arrays(world);
     int n = 0;
     for (int k = 0; k < pair_count; ++k) {
         int room = n < c->shape_pair_capacity ? c->shape_pair_capacity - n : 0;
-        n += kg_expand_pair(c->pairs[k].a, c->pairs[k].b, &shapes, p->xf, p->velocity, p->aabb,
-                            world->def.speculative_distance, world->last_dt, c->shape_pairs + (room > 0 ? n : 0), room);
+        n += kg_shape_index_expand(c->shape_index, world, c->pairs[k].a, c->pairs[k].b,
+                                   c->shape_pairs + (room > 0 ? n : 0), room);
     }
     return n;
 }
@@ -312,6 +317,7 @@ static int kg_expand_pairs(kg_world* world, int pair_count)
 static kg_result kg_find_shape_pairs(kg_world* world, int* count)
 {
     struct kg_collision* c = world->collision;
+    KG_TRY(kg_shape_index_update(c->shape_index, world));
     for (;;) {
         if (c->shape_pair_capacity < c->capacity) {
             if (!kg_regrow((void**)&c->shape_pairs, 0, (size_t)c->capacity * sizeof *c->shape_pairs)) {
