@@ -296,6 +296,8 @@ kg_shape_arrays kg_world_shape_arrays(const kg_world* world)
     return s;
 }
 
+const struct kg_shape_index* kg_collision_shape_index(const kg_world* world) { return world->collision->shape_index; }
+
 /* The shape pairs of the body pairs, into c->shape_pairs, as many as fit; returns how
  * many there are. A body of many shapes is searched through the shape index. */
 static int kg_expand_pairs(kg_world* world, int pair_count)

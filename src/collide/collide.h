@@ -40,6 +40,10 @@ int kg_collision_budget(const kg_world* world);
  * carried of its points found last step's impulses, the rest started cold. */
 void kg_count_warm_starts(kg_world* world, int points, int carried);
 
+/* The index of the shapes of the bodies that have many (collide/shape_index.h), as this
+ * step's collide stage left it. */
+const struct kg_shape_index* kg_collision_shape_index(const kg_world* world);
+
 /* The world's shapes as the shared pair code reads them (collide/pair_contact.h). */
 kg_shape_arrays kg_world_shape_arrays(const kg_world* world);
 

@@ -16,6 +16,7 @@
 #include "collide/aabb.h"
 #include "collide/chain.h"
 #include "collide/pair_contact.h"
+#include "collide/sorted_shapes.h"
 #include "collide/tile_pass.h"
 #include "collide/toi.h"
 
@@ -48,6 +49,10 @@ typedef struct kg_continuous_bodies {
     int large_count;                 /* of which the first large_count are the large ones */
     int slot_count;                  /* the pool's high water: bullets look at [0, slot_count) */
     kg_shape_arrays shapes;          /* each body's shapes: a compound body is swept, and met, shape by shape */
+    KG_GLOBAL const int* sorted_of;  /* per body slot: its span of sorted shapes, or -1 (a body of many
+                                      * shapes, a chain's: collide/sorted_shapes.h); NULL: none */
+    KG_GLOBAL const kg_sorted_span* sorted_spans;
+    KG_GLOBAL const kg_sorted_shape* sorted_shapes;
 } kg_continuous_bodies;
 
 /* Which pass a body is swept in: the non-bullets first, then the bullets against them. */
@@ -164,25 +169,81 @@ KG_FN float kg_toi_with_edge(const kg_shape* shape, const kg_sweep* s, kg_vec2 p
     return kg_shape_time_of_impact(shape, s, &edge, cell, prm, limit);
 }
 
+/* The earliest fraction (below limit) at which the shape meets shape sb of body j, whose
+ * bounds the sweep's reach. */
+KG_FN float kg_toi_with_shape(const kg_continuous_bodies* b, const kg_shape* shape, const kg_sweep* s, kg_u32 j,
+                              kg_u32 sb, kg_toi_params prm, float limit)
+{
+    KG_PRIVATE_VIEW(kg_shape, other, *kg_shape_of(&b->shapes, j, sb));
+    return kg_is_chain_segment(other)
+               ? kg_toi_with_edge(shape, s, other->vertices[0], other->vertices[1], b->xf[j], prm, limit)
+               : kg_shape_time_of_impact(shape, s, other, b->xf[j], prm, limit);
+}
+
+/* Each of body j's solid shapes that the filter of shape sa meets and the sweep's bounds
+ * box reach, in slot order: the earliest fraction below limit at which the shape meets one. */
+KG_FN float kg_toi_with_each(const kg_continuous_bodies* b, kg_u32 sa, const kg_shape* shape, const kg_sweep* s,
+                             kg_aabb box, kg_u32 j, kg_toi_params prm, float limit)
+{
+    for (kg_u32 sb = b->shapes.first_shape[j]; sb != KG_NULL_INDEX; sb = b->shapes.next[sb]) {
+        KG_PRIVATE_VIEW(kg_shape, other, *kg_shape_of(&b->shapes, j, sb));
+        if (kg_shapes_pair(&b->shapes, sa, sb) && kg_aabb_overlap(box, kg_shape_aabb(other, b->xf[j]))) {
+            limit = kg_toi_with_shape(b, shape, s, j, sb, prm, limit);
+        }
+    }
+    return limit;
+}
+
+/* Shapes of a sorted body one sweep meets, visited in slot order; a sweep that meets more
+ * tries every shape instead. */
+#define KG_SORTED_VISIT 32
+
+/* kg_toi_with_each for a static body j of sorted shapes: the same shapes (their bounds
+ * were made at the same pose by the same function), found by the search, then met in
+ * slot order, so that each time of impact starts from the same limit, bit for bit. */
+KG_FN float kg_toi_with_sorted(const kg_continuous_bodies* b, kg_u32 sa, const kg_shape* shape, const kg_sweep* s,
+                               kg_aabb box, kg_u32 j, kg_toi_params prm, float limit)
+{
+    KG_GLOBAL const kg_sorted_shape* e = b->sorted_shapes;
+    kg_sorted_span span = b->sorted_spans[b->sorted_of[j]];
+    kg_u32 met[KG_SORTED_VISIT];
+    int n = 0;
+    for (int k = kg_sorted_end(e, span, box) - 1; kg_sorted_may_reach(e, k, span, box); --k) {
+        if (kg_shapes_pair(&b->shapes, sa, e[k].slot) && kg_aabb_overlap(box, e[k].box)) {
+            if (n == KG_SORTED_VISIT) {
+                return kg_toi_with_each(b, sa, shape, s, box, j, prm, limit);
+            }
+            met[n++] = e[k].slot;
+        }
+    }
+    for (int i = 1; i < n; ++i) { /* insertion sort: a handful */
+        kg_u32 v = met[i];
+        int at = i;
+        for (; at > 0 && met[at - 1] > v; --at) {
+            met[at] = met[at - 1];
+        }
+        met[at] = v;
+    }
+    for (int i = 0; i < n; ++i) {
+        limit = kg_toi_with_shape(b, shape, s, j, met[i], prm, limit);
+    }
+    return limit;
+}
+
 /* The earliest fraction (below limit) at which the shape (slot sa of the body swept) meets
  * body slot j: each of j's solid shapes that its filter meets and the sweep's bounds reach
- * (a chain segment one-sided, as a tile's edge). */
+ * (a chain segment one-sided, as a tile's edge); a static body of many shapes through its
+ * sorted shapes (on the CPU: the device tries each). */
 KG_FN float kg_toi_with_body(const kg_continuous_bodies* b, kg_u32 sa, const kg_shape* shape, const kg_sweep* s,
                              kg_aabb box, kg_u32 j, kg_toi_params prm, float limit)
 {
     if (!kg_aabb_overlap(box, b->aabb[j])) {
         return limit;
     }
-    for (kg_u32 sb = b->shapes.first_shape[j]; sb != KG_NULL_INDEX; sb = b->shapes.next[sb]) {
-        KG_PRIVATE_VIEW(kg_shape, other, *kg_shape_of(&b->shapes, j, sb));
-        if (!kg_shapes_pair(&b->shapes, sa, sb) || !kg_aabb_overlap(box, kg_shape_aabb(other, b->xf[j]))) {
-            continue;
-        }
-        limit = kg_is_chain_segment(other)
-                    ? kg_toi_with_edge(shape, s, other->vertices[0], other->vertices[1], b->xf[j], prm, limit)
-                    : kg_shape_time_of_impact(shape, s, other, b->xf[j], prm, limit);
+    if (b->sorted_of && b->sorted_of[j] >= 0 && kg_flags_type(b->flags[j]) == (kg_u32)KG_BODY_STATIC) {
+        return kg_toi_with_sorted(b, sa, shape, s, box, j, prm, limit);
     }
-    return limit;
+    return kg_toi_with_each(b, sa, shape, s, box, j, prm, limit);
 }
 
 /* The first of the sorted entries [lo, hi) whose lower x lies past x. */

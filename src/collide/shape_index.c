@@ -1,4 +1,5 @@
 #include "collide/shape_index.h"
+#include "collide/sorted_shapes.h"
 #include "collide/aabb.h"
 #include "collide/collide.h"
 #include "core/alloc.h"
@@ -8,30 +9,22 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct kg_index_entry {
-    kg_aabb box; /* the shape's world bounds, as kg_expand_pair computes them */
-    kg_u32 slot;
-} kg_index_entry;
-
+/* What the CPU keeps of an indexed body beside its span. */
 typedef struct kg_indexed_body {
     kg_u32 body;
-    kg_xf xf;  /* the pose its entries were made at */
-    int axis;  /* 0: sorted along x, 1: along y (its shapes' longer extent: a wall's y) */
-    int first; /* its entries, [first, first + count) */
-    int count;
+    kg_xf xf; /* the pose its entries were made at */
 } kg_indexed_body;
 
 struct kg_shape_index {
     int built;
     kg_u32 version;          /* the shape pool's, when built */
-    int* of_body;            /* per body slot: its kg_indexed_body, or -1 */
+    int* of_body;            /* per body slot: its span, or -1 */
     int of_body_room;
-    kg_indexed_body* bodies;
-    int body_count, body_room;
-    kg_index_entry* entries; /* per indexed body, sorted by their lower bound on its axis */
+    kg_indexed_body* bodies; /* per span */
+    kg_sorted_span* spans;
+    int body_count, body_room, span_room;
+    kg_sorted_shape* entries;
     int entry_room;
-    float* reach;            /* the largest upper bound on the axis of the entries up to each */
-    int reach_room;
     kg_u32* found;           /* a search's shapes */
     int found_room;
 };
@@ -43,8 +36,8 @@ void kg_shape_index_destroy(kg_shape_index* index)
     if (index) {
         kg_free(index->of_body);
         kg_free(index->bodies);
+        kg_free(index->spans);
         kg_free(index->entries);
-        kg_free(index->reach);
         kg_free(index->found);
         kg_free(index);
     }
@@ -67,9 +60,6 @@ static int kg_room(void** buffer, int* room, int need, size_t size)
     return 1;
 }
 
-static float kg_lower_on(const kg_aabb* box, int axis) { return axis ? box->lower.y : box->lower.x; }
-static float kg_upper_on(const kg_aabb* box, int axis) { return axis ? box->upper.y : box->upper.x; }
-
 /* By lower bound, then slot: a total order, so the same bounds sort the same way. One
  * comparison an axis: qsort passes no context, and a global would be shared by worlds
  * stepped on different threads. */
@@ -80,37 +70,39 @@ static int kg_by_lower(float la, float lb, kg_u32 sa, kg_u32 sb)
 
 static int kg_by_lower_x(const void* l, const void* r)
 {
-    const kg_index_entry *a = l, *b = r;
+    const kg_sorted_shape *a = l, *b = r;
     return kg_by_lower(a->box.lower.x, b->box.lower.x, a->slot, b->slot);
 }
 
 static int kg_by_lower_y(const void* l, const void* r)
 {
-    const kg_index_entry *a = l, *b = r;
+    const kg_sorted_shape *a = l, *b = r;
     return kg_by_lower(a->box.lower.y, b->box.lower.y, a->slot, b->slot);
 }
 
-/* Body ib's entries at its current pose, sorted, and their reach. */
-static void kg_fill_body(kg_shape_index* index, const kg_world* world, kg_indexed_body* ib)
+/* Span k's entries at its body's current pose, sorted, and their reach. */
+static void kg_fill_body(kg_shape_index* index, const kg_world* world, int k)
 {
     const kg_shape_pool* sp = &world->shapes;
+    kg_indexed_body* ib = &index->bodies[k];
+    kg_sorted_span* span = &index->spans[k];
     kg_xf xf = world->bodies.xf[ib->body];
-    kg_index_entry* e = index->entries + ib->first;
+    kg_sorted_shape* e = index->entries + span->first;
     kg_aabb all = {{INFINITY, INFINITY}, {-INFINITY, -INFINITY}};
-    int k = 0;
-    for (kg_u32 s = world->bodies.first_shape[ib->body]; s != KG_NULL_INDEX; s = sp->next[s], ++k) {
-        e[k].box = kg_shape_aabb(&sp->geometry[s], xf);
-        e[k].slot = s;
-        all.lower = kg_vmin(all.lower, e[k].box.lower);
-        all.upper = kg_vmax(all.upper, e[k].box.upper);
+    int n = 0;
+    for (kg_u32 s = world->bodies.first_shape[ib->body]; s != KG_NULL_INDEX; s = sp->next[s], ++n) {
+        memset(&e[n], 0, sizeof e[n]);
+        e[n].box = kg_shape_aabb(&sp->geometry[s], xf);
+        e[n].slot = s;
+        all.lower = kg_vmin(all.lower, e[n].box.lower);
+        all.upper = kg_vmax(all.upper, e[n].box.upper);
     }
     ib->xf = xf;
-    ib->axis = all.upper.y - all.lower.y > all.upper.x - all.lower.x;
-    qsort(e, (size_t)ib->count, sizeof *e, ib->axis ? kg_by_lower_y : kg_by_lower_x);
-    float* reach = index->reach + ib->first;
-    for (k = 0; k < ib->count; ++k) {
-        float upper = kg_upper_on(&e[k].box, ib->axis);
-        reach[k] = k > 0 && reach[k - 1] > upper ? reach[k - 1] : upper;
+    span->axis = all.upper.y - all.lower.y > all.upper.x - all.lower.x;
+    qsort(e, (size_t)span->count, sizeof *e, span->axis ? kg_by_lower_y : kg_by_lower_x);
+    for (n = 0; n < span->count; ++n) {
+        float upper = kg_upper_on(e[n].box, span->axis);
+        e[n].reach = n > 0 && e[n - 1].reach > upper ? e[n - 1].reach : upper;
     }
 }
 
@@ -127,8 +119,8 @@ static kg_result kg_rebuild(kg_shape_index* index, const kg_world* world)
     }
     if (!kg_room((void**)&index->of_body, &index->of_body_room, p->high_water, sizeof *index->of_body) ||
         !kg_room((void**)&index->bodies, &index->body_room, bodies, sizeof *index->bodies) ||
+        !kg_room((void**)&index->spans, &index->span_room, bodies, sizeof *index->spans) ||
         !kg_room((void**)&index->entries, &index->entry_room, entries, sizeof *index->entries) ||
-        !kg_room((void**)&index->reach, &index->reach_room, entries, sizeof *index->reach) ||
         !kg_room((void**)&index->found, &index->found_room, entries, sizeof *index->found)) {
         index->built = 0;
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot index the shapes of %d bodies (%d shapes)", bodies, entries);
@@ -139,12 +131,12 @@ static kg_result kg_rebuild(kg_shape_index* index, const kg_world* world)
         int indexed = kg_pool_alive(p, i) && p->shape_count[i] >= KG_INDEXED_SHAPES;
         index->of_body[i] = indexed ? index->body_count : -1;
         if (indexed) {
-            kg_indexed_body* ib = &index->bodies[index->body_count++];
-            ib->body = (kg_u32)i;
-            ib->first = first;
-            ib->count = (int)p->shape_count[i];
-            first += ib->count;
-            kg_fill_body(index, world, ib);
+            int k = index->body_count++;
+            index->bodies[k].body = (kg_u32)i;
+            kg_sorted_span span = {first, (int)p->shape_count[i], 0, 0};
+            index->spans[k] = span;
+            first += span.count;
+            kg_fill_body(index, world, k);
         }
     }
     index->built = 1;
@@ -158,17 +150,13 @@ kg_result kg_shape_index_update(kg_shape_index* index, const kg_world* world)
         return kg_rebuild(index, world);
     }
     for (int k = 0; k < index->body_count; ++k) {
-        kg_indexed_body* ib = &index->bodies[k];
+        const kg_indexed_body* ib = &index->bodies[k];
         if (memcmp(&ib->xf, &world->bodies.xf[ib->body], sizeof ib->xf) != 0) { /* a kinematic body moved */
-            kg_fill_body(index, world, ib);
+            kg_fill_body(index, world, k);
         }
     }
     return KG_OK;
 }
-
-/* A bound widened by a little more than float rounding can move it: the search is only
- * a sieve, kg_expand_pair's own tests decide. */
-static float kg_widened(float v, float sign) { return v + sign * (1e-5f * fabsf(v) + 1e-6f); }
 
 static int kg_by_slot(const void* l, const void* r)
 {
@@ -176,26 +164,16 @@ static int kg_by_slot(const void* l, const void* r)
     return (a > b) - (a < b);
 }
 
-/* The entries of ib whose bounds may reach box (on its axis; the caller tests the rest),
- * their slots into found sorted, as a body's list of shapes runs; returns how many. */
-static int kg_search(const kg_shape_index* index, const kg_indexed_body* ib, kg_aabb box, kg_u32* found)
+/* The shapes of span k whose bounds may reach box (on its axis; the caller tests the
+ * rest), into found sorted, as a body's list of shapes runs; returns how many. */
+static int kg_search(const kg_shape_index* index, int k, kg_aabb box, kg_u32* found)
 {
-    const kg_index_entry* e = index->entries + ib->first;
-    const float* reach = index->reach + ib->first;
-    float lo = kg_widened(kg_lower_on(&box, ib->axis), -1.0f), hi = kg_widened(kg_upper_on(&box, ib->axis), 1.0f);
-    int below = 0, above = ib->count; /* the first entry whose lower bound is past hi */
-    while (below < above) {
-        int mid = below + (above - below) / 2;
-        if (kg_lower_on(&e[mid].box, ib->axis) <= hi) {
-            below = mid + 1;
-        } else {
-            above = mid;
-        }
-    }
+    const kg_sorted_shape* e = index->entries;
+    kg_sorted_span span = index->spans[k];
     int n = 0;
-    for (int k = below - 1; k >= 0 && reach[k] >= lo; --k) {
-        if (kg_upper_on(&e[k].box, ib->axis) >= lo) {
-            found[n++] = e[k].slot;
+    for (int j = kg_sorted_end(e, span, box) - 1; kg_sorted_may_reach(e, j, span, box); --j) {
+        if (kg_sorted_reaches(e, j, span, box)) {
+            found[n++] = e[j].slot;
         }
     }
     qsort(found, (size_t)n, sizeof *found, kg_by_slot);
@@ -220,7 +198,7 @@ static int kg_expand_from_a(kg_shape_index* index, const kg_world* world, const 
 {
     const kg_body_pool* p = &world->bodies;
     kg_u32* found = index->found;
-    int count = kg_search(index, &index->bodies[index->of_body[a]], kg_aabb_fatten(p->aabb[b], margin), found);
+    int count = kg_search(index, index->of_body[a], kg_aabb_fatten(p->aabb[b], margin), found);
     int n = 0;
     for (int k = 0; k < count; ++k) {
         kg_u32 sa = found[k];
@@ -247,7 +225,7 @@ static int kg_expand_to_b(kg_shape_index* index, const kg_world* world, const kg
         if (!kg_aabb_overlap(box_a, p->aabb[b])) {
             continue;
         }
-        int count = kg_search(index, &index->bodies[index->of_body[b]], box_a, found);
+        int count = kg_search(index, index->of_body[b], box_a, found);
         for (int k = 0; k < count; ++k) {
             kg_offer(s, box_a, kg_shape_aabb(kg_shape_of(s, b, found[k]), p->xf[b]), a, b, sa, found[k], out, room,
                      &n);
@@ -268,4 +246,17 @@ int kg_shape_index_expand(kg_shape_index* index, const kg_world* world, kg_u32 a
     float margin = kg_pair_speculative(spec, p->velocity[a], p->velocity[b], dt);
     return index->of_body[a] >= 0 ? kg_expand_from_a(index, world, &s, a, b, margin, out, room)
                                   : kg_expand_to_b(index, world, &s, a, b, margin, out, room);
+}
+
+int kg_shape_index_current(const kg_shape_index* index, const kg_world* world)
+{
+    return index->built && index->version == world->shapes.version && index->body_count > 0;
+}
+
+void kg_shape_index_arrays(const kg_shape_index* index, const int** of_body, const kg_sorted_span** spans,
+                           const kg_sorted_shape** shapes)
+{
+    *of_body = index->of_body;
+    *spans = index->spans;
+    *shapes = index->entries;
 }

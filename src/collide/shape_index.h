@@ -4,10 +4,10 @@
  * 7.1 ms a step, 74 ms at 100,000 segments, linear in the chain's length).
  *
  * Each indexed body's shapes' world bounds (kg_shape_aabb at the body's transform, the
- * very floats kg_expand_pair computes) sorted by their lower x, with the running largest
- * upper x, so that the shapes whose bounds reach an interval of x are a binary search and
- * a short walk back. A static body's bounds are made once; a kinematic body's again when it
- * moves; all of them again when a shape of the world changes (the shape pool's version).
+ * very floats kg_expand_pair computes) sorted along the body's longer extent
+ * (collide/sorted_shapes.h, which continuous collision searches too). A static body's
+ * bounds are made once; a kinematic body's again when it moves; all of them again when a
+ * shape of the world changes (the shape pool's version).
  *
  * kg_shape_index_expand gives what kg_expand_pair gives (collide/pair_contact.h), the same
  * pairs of shapes in the same order, bit for bit, which the OpenCL backend (no index:
@@ -17,6 +17,7 @@
 #define KG_SHAPE_INDEX_H
 
 #include "collide/pair_contact.h"
+#include "collide/sorted_shapes.h"
 #include "core/world.h"
 
 /* A body with at least this many shapes is indexed: below it, trying each is cheaper
@@ -36,5 +37,13 @@ kg_result kg_shape_index_update(kg_shape_index* index, const kg_world* world);
  * returns how many there are. */
 int kg_shape_index_expand(kg_shape_index* index, const kg_world* world, kg_u32 a, kg_u32 b, kg_shape_pair* out,
                           int room);
+
+/* Whether the index holds a body and was made for the world's shapes as they are (the
+ * poses are this step's after kg_shape_index_update in its collide stage). */
+int kg_shape_index_current(const kg_shape_index* index, const kg_world* world);
+/* Its arrays as the shared code reads them (collide/sorted_shapes.h): per body slot its
+ * span or -1, the spans, the sorted entries. */
+void kg_shape_index_arrays(const kg_shape_index* index, const int** of_body, const kg_sorted_span** spans,
+                           const kg_sorted_shape** shapes);
 
 #endif

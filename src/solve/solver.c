@@ -14,6 +14,7 @@
 #include "collide/aabb.h"
 #include "collide/collide.h"
 #include "collide/continuous.h"
+#include "collide/shape_index.h"
 #include "collide/tilemap.h"
 #include "core/alloc.h"
 #include "core/error.h"
@@ -673,7 +674,11 @@ void kg_stage_finalize(kg_world* world)
                                   p->center,        p->rot,            p->xf,
                                   p->aabb,          p->local_center,   s->statics.entries,
                                   s->statics.count, s->statics.large_count, p->high_water,
-                                  kg_world_shape_arrays(world)};
+                                  kg_world_shape_arrays(world), NULL, NULL, NULL};
+        const kg_shape_index* index = kg_collision_shape_index(world);
+        if (kg_shape_index_current(index, world)) { /* a chain: its segments near a sweep by a search */
+            kg_shape_index_arrays(index, &b.sorted_of, &b.sorted_spans, &b.sorted_shapes);
+        }
         job.bodies = b;
         job.shapes_version = world->shapes.version;
         job.terrain = kg_terrain_of(world);

@@ -138,7 +138,7 @@ __kernel void kg_finalize(int count, float dt, int pass, int continuous, kg_toi_
     if (continuous && kg_continuous_takes(flags[i], pass)) {
         kg_shape_arrays s = {shape_count, first_shape, body_shape, geometry, next, shape_flags, shape_category, shape_mask};
         kg_continuous_bodies b = {flags,   velocity,     omega,       center,      rot,   xf, aabb,
-                                  local_center, statics, static_count, large_count, count, s};
+                                  local_center, statics, static_count, large_count, count, s, 0, 0, 0};
         kg_tile_terrain t = {maps, cells, protos, map_count, 0.0f, 0.0f};
         kg_continuous_body(&b, &t, (kg_u32)i, pass, prm, dt, kg_body_extents(&s, (kg_u32)i, local_center[i]));
     }
