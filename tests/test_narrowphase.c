@@ -9,8 +9,13 @@
  * the incident shape's point is not in front of the reference face. They do not ask it to lie
  * inside the reference polygon: clipping against the face's side planes (perpendicular to the
  * face, as in Box2D) leaves it outside when the face meets its neighbours at acute corners,
- * or when one polygon swallows much of the other. */
+ * or when one polygon swallows much of the other.
+ *
+ * Chain segments, one-sided, are held to chain.h's rules and, where a segment owns a
+ * contact, to the manifold of the same segment two-sided ("chain segments, random"); the
+ * known issues at the end of the file fail until chain.h is mended. */
 #include "kg_test.h"
+#include "collide/chain.h"
 #include "collide/manifold.h"
 #include "collide/recycle.h"
 #include "collide/shape.h"
@@ -56,6 +61,8 @@ static dvec dscale(double s, dvec a) { return dv(s * a.x, s * a.y); }
 static double ddot(dvec a, dvec b) { return a.x * b.x + a.y * b.y; }
 static double dcross(dvec a, dvec b) { return a.x * b.y - a.y * b.x; }
 static double dlen(dvec a) { return sqrt(ddot(a, a)); }
+static dvec dunit(dvec a) { return dscale(1.0 / dlen(a), a); }
+static dvec dright_perp(dvec a) { return dv(a.y, -a.x); }
 static dvec dfrom(kg_vec2 v) { return dv(v.x, v.y); }
 
 /* The same rigid motion the engine applies, evaluated in double from the float pose. */
@@ -751,32 +758,34 @@ typedef struct rounded_stats {
     double worst_gap, worst_normal, worst_surface, worst_feature;
 } rounded_stats;
 
-/* The properties above for one ordered pair. */
-static void check_rounded_pair(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative, double tol,
-                               rounded_stats* st)
+/* How far q lies outside the core rounded by radius (negative inside). */
+static double outside_rounded(const dpoly* core, double radius, dvec q)
 {
-    dpoly pa = world_polygon(a, xfa), pb = world_polygon(b, xfb);
-    double ra = a->radius, rb = b->radius;
-    double cores = core_gap(&pa, &pb);
+    return fmax(point_core_distance(core, q), 0.0) - radius;
+}
+
+/* The properties above for the manifold m of the cores pa and pb rounded by ra and rb. */
+static void check_rounded_manifold(const kg_manifold* m, const dpoly* pa, double ra, const dpoly* pb, double rb,
+                                   float speculative, double tol, rounded_stats* st)
+{
+    double cores = core_gap(pa, pb);
     double expected = cores - ra - rb;
-    kg_manifold m = kg_collide_shapes(a, xfa, b, xfb, speculative);
-    check_manifold_form(&m, xfa, xfb, speculative);
     /* at the margin, or sharp shapes touching: either answer is right */
     if (fabs(expected - speculative) < KG_REFERENCE_TOLERANCE + tol || (fabs(cores) < tol && ra + rb < tol)) {
         st->skipped++;
         return;
     }
-    KG_CHECK((m.point_count > 0) == (expected <= speculative));
-    if (m.point_count == 0) {
+    KG_CHECK((m->point_count > 0) == (expected <= speculative));
+    if (m->point_count == 0) {
         st->empty++;
         return;
     }
     st->reported++;
-    st->two_points += m.point_count == 2;
+    st->two_points += m->point_count == 2;
     int apart = cores > 0.0;
     st->apart += apart;
     st->overlapping += !apart;
-    double nearest = min_separation(&m);
+    double nearest = min_separation(m);
     double error = nearest - expected;
     st->worst_gap = fmax(st->worst_gap, fabs(error));
     if (apart) {
@@ -784,21 +793,21 @@ static void check_rounded_pair(const kg_shape* a, kg_xf xfa, const kg_shape* b, 
     } else {
         KG_CHECK(error >= -KG_REFERENCE_TOLERANCE - tol && error <= tol);
     }
-    dvec n = dfrom(m.normal);
-    double shortfall = expected - rounded_gap_along(&pa, ra, &pb, rb, n);
+    dvec n = dfrom(m->normal);
+    double shortfall = expected - rounded_gap_along(pa, ra, pb, rb, n);
     st->worst_normal = fmax(st->worst_normal, shortfall);
     KG_CHECK(shortfall <= KG_REFERENCE_TOLERANCE + tol);
-    for (int i = 0; i < m.point_count; ++i) {
-        const kg_manifold_point* mp = m.points + i;
-        dvec sa = surface_a(mp, m.normal), sb = surface_b(mp, m.normal);
-        double out_a = fmax(point_core_distance(&pa, sa), 0.0) - ra, out_b = fmax(point_core_distance(&pb, sb), 0.0) - rb;
+    for (int i = 0; i < m->point_count; ++i) {
+        const kg_manifold_point* mp = m->points + i;
+        dvec sa = surface_a(mp, m->normal), sb = surface_b(mp, m->normal);
+        double out_a = outside_rounded(pa, ra, sa), out_b = outside_rounded(pb, rb, sb);
         double off = fmax(out_a, out_b), allowed = SURFACE_TOL + tol;
         if (mp->separation == nearest && apart) {
             /* on the surfaces, up to the slack that keeps a face contact */
             off = fmax(fabs(out_a), fabs(out_b));
             allowed += KG_REFERENCE_TOLERANCE;
             dvec core_a = dsub(sa, dscale(ra, n)), core_b = dadd(sb, dscale(rb, n));
-            double feature = fmax(core_feature_distance(&pa, mp->id >> 8, core_a), core_feature_distance(&pb, mp->id & 0xFFu, core_b));
+            double feature = fmax(core_feature_distance(pa, mp->id >> 8, core_a), core_feature_distance(pb, mp->id & 0xFFu, core_b));
             st->worst_feature = fmax(st->worst_feature, feature);
             KG_CHECK(feature <= allowed);
         }
@@ -807,8 +816,18 @@ static void check_rounded_pair(const kg_shape* a, kg_xf xfa, const kg_shape* b, 
     }
 }
 
+/* The properties above for one ordered pair. */
+static void check_rounded_pair(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative, double tol,
+                               rounded_stats* st)
+{
+    dpoly pa = world_polygon(a, xfa), pb = world_polygon(b, xfb);
+    kg_manifold m = kg_collide_shapes(a, xfa, b, xfb, speculative);
+    check_manifold_form(&m, xfa, xfb, speculative);
+    check_rounded_manifold(&m, &pa, a->radius, &pb, b->radius, speculative, tol, st);
+}
+
 /* kg_collide_shapes(b, a) is kg_collide_shapes(a, b) flipped, bit for bit: the dispatch of a
- * circle as the first shape. */
+ * circle or a chain segment as the first shape. */
 static void check_flipped_exactly(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative)
 {
     kg_manifold m = kg_flip_manifold(kg_collide_shapes(a, xfa, b, xfb, speculative));
@@ -919,6 +938,432 @@ static void test_random_capsule_circle(void) { check_random_rounded("capsule-cir
 static void test_random_segment_polygon(void) { check_random_rounded("segment-polygon", 0x5EED0104u, random_segment, random_polygon); }
 static void test_random_segment_circle(void) { check_random_rounded("segment-circle", 0x5EED0105u, random_segment, random_circle); }
 static void test_random_segment_capsule(void) { check_random_rounded("segment-capsule", 0x5EED0106u, random_segment, random_capsule); }
+
+/* ---- chain segments, random ---- */
+
+/* A chain segment (collide/chain.h) is one-sided: solid on the left of p1 -> p2, its front
+ * normal n on the right. An end is flat where the chain runs on straight or turns right (a
+ * concave join), a convex corner where it turns left by more than KG_TILE_ANGLE_TOLERANCE (a
+ * sine), and free where there is no ghost: a corner with a virtual side at right angles.
+ * chain.h's rules (with collide/tile_collide.h's, which it applies), checked for random
+ * segments and ghosts against every other kind of shape in random poses:
+ *  (1) kg_collide_shapes(body, segment) is kg_collide_shapes(segment, body) flipped, bit
+ *      for bit.
+ *  (2) A body whose centre is behind the segment's line, and behind the neighbour's line at
+ *      each convex corner and the virtual side at each free end, gets nothing. Behind the
+ *      segment's line alone is not enough: past a corner or a free end a body in front of
+ *      the neighbour (or the virtual side) may reach the segment's end, whose vertex region
+ *      is the segment's.
+ *  (3) The normal lies in the segment's cone: turned from n towards an end by at most the
+ *      turn there (none at a flat end, a quarter turn at a free one), to the angle
+ *      tolerance. So it points behind the segment's line only at a corner turning by more
+ *      than a quarter turn, whose vertex region reaches behind it.
+ *  (4) Every point's surface points lie within both shapes.
+ *  (5) Where the segment owns the contact of the two-sided segment (the same segment with
+ *      its chain flags cleared), the manifold is that one, to float noise (or as near where
+ *      the two choose differently within the slack both keep: nearly parallel faces, a
+ *      corner within KG_REFERENCE_TOLERANCE of a face), and passes check_rounded_pair's
+ *      checks against the reference. It owns it when the body's
+ *      centre is in front of its line, no neighbour's line (no virtual side) parts the
+ *      body from the segment as far as the two-sided gap, and the normal is turned towards
+ *      an end by less than the end leaves to the segment: nothing at a flat end (a normal
+ *      into it is snapped to n), a quarter turn at a free end, at a convex corner half the
+ *      turn for a face of the body (past it the neighbour is the incident edge) and for any
+ *      other contact the whole turn at p1 and nothing at p2 (a corner's vertex region
+ *      belongs to the segment that leaves it).
+ * Where chain.h breaks (5) the contacts are counted and left to the known issues at the end
+ * of the file: a face of the body turned more than 45 degrees towards a free end, and the
+ * side of a 2-vertex core nearest an end of the segment; the ids are compared with their
+ * bytes swapped (test_chain_known_issue_feature_id_order), and no join turns within 0.03
+ * rad of a hairpin (test_chain_known_issue_hairpin_tip). */
+
+/* Normals and angles closer than this are the same but for float noise. */
+#define NORMAL_NOISE 1e-6
+/* An owned contact is kept this far inside the limits of (5), in radians, so that float
+ * noise on either side of them cannot decide. */
+#define OWN_MARGIN 1e-3
+
+/* A turn at a join: straight on, left (convex) or right (concave), clear of the tolerance
+ * that tells a corner from a flat join and of a hairpin. */
+static double random_turn(void)
+{
+    double turn = rng_uniform(0.03, PI - 0.03);
+    int kind = rng_int(0, 2);
+    return kind == 0 ? 0.0 : (kind == 1 ? turn : -turn);
+}
+
+/* A chain segment such as random_segment makes, built by kg_chain_segment_build from a
+ * polyline with a point before it, one after it, both or neither, each at a random turn
+ * and 0.05 to 5 m away. */
+static kg_shape random_chain_segment(double* size)
+{
+    kg_shape_def core = random_segment_def(size);
+    kg_vec2 p1 = core.vertices[0], p2 = core.vertices[1];
+    double angle = atan2((double)p2.y - p1.y, (double)p2.x - p1.x);
+    int ghosts = rng_int(0, 3);
+    kg_vec2 points[4];
+    int count = 0;
+    if (ghosts & 1) {
+        double arriving = angle - random_turn(), reach = rng_size(0.05, 5.0);
+        points[count++] = kg_v2((float)(p1.x - reach * cos(arriving)), (float)(p1.y - reach * sin(arriving)));
+    }
+    int first = count;
+    points[count++] = p1;
+    points[count++] = p2;
+    if (ghosts & 2) {
+        double leaving = angle + random_turn(), reach = rng_size(0.05, 5.0);
+        points[count++] = kg_v2((float)(p2.x + reach * cos(leaving)), (float)(p2.y + reach * sin(leaving)));
+    }
+    KG_CHECK(kg_check_chain_points(points, count, 0) == KG_OK);
+    return kg_chain_segment_build(points, count, 0, first);
+}
+
+/* The chain segment's flags cleared: a two-sided segment. */
+static kg_shape two_sided_of(const kg_shape* chain_segment)
+{
+    kg_shape plain = *chain_segment;
+    plain.chain = 0u;
+    return plain;
+}
+
+/* A chain segment in the world, in double. At each end the neighbour's normal (the virtual
+ * side's at a free end) and how far it is turned from n, towards p1 at p1 and towards p2 at
+ * p2: 0 at a flat end. */
+typedef struct chain_ref {
+    dvec p1, p2, d, n;
+    dvec normal1, normal2;
+    double turn1, turn2;
+    int free1, free2;
+} chain_ref;
+
+/* The left turn from arriving to leaving where chain.h takes it for a corner, else 0. */
+static double convex_turn(dvec arriving, dvec leaving)
+{
+    double sine = dcross(arriving, leaving);
+    return sine > KG_TILE_ANGLE_TOLERANCE ? atan2(sine, ddot(arriving, leaving)) : 0.0;
+}
+
+static chain_ref chain_reference(const kg_shape* chain, kg_xf xf)
+{
+    chain_ref r;
+    r.p1 = dxf_point(xf, chain->vertices[0]);
+    r.p2 = dxf_point(xf, chain->vertices[1]);
+    r.d = dunit(dsub(r.p2, r.p1));
+    r.n = dright_perp(r.d);
+    r.free1 = !(chain->chain & KG_CHAIN_GHOST1);
+    r.free2 = !(chain->chain & KG_CHAIN_GHOST2);
+    r.turn1 = 0.5 * PI;
+    r.turn2 = 0.5 * PI;
+    r.normal1 = dscale(-1.0, r.d);
+    r.normal2 = r.d;
+    if (!r.free1) {
+        dvec arriving = dunit(dsub(r.p1, dxf_point(xf, chain->vertices[2])));
+        r.turn1 = convex_turn(arriving, r.d);
+        r.normal1 = dright_perp(arriving);
+    }
+    if (!r.free2) {
+        dvec leaving = dunit(dsub(dxf_point(xf, chain->vertices[3]), r.p2));
+        r.turn2 = convex_turn(r.d, leaving);
+        r.normal2 = dright_perp(leaving);
+    }
+    return r;
+}
+
+/* The angle from n to the unit vector v, positive towards p1. */
+static double turned_from_front(const chain_ref* r, dvec v) { return atan2(dcross(v, r->n), ddot(v, r->n)); }
+
+static double height_over_line(const chain_ref* r, dvec c) { return ddot(r->n, dsub(c, r->p1)); }
+
+/* The largest of c's heights over the segment's line and the neighbours' lines at convex
+ * ends: negative when c is behind them all. */
+static double height_over_solid(const chain_ref* r, dvec c)
+{
+    double h = height_over_line(r, c);
+    if (r->turn1 > 0.0) {
+        h = fmax(h, ddot(r->normal1, dsub(c, r->p1)));
+    }
+    if (r->turn2 > 0.0) {
+        h = fmax(h, ddot(r->normal2, dsub(c, r->p2)));
+    }
+    return h;
+}
+
+/* How far the core rounded by radius lies in front of the line through p with normal g. */
+static double gap_from_line(const dpoly* core, double radius, dvec p, dvec g)
+{
+    double lowest = 1e300;
+    for (int i = 0; i < core->n; ++i) {
+        lowest = fmin(lowest, ddot(g, dsub(core->v[i], p)));
+    }
+    return lowest - radius;
+}
+
+/* What the two-sided manifold's contact is, for (5). */
+typedef struct two_sided_contact {
+    double turned;  /* its normal from n, towards p1 */
+    double nearest; /* its nearest separation */
+    int body_face;  /* its normal is minus a face normal of the body */
+} two_sided_contact;
+
+static two_sided_contact two_sided_contact_of(const kg_manifold* m, const dpoly* segment, const dpoly* body,
+                                              const chain_ref* r)
+{
+    two_sided_contact c;
+    int face;
+    c.turned = turned_from_front(r, dfrom(m->normal));
+    c.nearest = min_separation(m);
+    c.body_face = body->n >= 2 && a_is_reference(m, segment, body, &face) == 0;
+    return c;
+}
+
+/* How far towards an end (p1 when at_p1) the segment's own contacts turn, by (5). */
+static double share_of_end(double turn, int is_free, int body_face, int at_p1)
+{
+    if (is_free) {
+        return 0.5 * PI;
+    }
+    return body_face ? 0.5 * turn : (at_p1 ? turn : 0.0);
+}
+
+/* Whether a neighbour's line (a virtual side) parts the body from the segment as far as
+ * the two-sided gap, less the slack of the axis choice: the neighbour's contact then. */
+static int parted_by_neighbour(const chain_ref* r, const dpoly* body, double radius, double nearest)
+{
+    double slack = 2.0 * KG_REFERENCE_TOLERANCE;
+    int by1 = r->turn1 > 0.0 && gap_from_line(body, radius, r->p1, r->normal1) > nearest - slack;
+    int by2 = r->turn2 > 0.0 && gap_from_line(body, radius, r->p2, r->normal2) > nearest - slack;
+    return by1 || by2;
+}
+
+static int segment_owns(const chain_ref* r, const two_sided_contact* c, const dpoly* body, double radius, dvec centre,
+                        double tol)
+{
+    double to_p1 = fmax(share_of_end(r->turn1, r->free1, c->body_face, 1) - OWN_MARGIN, NORMAL_NOISE);
+    double to_p2 = fmax(share_of_end(r->turn2, r->free2, c->body_face, 0) - OWN_MARGIN, NORMAL_NOISE);
+    return height_over_line(r, centre) > tol && c->turned <= to_p1 && -c->turned <= to_p2 &&
+           !parted_by_neighbour(r, body, radius, c->nearest);
+}
+
+/* Known issue: at a free end chain.h takes the virtual side for a neighbour that would meet
+ * a face of the body turned more than 45 degrees towards it, and drops that face's contact,
+ * though the end's vertex region is the segment's (test_chain_known_issue_free_end_drops_
+ * tilted_face). */
+static int face_tilted_to_free_end(const chain_ref* r, const two_sided_contact* c)
+{
+    double limit = 0.25 * PI - OWN_MARGIN;
+    return c->body_face && ((r->free1 && c->turned > limit) || (r->free2 && -c->turned > limit));
+}
+
+/* Known issue: a 2-vertex core's two faces are the same segment, and chain.h's closest
+ * features name whichever of them rounding makes nearer, so a contact between the core's
+ * side and an end of the segment is lost when that face looks away from the segment
+ * (test_chain_known_issue_core_side_at_segment_end). */
+static int core_side_at_segment_end(const dpoly* segment, const dpoly* core)
+{
+    if (core->n != 2 || core_gap(segment, core) <= 0.0) {
+        return 0;
+    }
+    double from_ends = fmin(boundary_distance(core, segment->v[0]), boundary_distance(core, segment->v[1]));
+    double to_ends = fmin(boundary_distance(segment, core->v[0]), boundary_distance(segment, core->v[1]));
+    return from_ends <= to_ends;
+}
+
+/* chain.h names a point (body vertex, segment vertex) where manifold.h names it (a vertex,
+ * b vertex) (test_chain_known_issue_feature_id_order): the manifold with ids in manifold.h's
+ * order, until chain.h writes them so. */
+static kg_manifold ids_in_ab_order(kg_manifold m)
+{
+    for (int i = 0; i < m.point_count; ++i) {
+        m.points[i].id = KG_FEATURE_ID(m.points[i].id & 0xFFu, m.points[i].id >> 8);
+    }
+    return m;
+}
+
+static const kg_manifold_point* point_with_id(const kg_manifold* m, kg_u32 id)
+{
+    for (int i = 0; i < m->point_count; ++i) {
+        if (m->points[i].id == id) {
+            return m->points + i;
+        }
+    }
+    return NULL;
+}
+
+typedef struct chain_stats {
+    rounded_stats owned; /* (5) against the reference */
+    int reported, two_points, empty, behind, rejected, centre_behind_line, normal_behind_line, snapped, contested,
+        owned_contacts, same, same_bits, face_at_free_end, face_at_free_end_wrong, core_side_at_end,
+        core_side_at_end_wrong, owned_towards_corner, owned_towards_free_end;
+    double worst_cone, worst_surface, worst_difference, worst_nearest;
+} chain_stats;
+
+/* (3) and (4) for a reported manifold. */
+static void check_chain_contact(const chain_ref* r, const kg_manifold* m, const dpoly* segment, const dpoly* body,
+                                double radius, dvec centre, double tol, chain_stats* st)
+{
+    st->reported++;
+    st->two_points += m->point_count == 2;
+    st->centre_behind_line += height_over_line(r, centre) < 0.0;
+    dvec n = dfrom(m->normal);
+    double turned = turned_from_front(r, n);
+    double excess = fmax(turned - r->turn1, -r->turn2 - turned);
+    st->worst_cone = fmax(st->worst_cone, excess);
+    KG_CHECK(excess <= asin(KG_TILE_ANGLE_TOLERANCE) + NORMAL_NOISE);
+    if (ddot(n, r->n) < -KG_TILE_ANGLE_TOLERANCE) {
+        st->normal_behind_line++;
+        KG_CHECK(r->turn1 > 0.5 * PI || r->turn2 > 0.5 * PI);
+    }
+    for (int i = 0; i < m->point_count; ++i) {
+        const kg_manifold_point* mp = m->points + i;
+        double out = fmax(outside_rounded(segment, 0.0, surface_a(mp, m->normal)),
+                          outside_rounded(body, radius, surface_b(mp, m->normal)));
+        st->worst_surface = fmax(st->worst_surface, out);
+        KG_CHECK(out <= SURFACE_TOL + tol);
+    }
+}
+
+/* How far manifold m is from its twin: normals, and points of the same id, in place and
+ * separation; 1e300 where their points are not named alike. */
+static double manifold_difference(const kg_manifold* m, const kg_manifold* twin)
+{
+    if (m->point_count != twin->point_count) {
+        return 1e300;
+    }
+    double difference = dlen(dsub(dfrom(m->normal), dfrom(twin->normal)));
+    for (int i = 0; i < m->point_count; ++i) {
+        const kg_manifold_point* same_id = point_with_id(twin, m->points[i].id);
+        if (!same_id) {
+            return 1e300;
+        }
+        difference = fmax(difference, dlen(dsub(dfrom(m->points[i].point), dfrom(same_id->point))));
+        difference = fmax(difference, fabs((double)m->points[i].separation - same_id->separation));
+    }
+    return difference;
+}
+
+/* Whether the chain's manifold named (its ids in (a, b) order) is the two-sided one: the
+ * same to float noise, or as near where the narrowphases choose differently within the
+ * slack they both keep (nearly parallel faces, a corner within KG_REFERENCE_TOLERANCE of a
+ * face's points), which check_rounded_manifold holds them to. */
+static int same_contact(const kg_manifold* named, const kg_manifold* two_sided, double tol)
+{
+    double nearer = fabs(min_separation(named) - min_separation(two_sided));
+    int same = manifold_difference(named, two_sided) <= tol || nearer <= KG_REFERENCE_TOLERANCE + tol;
+    return named->point_count > 0 && same;
+}
+
+/* Counts a known issue's contact, and whether chain.h got it wrong. */
+static int known_issue(int applies, const kg_manifold* named, const kg_manifold* two_sided, double tol, int* count,
+                       int* wrong)
+{
+    *count += applies;
+    *wrong += applies && !same_contact(named, two_sided, tol);
+    return applies;
+}
+
+/* (5) for the two-sided manifold's contact, where the segment owns it. */
+static void check_owned_contact(const chain_ref* r, const kg_manifold* m, const kg_manifold* two_sided,
+                                const dpoly* segment, const dpoly* body, double radius, dvec centre, float speculative,
+                                double tol, chain_stats* st)
+{
+    two_sided_contact c = two_sided_contact_of(two_sided, segment, body, r);
+    kg_manifold named = ids_in_ab_order(*m);
+    int towards_flat = (c.turned > NORMAL_NOISE && r->turn1 == 0.0) || (-c.turned > NORMAL_NOISE && r->turn2 == 0.0);
+    st->snapped += towards_flat && m->point_count > 0 && dlen(dsub(dfrom(m->normal), r->n)) < NORMAL_NOISE;
+    if (!segment_owns(r, &c, body, radius, centre, tol)) {
+        st->contested++;
+        return;
+    }
+    if (known_issue(face_tilted_to_free_end(r, &c), &named, two_sided, tol, &st->face_at_free_end,
+                    &st->face_at_free_end_wrong) ||
+        known_issue(core_side_at_segment_end(segment, body), &named, two_sided, tol, &st->core_side_at_end,
+                    &st->core_side_at_end_wrong)) {
+        return;
+    }
+    st->owned_contacts++;
+    int free_end = c.turned > 0.0 ? r->free1 : r->free2;
+    st->owned_towards_corner += fabs(c.turned) > NORMAL_NOISE && !free_end;
+    st->owned_towards_free_end += fabs(c.turned) > NORMAL_NOISE && free_end;
+    check_rounded_manifold(&named, segment, 0.0, body, radius, speculative, tol, &st->owned);
+    double difference = manifold_difference(&named, two_sided);
+    st->same += difference <= tol;
+    st->same_bits += memcmp(&named, two_sided, sizeof named) == 0;
+    if (difference <= tol) {
+        st->worst_difference = fmax(st->worst_difference, difference);
+    } else if (named.point_count > 0) {
+        st->worst_nearest = fmax(st->worst_nearest, fabs(min_separation(&named) - min_separation(two_sided)));
+    }
+    /* at the margin the chain may keep the contact or not */
+    int at_margin = fabs(c.nearest - speculative) <= KG_REFERENCE_TOLERANCE + tol;
+    KG_CHECK(same_contact(&named, two_sided, tol) || (at_margin && m->point_count == 0));
+}
+
+static void check_chain_pair(const kg_shape* chain, kg_xf xfa, const kg_shape* body, kg_xf xfb, float speculative,
+                             double tol, chain_stats* st)
+{
+    chain_ref r = chain_reference(chain, xfa);
+    dvec centre = dxf_point(xfb, body->count == 1 ? body->vertices[0] : body->centroid);
+    kg_shape plain = two_sided_of(chain);
+    kg_manifold m = kg_collide_shapes(chain, xfa, body, xfb, speculative);
+    kg_manifold two_sided = kg_collide_shapes(&plain, xfa, body, xfb, speculative);
+    check_manifold_form(&m, xfa, xfb, speculative);
+    check_flipped_exactly(chain, xfa, body, xfb, speculative);
+    if (height_over_solid(&r, centre) < -tol) {
+        st->behind++;
+        st->rejected += two_sided.point_count > 0;
+        KG_CHECK(m.point_count == 0);
+        return;
+    }
+    dpoly segment = world_polygon(chain, xfa), core = world_polygon(body, xfb);
+    if (m.point_count > 0) {
+        check_chain_contact(&r, &m, &segment, &core, body->radius, centre, tol, st);
+    } else {
+        st->empty++;
+    }
+    if (two_sided.point_count > 0) {
+        check_owned_contact(&r, &m, &two_sided, &segment, &core, body->radius, centre, speculative, tol, st);
+    }
+}
+
+/* ROUNDED_CASES random chain segments against shapes made by make_body, in both orders. */
+static void check_random_chain(const char* name, uint64_t seed, shape_maker make_body)
+{
+    g_rng = seed;
+    chain_stats st;
+    memset(&st, 0, sizeof st);
+    for (int k = 0; k < ROUNDED_CASES; ++k) {
+        double size_a, size_b;
+        kg_shape a = random_chain_segment(&size_a), b = make_body(&size_b);
+        kg_xf xfa, xfb;
+        random_poses(size_a + 0.1, size_b + 0.1, &a, &b, &xfa, &xfb);
+        float speculative = (float)rng_uniform(0.0, 0.05);
+        double tol = 1e-5 * (1.0 + size_a + size_b + fabs(xfa.p.x) + fabs(xfa.p.y));
+        check_chain_pair(&a, xfa, &b, xfb, speculative, tol, &st);
+    }
+    const rounded_stats* o = &st.owned;
+    printf("  chain-%s: %d reported (%d with two points, %d with the centre behind the line, %d with the normal behind "
+           "it), %d empty; %d centres behind, %d of them touching the two-sided segment; worst cone excess %.2g rad, "
+           "surface distance %.2g\n",
+           name, st.reported, st.two_points, st.centre_behind_line, st.normal_behind_line, st.empty, st.behind,
+           st.rejected, st.worst_cone, st.worst_surface);
+    printf("    %d owned contacts (%d towards a corner, %d towards a free end; %d the two-sided manifold to float "
+           "noise, %d bitwise), %d left to a neighbour or snapped (%d snapped); known issues: %d faces at free ends "
+           "(%d wrong), %d core sides at ends (%d wrong); worst difference from two-sided %.2g (nearest separation "
+           "%.2g where they chose differently); owned against the reference: %d skipped, |gap error| %.2g, normal "
+           "shortfall %.2g, surface distance %.2g, feature distance %.2g\n",
+           st.owned_contacts, st.owned_towards_corner, st.owned_towards_free_end, st.same, st.same_bits, st.contested,
+           st.snapped, st.face_at_free_end, st.face_at_free_end_wrong, st.core_side_at_end, st.core_side_at_end_wrong,
+           st.worst_difference, st.worst_nearest, o->skipped, o->worst_gap, o->worst_normal, o->worst_surface,
+           o->worst_feature);
+    KG_CHECK(st.rejected > ROUNDED_CASES / 20 && st.reported > ROUNDED_CASES / 20 && st.contested > ROUNDED_CASES / 50);
+    KG_CHECK(st.owned_contacts > ROUNDED_CASES / 40 && o->skipped <= ROUNDED_CASES / 200);
+    KG_CHECK(st.owned_towards_corner > 0 && st.owned_towards_free_end > 0 && st.centre_behind_line > 0);
+}
+
+static void test_random_chain_polygon(void) { check_random_chain("polygon", 0x5EED0201u, random_polygon); }
+static void test_random_chain_circle(void) { check_random_chain("circle", 0x5EED0202u, random_circle); }
+static void test_random_chain_capsule(void) { check_random_chain("capsule", 0x5EED0203u, random_capsule); }
+static void test_random_chain_segment(void) { check_random_chain("segment", 0x5EED0204u, random_segment); }
 
 /* ---- hand cases ---- */
 
@@ -1363,6 +1808,93 @@ static void test_recycled_manifold_matches_a_fresh_one(void)
     KG_CHECK(worst_point < 0.002);
 }
 
+/* ---- chain segments, known issues ----
+ *
+ * Where chain.h breaks the rules of "chain segments, random", each reduced to a hand case
+ * whose last check fails until chain.h (or collide/tile_collide.h, which it applies) is
+ * mended; the random tests count the contacts they leave out for it. */
+
+/* manifold.h names a point by a vertex of a and a vertex of b, in (a, b) byte order;
+ * chain.h names it (body vertex, segment vertex) with the segment as a, since it passes on
+ * the tile map's hit, whose frame has the body as a. A box resting 1 cm deep on a segment of
+ * a straight run: its right point, on p1's side, is (p1, box corner) on the two-sided
+ * segment and (box corner, p1) on the chain. */
+static void test_chain_known_issue_feature_id_order(void)
+{
+    const kg_vec2 run[4] = {{3.0f, 0.0f}, {1.0f, 0.0f}, {-1.0f, 0.0f}, {-3.0f, 0.0f}}; /* solid below */
+    kg_shape segment = kg_chain_segment_build(run, 4, 0, 1), plain = two_sided_of(&segment), b = box(1.0f, 1.0f);
+    kg_xf ground = make_xf(0, 0, 0), resting = make_xf(0.2, 0.49, 0);
+    kg_manifold m = collide(&segment, ground, &b, resting, 0.0f);
+    kg_manifold two_sided = collide(&plain, ground, &b, resting, 0.0f);
+    KG_CHECK(m.point_count == 2 && two_sided.point_count == 2);
+    kg_u32 p1_then_corner = KG_FEATURE_ID(0u, vertex_at(&b, 0.5f, -0.5f));
+    KG_CHECK_NEAR(point_near(&two_sided, 0.7, -0.005)->id, p1_then_corner, 0);
+    KG_CHECK_NEAR(point_near(&m, 0.7, -0.005)->id, p1_then_corner, 0);
+}
+
+/* A free end's vertex region is the segment's: a ball there gets its contact. A face of a
+ * body there gets none once it is turned more than 45 degrees from the segment's normal:
+ * kg_neighbour_is_incident takes the virtual side for a neighbour that would meet the face,
+ * but no segment is there to do it. A plank 0.2 m thick leaning at 60 degrees on the open
+ * end of a ledge, 5 mm into it (the two-sided segment's contact, and the ball's at the
+ * plank's centre). */
+static void test_chain_known_issue_free_end_drops_tilted_face(void)
+{
+    const kg_vec2 ledge[2] = {{2.0f, 0.0f}, {0.0f, 0.0f}}; /* solid below, open at the origin */
+    kg_shape segment = kg_chain_segment_build(ledge, 2, 0, 0), plain = two_sided_of(&segment);
+    kg_shape plank = box(1.0f, 0.2f), ball = circle(0.1f);
+    double tilt = PI / 3.0;
+    kg_xf ground = make_xf(0, 0, 0), leaning = make_xf(-0.095 * sin(tilt), 0.095 * cos(tilt), tilt);
+    kg_manifold two_sided = collide(&plain, ground, &plank, leaning, 0.02f);
+    KG_CHECK(two_sided.point_count == 1);
+    check_normal(&two_sided, -sin(tilt), cos(tilt));
+    KG_CHECK_NEAR(two_sided.points[0].separation, -0.005, HAND_TOL);
+    KG_CHECK(collide(&segment, ground, &ball, leaning, 0.02f).point_count == 1);
+    KG_CHECK_NEAR(collide(&segment, ground, &plank, leaning, 0.02f).point_count, 1, 0);
+}
+
+/* A 2-vertex core's two faces are one segment, a normal each way. Where the core's side is
+ * nearest an end of the chain segment, kg_closest_features keeps whichever face rounding
+ * makes nearer (the two give the same distance but for it), facing the segment or not;
+ * when it faces away, kg_body_face_contact takes a normal into the solid and skips the
+ * contact. A capsule 0.1 m in radius lying across the open end of a ledge, 3.7 cm into it:
+ * with its core listed from its low end it gets the two-sided segment's contact, listed
+ * from its high end none. */
+static void test_chain_known_issue_core_side_at_segment_end(void)
+{
+    const kg_vec2 ledge[2] = {{2.0f, 0.0f}, {0.0f, 0.0f}}; /* solid below, open at the origin */
+    kg_shape segment = kg_chain_segment_build(ledge, 2, 0, 0), plain = two_sided_of(&segment);
+    kg_vec2 high = kg_v2(1.0f, 0.1f), low = kg_v2(-0.5f, 0.044f);
+    kg_shape down_first = build(kg_capsule_shape(low, high, 0.1f)), up_first = build(kg_capsule_shape(high, low, 0.1f));
+    kg_xf ground = make_xf(0, 0, 0);
+    kg_manifold two_sided = collide(&plain, ground, &up_first, ground, 0.02f);
+    KG_CHECK(two_sided.point_count > 0);
+    KG_CHECK_NEAR(min_separation(&two_sided), 0.06262 - 0.1, 1e-4);
+    kg_manifold listed_down = collide(&segment, ground, &down_first, ground, 0.02f);
+    KG_CHECK(listed_down.point_count == two_sided.point_count);
+    KG_CHECK_NEAR(collide(&segment, ground, &up_first, ground, 0.02f).point_count, two_sided.point_count, 0);
+}
+
+/* kg_chain_end tells a convex corner from a flat join by the sine of the turn alone, so a
+ * hairpin turning left by more than 180 degrees less asin(KG_TILE_ANGLE_TOLERANCE) (0.57
+ * degrees) is taken for flat at both its segments: neither owns the tip's vertex region,
+ * and a ball striking the tip head on gets nothing. A spike 0.52 degrees wide pointing at
+ * -x, a ball 1 cm into its tip (at 0.69 degrees the segment leaving the tip makes the
+ * contact). */
+static void test_chain_known_issue_hairpin_tip(void)
+{
+    const kg_vec2 spike[3] = {{2.0f, (float)(2.0 * tan(0.009))}, {0.0f, 0.0f}, {2.0f, 0.0f}};
+    kg_shape arriving = kg_chain_segment_build(spike, 3, 0, 0), leaving = kg_chain_segment_build(spike, 3, 0, 1);
+    kg_shape plain = two_sided_of(&leaving), ball = circle(0.25f);
+    kg_xf ground = make_xf(0, 0, 0), at_tip = make_xf(-0.24, 0.0, 0.0);
+    kg_manifold two_sided = collide(&plain, ground, &ball, at_tip, 0.02f);
+    KG_CHECK(two_sided.point_count == 1);
+    check_normal(&two_sided, -1.0, 0.0);
+    int points = collide(&arriving, ground, &ball, at_tip, 0.02f).point_count +
+                 collide(&leaving, ground, &ball, at_tip, 0.02f).point_count;
+    KG_CHECK_NEAR(points, 1, 0);
+}
+
 int main(void)
 {
     static const kg_test_case tests[] = {
@@ -1378,6 +1910,10 @@ int main(void)
         KG_TEST(test_random_segment_circle),
         KG_TEST(test_random_segment_capsule),
         KG_TEST(test_aligned_capsules_and_segments),
+        KG_TEST(test_random_chain_polygon),
+        KG_TEST(test_random_chain_circle),
+        KG_TEST(test_random_chain_capsule),
+        KG_TEST(test_random_chain_segment),
         KG_TEST(test_box_resting_on_box),
         KG_TEST(test_box_on_its_corner),
         KG_TEST(test_edge_against_offset_edge),
@@ -1391,6 +1927,10 @@ int main(void)
         KG_TEST(test_speculative_margin),
         KG_TEST(test_far_from_origin),
         KG_TEST(test_capsule_hand_cases),
+        KG_TEST(test_chain_known_issue_feature_id_order),
+        KG_TEST(test_chain_known_issue_free_end_drops_tilted_face),
+        KG_TEST(test_chain_known_issue_core_side_at_segment_end),
+        KG_TEST(test_chain_known_issue_hairpin_tip),
     };
     clock_t start = clock();
     int result = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
