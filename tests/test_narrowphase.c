@@ -971,11 +971,8 @@ static void test_random_segment_capsule(void) { check_random_rounded("segment-ca
  *      turn for a face of the body (past it the neighbour is the incident edge) and for any
  *      other contact the whole turn at p1 and nothing at p2 (a corner's vertex region
  *      belongs to the segment that leaves it).
- * Where chain.h breaks (5) the contacts are counted and left to the known issues at the end
- * of the file: a face of the body turned more than 45 degrees towards a free end, and the
- * side of a 2-vertex core nearest an end of the segment; the ids are compared with their
- * bytes swapped (test_chain_known_issue_feature_id_order), and no join turns within 0.03
- * rad of a hairpin (test_chain_known_issue_hairpin_tip). */
+ * The turns at the joins stay 0.03 rad clear of a hairpin (its tip has a hand case of its
+ * own, test_chain_hairpin_tip, with the other cases these tests found broken). */
 
 /* Normals and angles closer than this are the same but for float noise. */
 #define NORMAL_NOISE 1e-6
@@ -1144,41 +1141,6 @@ static int segment_owns(const chain_ref* r, const two_sided_contact* c, const dp
            !parted_by_neighbour(r, body, radius, c->nearest);
 }
 
-/* Known issue: at a free end chain.h takes the virtual side for a neighbour that would meet
- * a face of the body turned more than 45 degrees towards it, and drops that face's contact,
- * though the end's vertex region is the segment's (test_chain_known_issue_free_end_drops_
- * tilted_face). */
-static int face_tilted_to_free_end(const chain_ref* r, const two_sided_contact* c)
-{
-    double limit = 0.25 * PI - OWN_MARGIN;
-    return c->body_face && ((r->free1 && c->turned > limit) || (r->free2 && -c->turned > limit));
-}
-
-/* Known issue: a 2-vertex core's two faces are the same segment, and chain.h's closest
- * features name whichever of them rounding makes nearer, so a contact between the core's
- * side and an end of the segment is lost when that face looks away from the segment
- * (test_chain_known_issue_core_side_at_segment_end). */
-static int core_side_at_segment_end(const dpoly* segment, const dpoly* core)
-{
-    if (core->n != 2 || core_gap(segment, core) <= 0.0) {
-        return 0;
-    }
-    double from_ends = fmin(boundary_distance(core, segment->v[0]), boundary_distance(core, segment->v[1]));
-    double to_ends = fmin(boundary_distance(segment, core->v[0]), boundary_distance(segment, core->v[1]));
-    return from_ends <= to_ends;
-}
-
-/* chain.h names a point (body vertex, segment vertex) where manifold.h names it (a vertex,
- * b vertex) (test_chain_known_issue_feature_id_order): the manifold with ids in manifold.h's
- * order, until chain.h writes them so. */
-static kg_manifold ids_in_ab_order(kg_manifold m)
-{
-    for (int i = 0; i < m.point_count; ++i) {
-        m.points[i].id = KG_FEATURE_ID(m.points[i].id & 0xFFu, m.points[i].id >> 8);
-    }
-    return m;
-}
-
 static const kg_manifold_point* point_with_id(const kg_manifold* m, kg_u32 id)
 {
     for (int i = 0; i < m->point_count; ++i) {
@@ -1192,8 +1154,7 @@ static const kg_manifold_point* point_with_id(const kg_manifold* m, kg_u32 id)
 typedef struct chain_stats {
     rounded_stats owned; /* (5) against the reference */
     int reported, two_points, empty, behind, rejected, centre_behind_line, normal_behind_line, snapped, contested,
-        owned_contacts, same, same_bits, face_at_free_end, face_at_free_end_wrong, core_side_at_end,
-        core_side_at_end_wrong, owned_towards_corner, owned_towards_free_end;
+        owned_contacts, same, same_bits, owned_towards_corner, owned_towards_free_end;
     double worst_cone, worst_surface, worst_difference, worst_nearest;
 } chain_stats;
 
@@ -1241,7 +1202,7 @@ static double manifold_difference(const kg_manifold* m, const kg_manifold* twin)
     return difference;
 }
 
-/* Whether the chain's manifold named (its ids in (a, b) order) is the two-sided one: the
+/* Whether the chain's manifold named is the two-sided one: the
  * same to float noise, or as near where the narrowphases choose differently within the
  * slack they both keep (nearly parallel faces, a corner within KG_REFERENCE_TOLERANCE of a
  * face's points), which check_rounded_manifold holds them to. */
@@ -1252,50 +1213,34 @@ static int same_contact(const kg_manifold* named, const kg_manifold* two_sided, 
     return named->point_count > 0 && same;
 }
 
-/* Counts a known issue's contact, and whether chain.h got it wrong. */
-static int known_issue(int applies, const kg_manifold* named, const kg_manifold* two_sided, double tol, int* count,
-                       int* wrong)
-{
-    *count += applies;
-    *wrong += applies && !same_contact(named, two_sided, tol);
-    return applies;
-}
-
 /* (5) for the two-sided manifold's contact, where the segment owns it. */
 static void check_owned_contact(const chain_ref* r, const kg_manifold* m, const kg_manifold* two_sided,
                                 const dpoly* segment, const dpoly* body, double radius, dvec centre, float speculative,
                                 double tol, chain_stats* st)
 {
     two_sided_contact c = two_sided_contact_of(two_sided, segment, body, r);
-    kg_manifold named = ids_in_ab_order(*m);
     int towards_flat = (c.turned > NORMAL_NOISE && r->turn1 == 0.0) || (-c.turned > NORMAL_NOISE && r->turn2 == 0.0);
     st->snapped += towards_flat && m->point_count > 0 && dlen(dsub(dfrom(m->normal), r->n)) < NORMAL_NOISE;
     if (!segment_owns(r, &c, body, radius, centre, tol)) {
         st->contested++;
         return;
     }
-    if (known_issue(face_tilted_to_free_end(r, &c), &named, two_sided, tol, &st->face_at_free_end,
-                    &st->face_at_free_end_wrong) ||
-        known_issue(core_side_at_segment_end(segment, body), &named, two_sided, tol, &st->core_side_at_end,
-                    &st->core_side_at_end_wrong)) {
-        return;
-    }
     st->owned_contacts++;
     int free_end = c.turned > 0.0 ? r->free1 : r->free2;
     st->owned_towards_corner += fabs(c.turned) > NORMAL_NOISE && !free_end;
     st->owned_towards_free_end += fabs(c.turned) > NORMAL_NOISE && free_end;
-    check_rounded_manifold(&named, segment, 0.0, body, radius, speculative, tol, &st->owned);
-    double difference = manifold_difference(&named, two_sided);
+    check_rounded_manifold(m, segment, 0.0, body, radius, speculative, tol, &st->owned);
+    double difference = manifold_difference(m, two_sided);
     st->same += difference <= tol;
-    st->same_bits += memcmp(&named, two_sided, sizeof named) == 0;
+    st->same_bits += memcmp(m, two_sided, sizeof *m) == 0;
     if (difference <= tol) {
         st->worst_difference = fmax(st->worst_difference, difference);
-    } else if (named.point_count > 0) {
-        st->worst_nearest = fmax(st->worst_nearest, fabs(min_separation(&named) - min_separation(two_sided)));
+    } else if (m->point_count > 0) {
+        st->worst_nearest = fmax(st->worst_nearest, fabs(min_separation(m) - min_separation(two_sided)));
     }
     /* at the margin the chain may keep the contact or not */
     int at_margin = fabs(c.nearest - speculative) <= KG_REFERENCE_TOLERANCE + tol;
-    KG_CHECK(same_contact(&named, two_sided, tol) || (at_margin && m->point_count == 0));
+    KG_CHECK(same_contact(m, two_sided, tol) || (at_margin && m->point_count == 0));
 }
 
 static void check_chain_pair(const kg_shape* chain, kg_xf xfa, const kg_shape* body, kg_xf xfb, float speculative,
@@ -1347,13 +1292,12 @@ static void check_random_chain(const char* name, uint64_t seed, shape_maker make
            name, st.reported, st.two_points, st.centre_behind_line, st.normal_behind_line, st.empty, st.behind,
            st.rejected, st.worst_cone, st.worst_surface);
     printf("    %d owned contacts (%d towards a corner, %d towards a free end; %d the two-sided manifold to float "
-           "noise, %d bitwise), %d left to a neighbour or snapped (%d snapped); known issues: %d faces at free ends "
-           "(%d wrong), %d core sides at ends (%d wrong); worst difference from two-sided %.2g (nearest separation "
+           "noise, %d bitwise), %d left to a neighbour or snapped (%d snapped); worst difference from two-sided %.2g "
+           "(nearest separation "
            "%.2g where they chose differently); owned against the reference: %d skipped, |gap error| %.2g, normal "
            "shortfall %.2g, surface distance %.2g, feature distance %.2g\n",
            st.owned_contacts, st.owned_towards_corner, st.owned_towards_free_end, st.same, st.same_bits, st.contested,
-           st.snapped, st.face_at_free_end, st.face_at_free_end_wrong, st.core_side_at_end, st.core_side_at_end_wrong,
-           st.worst_difference, st.worst_nearest, o->skipped, o->worst_gap, o->worst_normal, o->worst_surface,
+           st.snapped, st.worst_difference, st.worst_nearest, o->skipped, o->worst_gap, o->worst_normal, o->worst_surface,
            o->worst_feature);
     KG_CHECK(st.rejected > ROUNDED_CASES / 20 && st.reported > ROUNDED_CASES / 20 && st.contested > ROUNDED_CASES / 50);
     KG_CHECK(st.owned_contacts > ROUNDED_CASES / 40 && o->skipped <= ROUNDED_CASES / 200);
@@ -1808,18 +1752,16 @@ static void test_recycled_manifold_matches_a_fresh_one(void)
     KG_CHECK(worst_point < 0.002);
 }
 
-/* ---- chain segments, known issues ----
+/* ---- chain segments, what the random tests found ----
  *
- * Where chain.h breaks the rules of "chain segments, random", each reduced to a hand case
- * whose last check fails until chain.h (or collide/tile_collide.h, which it applies) is
- * mended; the random tests count the contacts they leave out for it. */
+ * Where chain.h broke the rules of "chain segments, random" (mended since), each reduced
+ * to a hand case. */
 
-/* manifold.h names a point by a vertex of a and a vertex of b, in (a, b) byte order;
- * chain.h names it (body vertex, segment vertex) with the segment as a, since it passes on
- * the tile map's hit, whose frame has the body as a. A box resting 1 cm deep on a segment of
- * a straight run: its right point, on p1's side, is (p1, box corner) on the two-sided
- * segment and (box corner, p1) on the chain. */
-static void test_chain_known_issue_feature_id_order(void)
+/* manifold.h names a point by a vertex of a and a vertex of b, in (a, b) byte order; the
+ * tile map's hit, which chain.h applies, has the body as a, and chain.h passed its ids on
+ * unswapped. A box resting 1 cm deep on a segment of a straight run: its right point, on
+ * p1's side, is (p1, box corner) on the two-sided segment and on the chain. */
+static void test_chain_feature_id_order(void)
 {
     const kg_vec2 run[4] = {{3.0f, 0.0f}, {1.0f, 0.0f}, {-1.0f, 0.0f}, {-3.0f, 0.0f}}; /* solid below */
     kg_shape segment = kg_chain_segment_build(run, 4, 0, 1), plain = two_sided_of(&segment), b = box(1.0f, 1.0f);
@@ -1832,13 +1774,13 @@ static void test_chain_known_issue_feature_id_order(void)
     KG_CHECK_NEAR(point_near(&m, 0.7, -0.005)->id, p1_then_corner, 0);
 }
 
-/* A free end's vertex region is the segment's: a ball there gets its contact. A face of a
- * body there gets none once it is turned more than 45 degrees from the segment's normal:
- * kg_neighbour_is_incident takes the virtual side for a neighbour that would meet the face,
- * but no segment is there to do it. A plank 0.2 m thick leaning at 60 degrees on the open
- * end of a ledge, 5 mm into it (the two-sided segment's contact, and the ball's at the
- * plank's centre). */
-static void test_chain_known_issue_free_end_drops_tilted_face(void)
+/* A free end's vertex region is the segment's: a ball there gets its contact, and so does
+ * a face of a body turned more than 45 degrees from the segment's normal
+ * (kg_neighbour_is_incident took the virtual side for a neighbour that would meet the
+ * face, and dropped it). A plank 0.2 m thick leaning at 60 degrees on the open end of a
+ * ledge, 5 mm into it (the two-sided segment's contact, and the ball's at the plank's
+ * centre). */
+static void test_chain_free_end_keeps_a_tilted_face(void)
 {
     const kg_vec2 ledge[2] = {{2.0f, 0.0f}, {0.0f, 0.0f}}; /* solid below, open at the origin */
     kg_shape segment = kg_chain_segment_build(ledge, 2, 0, 0), plain = two_sided_of(&segment);
@@ -1854,13 +1796,11 @@ static void test_chain_known_issue_free_end_drops_tilted_face(void)
 }
 
 /* A 2-vertex core's two faces are one segment, a normal each way. Where the core's side is
- * nearest an end of the chain segment, kg_closest_features keeps whichever face rounding
- * makes nearer (the two give the same distance but for it), facing the segment or not;
- * when it faces away, kg_body_face_contact takes a normal into the solid and skips the
- * contact. A capsule 0.1 m in radius lying across the open end of a ledge, 3.7 cm into it:
- * with its core listed from its low end it gets the two-sided segment's contact, listed
- * from its high end none. */
-static void test_chain_known_issue_core_side_at_segment_end(void)
+ * nearest an end of the chain segment, kg_closest_features kept whichever face rounding
+ * made nearer, and when it faced away the contact was skipped. A capsule 0.1 m in radius
+ * lying across the open end of a ledge, 3.7 cm into it, gets the two-sided segment's
+ * contact with its core listed either way. */
+static void test_chain_core_side_at_segment_end(void)
 {
     const kg_vec2 ledge[2] = {{2.0f, 0.0f}, {0.0f, 0.0f}}; /* solid below, open at the origin */
     kg_shape segment = kg_chain_segment_build(ledge, 2, 0, 0), plain = two_sided_of(&segment);
@@ -1875,13 +1815,12 @@ static void test_chain_known_issue_core_side_at_segment_end(void)
     KG_CHECK_NEAR(collide(&segment, ground, &up_first, ground, 0.02f).point_count, two_sided.point_count, 0);
 }
 
-/* kg_chain_end tells a convex corner from a flat join by the sine of the turn alone, so a
+/* kg_chain_end told a convex corner from a flat join by the sine of the turn alone, so a
  * hairpin turning left by more than 180 degrees less asin(KG_TILE_ANGLE_TOLERANCE) (0.57
- * degrees) is taken for flat at both its segments: neither owns the tip's vertex region,
- * and a ball striking the tip head on gets nothing. A spike 0.52 degrees wide pointing at
- * -x, a ball 1 cm into its tip (at 0.69 degrees the segment leaving the tip makes the
- * contact). */
-static void test_chain_known_issue_hairpin_tip(void)
+ * degrees) was taken for flat at both its segments: neither owned the tip, and a ball
+ * striking it head on got nothing. A spike 0.52 degrees wide pointing at -x, a ball 1 cm
+ * into its tip: one segment makes the contact. */
+static void test_chain_hairpin_tip(void)
 {
     const kg_vec2 spike[3] = {{2.0f, (float)(2.0 * tan(0.009))}, {0.0f, 0.0f}, {2.0f, 0.0f}};
     kg_shape arriving = kg_chain_segment_build(spike, 3, 0, 0), leaving = kg_chain_segment_build(spike, 3, 0, 1);
@@ -1927,10 +1866,10 @@ int main(void)
         KG_TEST(test_speculative_margin),
         KG_TEST(test_far_from_origin),
         KG_TEST(test_capsule_hand_cases),
-        KG_TEST(test_chain_known_issue_feature_id_order),
-        KG_TEST(test_chain_known_issue_free_end_drops_tilted_face),
-        KG_TEST(test_chain_known_issue_core_side_at_segment_end),
-        KG_TEST(test_chain_known_issue_hairpin_tip),
+        KG_TEST(test_chain_feature_id_order),
+        KG_TEST(test_chain_free_end_keeps_a_tilted_face),
+        KG_TEST(test_chain_core_side_at_segment_end),
+        KG_TEST(test_chain_hairpin_tip),
     };
     clock_t start = clock();
     int result = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));

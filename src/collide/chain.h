@@ -29,11 +29,15 @@ KG_FN int kg_is_chain_segment(const kg_shape* shape) { return (shape->chain & KG
 /* How the chain goes on at an end of a segment: from the direction arriving at the end to
  * the one leaving it, a left turn is a convex corner (the neighbour's normal is a ghost
  * axis), a straight run or a right turn is flat or concave (the segment's own normal
- * serves). *ghost_normal gets the neighbour's normal. */
+ * serves). A left turn of nearly 180 degrees (a spike's tip) has a small sine too, but
+ * it is a corner, not a straight run: told by the cosine, else neither segment owned the
+ * tip. *ghost_normal gets the neighbour's normal. */
 KG_FN kg_segment_end kg_chain_end(kg_vec2 arriving, kg_vec2 leaving, kg_vec2 neighbour, kg_vec2* ghost_normal)
 {
     *ghost_normal = kg_right_perp(neighbour);
-    return kg_cross(arriving, leaving) > KG_TILE_ANGLE_TOLERANCE ? KG_END_CORNER : KG_END_FLAT;
+    float sine = kg_cross(arriving, leaving);
+    int hairpin = sine >= 0.0f && kg_dot(arriving, leaving) < 0.0f;
+    return sine > KG_TILE_ANGLE_TOLERANCE || hairpin ? KG_END_CORNER : KG_END_FLAT;
 }
 
 /* The chain segment as a tile segment, in its body's frame shifted to origin. */
@@ -89,6 +93,10 @@ KG_FN kg_manifold kg_collide_chain_segment(const kg_shape* chain, kg_xf xfa, con
     kg_tile_hit hit = moved.count >= 2
                           ? kg_tile_collide_rounded(&s, &moved, 0, speculative_distance)
                           : kg_tile_collide_circle(&s, moved.vertices[0], moved.radius, 0, speculative_distance);
+    for (int i = 0; i < hit.manifold.point_count; ++i) { /* the tile code names (body, segment): a is the segment */
+        kg_u32 id = hit.manifold.points[i].id;
+        hit.manifold.points[i].id = KG_FEATURE_ID(id & 0xFFu, id >> 8);
+    }
     return kg_manifold_to_world(hit.manifold, xfa, origin, xfb, speculative_distance);
 }
 

@@ -401,15 +401,27 @@ KG_FN kg_closest kg_closest_features(const kg_tile_segment* s, const kg_shape* b
             best.body_edge = k;
         }
     }
+    /* A 2-vertex core (a capsule's, a segment's) has its one edge twice, facing both ways,
+     * equally close: rounding picked either, and the one facing away from the segment
+     * lost the contact at a segment's end. Take the one that faces it. */
+    if (body->count == 2 && kg_dot(body->normals[best.body_edge], kg_sub(best.on_segment, best.on_body)) < 0.0f) {
+        best.body_edge = 1 - best.body_edge;
+        best.fb = 1.0f - best.fb;
+    }
     return best;
 }
 
 /* Whether the segment's neighbour past the end nearest the body's face k faces that face
- * more squarely than the segment does: then the neighbour is the incident edge. */
+ * more squarely than the segment does: then the neighbour is the incident edge. A free
+ * end has no neighbour (its side is only a limit on normals): a face tilted past 45
+ * degrees over a ledge's end was dropped for a neighbour that is not there. */
 KG_FN int kg_neighbour_is_incident(const kg_tile_segment* s, const kg_shape* body, int k)
 {
     kg_vec2 n = body->normals[k], w = body->vertices[k];
     int start_deeper = kg_dot(n, kg_sub(s->p1, w)) < kg_dot(n, kg_sub(s->p2, w));
+    if ((start_deeper ? s->end1 : s->end2) == KG_END_FREE) {
+        return 0;
+    }
     kg_vec2 ghost = start_deeper ? s->normal0 : s->normal2;
     return kg_dot(ghost, n) < kg_dot(s->normal, n);
 }
