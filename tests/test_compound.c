@@ -29,6 +29,18 @@ static kg_body kg_floor(kg_world* world)
     return body;
 }
 
+/* A floor and a 1 m box resting on it: the box. */
+static kg_body kg_box_on_floor(kg_world* world)
+{
+    kg_floor(world);
+    kg_body_def def = kg_default_body_def();
+    def.position = (kg_vec2){0.0f, 0.5f};
+    def.shape = kg_box_shape(1.0f, 1.0f);
+    kg_body body = KG_NULL_BODY_INIT;
+    KG_CHECK_OK(kg_create_body(world, &def, &body));
+    return body;
+}
+
 static kg_shape_id kg_add_shape(kg_world* world, kg_body body, kg_shape_def geometry, float density)
 {
     kg_body_shape_def def = kg_default_body_shape_def();
@@ -288,12 +300,7 @@ static void test_shapes_of_one_body_never_collide(void)
 static void test_filter_and_sensor_per_shape(void)
 {
     kg_world* world = kg_world_new(1);
-    kg_floor(world);
-    kg_body_def def = kg_default_body_def();
-    def.position = (kg_vec2){0.0f, 0.5f};
-    def.shape = kg_box_shape(1.0f, 1.0f);
-    kg_body body;
-    KG_CHECK_OK(kg_create_body(world, &def, &body));
+    kg_body body = kg_box_on_floor(world);
     kg_body_shape_def sensor = kg_default_body_shape_def();
     sensor.geometry = kg_offset_box_shape(1.0f, 1.0f, (kg_vec2){2.0f, -0.6f}, 0.0f); /* in the floor */
     sensor.is_sensor = 1;
@@ -333,12 +340,7 @@ static void test_filter_and_sensor_per_shape(void)
 static void test_adding_and_destroying_shapes(void)
 {
     kg_world* world = kg_world_new(1);
-    kg_floor(world);
-    kg_body_def def = kg_default_body_def();
-    def.position = (kg_vec2){0.0f, 0.5f};
-    def.shape = kg_box_shape(1.0f, 1.0f);
-    kg_body body;
-    KG_CHECK_OK(kg_create_body(world, &def, &body));
+    kg_body body = kg_box_on_floor(world);
     kg_step_for(world, 0.5f);
     KG_CHECK(kg_world_contact_count(world) == 1);
     kg_shape_id side = kg_add_shape(world, body, kg_offset_box_shape(1.0f, 1.0f, (kg_vec2){1.5f, 0.0f}, 0.0f), 1.0f);
@@ -367,12 +369,7 @@ static void test_adding_and_destroying_shapes(void)
 static void test_replaced_shape_gets_its_own_contact(void)
 {
     kg_world* world = kg_world_new(1);
-    kg_floor(world);
-    kg_body_def def = kg_default_body_def();
-    def.position = (kg_vec2){0.0f, 0.5f};
-    def.shape = kg_box_shape(1.0f, 1.0f);
-    kg_body body;
-    KG_CHECK_OK(kg_create_body(world, &def, &body));
+    kg_body body = kg_box_on_floor(world);
     kg_step_for(world, 1.0f);
     kg_shape_id old;
     int count = 0;
@@ -518,12 +515,7 @@ static void test_handles(void)
 static void test_body_setters_reach_every_shape(void)
 {
     kg_world* world = kg_world_new(1);
-    kg_floor(world);
-    kg_body_def bd = kg_default_body_def();
-    bd.position = (kg_vec2){0.0f, 0.5f};
-    bd.shape = kg_box_shape(1.0f, 1.0f);
-    kg_body body;
-    KG_CHECK_OK(kg_create_body(world, &bd, &body));
+    kg_body body = kg_box_on_floor(world);
     kg_shape_id side = kg_add_shape(world, body, kg_offset_box_shape(1.0f, 1.0f, (kg_vec2){1.5f, 0.0f}, 0.0f), 1.0f);
     KG_CHECK_OK(kg_body_set_friction(world, body, 0.25f));
     KG_CHECK_OK(kg_body_set_restitution(world, body, 0.5f));

@@ -348,11 +348,35 @@ KG_FN_NOINLINE float kg_shape_sweep_impact(const kg_continuous_bodies* b, const 
     return limit;
 }
 
+/* Whether a static body's bounds meet box: the index searched as kg_toi_with_statics
+ * searches it, without a shape. */
+KG_FN int kg_statics_near(const kg_continuous_bodies* b, kg_aabb box)
+{
+    KG_GLOBAL const kg_static_entry* e = b->statics;
+    for (int k = 0; k < b->large_count; ++k) {
+        if (kg_aabb_overlap(box, b->aabb[e[k].slot])) {
+            return 1;
+        }
+    }
+    int last = kg_statics_past(e, b->large_count, b->static_count, box.upper.x) - 1;
+    for (int k = last; k >= b->large_count && e[k].reach >= box.lower.x; --k) {
+        if (kg_aabb_overlap(box, b->aabb[e[k].slot])) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* The earliest fraction of the sweep at which slot i meets what it is swept against: the
- * earliest of its solid shapes'. */
+ * earliest of its solid shapes'. Most fast bodies are far from everything (a third of a
+ * rain's drops, high above the ground): one search for the whole body tells them, before
+ * a search a shape (the sweep's bounds are the body's, the same for each). */
 KG_FN float kg_body_time_of_impact(const kg_continuous_bodies* b, const kg_tile_terrain* t, kg_u32 i, int pass,
                                    const kg_sweep* s, kg_toi_params prm)
 {
+    if (pass != KG_CONTINUOUS_PASS_BULLETS && t->map_count == 0 && !kg_statics_near(b, kg_sweep_bounds(s, prm.target))) {
+        return 1.0f;
+    }
     float limit = 1.0f;
     for (kg_u32 sa = b->shapes.first_shape[i]; sa != KG_NULL_INDEX; sa = b->shapes.next[sa]) {
         if ((b->shapes.flags[sa] & KG_SHAPE_SENSOR) == 0u) {
