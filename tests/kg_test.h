@@ -41,6 +41,15 @@ static int kg_test_failures;
         }                                                                               \
     } while (0)
 
+/* The OpenCL device the worlds that ask for OpenCL get: KGYRO_OPENCL_DEVICE's, as the
+ * library reads it (backend/backend.c), else 0. A GPU machine may list a CPU device
+ * first: `make device-check` sets it to the first GPU. */
+static inline int kg_test_opencl_device(void)
+{
+    const char* device = getenv("KGYRO_OPENCL_DEVICE");
+    return device && *device ? atoi(device) : 0;
+}
+
 /* Prints a measured figure at once (flushed), so a run's numbers can be quoted even if
  * a later check aborts. */
 #if defined(__GNUC__)

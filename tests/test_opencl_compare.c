@@ -791,7 +791,7 @@ int main(void)
         g_steps = 100;
     }
     kg_opencl_device_info info;
-    kg_opencl_get_device_info(0, &info);
+    kg_opencl_get_device_info(kg_test_opencl_device(), &info);
     g_bitwise_expected = info.correctly_rounded_divide_sqrt;
     printf("device 0: %s (%s), %d steps, bitwise agreement %s\n", info.name, info.platform_name, g_steps,
            g_bitwise_expected ? "required" : "not required (no correctly rounded divide/sqrt)");

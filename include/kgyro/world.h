@@ -47,7 +47,8 @@ typedef struct kg_world_def {
     float sleep_speed;        /* m/s: a body whose every point is slower than this is at rest */
     float time_to_sleep;      /* s: an island whose bodies all rest this long falls asleep */
     kg_backend backend;
-    int device_index;         /* OpenCL device, counted over all platforms */
+    int device_index;         /* OpenCL device, counted over all platforms (kgyro info lists
+                               * them); KGYRO_OPENCL_DEVICE=N overrides it */
     int threads;              /* CPU worker threads; 0 = 1 */
 } kg_world_def;
 

@@ -3,6 +3,9 @@
  *
  *   KGYRO_BACKEND=cpu | opencl | opencl:N | auto   overrides kg_world_def.backend
  *                                                   (and device_index with opencl:N)
+ *   KGYRO_OPENCL_DEVICE=N                           overrides device_index alone: the
+ *                                                   device of the worlds that ask for
+ *                                                   OpenCL (a test's CPU world stays one)
  *   cpu     the CPU backend
  *   opencl  OpenCL device device_index (any type, PoCL's CPU device included); if it
  *           cannot be used, the CPU backend with one warning
@@ -26,7 +29,17 @@ void kg_backend_use_cpu(kg_world* world) { world->backend = &kg_cpu_backend; }
 static kg_backend kg_requested_backend(const kg_world_def* def, int* device_index)
 {
     const char* env = getenv("KGYRO_BACKEND");
+    const char* device = getenv("KGYRO_OPENCL_DEVICE");
     *device_index = def->device_index;
+    if (device && *device) {
+        char* end = NULL;
+        long n = strtol(device, &end, 10);
+        if (*end == '\0' && n >= 0 && n < 1000) {
+            *device_index = (int)n;
+        } else {
+            kg_warn_once("device-env", "KGYRO_OPENCL_DEVICE=%s is not a device number; ignored", device);
+        }
+    }
     if (env && strcmp(env, "cpu") == 0) {
         return KG_BACKEND_CPU;
     }
