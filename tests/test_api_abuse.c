@@ -131,6 +131,7 @@ typedef struct sequence {
 } sequence;
 
 static int g_reports;
+static int g_chains_made; /* kg_create_chain calls that succeeded: the test must make some */
 static char g_user_tags[MAX_MODEL_BODIES * 4];
 
 /* Counts a disagreement with the model; prints the first few with their seed. */
@@ -434,6 +435,56 @@ static void call_create_body(sequence* s)
     }
     s->bodies[s->body_count++] = (model_body){h, d.type, d.user_data};
     check_created(s, &d, h);
+}
+
+/* kg_create_chain: a zigzag of sane points, or one spoiled (too few, a non-finite or a
+ * repeated point, a bad material), on any handle; only a static or kinematic body holds
+ * one, and then it has a shape more a segment. */
+static void call_create_chain(sequence* s)
+{
+    rng* r = &s->r;
+    kg_vec2 points[40];
+    kg_chain_def def = kg_default_chain_def();
+    def.loop = rng_chance(r, 30);
+    def.count = 1 + rng_below(r, 40);
+    kg_vec2 at = {rng_range(r, -20.0f, 20.0f), rng_range(r, -20.0f, 20.0f)};
+    for (int i = 0; i < def.count; ++i) {
+        at.x += rng_range(r, 0.1f, 2.0f);
+        at.y += rng_range(r, -1.0f, 1.0f);
+        points[i] = at;
+    }
+    def.points = points;
+    faults f = {0, 0, 0};
+    fault_if(&f, def.count < (def.loop ? 3 : 2), KG_ERROR_INVALID_ARGUMENT);
+    switch (rng_below(r, 8)) {
+    case 0: points[rng_below(r, def.count)].y = kHostileFloats[rng_below(r, 3)]; fault_if(&f, 1, KG_ERROR_INVALID_ARGUMENT); break;
+    case 1: def.friction = rng_chance(r, 50) ? -1.0f : NAN; fault_if(&f, 1, KG_ERROR_INVALID_ARGUMENT); break;
+    case 2: def.restitution = 1.5f; fault_if(&f, 1, KG_ERROR_INVALID_ARGUMENT); break;
+    case 3:
+        if (def.count >= 2) {
+            int i = 1 + rng_below(r, def.count - 1);
+            points[i] = points[i - 1];
+            fault_if(&f, 1, KG_ERROR_DEGENERATE_SHAPE);
+        }
+        break;
+    default: break;
+    }
+    kg_world* w = pick_world(s);
+    kg_body h = pick_handle(s);
+    int found = model_find(s, h), def_null = rng_chance(r, 3);
+    fault_if(&f, w == NULL || def_null, KG_ERROR_INVALID_ARGUMENT);
+    fault_if(&f, found < 0, KG_ERROR_INVALID_HANDLE);
+    if (found >= 0) {
+        kg_body_type type = s->bodies[found].type;
+        fault_if(&f, type != KG_BODY_STATIC && type != KG_BODY_KINEMATIC, KG_ERROR_INVALID_ARGUMENT);
+    }
+    int before = kg_body_shape_count(s->world, h);
+    kg_result result = kg_create_chain(w, h, def_null ? NULL : &def, NULL);
+    check_result(s, "kg_create_chain", result, expected_results(f, KG_OK));
+    int segments = result == KG_OK ? (def.loop ? def.count : def.count - 1) : 0;
+    g_chains_made += result == KG_OK;
+    check_true(s, "kg_create_chain", kg_body_shape_count(s->world, h) == before + segments,
+               "the body's shapes are not its old ones and the chain's segments");
 }
 
 static void call_destroy_body(sequence* s)
@@ -997,7 +1048,7 @@ static const weighted_call kCalls[] = {
     {call_apply_angular_impulse, 3}, {call_getter, 10},    {call_get_bodies, 3},
     {call_get_body_states, 3}, {call_add_applicator, 3},   {call_remove_applicator, 2},
     {call_step, 6},            {call_get_contact, 2},      {call_world_settings, 2},
-    {call_other_world, 2},     {call_wake, 2},
+    {call_other_world, 2},     {call_wake, 2},             {call_create_chain, 3},
 };
 
 static call_fn* pick_call(rng* r)
@@ -1129,7 +1180,8 @@ static void test_random_call_sequences(void)
     if (g_reports > REPORTS_SHOWN) {
         fprintf(stderr, "... %d more disagreements with the model\n", g_reports - REPORTS_SHOWN);
     }
-    printf("     %d sequences of %d calls\n", SEQUENCES, CALLS_PER_SEQUENCE);
+    printf("     %d sequences of %d calls, %d chains made\n", SEQUENCES, CALLS_PER_SEQUENCE, g_chains_made);
+    KG_CHECK(g_chains_made > 100);
 }
 
 /* ---- single behaviours ------------------------------------------------------------------ */
