@@ -854,6 +854,27 @@ static void check_flipped_exactly(const kg_shape* a, kg_xf xfa, const kg_shape* 
     KG_CHECK(memcmp(&m, &f, sizeof m) == 0);
 }
 
+/* A random case: shapes made by make_a and make_b in random poses (random_poses), a
+ * speculative distance, and the tolerance their sizes and distance from the origin allow. */
+typedef struct random_case {
+    kg_shape a, b;
+    kg_xf xfa, xfb;
+    float speculative;
+    double tol;
+} random_case;
+
+static random_case draw_case(shape_maker make_a, shape_maker make_b)
+{
+    random_case c;
+    double size_a, size_b;
+    c.a = make_a(&size_a);
+    c.b = make_b(&size_b);
+    random_poses(size_a + 0.1, size_b + 0.1, &c.a, &c.b, &c.xfa, &c.xfb);
+    c.speculative = (float)rng_uniform(0.0, 0.05);
+    c.tol = 1e-5 * (1.0 + size_a + size_b + fabs(c.xfa.p.x) + fabs(c.xfa.p.y));
+    return c;
+}
+
 /* ROUNDED_CASES random pairs of shapes made by make_a and make_b, in both orders. */
 static void check_random_rounded(const char* name, uint64_t seed, shape_maker make_a, shape_maker make_b)
 {
@@ -861,19 +882,14 @@ static void check_random_rounded(const char* name, uint64_t seed, shape_maker ma
     rounded_stats st;
     memset(&st, 0, sizeof st);
     for (int k = 0; k < ROUNDED_CASES; ++k) {
-        double size_a, size_b;
-        kg_shape a = make_a(&size_a), b = make_b(&size_b);
-        kg_xf xfa, xfb;
-        random_poses(size_a + 0.1, size_b + 0.1, &a, &b, &xfa, &xfb);
-        float speculative = (float)rng_uniform(0.0, 0.05);
-        double tol = 1e-5 * (1.0 + size_a + size_b + fabs(xfa.p.x) + fabs(xfa.p.y));
-        check_rounded_pair(&a, xfa, &b, xfb, speculative, tol, &st);
-        check_rounded_pair(&b, xfb, &a, xfa, speculative, tol, &st);
-        if (a.count == 1) {
-            check_flipped_exactly(&b, xfb, &a, xfa, speculative);
+        random_case c = draw_case(make_a, make_b);
+        check_rounded_pair(&c.a, c.xfa, &c.b, c.xfb, c.speculative, c.tol, &st);
+        check_rounded_pair(&c.b, c.xfb, &c.a, c.xfa, c.speculative, c.tol, &st);
+        if (c.a.count == 1) {
+            check_flipped_exactly(&c.b, c.xfb, &c.a, c.xfa, c.speculative);
         }
-        if (b.count == 1) {
-            check_flipped_exactly(&a, xfa, &b, xfb, speculative);
+        if (c.b.count == 1) {
+            check_flipped_exactly(&c.a, c.xfa, &c.b, c.xfb, c.speculative);
         }
     }
     printf("  %s: %d reported (%d with two points; cores apart %d, overlapping %d), %d empty, %d skipped at the margin "
@@ -1325,13 +1341,8 @@ static void check_random_chain(const char* name, uint64_t seed, shape_maker make
     chain_stats st;
     memset(&st, 0, sizeof st);
     for (int k = 0; k < ROUNDED_CASES; ++k) {
-        double size_a, size_b;
-        kg_shape a = random_chain_segment(&size_a), b = make_body(&size_b);
-        kg_xf xfa, xfb;
-        random_poses(size_a + 0.1, size_b + 0.1, &a, &b, &xfa, &xfb);
-        float speculative = (float)rng_uniform(0.0, 0.05);
-        double tol = 1e-5 * (1.0 + size_a + size_b + fabs(xfa.p.x) + fabs(xfa.p.y));
-        check_chain_pair(&a, xfa, &b, xfb, speculative, tol, &st);
+        random_case c = draw_case(random_chain_segment, make_body);
+        check_chain_pair(&c.a, c.xfa, &c.b, c.xfb, c.speculative, c.tol, &st);
     }
     const rounded_stats* o = &st.owned;
     printf("  chain-%s: %d reported (%d with two points, %d with the centre behind the line, %d with the normal behind "
