@@ -180,8 +180,10 @@ static inline void KG_WIDE(kg_scatter)(kg_solver_body* bodies, const kg_wrow* r,
     KG_WIDE(kg_columns_to_rows)(bodies, is_b ? r->b : r->a, movers, c);
 }
 
-static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm,
-                            kg_constraint_pass pass)
+/* Blocks [begin, end) through one pass: gather, row code, scatter. */
+static inline __attribute__((always_inline)) void KG_WIDE(kg_run_blocks)(void* blocks, int begin, int end,
+                                                                         kg_solver_body* bodies, kg_solver_params prm,
+                                                                         kg_constraint_pass pass)
 {
     for (int k = begin; k < end; ++k) {
         kg_wrow* r = (kg_wrow*)blocks + k;
@@ -190,6 +192,34 @@ static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bo
         KG_ROWFN(kg_contact_pass)(r, &a, &b, prm, pass);
         KG_WIDE(kg_scatter)(bodies, r, 0, movers_a, &a);
         KG_WIDE(kg_scatter)(bodies, r, 1, movers_b, &b);
+    }
+}
+
+/* One loop per pass, each with its pass's row code inlined whole (flatten): the pass is
+ * known in the loop, so the motions stay in registers instead of going through memory to
+ * an out-of-line solve, and the relax drops the push-out's work. The same operations in
+ * the same order: the bits do not change. large_pyramid's solve: 10% fewer instructions
+ * (callgrind), the step 11% shorter; many_pyramids' 9% (one thread, 16 lanes). */
+#define KG_PASS_LOOP(name, pass)                                                                                    \
+    static __attribute__((flatten)) void KG_WIDE(name)(void* blocks, int begin, int end, kg_solver_body* bodies, \
+                                                       kg_solver_params prm)                                      \
+    {                                                                                                               \
+        KG_WIDE(kg_run_blocks)(blocks, begin, end, bodies, prm, pass);                                              \
+    }
+KG_PASS_LOOP(kg_run_warm_start, KG_PASS_WARM_START)
+KG_PASS_LOOP(kg_run_solve, KG_PASS_SOLVE)
+KG_PASS_LOOP(kg_run_relax, KG_PASS_RELAX)
+KG_PASS_LOOP(kg_run_restitution, KG_PASS_RESTITUTION)
+#undef KG_PASS_LOOP
+
+static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm,
+                            kg_constraint_pass pass)
+{
+    switch (pass) {
+    case KG_PASS_WARM_START: KG_WIDE(kg_run_warm_start)(blocks, begin, end, bodies, prm); break;
+    case KG_PASS_SOLVE: KG_WIDE(kg_run_solve)(blocks, begin, end, bodies, prm); break;
+    case KG_PASS_RELAX: KG_WIDE(kg_run_relax)(blocks, begin, end, bodies, prm); break;
+    default: KG_WIDE(kg_run_restitution)(blocks, begin, end, bodies, prm); break;
     }
 }
 
