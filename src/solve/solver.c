@@ -328,6 +328,17 @@ KG_FN_NOINLINE void kg_close_block(const kg_constraint_job* job, kg_color_cursor
     at->first = 0;
 }
 
+/* The lines of a prepare input, asked for (to be written) the block's lane before it is
+ * staged: that of the colour's next contact, some 25 contacts ahead as the colours take
+ * turns (or an empty lane of the overflow's block). The rows are out of the cache by
+ * then, and their writes, a stream per colour, are too many streams for the hardware to
+ * foresee (many_pyramids: prepare's share of the step 15.4% to 12.5%, perf). */
+static void kg_prefetch_input(const kg_prepare_input* input)
+{
+    __builtin_prefetch(input, 1);
+    __builtin_prefetch((const char*)(input + 1) - 1, 1);
+}
+
 /* Chunks [begin, end): the contacts, read in their own order (a stream, where reading
  * them in colour order jumps through megabytes), stage their sources in their lanes, and
  * a block is prepared as soon as its lanes are staged, its sources still in the cache.
@@ -355,8 +366,11 @@ static void kg_prepare_chunks(void* context, int begin, int end)
     for (int k = begin * KG_CHUNK; k < last; ++k) {
         kg_color_cursor* at = &cursors[colors[k]];
         int lane = at->lane, block = lane >> shift, in_block = lane & (width - 1);
-        kg_prepare_source_of(job, k, kg_staged_head(blocks, rows, block, in_block),
-                             kg_staged_input(blocks, rows, block, in_block));
+        kg_prepare_input* input = kg_staged_input(blocks, rows, block, in_block);
+        if (in_block + 1 < width) {
+            kg_prefetch_input(input + 1);
+        }
+        kg_prepare_source_of(job, k, kg_staged_head(blocks, rows, block, in_block), input);
         at->lane = lane + at->step;
         if ((at->lane & (width - 1)) == 0 || at->lane == at->stop) {
             kg_close_block(job, at, lane);
