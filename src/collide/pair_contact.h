@@ -142,6 +142,29 @@ KG_FN int kg_shapes_pair(const kg_shape_arrays* s, kg_u32 sa, kg_u32 sb)
     return (s->category[sa] & s->mask[sb]) != 0u && (s->category[sb] & s->mask[sa]) != 0u;
 }
 
+/* Shape i's bounds at xf (body i's transform) fattened by margin: a shape of a body pair
+ * reaches the other's shapes within them. */
+KG_FN kg_aabb kg_shape_reach(const kg_shape_arrays* s, kg_u32 i, kg_u32 shape, kg_xf xf, float margin)
+{
+    KG_PRIVATE_VIEW(kg_shape, view, *kg_shape_of(s, i, shape));
+    return kg_aabb_fatten(kg_shape_aabb(view, xf), margin);
+}
+
+/* The pair (sa, sb) of bodies (a, b), counted in *n and written below room, when the
+ * shapes may collide and shape_b's bounds at xf_b meet box_a, shape sa's reach. One test
+ * for kg_expand_pair and the CPU's shape index (collide/shape_index.c), so that both find
+ * the same pairs, bit for bit. */
+KG_FN void kg_offer_shape_pair(const kg_shape_arrays* s, kg_aabb box_a, const kg_shape* shape_b, kg_xf xf_b, kg_u32 a,
+                               kg_u32 b, kg_u32 sa, kg_u32 sb, KG_GLOBAL kg_shape_pair* out, int room, int* n)
+{
+    if (kg_shapes_pair(s, sa, sb) && kg_aabb_overlap(box_a, kg_shape_aabb(shape_b, xf_b))) {
+        if (*n < room) {
+            out[*n] = kg_shape_pair_make(a, b, sa, sb);
+        }
+        *n += 1;
+    }
+}
+
 /* The pairs of shapes of body pair (a, b) that may touch, in (shape_a, shape_b) order:
  * solid shapes whose filters agree and whose bounds come within the pair's speculative
  * distance (beyond it the narrowphase finds no point). Writes those that fit below room
@@ -162,19 +185,13 @@ KG_FN int kg_expand_pair(kg_u32 a, kg_u32 b, const kg_shape_arrays* s, KG_GLOBAL
     float margin = kg_pair_speculative(speculative_distance, velocity[a], velocity[b], dt);
     int n = 0;
     for (kg_u32 sa = s->first_shape[a]; sa != KG_NULL_INDEX; sa = s->next[sa]) {
-        KG_PRIVATE_VIEW(kg_shape, shape_a, *kg_shape_of(s, a, sa));
-        kg_aabb box_a = kg_aabb_fatten(kg_shape_aabb(shape_a, xf[a]), margin);
+        kg_aabb box_a = kg_shape_reach(s, a, sa, xf[a], margin);
         if (!kg_aabb_overlap(box_a, aabb[b])) {
             continue;
         }
         for (kg_u32 sb = s->first_shape[b]; sb != KG_NULL_INDEX; sb = s->next[sb]) {
             KG_PRIVATE_VIEW(kg_shape, shape_b, *kg_shape_of(s, b, sb));
-            if (kg_shapes_pair(s, sa, sb) && kg_aabb_overlap(box_a, kg_shape_aabb(shape_b, xf[b]))) {
-                if (n < room) {
-                    out[n] = kg_shape_pair_make(a, b, sa, sb);
-                }
-                n += 1;
-            }
+            kg_offer_shape_pair(s, box_a, shape_b, xf[b], a, b, sa, sb, out, room, &n);
         }
     }
     return n;

@@ -180,18 +180,6 @@ static int kg_search(const kg_shape_index* index, int k, kg_aabb box, kg_u32* fo
     return n;
 }
 
-/* The pair (sa, sb) when kg_expand_pair would make it, written if it fits. */
-static void kg_offer(const kg_shape_arrays* s, kg_aabb box_a, kg_aabb box_b, kg_u32 a, kg_u32 b, kg_u32 sa,
-                     kg_u32 sb, kg_shape_pair* out, int room, int* n)
-{
-    if (kg_shapes_pair(s, sa, sb) && kg_aabb_overlap(box_a, box_b)) {
-        if (*n < room) {
-            out[*n] = kg_shape_pair_make(a, b, sa, sb);
-        }
-        *n += 1;
-    }
-}
-
 /* a indexed: its shapes that reach b's bounds, each against b's shapes as they run. */
 static int kg_expand_from_a(kg_shape_index* index, const kg_world* world, const kg_shape_arrays* s, kg_u32 a,
                             kg_u32 b, float margin, kg_shape_pair* out, int room)
@@ -202,12 +190,12 @@ static int kg_expand_from_a(kg_shape_index* index, const kg_world* world, const 
     int n = 0;
     for (int k = 0; k < count; ++k) {
         kg_u32 sa = found[k];
-        kg_aabb box_a = kg_aabb_fatten(kg_shape_aabb(kg_shape_of(s, a, sa), p->xf[a]), margin);
+        kg_aabb box_a = kg_shape_reach(s, a, sa, p->xf[a], margin);
         if (!kg_aabb_overlap(box_a, p->aabb[b])) {
             continue;
         }
         for (kg_u32 sb = s->first_shape[b]; sb != KG_NULL_INDEX; sb = s->next[sb]) {
-            kg_offer(s, box_a, kg_shape_aabb(kg_shape_of(s, b, sb), p->xf[b]), a, b, sa, sb, out, room, &n);
+            kg_offer_shape_pair(s, box_a, kg_shape_of(s, b, sb), p->xf[b], a, b, sa, sb, out, room, &n);
         }
     }
     return n;
@@ -221,14 +209,13 @@ static int kg_expand_to_b(kg_shape_index* index, const kg_world* world, const kg
     kg_u32* found = index->found;
     int n = 0;
     for (kg_u32 sa = s->first_shape[a]; sa != KG_NULL_INDEX; sa = s->next[sa]) {
-        kg_aabb box_a = kg_aabb_fatten(kg_shape_aabb(kg_shape_of(s, a, sa), p->xf[a]), margin);
+        kg_aabb box_a = kg_shape_reach(s, a, sa, p->xf[a], margin);
         if (!kg_aabb_overlap(box_a, p->aabb[b])) {
             continue;
         }
         int count = kg_search(index, index->of_body[b], box_a, found);
         for (int k = 0; k < count; ++k) {
-            kg_offer(s, box_a, kg_shape_aabb(kg_shape_of(s, b, found[k]), p->xf[b]), a, b, sa, found[k], out, room,
-                     &n);
+            kg_offer_shape_pair(s, box_a, kg_shape_of(s, b, found[k]), p->xf[b], a, b, sa, found[k], out, room, &n);
         }
     }
     return n;
