@@ -256,6 +256,18 @@ static void kg_wake_reached(kg_world* world, kg_body_pool* p, int i)
     }
 }
 
+/* Body i about to gain shapes: a body of one shape kept its geometry in the body pool
+ * alone, and the shape pool takes it now that the body becomes compound. Returns how
+ * many shapes it had. */
+static int kg_prepare_to_add_shapes(kg_world* world, const kg_body_pool* p, int i)
+{
+    int before = (int)p->shape_count[i];
+    if (before == 1) {
+        world->shapes.geometry[p->first_shape[i]] = p->shape[i];
+    }
+    return before;
+}
+
 kg_result kg_create_shape(kg_world* world, kg_body body, const kg_body_shape_def* def, kg_shape_id* out)
 {
     if (!world || !def || !out) {
@@ -273,10 +285,7 @@ kg_result kg_create_shape(kg_world* world, kg_body body, const kg_body_shape_def
         return kg_last_result();
     }
     kg_body_pool* p = kg_world_write_pool(world);
-    int before = (int)p->shape_count[i];
-    if (before == 1) { /* its first shape's geometry was the body pool's alone */
-        world->shapes.geometry[p->first_shape[i]] = p->shape[i];
-    }
+    int before = kg_prepare_to_add_shapes(world, p, i);
     world->shapes.geometry[s] = geometry;
     kg_shape_attach(world, s, i, def);
     kg_body_shapes_changed(world, p, i, before);
@@ -458,10 +467,7 @@ kg_result kg_create_chain(kg_world* world, kg_body body, const kg_chain_def* def
     KG_TRY(kg_shape_pool_reserve_geometry(sp));
     KG_TRY(kg_shape_pool_reserve(sp, segments)); /* from here on nothing fails */
     kg_body_pool* p = kg_world_write_pool(world);
-    int before = (int)p->shape_count[i];
-    if (before == 1) { /* its first shape's geometry was the body pool's alone */
-        sp->geometry[p->first_shape[i]] = p->shape[i];
-    }
+    int before = kg_prepare_to_add_shapes(world, p, i);
     kg_body_shape_def material = kg_default_body_shape_def();
     material.density = 0.0f;
     material.friction = def->friction;
