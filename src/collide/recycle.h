@@ -49,26 +49,36 @@ KG_FN kg_contact_base kg_contact_base_of(const kg_manifold* m, kg_xf xfa, kg_xf 
     return base;
 }
 
-/* The manifold of base at the poses xfa and xfb, with the ids and point count of like:
- * each point moves with both bodies; the separation grows by how far its two copies
- * moved apart along the normal, and the point sits midway between them. */
-KG_FN kg_manifold kg_manifold_of_base(const kg_contact_base* base, const kg_manifold* like, kg_xf xfa, kg_xf xfb)
+/* m's points (its point_count of them, their ids and impulses kept) placed from base at
+ * the poses xfa and xfb: each point moves with both bodies; the separation grows by how
+ * far its two copies moved apart along the normal, and the point sits midway between
+ * them. In place, so that a contact kept whole is updated where it lies. */
+KG_FN void kg_place_base_points(kg_manifold* m, const kg_contact_base* base, kg_xf xfa, kg_xf xfb)
 {
-    kg_manifold m = kg_empty_manifold();
-    m.normal = kg_rotate(xfa.q, base->normal);
-    m.point_count = like->point_count;
+    m->normal = kg_rotate(xfa.q, base->normal);
     kg_vec2 a_to_b = kg_sub(xfa.p, xfb.p);
-    for (int i = 0; i < like->point_count && i < 2; ++i) {
+    for (int i = 0; i < m->point_count && i < 2; ++i) {
         kg_vec2 ra = kg_rotate(xfa.q, base->point_a[i]);
         kg_vec2 rb = kg_rotate(xfb.q, base->point_b[i]);
         kg_vec2 apart = kg_sub(kg_sub(rb, ra), a_to_b); /* (pb + rb) - (pa + ra) */
-        kg_manifold_point* mp = &m.points[i];
-        mp->separation = base->separation[i] + kg_dot(apart, m.normal);
+        kg_manifold_point* mp = &m->points[i];
+        mp->separation = base->separation[i] + kg_dot(apart, m->normal);
         mp->anchor_a = kg_mul_add(ra, 0.5f, apart);
         mp->anchor_b = kg_add(mp->anchor_a, a_to_b);
         mp->point = kg_add(xfa.p, mp->anchor_a);
-        mp->id = like->points[i].id;
+        mp->normal_velocity = 0.0f;
     }
+}
+
+/* The manifold of base at the poses xfa and xfb, with the ids and point count of like. */
+KG_FN kg_manifold kg_manifold_of_base(const kg_contact_base* base, const kg_manifold* like, kg_xf xfa, kg_xf xfb)
+{
+    kg_manifold m = kg_empty_manifold();
+    m.point_count = like->point_count;
+    for (int i = 0; i < like->point_count && i < 2; ++i) {
+        m.points[i].id = like->points[i].id;
+    }
+    kg_place_base_points(&m, base, xfa, xfb);
     return m;
 }
 
@@ -96,26 +106,37 @@ KG_FN int kg_carry_kept_impulses(kg_manifold* m, const kg_manifold* old)
     return m->point_count;
 }
 
-/* The manifold of a body pair and its base: last step's kept (old, may be NULL) when the
- * pair has barely moved since it was computed and every point stays within the
- * speculative distance, else computed anew. Returns 1 when kept.
- *
- * Only between two polygons: a kept point turns with its bodies, which is right for a
- * corner but not for a round shape, whose contact stays below its centre however it
- * turns. A rolling ball's point, carried round with it, gave the ball a lever arm that
- * drove the roll (a pile of boxes and balls crept and never fell asleep), and its
- * manifold costs little to compute anyway. */
+/* Whether a pair of these shapes may keep its manifold: only two polygons. A kept point
+ * turns with its bodies, which is right for a corner but not for a round shape, whose
+ * contact stays below its centre however it turns. A rolling ball's point, carried round
+ * with it, gave the ball a lever arm that drove the roll (a pile of boxes and balls crept
+ * and never fell asleep), and its manifold costs little to compute anyway. */
+KG_FN int kg_recyclable(const kg_shape* a, const kg_shape* b) { return a->count >= 3 && b->count >= 3; }
+
+/* Last step's manifold m, computed at base, kept and moved to the poses xfa and xfb in
+ * place when the pair has barely moved since base and every point stays within the
+ * speculative distance. Returns 1 when kept; else m is to be computed anew. */
+KG_FN int kg_keep_manifold(kg_manifold* m, const kg_contact_base* base, kg_xf xfa, kg_xf xfb, float speculative)
+{
+    if (!kg_pose_kept(base, xfa, xfb)) {
+        return 0;
+    }
+    kg_place_base_points(m, base, xfa, xfb);
+    int within = 1;
+    for (int i = 0; i < m->point_count; ++i) {
+        within &= m->points[i].separation <= speculative;
+    }
+    return within;
+}
+
+/* The manifold of a body pair and its base: last step's (old, may be NULL) kept when
+ * kg_keep_manifold allows, else computed anew. Returns 1 when kept. */
 KG_FN int kg_collide_or_recycle(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative,
                                 const kg_contact* old, kg_manifold* m, kg_contact_base* base)
 {
-    if (old && a->count >= 3 && b->count >= 3 && kg_pose_kept(&old->base, xfa, xfb)) {
-        kg_manifold kept = kg_manifold_of_base(&old->base, &old->manifold, xfa, xfb);
-        int within = 1;
-        for (int i = 0; i < kept.point_count; ++i) {
-            within &= kept.points[i].separation <= speculative;
-        }
-        if (within) {
-            *m = kept;
+    if (old && kg_recyclable(a, b)) {
+        *m = old->manifold;
+        if (kg_keep_manifold(m, &old->base, xfa, xfb, speculative)) {
             *base = old->base;
             return 1;
         }
