@@ -176,7 +176,23 @@ static void test_get_bodies_lists_live_ones_in_slot_order(void)
     kg_destroy_world(w);
 }
 
-KG_TEST_MAIN(KG_TEST(test_stale_handle_after_destroy), KG_TEST(test_reuse_gets_new_generation),
+static void test_user_data_is_set_and_read_back(void)
+{
+    kg_world* w = make_world(8);
+    kg_body a = add_box(w, 0, 0);
+    int tag = 7;
+    KG_CHECK(kg_body_get_user_data(w, a) == NULL);
+    KG_CHECK_OK(kg_body_set_user_data(w, a, &tag));
+    KG_CHECK(kg_body_get_user_data(w, a) == &tag);
+    KG_CHECK_OK(kg_destroy_body(w, a));
+    KG_CHECK(kg_body_set_user_data(w, a, &tag) == KG_ERROR_INVALID_HANDLE);
+    KG_CHECK(kg_body_get_user_data(w, a) == NULL);
+    kg_body b = add_box(w, 1, 0); /* the slot reused: the old pointer is not inherited */
+    KG_CHECK(kg_body_get_user_data(w, b) == NULL);
+    kg_destroy_world(w);
+}
+
+KG_TEST_MAIN(KG_TEST(test_stale_handle_after_destroy), KG_TEST(test_user_data_is_set_and_read_back), KG_TEST(test_reuse_gets_new_generation),
              KG_TEST(test_full_pool_is_an_error_and_leaves_world_intact),
              KG_TEST(test_bad_body_definitions_are_refused), KG_TEST(test_bad_calls_change_nothing),
              KG_TEST(test_bad_world_definitions_are_refused), KG_TEST(test_get_bodies_lists_live_ones_in_slot_order))

@@ -137,7 +137,10 @@ KG_API kg_result kg_body_get_inverse_mass(const kg_world* world, kg_body body, f
 /* World bounds of the shape (of a compound body: of the box around its shapes, in its
  * frame), swept by the body's motion over one more step of the last dt. */
 KG_API kg_result kg_body_get_aabb(const kg_world* world, kg_body body, kg_aabb* out);
+/* The pointer given in kg_body_def.user_data or set since (NULL for a stale handle); it
+ * comes back in every query result and event that names the body. */
 KG_API void* kg_body_get_user_data(const kg_world* world, kg_body body);
+KG_API kg_result kg_body_set_user_data(kg_world* world, kg_body body, void* user_data);
 
 KG_API kg_result kg_body_set_transform(kg_world* world, kg_body body, kg_vec2 position, float angle);
 KG_API kg_result kg_body_set_velocity(kg_world* world, kg_body body, kg_vec2 velocity);

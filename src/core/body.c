@@ -343,6 +343,17 @@ void* kg_body_get_user_data(const kg_world* world, kg_body body)
     return kg_body_is_valid(world, body) ? world->bodies.user_data[body.index] : NULL;
 }
 
+/* The user's pointer is the host's alone: no pool is written, nothing woken or uploaded. */
+kg_result kg_body_set_user_data(kg_world* world, kg_body body, void* user_data)
+{
+    int i = kg_world_resolve(world, body);
+    if (i < 0) {
+        return kg_read_error();
+    }
+    world->bodies.user_data[i] = user_data;
+    return KG_OK;
+}
+
 static int kg_frozen(const kg_body_pool* p, int i) { return (p->flags[i] & KG_FLAG_FROZEN) != 0; }
 
 /* Setting a finite pose or velocity is how a user brings a frozen body back. */
