@@ -21,6 +21,8 @@ typedef struct kg_contact_info {
     float depths[2];
     float normal_impulses[2];   /* of the last sub-step (N s); about 1/substeps of the step's */
     float tangent_impulses[2];
+    float total_normal_impulses[2]; /* over the whole step, every sub-step's and the rebound's
+                                     * (N s): a resting box of mass m gets m g dt in all */
     uint32_t feature_ids[2];
 } kg_contact_info;
 

@@ -19,6 +19,7 @@
 #include "shape.h"
 #include "force.h"
 #include "collision.h"
+#include "events.h"
 #include "tilemap.h"
 
 #define KGYRO_VERSION_MAJOR 0

@@ -44,6 +44,8 @@ typedef struct kg_world_def {
                                * bodies and tile maps, bullets (kg_body_def.bullet) also against
                                * the other dynamic and the kinematic bodies, and stopped at the
                                * first impact (docs/design.md, the finalize stage) */
+    float hit_event_threshold; /* m/s: a point that pushes after closing faster than this is
+                               * a hit event (default 1; include/kgyro/events.h) */
     float sleep_speed;        /* m/s: a body whose every point is slower than this is at rest */
     float time_to_sleep;      /* s: an island whose bodies all rest this long falls asleep */
     kg_backend backend;

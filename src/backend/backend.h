@@ -25,6 +25,9 @@ typedef struct kg_backend_ops {
     void (*destroy)(kg_world* world);
     /* Brings the host's contact list up to date (NULL when contacts are built on the host). */
     void (*sync_contacts)(kg_world* world);
+    /* The same for the step before's list, which the device keeps until the next step
+     * (NULL when contacts are built on the host). */
+    void (*sync_previous_contacts)(kg_world* world);
 } kg_backend_ops;
 
 extern const kg_backend_ops kg_cpu_backend;

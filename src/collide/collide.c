@@ -12,6 +12,7 @@
 #include "collide/recycle.h"
 #include "collide/shape_index.h"
 #include "collide/tilemap.h"
+#include "kgyro/events.h"
 #include "core/alloc.h"
 #include "core/error.h"
 
@@ -572,6 +573,26 @@ static void kg_sync_contacts(const kg_world* world)
     }
 }
 
+const kg_contact* kg_collision_synced_contacts(const kg_world* world, int* count)
+{
+    kg_sync_contacts(world);
+    return kg_collision_contacts((kg_world*)world, count);
+}
+
+kg_contact* kg_collision_previous(kg_world* world, int* count)
+{
+    *count = world->collision->previous_count;
+    return world->collision->previous;
+}
+
+const kg_contact* kg_collision_synced_previous(const kg_world* world, int* count)
+{
+    if (world->backend && world->backend->sync_previous_contacts) {
+        world->backend->sync_previous_contacts((kg_world*)world);
+    }
+    return kg_collision_previous((kg_world*)world, count);
+}
+
 int kg_world_contact_count(const kg_world* world)
 {
     if (!world) {
@@ -612,8 +633,7 @@ int kg_collision_capacity(kg_world* world)
 
 int kg_collision_budget(const kg_world* world) { return world->collision->budget; }
 
-/* The handle the body had when the contact was made: stale if it died since. */
-static kg_body kg_handle_of(kg_u32 slot, kg_u32 generation)
+kg_body kg_handle_of(kg_u32 slot, kg_u32 generation)
 {
     kg_body h = KG_NULL_BODY_INIT;
     if (slot != KG_NULL_INDEX) {
@@ -623,9 +643,7 @@ static kg_body kg_handle_of(kg_u32 slot, kg_u32 generation)
     return h;
 }
 
-/* The handle of a contact's shape while it is alive on the same body (a slot freed and
- * taken since is another shape): null otherwise. */
-static kg_shape_id kg_shape_handle_of(const kg_shape_pool* sp, kg_u32 slot, kg_u32 body)
+kg_shape_id kg_shape_handle_of(const kg_shape_pool* sp, kg_u32 slot, kg_u32 body)
 {
     kg_shape_id h = KG_NULL_SHAPE_INIT;
     int alive = slot != KG_NULL_INDEX && (int)slot < sp->high_water && kg_shape_alive(sp, (int)slot);
@@ -658,7 +676,33 @@ kg_result kg_world_get_contact(const kg_world* world, int index, kg_contact_info
         out->depths[k] = -mp->separation;
         out->normal_impulses[k] = mp->normal_impulse;
         out->tangent_impulses[k] = mp->tangent_impulse;
+        out->total_normal_impulses[k] = mp->total_normal_impulse;
         out->feature_ids[k] = mp->id;
+    }
+    return KG_OK;
+}
+
+/* A pass over the step's contacts: a body's are not listed apart (a body pair's contact is
+ * found by its lower slot, which the list is sorted by, but b's by a search of it all). */
+kg_result kg_body_get_contacts(const kg_world* world, kg_body body, kg_contact_info* out, int capacity, int* count)
+{
+    if (!count || capacity < 0 || (capacity > 0 && !out)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_body_get_contacts: bad arguments");
+    }
+    *count = 0;
+    if (kg_world_resolve(world, body) < 0) {
+        return kg_last_result();
+    }
+    int n = 0;
+    const kg_contact* contacts = kg_collision_synced_contacts(world, &n);
+    for (int k = 0; k < n; ++k) {
+        const kg_contact* c = &contacts[k];
+        int mine = (c->a == body.index && c->generation_a == body.generation) ||
+                   (c->b == body.index && c->generation_b == body.generation);
+        if (mine && *count < capacity) {
+            KG_TRY(kg_world_get_contact(world, k, &out[*count]));
+        }
+        *count += mine;
     }
     return KG_OK;
 }

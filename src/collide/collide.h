@@ -47,7 +47,19 @@ const struct kg_shape_index* kg_collision_shape_index(const kg_world* world);
 /* The world's shapes as the shared pair code reads them (collide/pair_contact.h). */
 kg_shape_arrays kg_world_shape_arrays(const kg_world* world);
 
+/* The handle a contact's body had when the contact was made: stale if it died since; the
+ * null body for KG_NULL_INDEX. */
+kg_body kg_handle_of(kg_u32 slot, kg_u32 generation);
+/* The handle of a contact's shape while it is alive on the same body (a slot freed and
+ * taken since is another shape): null otherwise. */
+kg_shape_id kg_shape_handle_of(const kg_shape_pool* sp, kg_u32 slot, kg_u32 body);
 /* The contacts of the current step: body pairs sorted by (a, b), then tile contacts. */
 kg_contact* kg_collision_contacts(kg_world* world, int* count);
+/* The same, brought up to date first where the backend builds them (OpenCL). */
+const kg_contact* kg_collision_synced_contacts(const kg_world* world, int* count);
+/* The step before's contacts, as it left them (kept until the next step's collide), and
+ * the same brought up to date first. */
+kg_contact* kg_collision_previous(kg_world* world, int* count);
+const kg_contact* kg_collision_synced_previous(const kg_world* world, int* count);
 
 #endif

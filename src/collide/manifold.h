@@ -45,7 +45,7 @@ KG_FN kg_manifold kg_empty_manifold(void)
     zero.tangent_impulse = 0.0f;
     zero.normal_velocity = 0.0f;
     zero.id = 0u;
-    zero.pad = 0u;
+    zero.total_normal_impulse = 0.0f;
     kg_manifold m;
     m.points[0] = zero;
     m.points[1] = zero;

@@ -67,6 +67,7 @@ KG_FN void kg_place_base_points(kg_manifold* m, const kg_contact_base* base, kg_
         mp->anchor_b = kg_add(mp->anchor_a, a_to_b);
         mp->point = kg_add(xfa.p, mp->anchor_a);
         mp->normal_velocity = 0.0f;
+        mp->total_normal_impulse = 0.0f;
     }
 }
 

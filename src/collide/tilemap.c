@@ -601,9 +601,16 @@ kg_result kg_world_get_contact_tile(const kg_world* world, int index, kg_tilemap
     if (!contacts || index < 0 || index >= count || contacts[index].b != KG_NULL_INDEX || !world->tilemaps) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "contact %d is not a tile contact", index);
     }
-    kg_u32 key = contacts[index].tile;
+    if (kg_tile_key_cell(world, contacts[index].tile, out_map, out_layer, out_x, out_y)) {
+        return KG_OK;
+    }
+    return kg_fail(KG_ERROR_INVALID_ARGUMENT, "contact %d touches a tile map destroyed since", index);
+}
+
+int kg_tile_key_cell(const kg_world* world, kg_u32 key, kg_tilemap* out_map, int* out_layer, int* out_x, int* out_y)
+{
     const struct kg_tilemaps* t = world->tilemaps;
-    for (int i = 0; i < t->live_count; ++i) {
+    for (int i = 0; t && i < t->live_count; ++i) {
         const kg_map* m = &t->maps[t->order[i]];
         if (key >= m->key_base && key - m->key_base < m->key_count) {
             int offset = (int)(key - m->key_base), cells = kg_map_cell_count(m);
@@ -620,10 +627,10 @@ kg_result kg_world_get_contact_tile(const kg_world* world, int index, kg_tilemap
             if (out_y) {
                 *out_y = offset % cells / m->def.width;
             }
-            return KG_OK;
+            return 1;
         }
     }
-    return kg_fail(KG_ERROR_INVALID_ARGUMENT, "contact %d touches a tile map destroyed since", index);
+    return 0;
 }
 
 /* ---- collision ---- */

@@ -38,6 +38,9 @@
  * many it found, which may exceed room. */
 int kg_tilemap_collide(kg_world* world, kg_contact* out, int room, const kg_contact* previous, int previous_count);
 void kg_tilemaps_destroy(kg_world* world);
+/* The map (handle), layer and cell of a tile contact's key; 0 when no live map has it
+ * (world->tilemaps may be NULL). Any out pointer may be NULL. */
+int kg_tile_key_cell(const kg_world* world, kg_u32 key, kg_tilemap* out_map, int* out_layer, int* out_x, int* out_y);
 
 /* ---- for the OpenCL backend, which keeps the maps in device buffers ---- */
 

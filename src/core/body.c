@@ -1,6 +1,7 @@
 /* The body API: validation at the door, then plain writes into the pool. A call that
  * fails changes nothing. */
 #include "backend/backend.h"
+#include "collide/events.h"
 #include "collide/shape.h"
 #include "core/body_shapes.h"
 #include "core/error.h"
@@ -229,6 +230,7 @@ kg_result kg_destroy_body(kg_world* world, kg_body body)
     if (i < 0) {
         return kg_last_result();
     }
+    kg_events_body_destroyed(world, (kg_u32)i);
     kg_body_pool* p = kg_world_write_pool(world);
     kg_wake_touching(p, p->aabb[i], world->def.speculative_distance); /* what rested on it */
     kg_note_static_edit(world, p, i);

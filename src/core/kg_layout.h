@@ -45,7 +45,8 @@ typedef struct kg_manifold_point {
     float tangent_impulse;
     float normal_velocity;  /* relative approach speed before solving (restitution) */
     kg_u32 id;              /* KG_FEATURE_ID */
-    kg_u32 pad;
+    float total_normal_impulse; /* over the whole step, all sub-steps (N s): what hit events
+                                 * and kg_contact_info report; 0 until solved */
 } kg_manifold_point;
 
 typedef struct kg_manifold {

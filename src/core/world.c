@@ -4,6 +4,7 @@
 #include "core/alloc.h"
 #include "core/error.h"
 #include "collide/collide.h"
+#include "collide/events.h"
 #include "collide/tilemap.h"
 #include "solve/sleep.h"
 #include "solve/solver.h"
@@ -37,6 +38,7 @@ kg_world_def kg_default_world_def(void)
     def.enable_continuous = 1;
     def.sleep_speed = 0.05f;
     def.time_to_sleep = 0.5f;
+    def.hit_event_threshold = 1.0f; /* Box2D's: a thud a game would play a sound for */
     def.backend = KG_BACKEND_AUTO;
     def.threads = 1;
     return def;
@@ -60,7 +62,8 @@ static kg_result kg_validate_world_def(const kg_world_def* d)
         !kg_positive_finite(d->max_push_out_speed) || !kg_positive_finite(d->max_linear_speed) ||
         !isfinite(d->restitution_threshold) || d->restitution_threshold < 0.0f || !isfinite(d->linear_slop) ||
         d->linear_slop < 0.0f || !isfinite(d->speculative_distance) || d->speculative_distance < 0.0f ||
-        !isfinite(d->sleep_speed) || d->sleep_speed < 0.0f || !kg_positive_finite(d->time_to_sleep)) {
+        !isfinite(d->sleep_speed) || d->sleep_speed < 0.0f || !kg_positive_finite(d->time_to_sleep) ||
+        !isfinite(d->hit_event_threshold) || d->hit_event_threshold < 0.0f) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "world solver parameters must be finite and positive");
     }
     if (d->threads < 0 || d->threads > 256 || d->device_index < 0 || d->backend < KG_BACKEND_AUTO ||
@@ -139,6 +142,7 @@ void kg_destroy_world(kg_world* world)
     kg_sleep_destroy(world);
     kg_tilemaps_destroy(world);
     kg_collision_destroy(world);
+    kg_events_destroy(world);
     kg_thread_pool_destroy(world->threads);
     for (int i = 0; world->applicators && i < world->def.max_applicators; ++i) {
         kg_free(world->applicators[i].bodies);

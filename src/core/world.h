@@ -32,6 +32,7 @@ struct kg_tilemaps;
 struct kg_collision;
 struct kg_solver;
 struct kg_sleep;
+struct kg_events;
 
 struct kg_world {
     kg_world_def def;
@@ -43,6 +44,7 @@ struct kg_world {
     struct kg_solver* solver;
     struct kg_sleep* sleep;
     struct kg_tilemaps* tilemaps;   /* NULL until a tile map is added */
+    struct kg_events* events;       /* NULL until the first step with events */
     struct kg_thread_pool* threads; /* CPU worker threads (NULL with one thread) */
     const struct kg_backend_ops* backend;
     void* backend_state;

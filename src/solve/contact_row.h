@@ -50,7 +50,8 @@ typedef struct KG_L(kg_constraint_point) {
     kg_lane normal_mass;
     kg_lane tangent_mass;
     kg_lane relative_velocity; /* approach speed before solving, for restitution */
-    kg_lane pad;
+    kg_lane total_normal_impulse; /* over the step: each sub-step's accumulated impulse (what
+                                   * its warm start and passes applied), and the rebound */
 } KG_L(kg_constraint_point);
 
 typedef struct KG_L(kg_contact_constraint) {
@@ -158,7 +159,7 @@ KG_FN void KG_L(kg_contact_prepare_lanes)(kg_lrow* c, const KG_L(kg_prepare_inpu
         cp->normal_mass = KG_SEL(has & (kn > zero), 1.0f / kn, zero);
         cp->tangent_mass = KG_SEL(has & (kt > zero), 1.0f / kt, zero);
         cp->relative_velocity = KG_SEL(has, KG_L(kg_ldot)(n, dv), zero);
-        cp->pad = zero;
+        cp->total_normal_impulse = zero;
     }
     kg_lane m = ma + mb;
     kg_lane k11 = m + ia * rn[0][0] * rn[0][0] + ib * rn[0][1] * rn[0][1];
@@ -317,6 +318,11 @@ KG_FN void KG_L(kg_contact_solve)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_s
         cp->tangent_impulse = accumulated;
         KG_L(kg_apply_impulse_pair)(c, a, b, ra[j], rb[j], KG_L(kg_lscale)(impulse, t));
     }
+    if (!use_bias) { /* the relax ends a sub-step: its accumulated impulse is what the sub-step applied */
+        for (int j = 0; j < 2; ++j) {
+            c->points[j].total_normal_impulse = c->points[j].total_normal_impulse + c->points[j].normal_impulse;
+        }
+    }
 }
 
 /* The restitution pass: where a point was approaching faster than the threshold and
@@ -352,6 +358,7 @@ KG_FN void KG_L(kg_contact_restitution)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b
         kg_lane applied = KG_L(kg_lmax)(cp->normal_impulse + impulse, zero) - cp->normal_impulse;
         applied = KG_SEL(use_block, block_x[j], KG_SEL(bounces[j], applied, zero));
         cp->normal_impulse = KG_SEL(bounces[j], cp->normal_impulse + applied, cp->normal_impulse);
+        cp->total_normal_impulse = KG_SEL(bounces[j], cp->total_normal_impulse + applied, cp->total_normal_impulse);
         KG_L(kg_apply_impulse_pair)(c, a, b, ra[j], rb[j], KG_L(kg_lscale)(applied, c->normal));
     }
     kg_lmask touched = bounces[0] | bounces[1];

@@ -172,11 +172,12 @@ KG_FN void kg_prepare_input_of(kg_prepare_input* in, const kg_manifold* m, kg_ve
 /* What the solve leaves in a contact's point: its impulses, for warm starting the next
  * step and for the API, and the approach speed it measured. */
 KG_FN void kg_store_point(KG_GLOBAL kg_manifold_point* mp, float normal_impulse, float tangent_impulse,
-                          float relative_velocity)
+                          float relative_velocity, float total_normal_impulse)
 {
     mp->normal_impulse = normal_impulse;
     mp->tangent_impulse = tangent_impulse;
     mp->normal_velocity = relative_velocity;
+    mp->total_normal_impulse = total_normal_impulse;
 }
 
 /* The motion of a body slot as the solver sees it: still for KG_NULL_INDEX (the static
@@ -310,7 +311,7 @@ KG_FN void kg_store_impulses_of(KG_GLOBAL const kg_contact_constraint* c, KG_GLO
     for (int j = 0; j < c->point_count; ++j) {
         KG_GLOBAL const kg_constraint_point* p = &c->points[j];
         kg_store_point(&contacts[c->contact].manifold.points[j], p->normal_impulse, p->tangent_impulse,
-                       p->relative_velocity);
+                       p->relative_velocity, p->total_normal_impulse);
     }
 }
 

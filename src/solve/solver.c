@@ -404,15 +404,16 @@ static void kg_store_impulses_range(void* context, int begin, int end)
                sizeof point_count);
         kg_manifold* m = &job->contacts[k].manifold;
         for (int j = 0; j < point_count; ++j) {
-            float impulse[3]; /* normal, tangent, approach speed */
-            size_t fields[3] = {offsetof(kg_constraint_point, normal_impulse),
+            float impulse[4]; /* normal, tangent, approach speed, the step's total normal */
+            size_t fields[4] = {offsetof(kg_constraint_point, normal_impulse),
                                 offsetof(kg_constraint_point, tangent_impulse),
-                                offsetof(kg_constraint_point, relative_velocity)};
-            for (int f = 0; f < 3; ++f) {
+                                offsetof(kg_constraint_point, relative_velocity),
+                                offsetof(kg_constraint_point, total_normal_impulse)};
+            for (int f = 0; f < 4; ++f) {
                 memcpy(&impulse[f], kg_lane_field(s->blocks, s->rows, block, lane, point_at[j] + fields[f]),
                        sizeof impulse[f]);
             }
-            kg_store_point(&m->points[j], impulse[0], impulse[1], impulse[2]);
+            kg_store_point(&m->points[j], impulse[0], impulse[1], impulse[2], impulse[3]);
         }
     }
 }

@@ -300,6 +300,14 @@ static void kg_opencl_sync_contacts(kg_world* world)
     }
 }
 
+static void kg_opencl_sync_previous_contacts(kg_world* world)
+{
+    kg_cl_backend* b = kg_state(world)->cl;
+    if (!b->fallback_pending && kg_cl_read_previous_contacts(world, b) != KG_OK) {
+        kg_device_call_failed(world, b);
+    }
+}
+
 static void kg_opencl_host_changed(kg_world* world)
 {
     kg_cl_backend* b = kg_state(world)->cl;
@@ -321,7 +329,8 @@ const kg_backend_ops kg_opencl_backend = {.kind = KG_BACKEND_OPENCL,
                                           .sync_to_host = kg_opencl_sync_to_host,
                                           .host_changed = kg_opencl_host_changed,
                                           .destroy = kg_opencl_destroy,
-                                          .sync_contacts = kg_opencl_sync_contacts};
+                                          .sync_contacts = kg_opencl_sync_contacts,
+                                          .sync_previous_contacts = kg_opencl_sync_previous_contacts};
 
 /* ---- start ------------------------------------------------------------------------ */
 

@@ -52,6 +52,9 @@ kg_result kg_cl_sync_tiles(kg_world* world, kg_cl_backend* b);
 kg_result kg_cl_sync_statics(kg_world* world, kg_cl_backend* b, kg_static_list* list);
 /* Reads the last step's contacts into the host's list, if it lacks them. */
 kg_result kg_cl_read_contacts(kg_world* world, kg_cl_backend* b);
+/* The step before's contacts (the device keeps them until the next step) into the host's
+ * previous list, when stale. */
+kg_result kg_cl_read_previous_contacts(kg_world* world, kg_cl_backend* b);
 
 /* Builds the program of the device force in slot and its kernel. */
 kg_result kg_cl_prepare_device_force(kg_world* world, kg_cl_backend* b, int slot);

@@ -401,6 +401,18 @@ kg_result kg_cl_color_on_device(kg_world* world, kg_cl_backend* b, int* count, i
     return kg_take_color_ranges(b);
 }
 
+kg_result kg_cl_read_previous_contacts(kg_world* world, kg_cl_backend* b)
+{
+    if (!b->previous_contacts_stale) {
+        return KG_OK;
+    }
+    int count = 0;
+    kg_contact* host = kg_collision_previous(world, &count);
+    KG_TRY(kg_cl_read(b, b->contacts[b->current ^ 1], 0, (size_t)count * sizeof *host, host));
+    b->previous_contacts_stale = 0;
+    return KG_OK;
+}
+
 kg_result kg_cl_read_contacts(kg_world* world, kg_cl_backend* b)
 {
     if (!b->contacts_stale) {

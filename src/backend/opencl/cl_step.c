@@ -404,6 +404,7 @@ static void kg_commit_contacts(kg_world* world, kg_cl_backend* b)
     kg_cl_commit_tile_state(b);
     b->body_contact_count = b->step_body_count;
     b->contacts_stale = b->step_count > 0;
+    b->previous_contacts_stale = 1;
 }
 
 /* The forces the step begins with, for a fallback that cannot read the device: zero after

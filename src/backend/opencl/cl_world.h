@@ -221,6 +221,7 @@ typedef struct kg_cl_backend {
     int tile_state_on_device;        /* the one-way platform state is newer on the device */
     int tiles_ran;                   /* this step collided the tile maps on the device */
     int contacts_stale;
+    int previous_contacts_stale;     /* the same for the host's list of the step before */
     cl_uint counters[KG_CC_WORDS];   /* the device collide stage's counters, read back */
     /* this step's collide stage: where it ran, the pairs it found on the device, the
      * contacts it made (the first step_body_count between bodies, tile contacts after) */
