@@ -21,6 +21,7 @@ typedef struct kg_run_options {
     const char* csv;      /* NULL: SCENE.csv */
     int every;
     const char* contacts; /* NULL: none */
+    const char* events;   /* NULL: none */
     int backend;          /* -1: the scene's (auto) */
     int threads;          /* -1: the scene's */
     uint32_t seed;
@@ -51,6 +52,10 @@ static void kg_run_usage(FILE* out)
             "                    step are always written\n"
             "  --contacts FILE   also write step,a,b,nx,ny,px,py,depth, one row per contact point\n"
             "                    at each written step (a, b = scene body ids; - for standard output)\n"
+            "  --events FILE     also write every event of every step: step,kind,a,b,x,y,nx,ny,speed\n"
+            "                    (kind begin, end or hit; a, b = body names, b tile:LAYER:X:Y for a\n"
+            "                    tile, empty for a body destroyed; x, y the point, speed a hit's\n"
+            "                    approach speed; - for standard output)\n"
             "  --backend B       auto, cpu or opencl (default auto: OpenCL when a device works)\n"
             "  --threads N       CPU worker threads (default: the library's)\n"
             "  --no-continuous   turn continuous collision off (kg_world_def.enable_continuous)\n"
@@ -142,6 +147,8 @@ static int kg_apply_option(kg_run_options* o, const char* name, const char* valu
         o->csv = value;
     } else if (strcmp(name, "--contacts") == 0) {
         o->contacts = value;
+    } else if (strcmp(name, "--events") == 0) {
+        o->events = value;
     } else {
         fprintf(stderr, "kgyro run: unknown option '%s' (see kgyro run --help)\n", name);
         return 2;
@@ -151,7 +158,7 @@ static int kg_apply_option(kg_run_options* o, const char* name, const char* valu
 
 static int kg_is_option_with_value(const char* arg)
 {
-    static const char* const names[] = {"--steps", "--dt", "--csv", "--every", "--contacts",
+    static const char* const names[] = {"--steps", "--dt", "--csv", "--every", "--contacts", "--events",
                                         "--backend", "--threads", "--seed"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
         if (strcmp(arg, names[i]) == 0) {
@@ -165,7 +172,7 @@ static int kg_is_option_with_value(const char* arg)
  * "--opt=value". */
 static int kg_parse_run_options(int argc, char** argv, kg_run_options* o)
 {
-    *o = (kg_run_options){NULL, -1, 0.0f, NULL, 1, NULL, -1, -1, 1u, 0};
+    *o = (kg_run_options){NULL, -1, 0.0f, NULL, 1, NULL, NULL, -1, -1, 1u, 0};
     for (int i = 1; i < argc; ++i) {
         const char* arg = argv[i];
         if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
@@ -299,6 +306,7 @@ typedef struct kg_run {
     int slot_count;
     kg_csv states_csv;
     kg_csv contacts_csv;
+    kg_csv events_csv;
 } kg_run;
 
 static int kg_write_states(kg_run* run, int step)
@@ -347,6 +355,42 @@ static int kg_write_contacts(kg_run* run, int step)
         run->contacts_csv.rows += info.point_count;
     }
     return 1;
+}
+
+/* A body of an event as the CSV names it: its scene name, a tile as tile:LAYER:X:Y, or
+ * nothing for a body destroyed or not from the scene. */
+static void kg_event_party(const kg_run* run, const kg_contact_event* e, int is_b, char* out, size_t size)
+{
+    kg_body body = is_b ? e->b : e->a;
+    int id = kg_scene_id(run, body);
+    if (id >= 0) {
+        snprintf(out, size, "%s", kg_scene_body_name(run->scene, id));
+    } else if (is_b && body.generation == 0u && kg_tilemap_is_valid(run->world, e->map)) {
+        snprintf(out, size, "tile:%d:%d:%d", e->layer, e->x, e->y);
+    } else {
+        out[0] = '\0';
+    }
+}
+
+static void kg_write_event_list(kg_run* run, int step, const char* kind, const kg_contact_event* e, int count)
+{
+    for (int i = 0; i < count; ++i) {
+        char a[128], b[128];
+        kg_event_party(run, &e[i], 0, a, sizeof a);
+        kg_event_party(run, &e[i], 1, b, sizeof b);
+        fprintf(run->events_csv.file, "%d,%s,%s,%s,%.9g,%.9g,%.9g,%.9g,%.9g\n", step, kind, a, b, (double)e[i].point.x,
+                (double)e[i].point.y, (double)e[i].normal.x, (double)e[i].normal.y, (double)e[i].approach_speed);
+    }
+    run->events_csv.rows += count;
+}
+
+/* Every step's events, in the order kind by kind: begin, end, hit. */
+static void kg_write_events(kg_run* run, int step)
+{
+    kg_contact_events ev = kg_world_get_contact_events(run->world);
+    kg_write_event_list(run, step, "begin", ev.begin, ev.begin_count);
+    kg_write_event_list(run, step, "end", ev.end, ev.end_count);
+    kg_write_event_list(run, step, "hit", ev.hit, ev.hit_count);
 }
 
 static int kg_write_step(kg_run* run, int step)
@@ -430,6 +474,9 @@ static double kg_step_all(kg_run* run, int steps, float dt, int every)
             return -1.0;
         }
         stepping += kg_now_seconds() - start;
+        if (run->events_csv.file) {
+            kg_write_events(run, step);
+        }
         if ((step % every == 0 || step == steps) && !kg_write_step(run, step)) {
             return -1.0;
         }
@@ -441,7 +488,8 @@ static const char* kg_output_name(const char* path) { return strcmp(path, "-") =
 
 static void kg_report(const kg_run* run, const kg_run_options* o, int steps, float dt, double seconds)
 {
-    int to_stdout = strcmp(run->states_csv.path, "-") == 0 || (o->contacts && strcmp(o->contacts, "-") == 0);
+    int to_stdout = strcmp(run->states_csv.path, "-") == 0 || (o->contacts && strcmp(o->contacts, "-") == 0) ||
+                    (o->events && strcmp(o->events, "-") == 0);
     FILE* out = to_stdout ? stderr : stdout;
     const char* backend = kg_world_backend(run->world) == KG_BACKEND_OPENCL ? "opencl" : "cpu";
     fprintf(out, "kgyro run: %s: %d bodies, %d steps of %.9g s on %s in %.3f s (%.3f ms/step)\n", o->scene,
@@ -450,6 +498,9 @@ static void kg_report(const kg_run* run, const kg_run_options* o, int steps, flo
     fprintf(out, "states: %s (%ld rows)\n", kg_output_name(run->states_csv.path), run->states_csv.rows);
     if (o->contacts) {
         fprintf(out, "contacts: %s (%ld rows)\n", kg_output_name(o->contacts), run->contacts_csv.rows);
+    }
+    if (o->events) {
+        fprintf(out, "events: %s (%ld rows)\n", kg_output_name(o->events), run->events_csv.rows);
     }
 }
 
@@ -466,8 +517,11 @@ static int kg_run_scene(kg_run* run, const kg_run_options* o, kg_scene* scene)
     if (o->contacts && !kg_csv_open(&run->contacts_csv, o->contacts, "step,a,b,nx,ny,px,py,depth")) {
         return 1;
     }
+    if (o->events && !kg_csv_open(&run->events_csv, o->events, "step,kind,a,b,x,y,nx,ny,speed")) {
+        return 1;
+    }
     double seconds = kg_step_all(run, steps, dt, o->every);
-    int written = kg_csv_close(&run->states_csv) & kg_csv_close(&run->contacts_csv);
+    int written = kg_csv_close(&run->states_csv) & kg_csv_close(&run->contacts_csv) & kg_csv_close(&run->events_csv);
     if (seconds < 0.0 || !written) {
         return 1;
     }
@@ -493,6 +547,7 @@ int kg_cmd_run(int argc, char** argv)
     code = kg_run_scene(&run, &options, scene);
     kg_csv_close(&run.states_csv);
     kg_csv_close(&run.contacts_csv);
+    kg_csv_close(&run.events_csv);
     if (run.world) {
         kg_destroy_world(run.world);
     }

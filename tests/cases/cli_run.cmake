@@ -44,7 +44,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(NOT code EQUAL 0)
       message(FATAL_ERROR "exit code ${code}")
     endif()
-    foreach(option --steps --dt --csv --every --contacts --backend --threads --seed)
+    foreach(option --steps --dt --csv --every --contacts --events --backend --threads --seed)
       string(FIND "${out}" "${option}" found)
       if(found EQUAL -1)
         message(FATAL_ERROR "--help does not explain ${option}:\n${out}")
@@ -126,6 +126,10 @@ kg_cli_run_test(csv_generator csv "run|pyramid_5|--steps|10|--every|4|--backend|
 kg_cli_run_test(csv_contacts csv
                 "run|${PROJECT_SOURCE_DIR}/samples/box_stack.json|--steps|3|--contacts|${kg_cli_out}/stack_contacts.csv|--csv|${kg_cli_out}/stack.csv"
                 "CSV=${kg_cli_out}/stack_contacts.csv" "HEADER=step,a,b,nx,ny,px,py,depth" ROWS_AT_LEAST=1)
+# events: box_stack's bodies begin touching in the first steps (begin rows, named)
+kg_cli_run_test(csv_events csv
+                "run|${PROJECT_SOURCE_DIR}/samples/box_stack.json|--steps|30|--events|${kg_cli_out}/stack_events.csv|--csv|${kg_cli_out}/stack_e.csv"
+                "CSV=${kg_cli_out}/stack_events.csv" "HEADER=step,kind,a,b,x,y,nx,ny,speed" ROWS_AT_LEAST=5)
 kg_cli_run_test(csv_file csv "run|good_full.json|--steps=5|--every=5|--csv=${kg_cli_out}/full.csv"
                 "CSV=${kg_cli_out}/full.csv" "HEADER=step,id,name,x,y,angle,vx,vy,omega" ROWS=12)
 kg_cli_run_test(deterministic same "run|rain_50|--steps|30|--backend|cpu|--csv|${kg_cli_out}/rain_50.csv"
