@@ -88,6 +88,8 @@ typedef struct kg_body_def {
                                * kinematic ones; every dynamic body is kept from passing
                                * through static bodies and tile maps anyway
                                * (kg_world_def.enable_continuous) */
+    int enable_pre_solve;     /* non-zero: its contacts go through the world's pre-solve
+                               * callback (kgyro/collision.h), which may switch them off */
     void* user_data;
 } kg_body_def;
 
@@ -157,6 +159,9 @@ KG_API kg_result kg_body_set_filter(kg_world* world, kg_body body, uint32_t cate
 /* Makes a dynamic body a bullet (non-zero) or not: kg_body_def.bullet. */
 KG_API kg_result kg_body_set_bullet(kg_world* world, kg_body body, int bullet);
 KG_API int kg_body_is_bullet(const kg_world* world, kg_body body);
+/* Sends the body's contacts through the pre-solve callback (non-zero) or not:
+ * kg_body_def.enable_pre_solve. */
+KG_API kg_result kg_body_set_pre_solve(kg_world* world, kg_body body, int enabled);
 
 /* Forces and torques accumulate until the end of the next step. Impulses act at once. */
 KG_API kg_result kg_body_apply_force(kg_world* world, kg_body body, kg_vec2 force, kg_vec2 world_point);

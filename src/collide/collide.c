@@ -579,6 +579,8 @@ const kg_contact* kg_collision_synced_contacts(const kg_world* world, int* count
     return kg_collision_contacts((kg_world*)world, count);
 }
 
+kg_contact* kg_collision_next_list(kg_world* world) { return world->collision->previous; }
+
 kg_contact* kg_collision_previous(kg_world* world, int* count)
 {
     *count = world->collision->previous_count;
@@ -662,7 +664,12 @@ kg_result kg_world_get_contact(const kg_world* world, int index, kg_contact_info
     if (!world || !out || index < 0 || index >= world->collision->count) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "contact index %d out of range", index);
     }
-    const kg_contact* c = &world->collision->contacts[index];
+    kg_contact_info_of(world, &world->collision->contacts[index], out);
+    return KG_OK;
+}
+
+void kg_contact_info_of(const kg_world* world, const kg_contact* c, kg_contact_info* out)
+{
     memset(out, 0, sizeof *out);
     out->a = kg_handle_of(c->a, c->generation_a);
     out->b = kg_handle_of(c->b, c->generation_b);
@@ -679,7 +686,6 @@ kg_result kg_world_get_contact(const kg_world* world, int index, kg_contact_info
         out->total_normal_impulses[k] = mp->total_normal_impulse;
         out->feature_ids[k] = mp->id;
     }
-    return KG_OK;
 }
 
 /* A pass over the step's contacts: a body's are not listed apart (a body pair's contact is

@@ -53,6 +53,16 @@ kg_body kg_handle_of(kg_u32 slot, kg_u32 generation);
 /* The handle of a contact's shape while it is alive on the same body (a slot freed and
  * taken since is another shape): null otherwise. */
 kg_shape_id kg_shape_handle_of(const kg_shape_pool* sp, kg_u32 slot, kg_u32 body);
+/* What kg_world_get_contact tells of contact c. */
+void kg_contact_info_of(const kg_world* world, const kg_contact* c, kg_contact_info* out);
+/* The host list the next kg_collision_begin_step makes current: free until then, so that
+ * a backend building contacts on a device may stage them there in the middle of a step. */
+kg_contact* kg_collision_next_list(kg_world* world);
+/* The pre-solve stage (kgyro/collision.h, kg_world_set_pre_solve) over the current list. */
+kg_result kg_stage_pre_solve(kg_world* world);
+/* The pre-solve callback over contacts [0, count): switches off (point_count 0) those it
+ * refuses; returns how many. */
+int kg_pre_solve_contacts(kg_world* world, kg_contact* contacts, int count);
 /* The contacts of the current step: body pairs sorted by (a, b), then tile contacts. */
 kg_contact* kg_collision_contacts(kg_world* world, int* count);
 /* The same, brought up to date first where the backend builds them (OpenCL). */

@@ -428,6 +428,9 @@ kg_result kg_create_tilemap(kg_world* world, const kg_tilemap_def* def, kg_tilem
     if (!world || !def || !out_map) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_create_tilemap: NULL argument");
     }
+    if (kg_world_refuses(world, "kg_create_tilemap", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
+    }
     kg_result r = kg_validate_tilemap_def(def);
     if (r == KG_OK && !world->tilemaps) {
         r = kg_tilemaps_create(world);
@@ -466,6 +469,9 @@ kg_result kg_create_tilemap(kg_world* world, const kg_tilemap_def* def, kg_tilem
 
 kg_result kg_destroy_tilemap(kg_world* world, kg_tilemap map)
 {
+    if (kg_world_refuses(world, "kg_destroy_tilemap", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
+    }
     kg_map* m = kg_resolve_map(world, map);
     if (!m) {
         return KG_ERROR_INVALID_HANDLE;
@@ -500,6 +506,9 @@ static kg_result kg_check_cell(const kg_map* m, int layer, int x, int y)
 
 kg_result kg_tilemap_set_tile(kg_world* world, kg_tilemap map, int layer, int x, int y, int id)
 {
+    if (kg_world_refuses(world, "kg_tilemap_set_tile", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
+    }
     kg_map* m = kg_resolve_map(world, map);
     if (!m) {
         return KG_ERROR_INVALID_HANDLE;

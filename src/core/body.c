@@ -146,7 +146,7 @@ static void kg_body_write(kg_body_pool* p, int i, const kg_body_def* d, const kg
     p->user_data[i] = d->user_data;
     p->flags[i] = KG_FLAG_ALIVE | ((kg_u32)d->type << KG_TYPE_SHIFT) |
                   (d->fixed_rotation ? KG_FLAG_FIXED_ROTATION : 0u) | (d->mass > 0.0f ? KG_FLAG_MASS_SET : 0u) |
-                  (d->bullet ? KG_FLAG_BULLET : 0u);
+                  (d->bullet ? KG_FLAG_BULLET : 0u) | (d->enable_pre_solve ? KG_FLAG_PRE_SOLVE : 0u);
     p->first_shape[i] = KG_NULL_INDEX;
     p->shape_count[i] = 1u;
     if (p->generation[i] == 0) {
@@ -193,6 +193,9 @@ kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_b
     if (!world || !def || !out_body) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_create_body: NULL argument");
     }
+    if (kg_world_refuses(world, "kg_create_body", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
+    }
     kg_shape shape;
     kg_mass_data md;
     kg_result r = kg_prepare_body(def, &shape, &md);
@@ -226,6 +229,9 @@ kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_b
 
 kg_result kg_destroy_body(kg_world* world, kg_body body)
 {
+    if (kg_world_refuses(world, "kg_destroy_body", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
+    }
     int i = kg_world_resolve(world, body);
     if (i < 0) {
         return kg_last_result();
@@ -373,7 +379,7 @@ int kg_body_is_frozen(const kg_world* world, kg_body body)
 static kg_body_pool* kg_write_body(kg_world* world, kg_body body, int values_ok, const char* what, int* index)
 {
     *index = kg_world_resolve(world, body);
-    if (*index < 0) {
+    if (*index < 0 || kg_world_refuses(world, "changing a body", KG_LOCK_ALL)) {
         return NULL;
     }
     if (!values_ok) {
@@ -558,6 +564,17 @@ kg_result kg_body_set_bullet(kg_world* world, kg_body body, int bullet)
     }
     p->flags[i] = bullet ? (p->flags[i] | KG_FLAG_BULLET) : (p->flags[i] & ~KG_FLAG_BULLET);
     kg_note_static_edit(world, p, i);
+    return KG_OK;
+}
+
+kg_result kg_body_set_pre_solve(kg_world* world, kg_body body, int enabled)
+{
+    int i;
+    kg_body_pool* p = kg_write_body(world, body, 1, "", &i);
+    if (!p) {
+        return kg_read_error();
+    }
+    p->flags[i] = enabled ? (p->flags[i] | KG_FLAG_PRE_SOLVE) : (p->flags[i] & ~KG_FLAG_PRE_SOLVE);
     return KG_OK;
 }
 

@@ -37,6 +37,8 @@ KG_STATIC_ASSERT(KG_BODY_STATIC == KG_TYPE_STATIC && KG_BODY_DYNAMIC == KG_TYPE_
 /* its mass was given (kg_body_def.mass, kg_body_set_inverse_mass): adding or removing a
  * shape leaves it (core/body_shape.c) */
 #define KG_FLAG_MASS_SET 0x100u
+/* Its contacts go through the world's pre-solve callback (kgyro/collision.h). */
+#define KG_FLAG_PRE_SOLVE 0x200u
 
 KG_FN kg_u32 kg_flags_type(kg_u32 f) { return (f & KG_TYPE_MASK) >> KG_TYPE_SHIFT; }
 KG_FN int kg_flags_alive(kg_u32 f) { return (f & KG_FLAG_ALIVE) != 0u; }

@@ -273,6 +273,9 @@ kg_result kg_create_shape(kg_world* world, kg_body body, const kg_body_shape_def
     if (!world || !def || !out) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_create_shape: NULL argument");
     }
+    if (kg_world_refuses(world, "kg_create_shape", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
+    }
     int i = kg_world_resolve(world, body);
     if (i < 0) {
         return kg_last_result();
@@ -307,6 +310,9 @@ static int kg_resolve_shape(const kg_world* world, kg_shape_id shape)
 
 kg_result kg_destroy_shape(kg_world* world, kg_shape_id shape)
 {
+    if (kg_world_refuses(world, "kg_destroy_shape", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
+    }
     int s = kg_resolve_shape(world, shape);
     if (s < 0) {
         return kg_last_result();
@@ -456,6 +462,9 @@ kg_result kg_create_chain(kg_world* world, kg_body body, const kg_chain_def* def
 {
     if (!world || !def) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_create_chain: NULL argument");
+    }
+    if (kg_world_refuses(world, "kg_create_chain", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
     }
     int i = kg_world_resolve(world, body);
     if (i < 0) {

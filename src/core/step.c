@@ -11,7 +11,8 @@
 #include <math.h>
 #include <time.h>
 
-static const char* const kg_stage_names[KG_STAGE_COUNT] = {"forces", "collide", "wake", "solve", "finalize", "sleep"};
+static const char* const kg_stage_names[KG_STAGE_COUNT] = {"forces", "collide", "wake", "pre_solve", "solve",
+                                                                   "finalize", "sleep"};
 
 const char* kg_stage_name(kg_stage stage) { return kg_stage_names[stage]; }
 
@@ -57,15 +58,20 @@ kg_result kg_world_step(kg_world* world, float dt)
     if (!world) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_world_step: NULL world");
     }
+    if (kg_world_refuses(world, "kg_world_step", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
+    }
     if (!(isfinite(dt) && dt > 0.0f)) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "time step must be finite and > 0 (got %g)", (double)dt);
     }
     world->last_dt = dt;
+    world->lock = KG_LOCK_STEP;
     int redo = 0;
     kg_result r = kg_run_stages(world, dt, &redo);
     if (redo) {
         r = kg_run_stages(world, dt, &redo);
     }
+    world->lock = 0;
     if (r == KG_OK) {
         kg_shape_pool_free_held(&world->shapes); /* the new contacts name no shape destroyed before the step */
     }

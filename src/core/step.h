@@ -7,6 +7,7 @@ typedef enum kg_stage {
     KG_STAGE_FORCES,   /* applicators: gravity, wind, user and device forces (solve/forces.c) */
     KG_STAGE_COLLIDE,  /* broadphase pairs, manifolds, contacts with last step's impulses (collide/) */
     KG_STAGE_WAKE,     /* sleeping islands touched by moving bodies wake (solve/sleep.c) */
+    KG_STAGE_PRE_SOLVE, /* the user's pre-solve callback may switch contacts off (collide/pre_solve.c) */
     KG_STAGE_SOLVE,    /* colour the contacts, then the soft step's sub-steps (solve/solver.c) */
     KG_STAGE_FINALIZE, /* forces cleared, poses and bounds updated (solve/body_step.h) */
     KG_STAGE_SLEEP,    /* islands at rest fall asleep (solve/sleep.c) */

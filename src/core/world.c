@@ -159,6 +159,9 @@ kg_result kg_world_set_gravity(kg_world* world, kg_vec2 gravity)
     if (!world || !isfinite(gravity.x) || !isfinite(gravity.y)) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "gravity must be finite");
     }
+    if (kg_world_refuses(world, "kg_world_set_gravity", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
+    }
     world->def.gravity = gravity;
     kg_world_wake_all(world);
     return KG_OK;
@@ -197,6 +200,18 @@ kg_result kg_world_get_stage_times(const kg_world* world, kg_stage_times* out)
     }
     *out = world->times;
     return KG_OK;
+}
+
+int kg_world_refuses(const kg_world* world, const char* call, int level)
+{
+    if (!world || world->lock < level) {
+        return 0;
+    }
+    kg_fail(KG_ERROR_LOCKED, "%s: called from a %s callback inside kg_world_step, where the world cannot change%s",
+            call, world->lock == KG_LOCK_ALL ? "pre-solve" : "force applicator",
+            world->lock == KG_LOCK_ALL ? "" : " this way (apply forces and set velocities there; create and destroy "
+                                              "between steps)");
+    return 1;
 }
 
 int kg_world_resolve(const kg_world* world, kg_body body)

@@ -4,6 +4,7 @@
 
 #include "core/body_pool.h"
 #include "core/shape_pool.h"
+#include "kgyro/collision.h"
 #include "kgyro/force.h"
 #include "kgyro/world.h"
 
@@ -53,7 +54,20 @@ struct kg_world {
     kg_u32 static_edits; /* bumped when a static body or a bullet is made, removed or changed:
                           * continuous collision's list of them is then made again */
     uint64_t step_index;
+    int lock; /* inside kg_world_step: KG_LOCK_STEP, and KG_LOCK_ALL while a pre-solve callback runs */
+    kg_pre_solve_fn* pre_solve;
+    void* pre_solve_context;
 };
+
+/* What a callback inside a step may not do: change what the step is iterating over
+ * (bodies, shapes, maps, applicators, another step), and inside a pre-solve callback
+ * change anything at all. */
+#define KG_LOCK_STEP 1
+#define KG_LOCK_ALL 2
+
+/* Whether the world refuses call now, at lock level level or above: then fails with
+ * KG_ERROR_LOCKED naming call, and returns 1. */
+int kg_world_refuses(const kg_world* world, const char* call, int level);
 
 /* The pool for writing, after the backend synced it (it uploads what changed). */
 kg_body_pool* kg_world_write_pool(kg_world* world);

@@ -11,6 +11,9 @@ static kg_result kg_add_applicator(kg_world* world, const kg_applicator_slot* pr
     if (!world || !out || count < 0 || (count > 0 && !bodies)) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "force applicator: bad arguments");
     }
+    if (kg_world_refuses(world, "adding a force applicator", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
+    }
     if (count > world->def.max_bodies) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "force applicator: %d bodies listed, more than max_bodies (%d)",
                        count, world->def.max_bodies);
@@ -83,6 +86,9 @@ kg_result kg_remove_applicator(kg_world* world, kg_applicator applicator)
 {
     if (!world) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_remove_applicator: NULL world");
+    }
+    if (kg_world_refuses(world, "kg_remove_applicator", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
     }
     if (applicator.index >= (uint32_t)world->def.max_applicators) {
         return kg_fail(KG_ERROR_INVALID_HANDLE, "applicator handle does not name an applicator");

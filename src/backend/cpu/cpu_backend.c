@@ -20,6 +20,7 @@ static kg_result kg_cpu_run_stage(kg_world* world, kg_stage stage, float dt)
         break;
     }
     case KG_STAGE_WAKE: kg_stage_wake(world); break;
+    case KG_STAGE_PRE_SOLVE: return kg_stage_pre_solve(world);
     case KG_STAGE_SOLVE: kg_stage_solve(world, dt); break;
     case KG_STAGE_FINALIZE: kg_stage_finalize(world); break;
     case KG_STAGE_SLEEP: kg_stage_sleep(world); break;

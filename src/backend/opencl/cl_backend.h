@@ -39,6 +39,9 @@ kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits);
  * are, *count, the first *body_count between bodies, with b->coloring's colour ranges set
  * for the solver. */
 kg_result kg_cl_color_on_device(kg_world* world, kg_cl_backend* b, int* count, int* body_count);
+/* Reads back how many contacts the device built, *count, the first *body_count between
+ * bodies (warning once when tile contacts were dropped for room). */
+kg_result kg_cl_count_contacts(kg_world* world, kg_cl_backend* b, int* count, int* body_count);
 /* The one-way platform state (collide/tilemap.c's last origins) into the host's arrays,
  * when the device has it newer: before the host's collide stage runs, or the CPU backend
  * takes over. */

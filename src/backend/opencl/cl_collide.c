@@ -382,7 +382,7 @@ kg_result kg_cl_collide_on_device(kg_world* world, kg_cl_backend* b, int* fits)
     return kg_collide_tiles(world, b, capacity);
 }
 
-kg_result kg_cl_color_on_device(kg_world* world, kg_cl_backend* b, int* count, int* body_count)
+kg_result kg_cl_count_contacts(kg_world* world, kg_cl_backend* b, int* count, int* body_count)
 {
     KG_TRY(kg_read_counters(b, KG_CC_WORDS));
     *count = (int)b->counters[KG_CC_CONTACTS];
@@ -397,6 +397,12 @@ kg_result kg_cl_color_on_device(kg_world* world, kg_cl_backend* b, int* count, i
                          capacity - bodies);
         }
     }
+    return KG_OK;
+}
+
+kg_result kg_cl_color_on_device(kg_world* world, kg_cl_backend* b, int* count, int* body_count)
+{
+    KG_TRY(kg_cl_count_contacts(world, b, count, body_count));
     KG_TRY(kg_color(b, b->contacts[b->current ^ 1], *count));
     return kg_take_color_ranges(b);
 }

@@ -242,6 +242,33 @@ static kg_result kg_stage_wake_cl(kg_world* world, kg_cl_backend* b)
     return b->step_on_device ? kg_cl_wake_on_device(world, b, b->step_pairs) : kg_cl_wake_on_host(world, b);
 }
 
+/* ---- pre-solve -------------------------------------------------------------------- */
+
+/* The callback over this step's contacts: on the host list where the host made them
+ * (sent to the device when coloured), else read from the device into the host list the
+ * step will commit to, and what it switched off written back. The bodies' flags come
+ * first: whether a body sleeps is the device's. */
+static kg_result kg_stage_pre_solve_cl(kg_world* world, kg_cl_backend* b)
+{
+    if (!world->pre_solve) {
+        return KG_OK;
+    }
+    b->host_stale |= KG_CL_BIT(FLAGS); /* the wake stage may have woken bodies on the device */
+    KG_TRY(kg_cl_flags_to_host(world, b));
+    if (!b->step_on_device) {
+        return kg_stage_pre_solve(world);
+    }
+    int count = 0, body_count = 0;
+    KG_TRY(kg_cl_count_contacts(world, b, &count, &body_count));
+    kg_contact* staged = kg_collision_next_list(world);
+    size_t bytes = (size_t)count * sizeof *staged;
+    KG_TRY(kg_cl_read(b, b->contacts[b->current ^ 1], 0, bytes, staged));
+    if (kg_pre_solve_contacts(world, staged, count) > 0) {
+        KG_TRY(kg_cl_write(b, b->contacts[b->current ^ 1], 0, bytes, staged, 0));
+    }
+    return KG_OK;
+}
+
 /* ---- solve ------------------------------------------------------------------------ */
 
 static kg_result kg_reserve_coloring(kg_world* world, kg_cl_backend* b, int count)
@@ -444,6 +471,7 @@ kg_result kg_cl_run_stage(kg_world* world, kg_cl_backend* b, kg_stage stage, flo
     case KG_STAGE_FORCES: return kg_stage_forces(world, b);
     case KG_STAGE_COLLIDE: return kg_stage_collide_cl(world, b);
     case KG_STAGE_WAKE: return kg_stage_wake_cl(world, b);
+    case KG_STAGE_PRE_SOLVE: return kg_stage_pre_solve_cl(world, b);
     case KG_STAGE_SOLVE: return kg_stage_solve_on_device(world, b, dt);
     case KG_STAGE_FINALIZE: return kg_stage_finalize_on_device(world, b, dt);
     case KG_STAGE_SLEEP: return kg_cl_sleep_on_device(world, b, b->step_count);
