@@ -187,7 +187,8 @@ static void kg_draw_tile(const kg_debug_draw* d, const kg_tile_proto* proto, kg_
     int one_way = (proto->flags & KG_TILE_FLAG_ONE_WAY) != 0u;
     kg_draw_solid_shape(d, &proto->shape, cell, one_way ? KG_DEBUG_COLOR_ONE_WAY : KG_DEBUG_COLOR_TILE);
     if (proto->shape.count >= 3 && d->draw_segment) {
-        kg_draw_tile_edges(d, &proto->shape, cell, word, one_way ? KG_DEBUG_COLOR_ONE_WAY_EDGE : KG_DEBUG_COLOR_TILE_EDGE);
+        kg_color edge = one_way ? KG_DEBUG_COLOR_ONE_WAY_EDGE : KG_DEBUG_COLOR_TILE_EDGE;
+        kg_draw_tile_edges(d, &proto->shape, cell, word, edge);
     }
 }
 

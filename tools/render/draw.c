@@ -214,7 +214,10 @@ static kg_color kg_raster_body_color(kg_body body, kg_color state_color, void* c
     }
 }
 
-static int kg_is_tile_color(kg_color color) { return color == KG_DEBUG_COLOR_TILE || color == KG_DEBUG_COLOR_ONE_WAY; }
+static int kg_is_tile_color(kg_color color)
+{
+    return color == KG_DEBUG_COLOR_TILE || color == KG_DEBUG_COLOR_ONE_WAY;
+}
 
 static kg_point kg_raster_point(const kg_raster* r, kg_transform xf, kg_vec2 local)
 {
