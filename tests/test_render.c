@@ -53,7 +53,7 @@ static kg_body kg_add(kg_world* world, kg_body_type type, kg_vec2 at, float angl
 static void kg_draw_plain(kg_canvas* canvas, const kg_world* world, int aabbs)
 {
     kg_camera camera = kg_test_camera();
-    kg_draw_options options = {0, aabbs, 1, 0, NULL, 0};
+    kg_draw_options options = {0, aabbs, 1, 0};
     kg_draw_world(canvas, &camera, world, &options);
 }
 
@@ -229,25 +229,32 @@ static void test_particles_and_kinematic_bodies(void)
     kg_destroy_world(world);
 }
 
-/* A 4 x 2 layer of 1 m tiles at (-2, -2): a full square, a slope rising to the right,
+/* A 4 x 2 map of 1 m tiles at (-2, -2): a full square, a slope rising to the right,
  * an empty cell and a one-way platform (the top quarter of its cell) in the bottom row;
  * a full square above the first. Edges shared by two full squares are not outlined. */
 static void test_tile_layer_where_the_map_says(void)
 {
-    static const kg_tile_look looks[4] = {
-        {0, {{0, 0}}, 0},
-        {4, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 0},
-        {3, {{0, 0}, {1, 0}, {1, 1}}, 0},
-        {4, {{0, 0.75f}, {1, 0.75f}, {1, 1}, {0, 1}}, 1},
-    };
-    static const int cells[8] = {1, 2, 0, 3, /* row 0, y in [-2, -1] */
-                                 1, 0, 0, 0};
-    kg_tile_layer layer = {{-2.0f, -2.0f}, {1.0f, 1.0f}, 4, 2, cells, looks, 4};
+    static const kg_vec2 platform[4] = {{0, 0.75f}, {1, 0.75f}, {1, 1}, {0, 1}};
+    kg_tile_shape shapes[4] = {kg_tile_empty(), kg_tile_box(), kg_tile_slope(KG_TILE_BOTTOM_RIGHT),
+                               kg_tile_polygon(platform, 4)};
+    shapes[3].one_way = 1;
+    static const uint16_t cells[8] = {1, 2, 0, 3, /* row 0, y in [-2, -1] */
+                                      1, 0, 0, 0};
+    kg_tilemap_def def = kg_default_tilemap_def();
+    def.width = 4;
+    def.height = 2;
+    def.origin = (kg_vec2){-2.0f, -2.0f};
+    def.shapes = shapes;
+    def.shape_count = 4;
+    def.tiles = cells;
+    kg_world* world = kg_test_world((kg_vec2){0.0f, 0.0f});
+    kg_tilemap map;
+    KG_CHECK_OK(kg_create_tilemap(world, &def, &map));
     kg_canvas canvas;
     KG_CHECK(kg_canvas_init(&canvas, 100, 100) == 0);
-    kg_canvas_clear(&canvas, KG_COLOR_BACKGROUND);
     kg_camera camera = kg_test_camera();
-    kg_draw_tile_layer(&canvas, &camera, &layer);
+    kg_draw_options options = {0, 0, 1, 0};
+    kg_draw_world(&canvas, &camera, world, &options);
 
     KG_CHECK(kg_canvas_get(&canvas, 35, 65) == KG_COLOR_TILE_FILL);  /* (-1.5, -1.5) full */
     KG_CHECK(kg_canvas_get(&canvas, 35, 55) == KG_COLOR_TILE_FILL);  /* (-1.5, -0.5) full, above */
@@ -260,16 +267,16 @@ static void test_tile_layer_where_the_map_says(void)
     KG_CHECK(kg_canvas_get(&canvas, 65, 67) == KG_COLOR_BACKGROUND); /* under the platform */
     KG_CHECK(kg_canvas_get(&canvas, 85, 65) == KG_COLOR_BACKGROUND); /* right of the map */
 
-    /* scrolled so the layer is off screen: nothing is drawn */
-    kg_canvas_clear(&canvas, KG_COLOR_BACKGROUND);
+    /* scrolled so the map is off screen: nothing is drawn */
     camera.center.x = 100.0f;
-    kg_draw_tile_layer(&canvas, &camera, &layer);
+    kg_draw_world(&canvas, &camera, world, &options);
     int drawn = 0;
     for (int i = 0; i < 100 * 100; ++i) {
         drawn += canvas.pixels[i] != KG_COLOR_BACKGROUND;
     }
     KG_CHECK(drawn == 0);
     kg_canvas_free(&canvas);
+    kg_destroy_world(world);
 }
 
 /* The glyph "1" of the 3x5 font: .#. / ##. / .#. / .#. / ### */

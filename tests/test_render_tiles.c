@@ -1,5 +1,5 @@
-/* Tile maps in the software renderer (tools/render/tiles.c): a scene's maps drawn through
- * the world's public tile-map API, pixels checked as in test_render.c. Row 0 of a map is
+/* Tile maps in the software renderer: a scene's maps drawn through the library's debug
+ * draw (kg_world_draw), pixels checked as in test_render.c. Row 0 of a map is
  * at the bottom, tiles are drawn under the bodies, tiles changed at run time show up, and
  * a Tiled level (samples/platformer.tmj) draws its slopes and one-way platforms. */
 #include "kg_test.h"
@@ -7,7 +7,6 @@
 #include "canvas.h"
 #include "draw.h"
 #include "palette.h"
-#include "tiles.h"
 
 #include "kgyro/kgyro.h"
 #include "kgyro/scene.h"
@@ -57,7 +56,6 @@ typedef struct kg_tile_fixture {
     kg_scene* scene;
     kg_world* world;
     kg_body body;
-    kg_tile_view tiles;
     kg_canvas canvas;
     kg_camera camera;
 } kg_tile_fixture;
@@ -73,21 +71,18 @@ static void kg_fixture_open(kg_tile_fixture* f, kg_scene* scene, kg_camera camer
     KG_CHECK(kg_scene_body_count(scene) <= 32);
     KG_CHECK_OK(kg_scene_instantiate(scene, &def, &f->world, bodies));
     f->body = bodies[0];
-    KG_CHECK_OK(kg_tile_view_init(&f->tiles, scene, f->world));
     KG_CHECK(kg_canvas_init(&f->canvas, camera.width, camera.height) == 0);
 }
 
 static void kg_fixture_draw(kg_tile_fixture* f, int tiles)
 {
-    kg_draw_options options = {0, 0, tiles, 0, f->tiles.layers, f->tiles.layer_count};
-    kg_tile_view_refresh(&f->tiles, f->world, &f->camera);
+    kg_draw_options options = {0, 0, tiles, 0};
     kg_draw_world(&f->canvas, &f->camera, f->world, &options);
 }
 
 static void kg_fixture_close(kg_tile_fixture* f)
 {
     kg_canvas_free(&f->canvas);
-    kg_tile_view_free(&f->tiles);
     kg_destroy_world(f->world);
     kg_scene_destroy(f->scene);
 }
@@ -98,7 +93,6 @@ static void test_tiles_where_the_map_says(void)
 {
     kg_tile_fixture f;
     kg_fixture_open(&f, kg_tile_scene(), kg_test_camera());
-    KG_CHECK(f.tiles.layer_count == 1);
     kg_fixture_draw(&f, 1);
     KG_CHECK(kg_pixel(&f, 15, 75) == KG_COLOR_TILE_FILL);  /* cell (0, 1): row 1 above row 0 */
     KG_CHECK(kg_pixel(&f, 25, 75) == KG_COLOR_BACKGROUND); /* cell (1, 1), empty */
@@ -173,7 +167,6 @@ static void test_tiled_level(void)
     kg_tile_fixture f;
     /* x in [6, 16], y in [0, 10]: world (x, y) is pixel (10x - 60, 100 - 10y) */
     kg_fixture_open(&f, scene, kg_camera_fit((kg_aabb){{6.0f, 0.0f}, {16.0f, 10.0f}}, 100, 100, 0.0f));
-    KG_CHECK(f.tiles.layer_count == 2);
     kg_fixture_draw(&f, 1);
     KG_CHECK(kg_pixel(&f, 28, 78) == KG_COLOR_TILE_FILL);  /* (8, 2) lower right */
     KG_CHECK(kg_pixel(&f, 22, 72) == KG_COLOR_BACKGROUND); /* (8, 2) upper left */

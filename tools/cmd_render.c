@@ -7,7 +7,6 @@
 #include "render/image.h"
 #include "render/palette.h"
 #include "render/sim.h"
-#include "render/tiles.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -170,7 +169,6 @@ typedef struct kg_render_job {
     kg_camera camera;
     kg_canvas canvas;
     kg_draw_options draw;
-    kg_tile_view tiles;
     kg_gif* gif;
     int frames;
     kg_step_stats stats;
@@ -178,7 +176,6 @@ typedef struct kg_render_job {
 
 static void kg_draw_frame(kg_render_job* job)
 {
-    kg_tile_view_refresh(&job->tiles, job->sim.world, &job->camera);
     kg_draw_world(&job->canvas, &job->camera, job->sim.world, &job->draw);
 }
 
@@ -226,12 +223,11 @@ static int kg_setup_job(kg_render_job* job, kg_scene* scene)
         view = (kg_aabb){{-10.0f, -10.0f}, {10.0f, 10.0f}};
     }
     job->camera = kg_camera_fit(view, o->width, o->height, o->has_view ? 0.0f : 0.05f);
-    if (kg_tile_view_init(&job->tiles, job->sim.scene, job->sim.world) != KG_OK ||
-        kg_canvas_init(&job->canvas, o->width, o->height) != 0) {
+    if (kg_canvas_init(&job->canvas, o->width, o->height) != 0) {
         fprintf(stderr, "kgyro render: out of memory\n");
         return 1;
     }
-    job->draw = (kg_draw_options){o->contacts, o->aabbs, 1, o->grid, job->tiles.layers, job->tiles.layer_count};
+    job->draw = (kg_draw_options){o->contacts, o->aabbs, 1, o->grid};
     if (o->gif && !(job->gif = kg_gif_open(o->gif, o->width, o->height, kg_palette_rgb()))) {
         fprintf(stderr, "kgyro render: cannot write %s\n", o->gif);
         return 1;
@@ -270,7 +266,6 @@ static void kg_free_job(kg_render_job* job)
         kg_gif_close(job->gif);
     }
     kg_canvas_free(&job->canvas);
-    kg_tile_view_free(&job->tiles);
     kg_sim_stop(&job->sim);
 }
 

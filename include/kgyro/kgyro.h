@@ -21,6 +21,7 @@
 #include "collision.h"
 #include "events.h"
 #include "tilemap.h"
+#include "debug_draw.h"
 
 #define KGYRO_VERSION_MAJOR 0
 #define KGYRO_VERSION_MINOR 1

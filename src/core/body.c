@@ -26,8 +26,7 @@ kg_body_def kg_default_body_def(void)
 static int kg_finite2(kg_vec2 v) { return isfinite(v.x) && isfinite(v.y); }
 static int kg_nonneg(float v) { return isfinite(v) && v >= 0.0f; }
 
-/* Read access for getters: the OpenCL backend may hold newer state on the device. */
-static const kg_body_pool* kg_read_pool(const kg_world* world)
+const kg_body_pool* kg_world_read_pool(const kg_world* world)
 {
     kg_world* w = (kg_world*)world;
     if (w->backend && w->backend->sync_to_host) {
@@ -39,7 +38,7 @@ static const kg_body_pool* kg_read_pool(const kg_world* world)
 /* Write access for setters: sync first, then tell the backend to upload. */
 kg_body_pool* kg_world_write_pool(kg_world* world)
 {
-    kg_read_pool(world);
+    kg_world_read_pool(world);
     if (world->backend && world->backend->host_changed) {
         world->backend->host_changed(world);
     }
@@ -262,7 +261,7 @@ static const kg_body_pool* kg_read_body(const kg_world* world, kg_body body, con
         return NULL;
     }
     *index = kg_world_resolve(world, body);
-    return *index < 0 ? NULL : kg_read_pool(world);
+    return *index < 0 ? NULL : kg_world_read_pool(world);
 }
 
 /* The code of the failure a resolve or check just reported. */
@@ -299,7 +298,7 @@ kg_result kg_world_get_body_states(const kg_world* world, const kg_body* bodies,
             return KG_ERROR_INVALID_HANDLE;
         }
     }
-    const kg_body_pool* p = kg_read_pool(world);
+    const kg_body_pool* p = kg_world_read_pool(world);
     for (int k = 0; k < count; ++k) {
         out[k] = kg_state_of(p, (int)bodies[k].index);
     }
@@ -372,7 +371,7 @@ static float kg_turning(const kg_body_pool* p, int i, float moment) { return p->
 
 int kg_body_is_frozen(const kg_world* world, kg_body body)
 {
-    return kg_body_is_valid(world, body) && kg_frozen(kg_read_pool(world), (int)body.index);
+    return kg_body_is_valid(world, body) && kg_frozen(kg_world_read_pool(world), (int)body.index);
 }
 
 /* Resolves a handle for writing after checking the new values; NULL on failure. */
@@ -394,7 +393,7 @@ static kg_body_pool* kg_write_body(kg_world* world, kg_body body, int values_ok,
 
 int kg_body_is_awake(const kg_world* world, kg_body body)
 {
-    return kg_body_is_valid(world, body) && !kg_pool_asleep(kg_read_pool(world), (int)body.index);
+    return kg_body_is_valid(world, body) && !kg_pool_asleep(kg_world_read_pool(world), (int)body.index);
 }
 
 kg_result kg_body_wake(kg_world* world, kg_body body)
@@ -405,19 +404,19 @@ kg_result kg_body_wake(kg_world* world, kg_body body)
 
 int kg_world_asleep_count(const kg_world* world)
 {
-    return world ? kg_pool_asleep_count(kg_read_pool(world)) : 0;
+    return world ? kg_pool_asleep_count(kg_world_read_pool(world)) : 0;
 }
 
 void kg_world_wake_region(kg_world* world, kg_aabb box)
 {
-    if (kg_pool_asleep_count(kg_read_pool(world)) > 0) {
+    if (kg_pool_asleep_count(kg_world_read_pool(world)) > 0) {
         kg_wake_touching(kg_world_write_pool(world), box, world->def.speculative_distance);
     }
 }
 
 void kg_world_wake_all(kg_world* world)
 {
-    if (kg_pool_asleep_count(kg_read_pool(world)) == 0) {
+    if (kg_pool_asleep_count(kg_world_read_pool(world)) == 0) {
         return;
     }
     kg_body_pool* p = kg_world_write_pool(world);
@@ -557,7 +556,7 @@ kg_result kg_body_set_filter(kg_world* world, kg_body body, uint32_t category, u
 kg_result kg_body_set_bullet(kg_world* world, kg_body body, int bullet)
 {
     int i = kg_world_resolve(world, body);
-    int dynamic = i >= 0 && kg_pool_type(kg_read_pool(world), i) == KG_BODY_DYNAMIC;
+    int dynamic = i >= 0 && kg_pool_type(kg_world_read_pool(world), i) == KG_BODY_DYNAMIC;
     kg_body_pool* p = kg_write_body(world, body, !bullet || dynamic, "only a dynamic body can be a bullet", &i);
     if (!p) {
         return kg_read_error();

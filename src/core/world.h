@@ -69,6 +69,9 @@ struct kg_world {
  * KG_ERROR_LOCKED naming call, and returns 1. */
 int kg_world_refuses(const kg_world* world, const char* call, int level);
 
+/* The pool for reading, as every getter reads it: the OpenCL backend may hold newer state
+ * on the device, which this copies back first. */
+const kg_body_pool* kg_world_read_pool(const kg_world* world);
 /* The pool for writing, after the backend synced it (it uploads what changed). */
 kg_body_pool* kg_world_write_pool(kg_world* world);
 /* Wakes every sleeping body: for changes that reach them all (gravity, applicators). */

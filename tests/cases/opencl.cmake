@@ -8,7 +8,7 @@
 # leaks allocated there, and only there.
 set(kg_cl_lsan_suppressions ${CMAKE_CURRENT_BINARY_DIR}/opencl_lsan.supp)
 file(WRITE ${kg_cl_lsan_suppressions} "leak:libpocl.so\nleak:libLLVM\n")
-foreach(kg_cl_test test_opencl_backend test_opencl_compare test_opencl_fallback)
+foreach(kg_cl_test test_opencl_backend test_opencl_compare test_opencl_fallback test_opencl_draw)
   if(TEST ${kg_cl_test})
     set_tests_properties(${kg_cl_test} PROPERTIES
       SKIP_RETURN_CODE 77

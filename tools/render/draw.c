@@ -4,11 +4,8 @@
 #include <math.h>
 #include <stdlib.h>
 
-/* Overlay sizes in pixels, the same at every zoom. */
+/* Sizes in pixels, the same at every zoom. */
 #define KG_NORMAL_LENGTH 12.0f
-#define KG_CONTACT_SIZE 2
-#define KG_PARTICLE_RADIUS 1.6f
-#define KG_DRAW_STACK_SHAPES 64 /* of one body, on the stack */
 #define KG_OUTLINE_MIN_SIZE 7.0f /* smaller shapes are filled only: outlines would hide them */
 
 kg_point kg_camera_to_screen(const kg_camera* camera, kg_vec2 world)
@@ -153,149 +150,213 @@ int kg_world_view_box(const kg_world* world, kg_aabb* out)
     return found;
 }
 
-void kg_body_colors(kg_body_type type, kg_body body, uint8_t* fill, uint8_t* line)
+
+/* ---- the world through kg_world_draw: its callbacks rasterise into the canvas ---- */
+
+typedef struct kg_raster {
+    kg_canvas* canvas;
+    const kg_camera* camera;
+    const kg_world* world;
+} kg_raster;
+
+typedef struct kg_palette_pair {
+    kg_color color;
+    uint8_t fill, line;
+} kg_palette_pair;
+
+/* The library's colours in the renderer's palette. Dynamic bodies come as their hue's
+ * outline colour (kg_raster_body_color) and are looked up among the hues. */
+static const kg_palette_pair kPairs[] = {
+    {KG_DEBUG_COLOR_STATIC, KG_COLOR_STATIC_FILL, KG_COLOR_STATIC_LINE},
+    {KG_DEBUG_COLOR_KINEMATIC, KG_COLOR_KINEMATIC_FILL, KG_COLOR_KINEMATIC_LINE},
+    {KG_DEBUG_COLOR_PARTICLE, KG_COLOR_PARTICLE, KG_COLOR_PARTICLE},
+    {KG_DEBUG_COLOR_SENSOR, KG_COLOR_SENSOR, KG_COLOR_SENSOR},
+    {KG_DEBUG_COLOR_TILE, KG_COLOR_TILE_FILL, KG_COLOR_TILE_LINE},
+    {KG_DEBUG_COLOR_TILE_EDGE, KG_COLOR_TILE_LINE, KG_COLOR_TILE_LINE},
+    {KG_DEBUG_COLOR_ONE_WAY, KG_COLOR_ONE_WAY_FILL, KG_COLOR_ONE_WAY_LINE},
+    {KG_DEBUG_COLOR_ONE_WAY_EDGE, KG_COLOR_ONE_WAY_LINE, KG_COLOR_ONE_WAY_LINE},
+    {KG_DEBUG_COLOR_AABB, KG_COLOR_AABB, KG_COLOR_AABB},
+    {KG_DEBUG_COLOR_CONTACT_POINT, KG_COLOR_CONTACT, KG_COLOR_CONTACT},
+    {KG_DEBUG_COLOR_CONTACT_NORMAL, KG_COLOR_NORMAL, KG_COLOR_NORMAL},
+};
+
+static kg_color kg_rgb_color(kg_rgb rgb) { return ((kg_color)rgb.r << 16) | ((kg_color)rgb.g << 8) | rgb.b; }
+
+static kg_palette_pair kg_pair_of(kg_color color)
 {
+    for (size_t i = 0; i < sizeof kPairs / sizeof kPairs[0]; ++i) {
+        if (kPairs[i].color == color) {
+            return kPairs[i];
+        }
+    }
+    for (uint8_t line = KG_COLOR_HUE_FIRST + 1; line < KG_COLOR_HUE_FIRST + 2 * KG_HUE_COUNT; line += 2) {
+        if (kg_rgb_color(kg_palette_color(line)) == color) {
+            return (kg_palette_pair){color, (uint8_t)(line - 1), line};
+        }
+    }
+    return (kg_palette_pair){color, KG_COLOR_TEXT, KG_COLOR_TEXT}; /* a state this palette has no entry for */
+}
+
+/* Bodies keep the renderer's colours by type (not by sleep), a dynamic body its own hue
+ * by handle index, so neighbours in a pile stand apart. */
+static kg_color kg_raster_body_color(kg_body body, kg_color state_color, void* context)
+{
+    const kg_raster* r = context;
+    kg_body_type type;
+    if (kg_body_get_type(r->world, body, &type) != KG_OK) {
+        return state_color;
+    }
     switch (type) {
-    case KG_BODY_STATIC:
-        *fill = KG_COLOR_STATIC_FILL;
-        *line = KG_COLOR_STATIC_LINE;
-        break;
-    case KG_BODY_KINEMATIC:
-        *fill = KG_COLOR_KINEMATIC_FILL;
-        *line = KG_COLOR_KINEMATIC_LINE;
-        break;
-    case KG_BODY_PARTICLE:
-        *fill = KG_COLOR_PARTICLE;
-        *line = KG_COLOR_PARTICLE;
-        break;
-    default:
-        *fill = kg_hue_fill(body.index);
-        *line = kg_hue_line(body.index);
-        break;
+    case KG_BODY_STATIC: return KG_DEBUG_COLOR_STATIC;
+    case KG_BODY_KINEMATIC: return KG_DEBUG_COLOR_KINEMATIC;
+    case KG_BODY_PARTICLE: return KG_DEBUG_COLOR_PARTICLE;
+    default: return kg_rgb_color(kg_palette_color(kg_hue_line(body.index)));
     }
 }
 
-static kg_vec2 kg_transform(const kg_body_state* state, kg_vec2 local)
+static int kg_is_tile_color(kg_color color)
 {
-    float c = cosf(state->angle), s = sinf(state->angle);
-    return (kg_vec2){state->position.x + c * local.x - s * local.y, state->position.y + s * local.x + c * local.y};
+    return color == KG_DEBUG_COLOR_TILE || color == KG_DEBUG_COLOR_ONE_WAY;
 }
 
-static void kg_draw_polygon(kg_canvas* canvas, const kg_camera* camera, const kg_shape_def* shape,
-                            const kg_body_state* state, uint8_t fill, uint8_t line)
+static kg_point kg_raster_point(const kg_raster* r, kg_transform xf, kg_vec2 local)
 {
+    kg_vec2 world = {xf.position.x + xf.c * local.x - xf.s * local.y, xf.position.y + xf.s * local.x + xf.c * local.y};
+    return kg_camera_to_screen(r->camera, world);
+}
+
+static void kg_raster_polygon(const kg_vec2* vertices, int count, kg_color color, void* context)
+{
+    const kg_raster* r = context;
+    kg_point points[KG_MAX_POLYGON_VERTICES];
+    for (int i = 0; i < count && i < KG_MAX_POLYGON_VERTICES; ++i) {
+        points[i] = kg_camera_to_screen(r->camera, vertices[i]);
+    }
+    kg_canvas_outline(r->canvas, points, count < KG_MAX_POLYGON_VERTICES ? count : KG_MAX_POLYGON_VERTICES,
+                      kg_pair_of(color).line);
+}
+
+/* A tile is filled only: the library outlines the edges that collide as segments, so two
+ * tiles side by side read as one piece of terrain. */
+static void kg_raster_solid_polygon(kg_transform xf, const kg_vec2* vertices, int count, float radius, kg_color color,
+                                    void* context)
+{
+    const kg_raster* r = context;
+    kg_palette_pair pair = kg_pair_of(color);
     kg_point points[KG_MAX_POLYGON_VERTICES];
     float left = INFINITY, right = -INFINITY;
-    for (int i = 0; i < shape->count; ++i) {
-        points[i] = kg_camera_to_screen(camera, kg_transform(state, shape->vertices[i]));
+    count = count < KG_MAX_POLYGON_VERTICES ? count : KG_MAX_POLYGON_VERTICES;
+    (void)radius; /* polygons of users and tiles are sharp */
+    for (int i = 0; i < count; ++i) {
+        points[i] = kg_raster_point(r, xf, vertices[i]);
         left = fminf(left, points[i].x);
         right = fmaxf(right, points[i].x);
     }
-    kg_canvas_fill_convex(canvas, points, shape->count, fill);
-    if (right - left >= KG_OUTLINE_MIN_SIZE) {
-        kg_canvas_outline(canvas, points, shape->count, line);
+    kg_canvas_fill_convex(r->canvas, points, count, pair.fill);
+    if (!kg_is_tile_color(color) && right - left >= KG_OUTLINE_MIN_SIZE) {
+        kg_canvas_outline(r->canvas, points, count, pair.line);
     }
 }
 
-/* A circle shows its rotation by a radius drawn to its body's local +x. */
-static void kg_draw_circle(kg_canvas* canvas, const kg_camera* camera, const kg_shape_def* shape,
-                           const kg_body_state* state, kg_body_type type, uint8_t fill, uint8_t line)
+static void kg_raster_circle(kg_vec2 center, float radius, kg_color color, void* context)
 {
-    kg_vec2 center = kg_transform(state, shape->center);
-    kg_point middle = kg_camera_to_screen(camera, center);
-    float radius = shape->radius * camera->scale;
-    if (type == KG_BODY_PARTICLE) {
-        radius = fmaxf(radius, 1.0f); /* a particle stays visible however far out we zoom */
-    }
-    kg_canvas_fill_circle(canvas, middle, radius, fill);
-    if (type == KG_BODY_PARTICLE || 2.0f * radius < KG_OUTLINE_MIN_SIZE) {
+    const kg_raster* r = context;
+    kg_canvas_circle(r->canvas, kg_camera_to_screen(r->camera, center), radius * r->camera->scale,
+                     kg_pair_of(color).line);
+}
+
+/* A body's circle shows its rotation by a radius drawn to its body's local +x (a tile's
+ * never turns); a particle stays a dot however far out we zoom. */
+static void kg_raster_solid_circle(kg_transform xf, float radius, kg_color color, void* context)
+{
+    const kg_raster* r = context;
+    kg_palette_pair pair = kg_pair_of(color);
+    kg_point middle = kg_camera_to_screen(r->camera, xf.position);
+    float pixels = radius * r->camera->scale;
+    int particle = color == KG_DEBUG_COLOR_PARTICLE;
+    kg_canvas_fill_circle(r->canvas, middle, particle ? fmaxf(pixels, 1.0f) : pixels, pair.fill);
+    if (particle || 2.0f * pixels < KG_OUTLINE_MIN_SIZE) {
         return;
     }
-    kg_canvas_circle(canvas, middle, radius, line);
-    kg_vec2 rim = {center.x + shape->radius * cosf(state->angle), center.y + shape->radius * sinf(state->angle)};
-    kg_canvas_line(canvas, middle, kg_camera_to_screen(camera, rim), line);
+    kg_canvas_circle(r->canvas, middle, pixels, pair.line);
+    if (!kg_is_tile_color(color)) {
+        kg_canvas_line(r->canvas, middle, kg_raster_point(r, xf, (kg_vec2){radius, 0.0f}), pair.line);
+    }
 }
 
 /* A capsule drawn as the convex polygon of its outline: each end a half circle of
  * KG_CAPSULE_ARC points, the core's line through the middle showing how it turns. */
 #define KG_CAPSULE_ARC 9
 
-static void kg_draw_capsule(kg_canvas* canvas, const kg_camera* camera, const kg_shape_def* shape,
-                            const kg_body_state* state, uint8_t fill, uint8_t line)
+static void kg_raster_capsule(kg_vec2 p1, kg_vec2 p2, float radius, kg_color color, void* context)
 {
-    kg_vec2 c1 = shape->vertices[0], c2 = shape->vertices[1];
-    float base = atan2f(c2.y - c1.y, c2.x - c1.x) - 0.5f * 3.14159265f;
+    const kg_raster* r = context;
+    kg_palette_pair pair = kg_pair_of(color);
+    float base = atan2f(p2.y - p1.y, p2.x - p1.x) - 0.5f * 3.14159265f;
     kg_point points[2 * KG_CAPSULE_ARC];
     for (int end = 0; end < 2; ++end) {
-        kg_vec2 c = end ? c2 : c1;
+        kg_vec2 c = end ? p2 : p1;
         for (int i = 0; i < KG_CAPSULE_ARC; ++i) {
             float a = base + 3.14159265f * ((float)end + (float)i / (float)(KG_CAPSULE_ARC - 1));
-            kg_vec2 rim = {c.x - shape->radius * cosf(a), c.y - shape->radius * sinf(a)};
-            points[end * KG_CAPSULE_ARC + i] = kg_camera_to_screen(camera, kg_transform(state, rim));
+            kg_vec2 rim = {c.x - radius * cosf(a), c.y - radius * sinf(a)};
+            points[end * KG_CAPSULE_ARC + i] = kg_camera_to_screen(r->camera, rim);
         }
     }
-    kg_canvas_fill_convex(canvas, points, 2 * KG_CAPSULE_ARC, fill);
-    if (2.0f * shape->radius * camera->scale >= KG_OUTLINE_MIN_SIZE) {
-        kg_canvas_outline(canvas, points, 2 * KG_CAPSULE_ARC, line);
-        kg_canvas_line(canvas, kg_camera_to_screen(camera, kg_transform(state, c1)),
-                       kg_camera_to_screen(camera, kg_transform(state, c2)), line);
+    kg_canvas_fill_convex(r->canvas, points, 2 * KG_CAPSULE_ARC, pair.fill);
+    if (2.0f * radius * r->camera->scale >= KG_OUTLINE_MIN_SIZE) {
+        kg_canvas_outline(r->canvas, points, 2 * KG_CAPSULE_ARC, pair.line);
+        kg_canvas_line(r->canvas, kg_camera_to_screen(r->camera, p1), kg_camera_to_screen(r->camera, p2), pair.line);
     }
 }
 
 /* A segment has no area: its line alone, in the outline's colour. */
-static void kg_draw_segment(kg_canvas* canvas, const kg_camera* camera, const kg_shape_def* shape,
-                            const kg_body_state* state, uint8_t line)
+static void kg_raster_segment(kg_vec2 p1, kg_vec2 p2, kg_color color, void* context)
 {
-    kg_canvas_line(canvas, kg_camera_to_screen(camera, kg_transform(state, shape->vertices[0])),
-                   kg_camera_to_screen(camera, kg_transform(state, shape->vertices[1])), line);
+    const kg_raster* r = context;
+    kg_canvas_line(r->canvas, kg_camera_to_screen(r->camera, p1), kg_camera_to_screen(r->camera, p2),
+                   kg_pair_of(color).line);
 }
 
-static void kg_draw_shape(kg_canvas* canvas, const kg_camera* camera, const kg_shape_def* shape,
-                          const kg_body_state* state, kg_body_type type, kg_body body)
+/* Particles are round dots, contact points square ones. */
+static void kg_raster_point_mark(kg_vec2 point, float size, kg_color color, void* context)
 {
-    uint8_t fill, line;
-    kg_body_colors(type, body, &fill, &line);
-    if (shape->type == KG_SHAPE_POLYGON) {
-        kg_draw_polygon(canvas, camera, shape, state, fill, line);
-    } else if (shape->type == KG_SHAPE_CIRCLE) {
-        kg_draw_circle(canvas, camera, shape, state, type, fill, line);
-    } else if (shape->type == KG_SHAPE_CAPSULE) {
-        kg_draw_capsule(canvas, camera, shape, state, fill, line);
-    } else if (shape->type == KG_SHAPE_SEGMENT) {
-        kg_draw_segment(canvas, camera, shape, state, line);
-    } else {
-        kg_canvas_fill_circle(canvas, kg_camera_to_screen(camera, state->position), KG_PARTICLE_RADIUS, fill);
+    const kg_raster* r = context;
+    kg_point at = kg_camera_to_screen(r->camera, point);
+    if (color == KG_DEBUG_COLOR_PARTICLE) {
+        kg_canvas_fill_circle(r->canvas, at, 0.5f * size, kg_pair_of(color).fill);
+        return;
     }
+    int side = (int)size;
+    kg_canvas_fill_rect(r->canvas, (int)floorf(at.x) - side / 2, (int)floorf(at.y) - side / 2, side, side,
+                        kg_pair_of(color).fill);
 }
 
-/* Every shape of a body (a compound body has several, a chain one a segment), in the
- * body's colours. Most bodies' shapes fit the stack; a long chain's are allocated. */
-static void kg_draw_body_shapes(kg_canvas* canvas, const kg_camera* camera, const kg_world* world, kg_body body,
-                                const kg_body_state* state, kg_body_type type)
+/* What the camera shows, in world metres: kg_world_draw culls everything else. */
+static kg_aabb kg_camera_view(const kg_camera* camera)
 {
-    kg_shape_id on_stack[KG_DRAW_STACK_SHAPES];
-    int count = kg_body_shape_count(world, body);
-    kg_shape_id* shapes = count <= KG_DRAW_STACK_SHAPES ? on_stack : malloc((size_t)count * sizeof *shapes);
-    if (shapes && kg_body_get_shapes(world, body, shapes, count, &count) == KG_OK) {
-        for (int k = 0; k < count; ++k) {
-            kg_body_shape_def def;
-            if (kg_shape_get_def(world, shapes[k], &def) == KG_OK) {
-                kg_draw_shape(canvas, camera, &def.geometry, state, type, body);
-            }
-        }
-    }
-    if (shapes != on_stack) {
-        free(shapes);
-    }
+    return (kg_aabb){kg_camera_to_world(camera, (kg_point){0.0f, (float)camera->height}),
+                     kg_camera_to_world(camera, (kg_point){(float)camera->width, 0.0f})};
 }
 
-void kg_draw_body(kg_canvas* canvas, const kg_camera* camera, const kg_world* world, kg_body body)
+static kg_debug_draw kg_raster_draw(kg_raster* raster, const kg_draw_options* options)
 {
-    kg_body_state state;
-    kg_body_type type;
-    if (kg_body_get_state(world, body, &state) == KG_OK && kg_body_get_type(world, body, &type) == KG_OK) {
-        kg_draw_body_shapes(canvas, camera, world, body, &state, type);
-    }
+    kg_debug_draw draw = kg_default_debug_draw();
+    draw.draw_polygon = kg_raster_polygon;
+    draw.draw_solid_polygon = kg_raster_solid_polygon;
+    draw.draw_circle = kg_raster_circle;
+    draw.draw_solid_circle = kg_raster_solid_circle;
+    draw.draw_capsule = kg_raster_capsule;
+    draw.draw_segment = kg_raster_segment;
+    draw.draw_point = kg_raster_point_mark;
+    draw.body_color = kg_raster_body_color;
+    draw.flags = KG_DEBUG_DRAW_SHAPES | (options->tiles ? KG_DEBUG_DRAW_TILES : 0u) |
+                 (options->aabbs ? KG_DEBUG_DRAW_AABBS : 0u) |
+                 (options->contacts ? KG_DEBUG_DRAW_CONTACT_POINTS | KG_DEBUG_DRAW_CONTACT_NORMALS : 0u);
+    draw.use_bounds = 1;
+    draw.bounds = kg_camera_view(raster->camera);
+    draw.normal_length = KG_NORMAL_LENGTH / raster->camera->scale;
+    draw.context = raster;
+    return draw;
 }
 
 /* Lines every 10^k metres, k picked so that they are at least 24 pixels apart. Lines
@@ -317,53 +378,6 @@ static void kg_draw_grid(kg_canvas* canvas, const kg_camera* camera)
     }
 }
 
-static void kg_draw_contacts(kg_canvas* canvas, const kg_camera* camera, const kg_world* world)
-{
-    int count = kg_world_contact_count(world);
-    for (int i = 0; i < count; ++i) {
-        kg_contact_info contact;
-        if (kg_world_get_contact(world, i, &contact) != KG_OK) {
-            continue;
-        }
-        for (int p = 0; p < contact.point_count && p < 2; ++p) {
-            kg_point at = kg_camera_to_screen(camera, contact.points[p]);
-            kg_point tip = {at.x + KG_NORMAL_LENGTH * contact.normal.x, at.y - KG_NORMAL_LENGTH * contact.normal.y};
-            kg_canvas_line(canvas, at, tip, KG_COLOR_NORMAL);
-            kg_canvas_fill_rect(canvas, (int)floorf(at.x) - KG_CONTACT_SIZE / 2, (int)floorf(at.y) - KG_CONTACT_SIZE / 2,
-                                KG_CONTACT_SIZE + 1, KG_CONTACT_SIZE + 1, KG_COLOR_CONTACT);
-        }
-    }
-}
-
-static void kg_draw_aabbs(kg_canvas* canvas, const kg_camera* camera, const kg_world* world, const kg_body* bodies,
-                          int count)
-{
-    for (int i = 0; i < count; ++i) {
-        kg_aabb box;
-        if (kg_body_get_aabb(world, bodies[i], &box) == KG_OK) {
-            kg_canvas_rect(canvas, kg_camera_to_screen(camera, box.lower), kg_camera_to_screen(camera, box.upper),
-                           KG_COLOR_AABB);
-        }
-    }
-}
-
-/* All states in one call: the OpenCL backend then copies the pools back only once. */
-static void kg_draw_bodies(kg_canvas* canvas, const kg_camera* camera, const kg_world* world, const kg_body* bodies,
-                           int count)
-{
-    kg_body_state* states = count > 0 ? malloc((size_t)count * sizeof *states) : NULL;
-    if (!states || kg_world_get_body_states(world, bodies, count, states) != KG_OK) {
-        free(states);
-        return;
-    }
-    for (int i = 0; i < count; ++i) {
-        kg_body_type type;
-        if (kg_body_get_type(world, bodies[i], &type) == KG_OK) {
-            kg_draw_body_shapes(canvas, camera, world, bodies[i], &states[i], type);
-        }
-    }
-    free(states);
-}
 
 void kg_draw_world(kg_canvas* canvas, const kg_camera* camera, const kg_world* world, const kg_draw_options* options)
 {
@@ -371,141 +385,7 @@ void kg_draw_world(kg_canvas* canvas, const kg_camera* camera, const kg_world* w
     if (options->grid) {
         kg_draw_grid(canvas, camera);
     }
-    for (int i = 0; options->tiles && i < options->tile_layer_count; ++i) {
-        kg_draw_tile_layer(canvas, camera, &options->tile_layers[i]);
-    }
-    int count;
-    kg_body* bodies = kg_live_bodies(world, &count);
-    kg_draw_bodies(canvas, camera, world, bodies, count);
-    if (options->aabbs) {
-        kg_draw_aabbs(canvas, camera, world, bodies, count);
-    }
-    if (options->contacts) {
-        kg_draw_contacts(canvas, camera, world);
-    }
-    free(bodies);
-}
-
-/* ---- tiles ---- */
-
-static int kg_tile_id(const kg_tile_layer* layer, int x, int y)
-{
-    if (x < 0 || y < 0 || x >= layer->width || y >= layer->height) {
-        return -1;
-    }
-    int id = layer->cells[(size_t)y * (size_t)layer->width + (size_t)x];
-    return id >= 0 && id < layer->look_count && layer->looks[id].count >= 3 ? id : -1;
-}
-
-/* The side of the unit cell that segment a-b lies on (0 left, 1 right, 2 bottom, 3 top)
- * and the part of that side it covers; -1 when it lies inside the cell. */
-static int kg_cell_side(kg_vec2 a, kg_vec2 b, float* low, float* high)
-{
-    const float eps = 1e-4f;
-    int side = -1;
-    if (fabsf(a.x - b.x) < eps && (fabsf(a.x) < eps || fabsf(a.x - 1.0f) < eps)) {
-        side = fabsf(a.x) < eps ? 0 : 1;
-        *low = fminf(a.y, b.y);
-        *high = fmaxf(a.y, b.y);
-    } else if (fabsf(a.y - b.y) < eps && (fabsf(a.y) < eps || fabsf(a.y - 1.0f) < eps)) {
-        side = fabsf(a.y) < eps ? 2 : 3;
-        *low = fminf(a.x, b.x);
-        *high = fmaxf(a.x, b.x);
-    }
-    return side;
-}
-
-/* Whether the tile at (x, y) has an edge on side that covers [low, high] of it. */
-static int kg_tile_covers(const kg_tile_layer* layer, int x, int y, int side, float low, float high, int one_way)
-{
-    const float eps = 1e-4f;
-    int id = kg_tile_id(layer, x, y);
-    if (id < 0 || layer->looks[id].one_way != one_way) {
-        return 0;
-    }
-    const kg_tile_look* look = &layer->looks[id];
-    for (int i = 0; i < look->count; ++i) {
-        float other_low = 0.0f, other_high = 0.0f;
-        if (kg_cell_side(look->vertices[i], look->vertices[(i + 1) % look->count], &other_low, &other_high) == side &&
-            other_low <= low + eps && other_high >= high - eps) {
-            return 1;
-        }
-    }
-    return 0;
-}
-
-/* An edge on the cell's border is hidden where the neighbour across it has an edge of
- * the same kind (solid or one-way) covering it: the two tiles then read as one piece of
- * terrain, as they collide. */
-static int kg_edge_hidden(const kg_tile_layer* layer, int x, int y, int one_way, kg_vec2 a, kg_vec2 b)
-{
-    static const int kDx[4] = {-1, 1, 0, 0}, kDy[4] = {0, 0, -1, 1}, kOpposite[4] = {1, 0, 3, 2};
-    float low = 0.0f, high = 0.0f;
-    int side = kg_cell_side(a, b, &low, &high);
-    return side >= 0 && kg_tile_covers(layer, x + kDx[side], y + kDy[side], kOpposite[side], low, high, one_way);
-}
-
-static kg_point kg_tile_point(const kg_camera* camera, const kg_tile_layer* layer, int x, int y, kg_vec2 unit)
-{
-    kg_vec2 world = {layer->origin.x + ((float)x + unit.x) * layer->tile_size.x,
-                     layer->origin.y + ((float)y + unit.y) * layer->tile_size.y};
-    return kg_camera_to_screen(camera, world);
-}
-
-static void kg_draw_tile(kg_canvas* canvas, const kg_camera* camera, const kg_tile_layer* layer, int x, int y,
-                         const kg_tile_look* look)
-{
-    kg_point points[KG_MAX_POLYGON_VERTICES];
-    for (int i = 0; i < look->count; ++i) {
-        points[i] = kg_tile_point(camera, layer, x, y, look->vertices[i]);
-    }
-    kg_canvas_fill_convex(canvas, points, look->count, look->one_way ? KG_COLOR_ONE_WAY_FILL : KG_COLOR_TILE_FILL);
-    uint8_t line = look->one_way ? KG_COLOR_ONE_WAY_LINE : KG_COLOR_TILE_LINE;
-    for (int i = 0; i < look->count; ++i) {
-        int next = (i + 1) % look->count;
-        if (!kg_edge_hidden(layer, x, y, look->one_way, look->vertices[i], look->vertices[next])) {
-            kg_canvas_line(canvas, points[i], points[next], line);
-        }
-    }
-}
-
-static int kg_clamp_int(int v, int low, int high) { return v < low ? low : (v > high ? high : v); }
-
-int kg_tile_layer_visible(const kg_camera* camera, const kg_tile_layer* layer, kg_cell_range* out)
-{
-    if (!layer->cells || layer->tile_size.x <= 0.0f || layer->tile_size.y <= 0.0f) {
-        return 0;
-    }
-    kg_vec2 low = kg_camera_to_world(camera, (kg_point){0.0f, (float)camera->height});
-    kg_vec2 high = kg_camera_to_world(camera, (kg_point){(float)camera->width, 0.0f});
-    float x0 = floorf((low.x - layer->origin.x) / layer->tile_size.x);
-    float x1 = floorf((high.x - layer->origin.x) / layer->tile_size.x);
-    float y0 = floorf((low.y - layer->origin.y) / layer->tile_size.y);
-    float y1 = floorf((high.y - layer->origin.y) / layer->tile_size.y);
-    if (x1 < 0.0f || y1 < 0.0f || x0 >= (float)layer->width || y0 >= (float)layer->height) {
-        return 0;
-    }
-    /* clamped as floats first: far off the map the cell numbers overflow an int */
-    out->x0 = kg_clamp_int((int)fmaxf(x0, -1.0f), 0, layer->width - 1);
-    out->x1 = kg_clamp_int((int)fminf(x1, (float)layer->width), 0, layer->width - 1);
-    out->y0 = kg_clamp_int((int)fmaxf(y0, -1.0f), 0, layer->height - 1);
-    out->y1 = kg_clamp_int((int)fminf(y1, (float)layer->height), 0, layer->height - 1);
-    return 1;
-}
-
-/* Only the cells on screen are visited, so a huge map costs what its visible part does. */
-void kg_draw_tile_layer(kg_canvas* canvas, const kg_camera* camera, const kg_tile_layer* layer)
-{
-    kg_cell_range range;
-    if (!kg_tile_layer_visible(camera, layer, &range)) {
-        return;
-    }
-    for (int y = range.y0; y <= range.y1; ++y) {
-        for (int x = range.x0; x <= range.x1; ++x) {
-            int id = kg_tile_id(layer, x, y);
-            if (id >= 0) {
-                kg_draw_tile(canvas, camera, layer, x, y, &layer->looks[id]);
-            }
-        }
-    }
+    kg_raster raster = {canvas, camera, world};
+    kg_debug_draw draw = kg_raster_draw(&raster, options);
+    kg_world_draw(world, &draw);
 }

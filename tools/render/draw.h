@@ -1,5 +1,6 @@
 /* Drawing a kgyro world on a canvas: a camera that maps metres to pixels, bodies in
- * flat colours with outlines, and optional contacts, bounding boxes and tile layers. */
+ * flat colours with outlines, and optional contacts, bounding boxes and tile maps, all
+ * walked by the library's debug draw (kg_world_draw) and rasterised here. */
 #ifndef KG_RENDER_DRAW_H
 #define KG_RENDER_DRAW_H
 
@@ -27,51 +28,16 @@ void kg_camera_zoom_at(kg_camera* camera, kg_point screen, float factor);
  * shrink the scene. Returns 0 when the world has neither bodies nor tile maps. */
 int kg_world_view_box(const kg_world* world, kg_aabb* out);
 
-/* One tile id's look: a convex polygon in the tile's unit square (0..1, y up), filled,
- * outlined, or drawn as a one-way platform. count 0 is an empty tile. */
-typedef struct kg_tile_look {
-    int count;
-    kg_vec2 vertices[KG_MAX_POLYGON_VERTICES];
-    int one_way;
-} kg_tile_look;
-
-/* A grid of tile ids as the renderer sees it; the adapter from a world's tile maps
- * (tiles.h) fills one of these per layer. cells[y * width + x] with row 0 at the
- * bottom, at world origin + (x, y) * tile_size. ids outside [0, look_count) are empty. */
-typedef struct kg_tile_layer {
-    kg_vec2 origin;
-    kg_vec2 tile_size;
-    int width, height;
-    const int* cells;
-    const kg_tile_look* looks;
-    int look_count;
-} kg_tile_layer;
-
 typedef struct kg_draw_options {
     int contacts; /* contact points and normals */
     int aabbs;    /* bounding boxes */
-    int tiles;    /* the tile layers */
+    int tiles;    /* the tile maps */
     int grid;     /* a faint metre grid under everything */
-    const kg_tile_layer* tile_layers;
-    int tile_layer_count;
 } kg_draw_options;
 
-/* Clears the canvas and draws the world: tiles, bodies, then the overlays. */
+/* Clears the canvas and draws what the camera shows of the world through kg_world_draw
+ * (kgyro/debug_draw.h): tiles, bodies, then the overlays. */
 void kg_draw_world(kg_canvas* canvas, const kg_camera* camera, const kg_world* world,
                    const kg_draw_options* options);
-
-void kg_draw_tile_layer(kg_canvas* canvas, const kg_camera* camera, const kg_tile_layer* layer);
-
-/* Cells x0..x1, y0..y1, bounds included. */
-typedef struct kg_cell_range {
-    int x0, y0, x1, y1;
-} kg_cell_range;
-
-/* The cells of layer that camera shows; 0 when it shows none. */
-int kg_tile_layer_visible(const kg_camera* camera, const kg_tile_layer* layer, kg_cell_range* out);
-/* One body with its shape at its current pose, in the colours of its type. */
-void kg_draw_body(kg_canvas* canvas, const kg_camera* camera, const kg_world* world, kg_body body);
-/* The fill and outline colours of a body by type and handle index. */
-void kg_body_colors(kg_body_type type, kg_body body, uint8_t* fill, uint8_t* line);
 
 #endif

@@ -20,6 +20,7 @@ static const kg_rgb kFixedColors[] = {
     [KG_COLOR_ONE_WAY_FILL] = {0x8a, 0x6a, 0x3a},
     [KG_COLOR_ONE_WAY_LINE] = {0xe0, 0xb0, 0x60},
     [KG_COLOR_SELECTION] = {0xff, 0xff, 0xff},
+    [KG_COLOR_SENSOR] = {0xf0, 0x7a, 0xf0},
 };
 
 static uint8_t kPalette[256 * 3];

@@ -24,6 +24,7 @@ enum {
     KG_COLOR_ONE_WAY_FILL,
     KG_COLOR_ONE_WAY_LINE,
     KG_COLOR_SELECTION,
+    KG_COLOR_SENSOR,
     KG_COLOR_HUE_FIRST = 32, /* dynamic bodies: KG_HUE_COUNT pairs (fill, outline) */
     KG_HUE_COUNT = 24
 };

@@ -1,6 +1,5 @@
 # kgyro_render: the software renderer (canvas, palette, world drawing, GIF and PNG
 # writers) as a static library, linked by the kgyro command and by tests/test_render*.c.
-# With the scene loader (kgyro_io) it also draws a scene's tile maps (tiles.c).
 # PNG goes through stb_image_write (Debian: libstb-dev, header in /usr/include/stb);
 # without it PNG output reports an error and GIF still works.
 if(NOT TARGET kgyro_render)
@@ -22,8 +21,4 @@ if(NOT TARGET kgyro_render)
   endif()
   target_compile_options(kgyro_render PRIVATE ${KG_C_FLAGS})
   target_link_libraries(kgyro_render PUBLIC kgyro)
-  if(TARGET kgyro_io)
-    target_sources(kgyro_render PRIVATE ${KG_RENDER_DIR}/tiles.c)
-    target_link_libraries(kgyro_render PUBLIC kgyro_io)
-  endif()
 endif()

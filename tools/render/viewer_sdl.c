@@ -8,7 +8,6 @@
 #include "image.h"
 #include "palette.h"
 #include "sim.h"
-#include "tiles.h"
 #include "viewer.h"
 
 #include <math.h>
@@ -46,7 +45,6 @@ typedef struct kg_viewer {
     kg_canvas canvas;
     kg_camera camera;
     kg_draw_options draw;
-    kg_tile_view tiles;
     SDL_Window* window;
     SDL_Surface* frame; /* the canvas pixels as an 8-bit palette surface */
     int paused, single_step, quit, panning;
@@ -619,12 +617,11 @@ static int kg_viewer_start(kg_viewer* v)
     }
     v->camera = kg_camera_fit(view, c->width, c->height, c->has_view ? 0.0f : 0.05f);
     v->script.next = c->script;
-    if (!v->added || kg_tile_view_init(&v->tiles, v->sim.scene, v->sim.world) != KG_OK ||
-        kg_canvas_init(&v->canvas, c->width, c->height) != 0) {
+    if (!v->added || kg_canvas_init(&v->canvas, c->width, c->height) != 0) {
         fprintf(stderr, "kgyro view: out of memory\n");
         return 1;
     }
-    v->draw = (kg_draw_options){0, 0, 1, 1, v->tiles.layers, v->tiles.layer_count};
+    v->draw = (kg_draw_options){0, 0, 1, 1};
     if (kg_open_window(v) != 0) {
         return 1;
     }
@@ -639,7 +636,6 @@ static void kg_viewer_stop(kg_viewer* v)
     }
     SDL_Quit();
     kg_canvas_free(&v->canvas);
-    kg_tile_view_free(&v->tiles);
     free(v->added);
     kg_sim_stop(&v->sim);
 }
@@ -655,9 +651,6 @@ static void kg_run_frame(kg_viewer* v)
     if (!v->paused || v->single_step) {
         kg_step(v);
         v->single_step = 0;
-    }
-    if (v->draw.tiles) {
-        kg_tile_view_refresh(&v->tiles, v->sim.world, &v->camera);
     }
     kg_draw_world(&v->canvas, &v->camera, v->sim.world, &v->draw);
     kg_draw_overlay(v);
