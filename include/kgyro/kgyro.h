@@ -20,6 +20,7 @@
 #include "force.h"
 #include "collision.h"
 #include "tilemap.h"
+#include "query.h"
 
 #define KGYRO_VERSION_MAJOR 0
 #define KGYRO_VERSION_MINOR 1

@@ -26,7 +26,7 @@ static int kg_finite2(kg_vec2 v) { return isfinite(v.x) && isfinite(v.y); }
 static int kg_nonneg(float v) { return isfinite(v) && v >= 0.0f; }
 
 /* Read access for getters: the OpenCL backend may hold newer state on the device. */
-static const kg_body_pool* kg_read_pool(const kg_world* world)
+const kg_body_pool* kg_read_pool(const kg_world* world)
 {
     kg_world* w = (kg_world*)world;
     if (w->backend && w->backend->sync_to_host) {
@@ -39,6 +39,7 @@ static const kg_body_pool* kg_read_pool(const kg_world* world)
 kg_body_pool* kg_world_write_pool(kg_world* world)
 {
     kg_read_pool(world);
+    world->pool_writes += 1u;
     if (world->backend && world->backend->host_changed) {
         world->backend->host_changed(world);
     }

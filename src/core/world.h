@@ -32,6 +32,7 @@ struct kg_tilemaps;
 struct kg_collision;
 struct kg_solver;
 struct kg_sleep;
+struct kg_query_index;
 
 struct kg_world {
     kg_world_def def;
@@ -51,8 +52,13 @@ struct kg_world {
     kg_u32 static_edits; /* bumped when a static body or a bullet is made, removed or changed:
                           * continuous collision's list of them is then made again */
     uint64_t step_index;
+    kg_u32 pool_writes; /* bumped by every write to the body pool through the API (and a step
+                         * moves step_index): the query index is made again when either moved */
+    struct kg_query_index* query_index; /* NULL until the first query (collide/query_index.h) */
 };
 
+/* The pool for reading, after the backend synced it (the device may hold newer state). */
+const kg_body_pool* kg_read_pool(const kg_world* world);
 /* The pool for writing, after the backend synced it (it uploads what changed). */
 kg_body_pool* kg_world_write_pool(kg_world* world);
 /* Wakes every sleeping body: for changes that reach them all (gravity, applicators). */
