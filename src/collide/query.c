@@ -161,13 +161,16 @@ static int kg_tie_before(const kg_ray_result* a, const kg_ray_result* b)
     return a_body && (!b_body || a->shape.index < b->shape.index);
 }
 
+/* Keeps the nearest hit. A hit at 0 (a cast that starts overlapping) is clipped to the
+ * least float above 0 rather than 0, which would stop the query before a tie of a lower
+ * slot is found. */
 static float kg_keep_closest(const kg_ray_result* hit, void* ctx)
 {
     kg_ray_result* best = (kg_ray_result*)ctx;
     if (!best->hit || hit->fraction < best->fraction || (hit->fraction == best->fraction && kg_tie_before(hit, best))) {
         *best = *hit;
     }
-    return hit->fraction;
+    return hit->fraction > 0.0f ? hit->fraction : nextafterf(0.0f, 1.0f);
 }
 
 /* ---- the index and the tile maps ---- */
