@@ -12,7 +12,8 @@
  * first query after a step pays for it (about 10 ms for 100,000 bodies) and the
  * following ones do not. Queries read the world as the last step left it, on either
  * backend (the OpenCL backend's state is read back first), and allocate nothing unless
- * the index must grow. A query's callback must not change the world.
+ * the index must grow. A query's callback must not change the world, and one world's
+ * queries must not run on several threads at once (the first may remake the index).
  *
  * Results are deterministic: the same world and query give the same hits, in the same
  * order, with the same bits, whatever the thread count or backend. Callbacks are called

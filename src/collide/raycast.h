@@ -1,7 +1,8 @@
-/* The narrow tests of the world queries (core/query.c, public API kgyro/query.h): a ray
- * against one shape, whether a shape holds a point, and the same against a tile, shared by
- * the CPU backend and the OpenCL kernels (kg_shared.h's rules: no libc beyond sqrtf and
- * friends, no global pointers but KG_GLOBAL ones).
+/* The narrow tests of the world queries (collide/query.c, public API kgyro/query.h): a ray
+ * against one shape, whether a shape holds a point, and the same against a tile. Written
+ * as shared code (kg_shared.h's rules: no libc beyond sqrtf and friends, no global
+ * pointers but KG_GLOBAL ones) so that a kernel can answer queries with the same bits;
+ * today the host answers them on both backends, from the state read back.
  *
  * Rays are segments: from origin along translation, fractions in [0, max_fraction] of it.
  * Every test works in the shape's own frame (the caller moves the ray there) and gives a
