@@ -22,6 +22,7 @@
 #include "events.h"
 #include "tilemap.h"
 #include "debug_draw.h"
+#include "query.h"
 
 #define KGYRO_VERSION_MAJOR 0
 #define KGYRO_VERSION_MINOR 1

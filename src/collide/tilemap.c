@@ -697,6 +697,14 @@ void kg_tilemaps_arrays(const kg_world* world, kg_tilemap_arrays* out)
     out->proto_count = t->proto_count;
 }
 
+kg_tilemap kg_tilemaps_handle(const kg_world* world, int live_index)
+{
+    kg_tilemap handle;
+    handle.index = (uint32_t)world->tilemaps->order[live_index];
+    handle.generation = kg_live_map(world, live_index)->generation;
+    return handle;
+}
+
 int kg_tilemaps_take_dirty(kg_world* world, int live_index)
 {
     kg_map* m = kg_live_map(world, live_index);

@@ -59,6 +59,8 @@ typedef struct kg_tilemap_arrays {
     size_t proto_count;
 } kg_tilemap_arrays;
 void kg_tilemaps_arrays(const kg_world* world, kg_tilemap_arrays* out);
+/* The handle of the live map at live_index in those arrays (the world queries name it). */
+kg_tilemap kg_tilemaps_handle(const kg_world* world, int live_index);
 /* Whether kg_tilemap_set_tile changed the map's cells since the last call (which clears it). */
 int kg_tilemaps_take_dirty(kg_world* world, int live_index);
 /* The one-way platform state, per body slot (world->def.max_bodies each): origin and

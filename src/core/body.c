@@ -39,6 +39,7 @@ const kg_body_pool* kg_world_read_pool(const kg_world* world)
 kg_body_pool* kg_world_write_pool(kg_world* world)
 {
     kg_world_read_pool(world);
+    world->pool_writes += 1u;
     if (world->backend && world->backend->host_changed) {
         world->backend->host_changed(world);
     }

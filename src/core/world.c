@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "collide/collide.h"
 #include "collide/events.h"
+#include "collide/query_index.h"
 #include "collide/tilemap.h"
 #include "solve/sleep.h"
 #include "solve/solver.h"
@@ -143,6 +144,7 @@ void kg_destroy_world(kg_world* world)
     kg_tilemaps_destroy(world);
     kg_collision_destroy(world);
     kg_events_destroy(world);
+    kg_query_index_destroy(world->query_index);
     kg_thread_pool_destroy(world->threads);
     for (int i = 0; world->applicators && i < world->def.max_applicators; ++i) {
         kg_free(world->applicators[i].bodies);

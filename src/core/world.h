@@ -34,6 +34,7 @@ struct kg_collision;
 struct kg_solver;
 struct kg_sleep;
 struct kg_events;
+struct kg_query_index;
 
 struct kg_world {
     kg_world_def def;
@@ -57,6 +58,9 @@ struct kg_world {
     int lock; /* inside kg_world_step: KG_LOCK_STEP, and KG_LOCK_ALL while a pre-solve callback runs */
     kg_pre_solve_fn* pre_solve;
     void* pre_solve_context;
+    kg_u32 pool_writes; /* bumped by every write to the body pool through the API (and a step
+                         * moves step_index): the query index is made again when either moved */
+    struct kg_query_index* query_index; /* NULL until the first query (collide/query_index.h) */
 };
 
 /* What a callback inside a step may not do: change what the step is iterating over
