@@ -237,8 +237,8 @@ static const error_case kErrorStrings[] = {
     {"{\"bodies\": [{\"shape\": {\"type\": \"circle\", \"radius\": 1}, \"shapes\": []}]}",
      "bodies[0].shapes: give shape or shapes, not both"},
     {"{\"bodies\": [{\"shapes\": []}]}", "bodies[0].shapes: must hold 1 to 64 shapes (got 0)"},
-    {"{\"bodies\": [{\"shapes\": [{\"type\": \"circle\", \"radius\": 1, \"sensor\": true}]}]}",
-     "bodies[0].shapes[0].sensor: the first shape of a dynamic body must be solid"},
+    {"{\"bodies\": [{\"shapes\": [{\"type\": \"circle\", \"radius\": 1}]}], \"sensor\": true}",
+     "sensor: unknown field"},
     {"{\"bodies\": [{\"shapes\": [{\"type\": \"circle\", \"radius\": 1}, {\"type\": \"box\", \"width\": 1, "
      "\"height\": 1, \"colour\": 2}]}]}",
      "bodies[0].shapes[1].colour: unknown field"},

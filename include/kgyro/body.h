@@ -88,6 +88,8 @@ typedef struct kg_body_def {
                                * kinematic ones; every dynamic body is kept from passing
                                * through static bodies and tile maps anyway
                                * (kg_world_def.enable_continuous) */
+    int is_sensor;            /* non-zero: the first shape is a sensor (kg_body_shape_def.
+                               * is_sensor): it pushes nothing and reports what overlaps it */
     int enable_pre_solve;     /* non-zero: its contacts go through the world's pre-solve
                                * callback (kgyro/collision.h), which may switch them off */
     void* user_data;

@@ -28,7 +28,9 @@ extern "C" {
 typedef enum kg_event_kind {
     KG_EVENT_BEGIN = 0, /* two shapes began touching */
     KG_EVENT_END,       /* they stopped: apart, filtered out, a shape or body destroyed */
-    KG_EVENT_HIT        /* a point pushed this step after approaching faster than the threshold */
+    KG_EVENT_HIT,       /* a point pushed this step after approaching faster than the threshold */
+    KG_EVENT_SENSOR_BEGIN, /* a shape (or tile) began overlapping a sensor: a is the sensor's body */
+    KG_EVENT_SENSOR_END    /* it stopped: moved out, filtered out, destroyed */
 } kg_event_kind;
 
 /* One event. b is the null body when a touched a tile: map, layer, x and y name it. An end
@@ -67,6 +69,25 @@ typedef struct kg_contact_events {
  * also when their lists cannot grow, with the error set). On the OpenCL backend the first
  * call after a step reads the step's contacts and the step before's back from the device. */
 KG_API kg_contact_events kg_world_get_contact_events(const kg_world* world);
+
+/* The last step's sensor events (kg_body_shape_def.is_sensor, "sensor" in scenes): a shape
+ * of another body, or a tile, that began or stopped overlapping a sensor shape (touching
+ * counts). a and shape_a are the sensor's body and shape, b and shape_b the visitor's (b
+ * null for a tile: map, layer, x and y name it). A sensor sees static, kinematic and
+ * dynamic bodies and tile maps its filter agrees with, never another sensor nor its own
+ * body. An end event of a body destroyed since has its handle null and its user data as
+ * it was. Ordered by sensor shape slot, then visitor (bodies by slot and shape, then tiles
+ * by map, layer, row and column): the same with any thread count and on both backends.
+ * Sensors are found after every step where the world has any, through the same index as
+ * the queries (include/kgyro/query.h), which they keep current. */
+typedef struct kg_sensor_events {
+    const kg_contact_event* begin;
+    int begin_count;
+    const kg_contact_event* end;
+    int end_count;
+} kg_sensor_events;
+
+KG_API kg_sensor_events kg_world_get_sensor_events(const kg_world* world);
 
 /* Writes up to capacity of body's current contacts (the last step's, touching or
  * speculative) to out and how many it has to *count; kg_contact_info as

@@ -20,11 +20,6 @@ typedef struct kg_touch {
     kg_u32 a, b, shape_a, shape_b, tile, generation_a, generation_b, contact;
 } kg_touch;
 
-typedef struct kg_event_list {
-    kg_contact_event* items;
-    int count, capacity;
-} kg_event_list;
-
 struct kg_events {
     kg_touch* touching[2]; /* the step before's and this step's touching contacts */
     int touching_count[2];
@@ -35,7 +30,7 @@ struct kg_events {
                                   * layer field, until handed out) with the step count then */
 };
 
-static kg_result kg_grow(void** items, int* capacity, int need, size_t size)
+kg_result kg_grow(void** items, int* capacity, int need, size_t size)
 {
     if (need <= *capacity) {
         return KG_OK;
@@ -54,7 +49,7 @@ static kg_result kg_grow(void** items, int* capacity, int need, size_t size)
     return KG_OK;
 }
 
-static kg_result kg_push(kg_event_list* list, const kg_contact_event* e)
+kg_result kg_push(kg_event_list* list, const kg_contact_event* e)
 {
     KG_TRY(kg_grow((void**)&list->items, &list->capacity, list->count + 1, sizeof *e));
     list->items[list->count++] = *e;

@@ -498,7 +498,7 @@ kg_result kg_world_cast_shape(const kg_world* world, const kg_shape_def* shape, 
 {
     KG_TRY(kg_check_ray(world, position, translation, (const void*)fn));
     kg_shape moving;
-    kg_xf xf;
+    kg_xf xf = {{0.0f, 0.0f}, {1.0f, 0.0f}}; /* set by kg_query_shape; gcc cannot tell */
     KG_TRY(kg_query_shape(shape, position, angle, &moving, &xf));
     kg_query q = kg_start_query(world, filter);
     q.ray.max_fraction = 1.0f;
@@ -637,6 +637,19 @@ kg_result kg_world_overlap_shape_results(const kg_world* world, const kg_shape_d
     q.kind = KG_OVERLAP_SHAPE;
     q.moving = &moving;
     q.box = kg_shape_aabb(&moving, q.xf);
+    return kg_run_overlap(&q, fn, ctx);
+}
+
+kg_result kg_overlap_of_shape(const kg_world* world, kg_u32 s, kg_query_filter filter, kg_overlap_result_fn* fn,
+                              void* ctx)
+{
+    kg_query q = kg_start_query(world, filter);
+    kg_u32 i = q.sp->body[s];
+    q.skip_body = i;
+    q.kind = KG_OVERLAP_SHAPE;
+    q.moving = kg_shape_geometry(q.p, q.sp, s);
+    q.xf = q.p->xf[i];
+    q.box = kg_shape_aabb(q.moving, q.xf);
     return kg_run_overlap(&q, fn, ctx);
 }
 

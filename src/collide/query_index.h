@@ -18,6 +18,7 @@
 #define KG_QUERY_INDEX_H
 
 #include "core/world.h"
+#include "kgyro/query.h"
 
 /* Nodes group this many children. */
 #define KG_QUERY_FANOUT 4
@@ -41,5 +42,11 @@ typedef int kg_query_leaf_fn(kg_u32 shape, void* ctx);
 typedef int kg_query_box_test(kg_aabb box, const void* ctx);
 void kg_query_index_search(const kg_query_index* index, kg_query_box_test* test, const void* test_ctx,
                            kg_query_leaf_fn* leaf, void* leaf_ctx);
+
+/* The shapes and tiles that live shape slot s overlaps at its body's pose, its body's own
+ * shapes left out (a sensor's visitors), as kg_world_overlap_shape_results finds them
+ * (collide/query.c). */
+kg_result kg_overlap_of_shape(const kg_world* world, kg_u32 s, kg_query_filter filter, kg_overlap_result_fn* fn,
+                              void* ctx);
 
 #endif

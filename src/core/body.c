@@ -221,6 +221,9 @@ kg_result kg_create_body(kg_world* world, const kg_body_def* def, kg_body* out_b
     } else {
         kg_body_shape_def first = kg_first_shape_def(def);
         kg_shape_attach(world, s, i, &first); /* its geometry is the body pool's shape */
+        if (first.is_sensor) {
+            kg_body_material_changed(world, p, i); /* a sensor alone collides with nothing */
+        }
     }
     out_body->index = (uint32_t)i;
     out_body->generation = p->generation[i];

@@ -30,6 +30,7 @@ kg_body_shape_def kg_first_shape_def(const kg_body_def* d)
     def.restitution = d->restitution;
     def.category = d->category;
     def.mask = d->mask;
+    def.is_sensor = d->is_sensor;
     return def;
 }
 
@@ -44,6 +45,7 @@ static void kg_shape_attach_at(kg_world* world, int s, int i, const kg_body_shap
     sp->category[s] = def->category;
     sp->mask[s] = def->mask;
     sp->flags[s] = KG_SHAPE_ALIVE | (def->is_sensor ? KG_SHAPE_SENSOR : 0u);
+    world->sensor_shapes_made += def->is_sensor != 0;
     sp->user_data[s] = def->user_data;
     if (sp->generation[s] == 0) {
         sp->generation[s] = 1;

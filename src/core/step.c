@@ -4,6 +4,7 @@
  * the shared per-element code on the CPU, kernels on a device. docs/design.md, "The
  * stages of a step", tells the whole. */
 #include "backend/backend.h"
+#include "collide/events.h"
 #include "core/error.h"
 #include "core/step.h"
 #include "core/world.h"
@@ -74,6 +75,7 @@ kg_result kg_world_step(kg_world* world, float dt)
     world->lock = 0;
     if (r == KG_OK) {
         kg_shape_pool_free_held(&world->shapes); /* the new contacts name no shape destroyed before the step */
+        r = world->sensor_shapes_made ? kg_sensors_after_step(world) : KG_OK;
     }
     world->step_index += 1;
     return r;

@@ -144,6 +144,7 @@ void kg_destroy_world(kg_world* world)
     kg_tilemaps_destroy(world);
     kg_collision_destroy(world);
     kg_events_destroy(world);
+    kg_sensors_destroy(world);
     kg_query_index_destroy(world->query_index);
     kg_thread_pool_destroy(world->threads);
     for (int i = 0; world->applicators && i < world->def.max_applicators; ++i) {

@@ -34,6 +34,7 @@ struct kg_collision;
 struct kg_solver;
 struct kg_sleep;
 struct kg_events;
+struct kg_sensors;
 struct kg_query_index;
 
 struct kg_world {
@@ -46,7 +47,9 @@ struct kg_world {
     struct kg_solver* solver;
     struct kg_sleep* sleep;
     struct kg_tilemaps* tilemaps;   /* NULL until a tile map is added */
-    struct kg_events* events;       /* NULL until the first step with events */
+    struct kg_events* events;       /* NULL until events are first asked for */
+    struct kg_sensors* sensors;     /* NULL until a step with a sensor */
+    int sensor_shapes_made;         /* ever: none, and a step looks for no sensor */
     struct kg_thread_pool* threads; /* CPU worker threads (NULL with one thread) */
     const struct kg_backend_ops* backend;
     void* backend_state;

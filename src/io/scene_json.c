@@ -25,7 +25,7 @@ static const char* const kSceneFields[] = {"description", "gravity", "dt", "step
 static const char* const kBodyFields[] = {"name", "type", "position", "angle", "velocity", "angular_velocity",
                                           "shape", "shapes", "density", "mass", "friction", "restitution",
                                           "linear_damping", "angular_damping", "category", "mask",
-                                          "fixed_rotation", "bullet", "pivot", NULL};
+                                          "fixed_rotation", "bullet", "sensor", "pivot", NULL};
 static const char* const kBoxFields[] = {"type", "width", "height", "center", "angle", NULL};
 static const char* const kCircleFields[] = {"type", "radius", "center", NULL};
 static const char* const kPolygonFields[] = {"type", "vertices", NULL};
@@ -435,6 +435,7 @@ static kg_result kg_read_shape_entry(const kg_json_reader* reader, const cJSON* 
     out->restitution = body->restitution;
     out->category = body->category;
     out->mask = body->mask;
+    out->is_sensor = body->is_sensor;
     KG_TRY(kg_json_float(reader, json, path, "density", KG_JSON_NON_NEGATIVE, &out->density));
     KG_TRY(kg_json_float(reader, json, path, "friction", KG_JSON_NON_NEGATIVE, &out->friction));
     KG_TRY(kg_json_float(reader, json, path, "restitution", KG_JSON_UNIT, &out->restitution));
@@ -447,8 +448,8 @@ static kg_result kg_read_shape_entry(const kg_json_reader* reader, const cJSON* 
 }
 
 /* A body's "shapes", non-empty: chains go to chains; the first other entry becomes the
- * body def's shape (so it must be solid, and massive on a moving body: the body is made
- * with it), the others *extras (*extra_count of them, at most KG_SCENE_MAX_SHAPES - 1). A
+ * body def's shape (so it must be massive on a moving body: the body is made with it; it
+ * may be a sensor), the others *extras (*extra_count of them, at most KG_SCENE_MAX_SHAPES - 1). A
  * body of chains only has no shape of its own. */
 static kg_result kg_read_shape_entries(const kg_json_reader* reader, const cJSON* json, const kg_json_path* path,
                                        kg_body_def* def, kg_body_shape_def* extras, int* extra_count,
@@ -484,10 +485,10 @@ static kg_result kg_read_shape_entries(const kg_json_reader* reader, const cJSON
         }
         first = 0;
         int moves = def->type == KG_BODY_DYNAMIC || def->type == KG_BODY_PARTICLE;
-        if (shape.is_sensor || (moves && def->mass == 0.0f && !(shape.density > 0.0f))) {
-            kg_json_path field_path = kg_json_path_key(&entry_path, shape.is_sensor ? "sensor" : "density");
-            return kg_json_fail(reader, &field_path, "the first shape of a %s body must be %s", kBodyTypes[def->type],
-                                shape.is_sensor ? "solid" : "of density > 0");
+        if (moves && def->mass == 0.0f && !(shape.density > 0.0f)) {
+            kg_json_path field_path = kg_json_path_key(&entry_path, "density");
+            return kg_json_fail(reader, &field_path, "the first shape of a %s body must be of density > 0",
+                                kBodyTypes[def->type]);
         }
         def->shape = shape.geometry;
         def->density = shape.density;
@@ -495,6 +496,7 @@ static kg_result kg_read_shape_entries(const kg_json_reader* reader, const cJSON
         def->restitution = shape.restitution;
         def->category = shape.category;
         def->mask = shape.mask;
+        def->is_sensor = shape.is_sensor;
     }
     return KG_OK;
 }
@@ -542,6 +544,7 @@ static kg_result kg_read_body_into(kg_loader* loader, const cJSON* json, const k
     def.type = (kg_body_type)type;
     KG_TRY(kg_read_motion(reader, json, path, &def));
     KG_TRY(kg_read_material(reader, json, path, &def)); /* before the shape: a chain there takes it */
+    KG_TRY(kg_json_bool(reader, json, path, "sensor", &def.is_sensor)); /* its shapes', unless they say */
     KG_TRY(kg_read_body_shape(reader, json, path, &def, chains));
     KG_TRY(kg_read_mass(reader, json, path, &def));
     kg_body_shape_def extras[KG_SCENE_MAX_SHAPES];

@@ -916,7 +916,8 @@ static kg_result kg_read_body_properties(const kg_json_reader* reader, const cJS
     KG_TRY(kg_float_property(reader, owner, path, "restitution", KG_JSON_UNIT, &def->restitution));
     KG_TRY(kg_float_property(reader, owner, path, "linear_damping", KG_JSON_NON_NEGATIVE, &def->linear_damping));
     KG_TRY(kg_float_property(reader, owner, path, "angular_damping", KG_JSON_NON_NEGATIVE, &def->angular_damping));
-    return kg_bool_property(reader, owner, path, "fixed_rotation", &def->fixed_rotation);
+    KG_TRY(kg_bool_property(reader, owner, path, "fixed_rotation", &def->fixed_rotation));
+    return kg_bool_property(reader, owner, path, "sensor", &def->is_sensor);
 }
 
 /* An ellipse object with the property "capsule" must be twice as long as wide. */
