@@ -68,6 +68,13 @@ echo
 echo "Step times (mean wall-clock ms per step; OpenCL only where kgyro info reports a device):"
 printf '%-16s %7s %6s %14s %14s\n' scene bodies steps "CPU ms/step" "OpenCL ms/step"
 printf '%s\n' "${rows[@]}"
+# A game's loop over the same level: a player that runs and jumps by ray and shape casts,
+# hears its landings as hit events and finds the goal through a sensor (samples/platformer_player.c).
+if [ -x "$build/platformer_player" ]; then
+  echo
+  echo "demo: samples/platformer_player.c, a player in samples/platformer.tmj"
+  "$build/platformer_player" samples/platformer.tmj | tail -n 4
+fi
 echo
 echo "demo: done in $((SECONDS - start)) s. Pictures:"
 for entry in "${scenes[@]}"; do
