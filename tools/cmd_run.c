@@ -53,9 +53,10 @@ static void kg_run_usage(FILE* out)
             "  --contacts FILE   also write step,a,b,nx,ny,px,py,depth, one row per contact point\n"
             "                    at each written step (a, b = scene body ids; - for standard output)\n"
             "  --events FILE     also write every event of every step: step,kind,a,b,x,y,nx,ny,speed\n"
-            "                    (kind begin, end or hit; a, b = body names, b tile:LAYER:X:Y for a\n"
-            "                    tile, empty for a body destroyed; x, y the point, speed a hit's\n"
-            "                    approach speed; - for standard output)\n"
+            "                    (kind begin, end, hit, sensor_begin or sensor_end; a, b = body names,\n"
+            "                    the sensor first, b tile:LAYER:X:Y for a tile, empty for a body\n"
+            "                    destroyed; x, y the point, speed a hit's approach speed; - for\n"
+            "                    standard output)\n"
             "  --backend B       auto, cpu or opencl (default auto: OpenCL when a device works)\n"
             "  --threads N       CPU worker threads (default: the library's)\n"
             "  --no-continuous   turn continuous collision off (kg_world_def.enable_continuous)\n"
@@ -384,13 +385,16 @@ static void kg_write_event_list(kg_run* run, int step, const char* kind, const k
     run->events_csv.rows += count;
 }
 
-/* Every step's events, in the order kind by kind: begin, end, hit. */
+/* Every step's events, kind by kind: begin, end, hit, sensor_begin, sensor_end. */
 static void kg_write_events(kg_run* run, int step)
 {
     kg_contact_events ev = kg_world_get_contact_events(run->world);
+    kg_sensor_events se = kg_world_get_sensor_events(run->world);
     kg_write_event_list(run, step, "begin", ev.begin, ev.begin_count);
     kg_write_event_list(run, step, "end", ev.end, ev.end_count);
     kg_write_event_list(run, step, "hit", ev.hit, ev.hit_count);
+    kg_write_event_list(run, step, "sensor_begin", se.begin, se.begin_count);
+    kg_write_event_list(run, step, "sensor_end", se.end, se.end_count);
 }
 
 static int kg_write_step(kg_run* run, int step)

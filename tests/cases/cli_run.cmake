@@ -130,6 +130,10 @@ kg_cli_run_test(csv_contacts csv
 kg_cli_run_test(csv_events csv
                 "run|${PROJECT_SOURCE_DIR}/samples/box_stack.json|--steps|30|--events|${kg_cli_out}/stack_events.csv|--csv|${kg_cli_out}/stack_e.csv"
                 "CSV=${kg_cli_out}/stack_events.csv" "HEADER=step,kind,a,b,x,y,nx,ny,speed" ROWS_AT_LEAST=5)
+# a ball through a sensor band onto the floor: sensor_begin, sensor_end, begin and hit
+kg_cli_run_test(csv_sensor_events csv
+                "run|${PROJECT_SOURCE_DIR}/tests/data/sensor_band.json|--steps|120|--events|${kg_cli_out}/band_events.csv|--csv|${kg_cli_out}/band.csv"
+                "CSV=${kg_cli_out}/band_events.csv" "HEADER=step,kind,a,b,x,y,nx,ny,speed" ROWS=4)
 kg_cli_run_test(csv_file csv "run|good_full.json|--steps=5|--every=5|--csv=${kg_cli_out}/full.csv"
                 "CSV=${kg_cli_out}/full.csv" "HEADER=step,id,name,x,y,angle,vx,vy,omega" ROWS=12)
 kg_cli_run_test(deterministic same "run|rain_50|--steps|30|--backend|cpu|--csv|${kg_cli_out}/rain_50.csv"
