@@ -12,7 +12,8 @@ static void kg_view_usage(FILE* out)
     fprintf(out,
             "usage: kgyro view SCENE [OPTIONS]\n"
             "Opens SCENE (a scene file, a Tiled map (.tmj) or a generator name such as pyramid_10) in\n"
-            "a window.\n\n"
+            "a window. Sensors are drawn as outlines; a hit (kg_world_get_contact_events) flashes a\n"
+            "ring at its point, larger for a harder hit.\n\n"
             "  mouse: left drag moves a body; left click on empty space spawns a box, with shift a circle;\n"
             "         right drag pans; the wheel zooms\n"
             "  keys:  space pause, . or n single step, c contacts, b bounding boxes, t tiles,\n"

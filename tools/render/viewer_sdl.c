@@ -37,6 +37,16 @@ typedef struct kg_script {
     int shift;        /* a scripted shift-click holds shift for this frame */
 } kg_script;
 
+/* A hit event shown as a ring that shrinks over a few frames, sized by its speed. */
+#define KG_MAX_FLASHES 64
+#define KG_FLASH_FRAMES 12
+
+typedef struct kg_flash {
+    kg_vec2 point;
+    float speed; /* m/s */
+    int frames;  /* left; 0: free */
+} kg_flash;
+
 typedef struct kg_viewer {
     const kg_view_config* config;
     kg_sim sim;
@@ -55,6 +65,8 @@ typedef struct kg_viewer {
     double step_ms; /* smoothed over recent steps */
     char message[96];
     int message_frames;
+    kg_flash flashes[KG_MAX_FLASHES];
+    int next_flash;
 } kg_viewer;
 
 static void kg_show_message(kg_viewer* v, const char* text)
@@ -499,6 +511,25 @@ static void kg_step(kg_viewer* v)
     }
     double ms = 1000.0 * (double)(SDL_GetPerformanceCounter() - start) / (double)SDL_GetPerformanceFrequency();
     v->step_ms = v->step_ms > 0.0 ? 0.9 * v->step_ms + 0.1 * ms : ms;
+    kg_contact_events ev = kg_world_get_contact_events(v->sim.world);
+    for (int i = 0; i < ev.hit_count; ++i) {
+        kg_flash* f = &v->flashes[v->next_flash];
+        v->next_flash = (v->next_flash + 1) % KG_MAX_FLASHES;
+        *f = (kg_flash){ev.hit[i].point, ev.hit[i].approach_speed, KG_FLASH_FRAMES};
+    }
+}
+
+/* The hits of the last frames as rings at their points (the newest largest). */
+static void kg_draw_flashes(kg_viewer* v)
+{
+    for (int i = 0; i < KG_MAX_FLASHES; ++i) {
+        kg_flash* f = &v->flashes[i];
+        if (f->frames > 0) {
+            float radius = (2.0f + 1.5f * f->speed) * (float)f->frames / (float)KG_FLASH_FRAMES;
+            kg_canvas_circle(&v->canvas, kg_camera_to_screen(&v->camera, f->point), radius, KG_COLOR_SELECTION);
+            f->frames -= 1;
+        }
+    }
 }
 
 /* Appends to the text in buffer, cutting it at size. */
@@ -653,6 +684,7 @@ static void kg_run_frame(kg_viewer* v)
         v->single_step = 0;
     }
     kg_draw_world(&v->canvas, &v->camera, v->sim.world, &v->draw);
+    kg_draw_flashes(v);
     kg_draw_overlay(v);
     kg_present(v);
     v->frame_index++;
