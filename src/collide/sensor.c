@@ -125,7 +125,9 @@ static kg_result kg_find_visits(kg_world* world, struct kg_sensors* s)
         KG_TRY(s->failure);
     }
     int next = s->current ^ 1;
-    qsort(s->visits[next], (size_t)s->visit_count[next], sizeof(kg_visit), kg_visit_compare);
+    if (s->visit_count[next] > 1) {
+        qsort(s->visits[next], (size_t)s->visit_count[next], sizeof(kg_visit), kg_visit_compare);
+    }
     return KG_OK;
 }
 
