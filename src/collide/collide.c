@@ -402,13 +402,15 @@ static void kg_finish_contact(kg_contact* ct, kg_shape_pair key, float fa, float
 }
 
 /* Last step's contact prev kept whole as ct, its points moved with the bodies
- * (kg_keep_manifold), when its pair allows: what kg_pair_manifold and kg_finish_contact
- * make of a kept manifold, the same bits, without building it aside and copying it in.
- * Its material is the caller's to mix again: a shape's may have been set since. */
-static int kg_recycle_contact(kg_contact* ct, const kg_contact* prev, const kg_shape* shape_a,
-                              const kg_shape* shape_b, const kg_body_pool* p, float speculative_distance, float dt)
+ * (kg_keep_manifold), when its shapes allow (the manifold says so: a shape slot is not
+ * taken by another shape while a contact names it): what kg_pair_manifold and
+ * kg_finish_contact make of a kept manifold, the same bits, without reading the shapes or
+ * building the manifold aside and copying it in. Its material is the caller's to mix
+ * again: a shape's may have been set since. */
+static int kg_recycle_contact(kg_contact* ct, const kg_contact* prev, const kg_body_pool* p,
+                              float speculative_distance, float dt)
 {
-    if (!kg_recyclable(shape_a, shape_b)) {
+    if (!prev->manifold.keepable) {
         return 0;
     }
     kg_u32 a = prev->a, b = prev->b;
@@ -451,15 +453,15 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
             n += ct->manifold.point_count > 0;
             continue;
         }
-        const kg_shape* shape_a = by_shapes ? kg_shape_geometry(p, sp, key.shape_a) : &p->shape[key.a];
-        const kg_shape* shape_b = by_shapes ? kg_shape_geometry(p, sp, key.shape_b) : &p->shape[key.b];
-        if (prev && kg_recycle_contact(ct, prev, shape_a, shape_b, p, job->speculative, job->dt)) {
+        if (prev && kg_recycle_contact(ct, prev, p, job->speculative, job->dt)) {
             ct->friction = sqrtf(friction[ga] * friction[gb]);
             ct->restitution = kg_maxf(restitution[ga], restitution[gb]);
             carried += kg_carry_kept_impulses(&ct->manifold, &prev->manifold);
             n += 1;
             continue;
         }
+        const kg_shape* shape_a = by_shapes ? kg_shape_geometry(p, sp, key.shape_a) : &p->shape[key.a];
+        const kg_shape* shape_b = by_shapes ? kg_shape_geometry(p, sp, key.shape_b) : &p->shape[key.b];
         int kept = kg_pair_manifold(key.a, key.b, shape_a, shape_b, p->xf, p->velocity, job->speculative, job->dt, prev,
                                     &ct->manifold, &ct->base);
         if (ct->manifold.point_count == 0) {

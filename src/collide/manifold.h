@@ -51,7 +51,7 @@ KG_FN kg_manifold kg_empty_manifold(void)
     m.points[1] = zero;
     m.normal = zero.point;
     m.point_count = 0;
-    m.pad = 0;
+    m.keepable = 0;
     return m;
 }
 

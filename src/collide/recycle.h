@@ -135,7 +135,7 @@ KG_FN int kg_keep_manifold(kg_manifold* m, const kg_contact_base* base, kg_xf xf
 KG_FN int kg_collide_or_recycle(const kg_shape* a, kg_xf xfa, const kg_shape* b, kg_xf xfb, float speculative,
                                 const kg_contact* old, kg_manifold* m, kg_contact_base* base)
 {
-    if (old && kg_recyclable(a, b)) {
+    if (old && old->manifold.keepable) {
         *m = old->manifold;
         if (kg_keep_manifold(m, &old->base, xfa, xfb, speculative)) {
             *base = old->base;
@@ -145,6 +145,7 @@ KG_FN int kg_collide_or_recycle(const kg_shape* a, kg_xf xfa, const kg_shape* b,
     kg_manifold fresh = kg_collide_shapes(a, xfa, b, xfb, speculative);
     *base = kg_contact_base_of(&fresh, xfa, xfb);
     *m = kg_manifold_of_base(base, &fresh, xfa, xfb);
+    m->keepable = kg_recyclable(a, b);
     return 0;
 }
 

@@ -53,7 +53,8 @@ typedef struct kg_manifold {
     kg_manifold_point points[2];
     kg_vec2 normal;         /* unit, from shape a towards shape b */
     kg_i32 point_count;     /* 0 when not touching within the speculative distance */
-    kg_i32 pad;
+    kg_i32 keepable;        /* its shapes let it be kept while they barely move (collide/recycle.h):
+                             * known from the contact alone, the shapes not read again */
 } kg_manifold;
 
 /* A body pair's manifold as it was computed, in the bodies' own frames, so that it can
