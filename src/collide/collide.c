@@ -414,9 +414,16 @@ static int kg_recycle_contact(kg_contact* ct, const kg_contact* prev, const kg_b
         return 0;
     }
     kg_u32 a = prev->a, b = prev->b;
+    if (!kg_pose_kept(&prev->base, p->xf[a], p->xf[b])) {
+        return 0;
+    }
     *ct = *prev;
-    float speculative = kg_pair_speculative(speculative_distance, p->velocity[a], p->velocity[b], dt);
-    return kg_keep_manifold(&ct->manifold, &ct->base, p->xf[a], p->xf[b], speculative);
+    kg_place_base_points(&ct->manifold, &ct->base, p->xf[a], p->xf[b]);
+    /* kg_keep_manifold's test, the pair's margin (a square root) computed only where a
+     * point lies past the least it can be: the same answer */
+    float farthest = kg_farthest_point(&ct->manifold);
+    return farthest <= speculative_distance ||
+           farthest <= kg_pair_speculative(speculative_distance, p->velocity[a], p->velocity[b], dt);
 }
 
 /* The contacts of the items [begin, end) that touch, each a manifold computed or kept

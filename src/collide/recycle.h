@@ -114,6 +114,18 @@ KG_FN int kg_carry_kept_impulses(kg_manifold* m, const kg_manifold* old)
  * and never fell asleep), and its manifold costs little to compute anyway. */
 KG_FN int kg_recyclable(const kg_shape* a, const kg_shape* b) { return a->count >= 3 && b->count >= 3; }
 
+/* The largest separation of m's points (-infinity with none; NaN when one is NaN, so that
+ * such a manifold is never within a distance). */
+KG_FN float kg_farthest_point(const kg_manifold* m)
+{
+    float farthest = -INFINITY;
+    for (int i = 0; i < m->point_count; ++i) {
+        float s = m->points[i].separation;
+        farthest = farthest != farthest || s <= farthest ? farthest : s;
+    }
+    return farthest;
+}
+
 /* Last step's manifold m, computed at base, kept and moved to the poses xfa and xfb in
  * place when the pair has barely moved since base and every point stays within the
  * speculative distance. Returns 1 when kept; else m is to be computed anew. */
@@ -123,11 +135,7 @@ KG_FN int kg_keep_manifold(kg_manifold* m, const kg_contact_base* base, kg_xf xf
         return 0;
     }
     kg_place_base_points(m, base, xfa, xfb);
-    int within = 1;
-    for (int i = 0; i < m->point_count; ++i) {
-        within &= m->points[i].separation <= speculative;
-    }
-    return within;
+    return kg_farthest_point(m) <= speculative;
 }
 
 /* The manifold of a body pair and its base: last step's (old, may be NULL) kept when
