@@ -355,6 +355,36 @@ static void test_box_on_30_degree_slope_slides_with_friction_02(void)
     KG_CHECK(r.normal_drift < 2e-3); /* it slides on the surface: neither sinks nor hops */
 }
 
+/* A box held on the 30 degree slope by friction 0.7, its contact kept step after step
+ * (collide/recycle.h), slides at once when its friction and the slope's are set to 0.2: a
+ * kept contact takes the materials as they are now. */
+static void test_friction_set_while_resting_takes_effect(void)
+{
+    const double theta = PI_D / 6.0, ux = cos(theta), uy = sin(theta);
+    kg_world* w = make_world((kg_vec2){0.0f, -10.0f});
+    kg_body slope = add(w, KG_BODY_STATIC, kg_box_shape(24.0f, 1.0f), (kg_vec2){0.0f, 0.0f}, (float)theta,
+                        (kg_vec2){0, 0}, 0.7f, 0.0f);
+    kg_vec2 p = {(float)(4.0 * ux - sin(theta)), (float)(4.0 * uy + cos(theta))};
+    kg_body box = add(w, KG_BODY_DYNAMIC, kg_box_shape(1.0f, 1.0f), p, (float)theta, (kg_vec2){0, 0}, 0.7f, 0.0f);
+    for (int step = 0; step < 60; ++step) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+    }
+    kg_body_state held = state_of(w, box);
+    KG_CHECK_OK(kg_body_set_friction(w, slope, 0.2f));
+    KG_CHECK_OK(kg_body_set_friction(w, box, 0.2f));
+    for (int step = 0; step < 30; ++step) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+    }
+    kg_body_state slid = state_of(w, box);
+    double v = -(slid.velocity.x * ux + slid.velocity.y * uy);
+    double expected = 10.0 * (sin(theta) - 0.2 * cos(theta)) * 0.5; /* its speed after 0.5 s */
+    measured("measured: held at %.3g m/s; 0.5 s after friction 0.7 -> 0.2, %.4f m/s down the slope (expected %.4f)\n",
+             -(held.velocity.x * ux + held.velocity.y * uy), v, expected);
+    KG_CHECK(fabs(held.velocity.x) < 1e-3 && fabs(held.velocity.y) < 1e-3);
+    KG_CHECK_NEAR(v, expected, 0.05 * expected);
+    kg_destroy_world(w);
+}
+
 /* ---- a bouncing ball ------------------------------------------------------------------- */
 
 /* Static ground 40 x 1 with its top at y = 0; a ball of radius 0.25. */
@@ -453,4 +483,5 @@ KG_TEST_MAIN(KG_TEST(test_head_on_boxes_elastic_exchange_velocities),
              KG_TEST(test_off_centre_circle_hit_bouncy_spins_and_conserves_momentum),
              KG_TEST(test_box_on_30_degree_slope_holds_with_friction_07),
              KG_TEST(test_box_on_30_degree_slope_slides_with_friction_02),
+             KG_TEST(test_friction_set_while_resting_takes_effect),
              KG_TEST(test_ball_with_restitution_05_bounces_to_a_quarter))

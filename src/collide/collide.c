@@ -64,6 +64,9 @@ struct kg_collision {
     int previous_count;
     int body_count;          /* contacts [0, body_count) are body pairs, the rest tiles */
     int previous_body_count;
+    kg_u32 materials_version; /* the shape pool's version when the previous list was made,
+                               * and whether it was made here at all */
+    int materials_known;
     int capacity;           /* of pairs and both contact arrays; world->def.max_contacts
                              * is kept equal to it (the solver and the OpenCL backend size from it) */
     int budget;             /* pairs the pool may grow to without a warning: max_contacts as
@@ -370,6 +373,7 @@ typedef struct kg_narrowphase_job {
     int pair_count;
     float speculative;
     float dt;
+    int same_materials; /* no shape's friction or restitution set since the previous list */
     atomic_int carried, missed; /* warm starts, summed over the ranges */
 } kg_narrowphase_job;
 
@@ -461,8 +465,10 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
             continue;
         }
         if (prev && kg_recycle_contact(ct, prev, p, job->speculative, job->dt)) {
-            ct->friction = sqrtf(friction[ga] * friction[gb]);
-            ct->restitution = kg_maxf(restitution[ga], restitution[gb]);
+            if (!job->same_materials) { /* else prev's, mixed from the same values */
+                ct->friction = sqrtf(friction[ga] * friction[gb]);
+                ct->restitution = kg_maxf(restitution[ga], restitution[gb]);
+            }
             carried += kg_carry_kept_impulses(&ct->manifold, &prev->manifold);
             n += 1;
             continue;
@@ -550,8 +556,11 @@ kg_result kg_stage_collide(kg_world* world)
     }
     kg_narrowphase_job job = {&world->bodies, &world->shapes, c->pairs, compound ? c->shape_pairs : NULL,
                               compound || c->by_shapes, c->previous, c->previous_body_count, c->contacts,
-                              c->block_touching, pair_count, world->def.speculative_distance, world->last_dt, 0, 0};
+                              c->block_touching, pair_count, world->def.speculative_distance, world->last_dt,
+                              c->materials_known && c->materials_version == world->shapes.version, 0, 0};
     c->by_shapes = compound;
+    c->materials_version = world->shapes.version;
+    c->materials_known = 1;
     kg_parallel_for(world->threads, (int)kg_block_count((size_t)pair_count), 1, kg_narrowphase_range, &job);
     int carried = atomic_load(&job.carried);
     kg_count_warm_starts(world, carried + atomic_load(&job.missed), carried);
