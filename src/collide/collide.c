@@ -64,9 +64,9 @@ struct kg_collision {
     int previous_count;
     int body_count;          /* contacts [0, body_count) are body pairs, the rest tiles */
     int previous_body_count;
-    kg_u32 materials_version; /* the shape pool's version when the previous list was made,
-                               * and whether it was made here at all */
-    int materials_known;
+    kg_u32 shapes_version; /* the shape pool's version when the previous list was made, and
+                            * whether it was made here at all */
+    int shapes_known;
     int capacity;           /* of pairs and both contact arrays; world->def.max_contacts
                              * is kept equal to it (the solver and the OpenCL backend size from it) */
     int budget;             /* pairs the pool may grow to without a warning: max_contacts as
@@ -276,16 +276,18 @@ static const kg_contact* kg_previous_of(const kg_contact* previous, int count, i
 
 /* kg_previous_of where last step's list holds at most one contact per pair of bodies:
  * walked by the bodies alone (a, b), then checked for the bodies' generations and their
- * shapes (sa, sb), which change when a one-shape body's shape is replaced. */
+ * shapes (first_shape), which change when a one-shape body's shape is replaced: not
+ * looked up (first_shape NULL) while no shape was added or removed since that list. */
 static const kg_contact* kg_previous_of_bodies(const kg_contact* previous, int count, int* old, kg_u32 a, kg_u32 b,
-                                               kg_u32 sa, kg_u32 sb, const kg_u32* generation)
+                                               const kg_u32* generation, const kg_u32* first_shape)
 {
     while (*old < count && kg_pair_less(previous[*old].a, previous[*old].b, a, b)) {
         *old += 1;
     }
     const kg_contact* c = &previous[*old];
     int same = *old < count && c->a == a && c->b == b && c->generation_a == generation[a] &&
-               c->generation_b == generation[b] && c->shape_a == sa && c->shape_b == sb;
+               c->generation_b == generation[b] &&
+               (!first_shape || (c->shape_a == first_shape[a] && c->shape_b == first_shape[b]));
     return same ? c : NULL;
 }
 
@@ -373,7 +375,7 @@ typedef struct kg_narrowphase_job {
     int pair_count;
     float speculative;
     float dt;
-    int same_materials; /* no shape's friction or restitution set since the previous list */
+    int same_shapes; /* no shape added, removed or its material set since the previous list */
     atomic_int carried, missed; /* warm starts, summed over the ranges */
 } kg_narrowphase_job;
 
@@ -450,13 +452,15 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
     const float* restitution = by_shapes ? sp->restitution : p->restitution;
     int n = begin, carried = 0, missed = 0;
     int old = begin < end ? kg_first_not_before(job->previous, job->previous_count, kg_item(job, begin)) : 0;
+    const kg_u32* first_shape = job->same_shapes ? NULL : p->first_shape; /* for the bodies' shapes' check */
     for (int k = begin; k < end; ++k) {
-        kg_shape_pair key = kg_item(job, k);
+        /* by bodies: the shapes are named below, where a contact is made afresh */
+        kg_shape_pair key = by_shapes ? kg_item(job, k) : kg_shape_pair_make(job->pairs[k].a, job->pairs[k].b, 0u, 0u);
         kg_u32 ga = by_shapes ? key.shape_a : key.a; /* the shapes' index in friction and restitution */
         kg_u32 gb = by_shapes ? key.shape_b : key.b;
         const kg_contact* prev = by_shapes ? kg_previous_of(job->previous, job->previous_count, &old, key, p)
                                            : kg_previous_of_bodies(job->previous, job->previous_count, &old, key.a,
-                                                                   key.b, key.shape_a, key.shape_b, p->generation);
+                                                                   key.b, p->generation, first_shape);
         kg_contact* ct = &job->contacts[n]; /* a pair before it that did not touch left it free */
         if (kg_rested(p, key.a) && kg_rested(p, key.b)) {
             kg_keep_contact(ct, prev);
@@ -465,7 +469,7 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
             continue;
         }
         if (prev && kg_recycle_contact(ct, prev, p, job->speculative, job->dt)) {
-            if (!job->same_materials) { /* else prev's, mixed from the same values */
+            if (!job->same_shapes) { /* else prev's, mixed from the same values */
                 ct->friction = sqrtf(friction[ga] * friction[gb]);
                 ct->restitution = kg_maxf(restitution[ga], restitution[gb]);
             }
@@ -473,6 +477,7 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
             n += 1;
             continue;
         }
+        key = by_shapes ? key : kg_item(job, k);
         const kg_shape* shape_a = by_shapes ? kg_shape_geometry(p, sp, key.shape_a) : &p->shape[key.a];
         const kg_shape* shape_b = by_shapes ? kg_shape_geometry(p, sp, key.shape_b) : &p->shape[key.b];
         int kept = kg_pair_manifold(key.a, key.b, shape_a, shape_b, p->xf, p->velocity, job->speculative, job->dt, prev,
@@ -557,10 +562,10 @@ kg_result kg_stage_collide(kg_world* world)
     kg_narrowphase_job job = {&world->bodies, &world->shapes, c->pairs, compound ? c->shape_pairs : NULL,
                               compound || c->by_shapes, c->previous, c->previous_body_count, c->contacts,
                               c->block_touching, pair_count, world->def.speculative_distance, world->last_dt,
-                              c->materials_known && c->materials_version == world->shapes.version, 0, 0};
+                              c->shapes_known && c->shapes_version == world->shapes.version, 0, 0};
     c->by_shapes = compound;
-    c->materials_version = world->shapes.version;
-    c->materials_known = 1;
+    c->shapes_version = world->shapes.version;
+    c->shapes_known = 1;
     kg_parallel_for(world->threads, (int)kg_block_count((size_t)pair_count), 1, kg_narrowphase_range, &job);
     int carried = atomic_load(&job.carried);
     kg_count_warm_starts(world, carried + atomic_load(&job.missed), carried);
