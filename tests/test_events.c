@@ -3,7 +3,7 @@
  * any thread count and on both backends. */
 #include "kg_test.h"
 #include "kgyro/kgyro.h"
-#include "kgyro/opencl.h"
+#include "kg_test_world.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -11,17 +11,6 @@
 
 #define DT (1.0f / 60.0f)
 
-static kg_world* make_world(kg_backend backend, int threads)
-{
-    kg_world_def def = kg_default_world_def();
-    def.backend = backend;
-    def.device_index = kg_test_opencl_device();
-    def.threads = threads;
-    def.enable_sleep = 0;
-    kg_world* w = NULL;
-    KG_CHECK_OK(kg_create_world(&def, &w));
-    return w;
-}
 
 /* A static ground box whose top is at y = 0. */
 static kg_body add_ground(kg_world* w)
@@ -46,13 +35,11 @@ static kg_body add_body(kg_world* w, kg_shape_def shape, kg_vec2 at, void* user_
     return b;
 }
 
-static int same_body(kg_body a, kg_body b) { return a.index == b.index && a.generation == b.generation; }
-
 /* A ball dropped from rest, its bottom h above the ground: it begins touching the ground
  * within a step of when free fall reaches it, and its hit reports sqrt(2 g h). */
 static void test_ball_lands_when_free_fall_says(void)
 {
-    kg_world* w = make_world(KG_BACKEND_CPU, 1);
+    kg_world* w = kg_test_world(KG_BACKEND_CPU, 1);
     kg_body ground = add_ground(w);
     const float h = 19.5f, r = 0.25f, g = 10.0f;
     kg_body ball = add_body(w, kg_circle_shape(r), (kg_vec2){0.0f, h + r}, NULL);
@@ -62,7 +49,7 @@ static void test_ball_lands_when_free_fall_says(void)
         KG_CHECK_OK(kg_world_step(w, DT));
         kg_contact_events ev = kg_world_get_contact_events(w);
         for (int i = 0; i < ev.begin_count; ++i) {
-            KG_CHECK(same_body(ev.begin[i].a, ground) && same_body(ev.begin[i].b, ball));
+            KG_CHECK(kg_test_same_body(ev.begin[i].a, ground) && kg_test_same_body(ev.begin[i].b, ball));
             KG_CHECK(ev.begin[i].point_count == 1);
             begin_step = begin_step < 0 ? step : begin_step;
         }
@@ -91,7 +78,7 @@ static void test_ball_lands_when_free_fall_says(void)
  * last sub-step's impulse alone is a quarter of it. */
 static void test_total_impulse_carries_the_weight(void)
 {
-    kg_world* w = make_world(KG_BACKEND_CPU, 1);
+    kg_world* w = kg_test_world(KG_BACKEND_CPU, 1);
     add_ground(w);
     kg_body box = add_body(w, kg_box_shape(1.0f, 1.0f), (kg_vec2){0.0f, 0.5f}, NULL);
     for (int step = 0; step < 120; ++step) {
@@ -118,8 +105,8 @@ static void check_no_dead_body(kg_world* w, const kg_contact_event* e, int count
 {
     kg_body none = KG_NULL_BODY_INIT;
     for (int i = 0; i < count; ++i) {
-        KG_CHECK(kg_body_is_valid(w, e[i].a) || same_body(e[i].a, none));
-        KG_CHECK(kg_body_is_valid(w, e[i].b) || same_body(e[i].b, none));
+        KG_CHECK(kg_body_is_valid(w, e[i].a) || kg_test_same_body(e[i].a, none));
+        KG_CHECK(kg_body_is_valid(w, e[i].b) || kg_test_same_body(e[i].b, none));
     }
 }
 
@@ -127,7 +114,7 @@ static void check_no_dead_body(kg_world* w, const kg_contact_event* e, int count
  * body's handle null and its user data as it was; nothing names it after. */
 static void test_destroyed_body_ends_its_contacts(void)
 {
-    kg_world* w = make_world(KG_BACKEND_CPU, 1);
+    kg_world* w = kg_test_world(KG_BACKEND_CPU, 1);
     kg_body ground = add_ground(w);
     static int bottom_tag, top_tag;
     kg_body bottom = add_body(w, kg_box_shape(1.0f, 1.0f), (kg_vec2){0.0f, 0.5f}, &bottom_tag);
@@ -148,7 +135,7 @@ static void test_destroyed_body_ends_its_contacts(void)
     KG_CHECK(ev.end_count == 1);
     KG_CHECK(ev.begin_count == 0);
     if (ev.end_count == 1) {
-        KG_CHECK(same_body(ev.end[0].a, bottom));
+        KG_CHECK(kg_test_same_body(ev.end[0].a, bottom));
         KG_CHECK(ev.end[0].b.generation == 0u && ev.end[0].shape_b.generation == 0u);
         KG_CHECK(ev.end[0].user_data_a == &bottom_tag && ev.end[0].user_data_b == &top_tag);
     }
@@ -157,14 +144,14 @@ static void test_destroyed_body_ends_its_contacts(void)
     ev = kg_world_get_contact_events(w);
     KG_CHECK(ev.end_count == 0 && ev.begin_count == 0);
     KG_CHECK_OK(kg_body_get_contacts(w, bottom, info, 4, &n));
-    KG_CHECK(n == 1 && same_body(info[0].a, ground));
+    KG_CHECK(n == 1 && kg_test_same_body(info[0].a, ground));
     kg_destroy_world(w);
 }
 
 /* A box slid off a ledge: the contact ends while it falls, and begins again below. */
 static void test_sliding_off_a_ledge_ends_and_begins(void)
 {
-    kg_world* w = make_world(KG_BACKEND_CPU, 1);
+    kg_world* w = kg_test_world(KG_BACKEND_CPU, 1);
     kg_body_def bd = kg_default_body_def();
     bd.type = KG_BODY_STATIC;
     bd.position = (kg_vec2){0.0f, 2.0f};
@@ -179,11 +166,11 @@ static void test_sliding_off_a_ledge_ends_and_begins(void)
         KG_CHECK_OK(kg_world_step(w, DT));
         kg_contact_events ev = kg_world_get_contact_events(w);
         for (int i = 0; i < ev.end_count; ++i) {
-            ends += same_body(ev.end[i].a, ledge) && same_body(ev.end[i].b, box);
+            ends += kg_test_same_body(ev.end[i].a, ledge) && kg_test_same_body(ev.end[i].b, box);
         }
         for (int i = 0; i < ev.begin_count; ++i) {
-            ground_begins += same_body(ev.begin[i].a, ground) || same_body(ev.begin[i].b, ground);
-            ledge_begins += same_body(ev.begin[i].a, ledge);
+            ground_begins += kg_test_same_body(ev.begin[i].a, ground) || kg_test_same_body(ev.begin[i].b, ground);
+            ledge_begins += kg_test_same_body(ev.begin[i].a, ledge);
         }
     }
     KG_CHECK(ledge_begins == 1);
@@ -195,7 +182,7 @@ static void test_sliding_off_a_ledge_ends_and_begins(void)
 /* A ball dropped on a tile map: the begin event names the map and the cell. */
 static void test_tile_contact_names_its_cell(void)
 {
-    kg_world* w = make_world(KG_BACKEND_CPU, 1);
+    kg_world* w = kg_test_world(KG_BACKEND_CPU, 1);
     kg_tile_shape shapes[2] = {kg_tile_empty(), kg_tile_box()};
     kg_tilemap_def def = kg_default_tilemap_def();
     def.width = 16;
@@ -215,7 +202,7 @@ static void test_tile_contact_names_its_cell(void)
         kg_contact_events ev = kg_world_get_contact_events(w);
         for (int i = 0; i < ev.begin_count; ++i) {
             begins += 1;
-            KG_CHECK(same_body(ev.begin[i].a, ball) && ev.begin[i].b.generation == 0u);
+            KG_CHECK(kg_test_same_body(ev.begin[i].a, ball) && ev.begin[i].b.generation == 0u);
             KG_CHECK(ev.begin[i].map.index == map.index && ev.begin[i].map.generation == map.generation);
             KG_CHECK(ev.begin[i].layer == 0 && ev.begin[i].x == 5 && ev.begin[i].y == 0);
         }
@@ -275,8 +262,8 @@ static event_log g_logs[2];
 
 static void test_events_same_with_any_thread_count(void)
 {
-    kg_world* one = make_world(KG_BACKEND_CPU, 1);
-    kg_world* four = make_world(KG_BACKEND_CPU, 4);
+    kg_world* one = kg_test_world(KG_BACKEND_CPU, 1);
+    kg_world* four = kg_test_world(KG_BACKEND_CPU, 4);
     rain_events(one, &g_logs[0]);
     rain_events(four, &g_logs[1]);
     measured("%d events over 150 steps", g_logs[0].count);
@@ -289,20 +276,17 @@ static void test_events_same_with_any_thread_count(void)
 
 static void test_events_same_on_opencl(void)
 {
-    int devices = 0;
-    if (kg_opencl_device_count(&devices) != KG_OK || devices == 0) {
-        printf("  skipped: no OpenCL device\n");
+    int bitwise = 0;
+    if (!kg_test_opencl_ready(&bitwise)) {
         return;
     }
-    kg_opencl_device_info info;
-    KG_CHECK_OK(kg_opencl_get_device_info(kg_test_opencl_device(), &info));
-    kg_world* cpu = make_world(KG_BACKEND_CPU, 1);
-    kg_world* cl = make_world(KG_BACKEND_OPENCL, 1);
+    kg_world* cpu = kg_test_world(KG_BACKEND_CPU, 1);
+    kg_world* cl = kg_test_world(KG_BACKEND_OPENCL, 1);
     rain_events(cpu, &g_logs[0]);
     rain_events(cl, &g_logs[1]);
     KG_CHECK(kg_world_backend(cl) == KG_BACKEND_OPENCL);
     KG_CHECK(g_logs[0].count == g_logs[1].count);
-    if (info.correctly_rounded_divide_sqrt) {
+    if (bitwise) {
         KG_CHECK(memcmp(g_logs[0].bytes, g_logs[1].bytes, (size_t)g_logs[0].count * 48) == 0);
     }
     kg_destroy_world(cpu);

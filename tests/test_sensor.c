@@ -5,7 +5,7 @@
  * thread count and on both backends. */
 #include "kg_test.h"
 #include "kgyro/kgyro.h"
-#include "kgyro/opencl.h"
+#include "kg_test_world.h"
 #include "kgyro/scene.h"
 
 #include <math.h>
@@ -15,17 +15,6 @@
 #define DT (1.0f / 60.0f)
 #define G 10.0f
 
-static kg_world* make_world(kg_backend backend, int threads)
-{
-    kg_world_def def = kg_default_world_def();
-    def.backend = backend;
-    def.device_index = kg_test_opencl_device();
-    def.threads = threads;
-    def.enable_sleep = 0;
-    kg_world* w = NULL;
-    KG_CHECK_OK(kg_create_world(&def, &w));
-    return w;
-}
 
 static kg_body add(kg_world* w, kg_body_type type, kg_shape_def shape, kg_vec2 at, int sensor, void* user_data)
 {
@@ -40,8 +29,6 @@ static kg_body add(kg_world* w, kg_body_type type, kg_shape_def shape, kg_vec2 a
     return b;
 }
 
-static int same_body(kg_body a, kg_body b) { return a.index == b.index && a.generation == b.generation; }
-
 /* The first step (1, 2, ...) at whose end free fall from rest has gone distance d. */
 static int fall_step(float d) { return (int)ceilf(sqrtf(2.0f * d / G) / DT); }
 
@@ -49,7 +36,7 @@ static int fall_step(float d) { return (int)ceilf(sqrtf(2.0f * d / G) / DT); }
  * floor whose top is at y = 0. */
 static void test_ball_through_a_sensor_band(void)
 {
-    kg_world* w = make_world(KG_BACKEND_CPU, 1);
+    kg_world* w = kg_test_world(KG_BACKEND_CPU, 1);
     static int band_tag, ball_tag;
     kg_body floor = add(w, KG_BODY_STATIC, kg_box_shape(20.0f, 1.0f), (kg_vec2){0.0f, -0.5f}, 0, NULL);
     kg_body band = add(w, KG_BODY_STATIC, kg_box_shape(4.0f, 1.0f), (kg_vec2){0.0f, 5.5f}, 1, &band_tag);
@@ -61,7 +48,7 @@ static void test_ball_through_a_sensor_band(void)
         kg_sensor_events se = kg_world_get_sensor_events(w);
         for (int i = 0; i < se.begin_count + se.end_count; ++i) {
             const kg_contact_event* e = i < se.begin_count ? &se.begin[i] : &se.end[i - se.begin_count];
-            KG_CHECK(same_body(e->a, band) && same_body(e->b, ball));
+            KG_CHECK(kg_test_same_body(e->a, band) && kg_test_same_body(e->b, ball));
             KG_CHECK(e->user_data_a == &band_tag && e->user_data_b == &ball_tag);
             KG_CHECK(e->kind == (i < se.begin_count ? KG_EVENT_SENSOR_BEGIN : KG_EVENT_SENSOR_END));
             sensor_events += 1;
@@ -70,7 +57,7 @@ static void test_ball_through_a_sensor_band(void)
         sensor_end = se.end_count && sensor_end < 0 ? step : sensor_end;
         kg_contact_events ce = kg_world_get_contact_events(w);
         for (int i = 0; i < ce.begin_count; ++i) {
-            KG_CHECK(same_body(ce.begin[i].a, floor) && same_body(ce.begin[i].b, ball)); /* never the band */
+            KG_CHECK(kg_test_same_body(ce.begin[i].a, floor) && kg_test_same_body(ce.begin[i].b, ball)); /* never the band */
             contact_begin = contact_begin < 0 ? step : contact_begin;
         }
         for (int i = 0; i < ce.hit_count; ++i) {
@@ -99,13 +86,13 @@ static void count_visitors(kg_world* w, kg_body sensor_body, const kg_body* kind
     kg_sensor_events se = kg_world_get_sensor_events(w);
     for (int i = 0; i < se.begin_count; ++i) {
         const kg_contact_event* e = &se.begin[i];
-        KG_CHECK(same_body(e->a, sensor_body));
+        KG_CHECK(kg_test_same_body(e->a, sensor_body));
         s->tiles += e->b.generation == 0u && kg_tilemap_is_valid(w, e->map);
-        s->statics += same_body(e->b, kinds[0]);
-        s->kinematics += same_body(e->b, kinds[1]);
-        s->dynamics += same_body(e->b, kinds[2]);
-        s->sensors += same_body(e->b, kinds[3]);
-        s->own += same_body(e->b, sensor_body);
+        s->statics += kg_test_same_body(e->b, kinds[0]);
+        s->kinematics += kg_test_same_body(e->b, kinds[1]);
+        s->dynamics += kg_test_same_body(e->b, kinds[2]);
+        s->sensors += kg_test_same_body(e->b, kinds[3]);
+        s->own += kg_test_same_body(e->b, sensor_body);
     }
 }
 
@@ -113,7 +100,7 @@ static void count_visitors(kg_world* w, kg_body sensor_body, const kg_body* kind
  * box, a resting dynamic box, another sensor and a row of tiles: it sees each once. */
 static void test_what_a_sensor_sees(void)
 {
-    kg_world* w = make_world(KG_BACKEND_CPU, 1);
+    kg_world* w = kg_test_world(KG_BACKEND_CPU, 1);
     kg_tile_shape shapes[2] = {kg_tile_empty(), kg_tile_box()};
     kg_tilemap_def md = kg_default_tilemap_def();
     md.width = 40;
@@ -164,7 +151,7 @@ static void test_what_a_sensor_sees(void)
 /* A filter the sensor's shape has: a mask without the box's category sees nothing. */
 static void test_sensor_filter(void)
 {
-    kg_world* w = make_world(KG_BACKEND_CPU, 1);
+    kg_world* w = kg_test_world(KG_BACKEND_CPU, 1);
     kg_body_def bd = kg_default_body_def();
     bd.type = KG_BODY_STATIC;
     bd.shape = kg_box_shape(2.0f, 2.0f);
@@ -184,7 +171,7 @@ static void test_sensor_filter(void)
 /* A visitor destroyed inside the sensor ends its visit; the end names no dead body. */
 static void test_destroyed_visitor_ends_its_visit(void)
 {
-    kg_world* w = make_world(KG_BACKEND_CPU, 1);
+    kg_world* w = kg_test_world(KG_BACKEND_CPU, 1);
     static int box_tag;
     kg_body sensor = add(w, KG_BODY_STATIC, kg_box_shape(4.0f, 4.0f), (kg_vec2){0.0f, 0.0f}, 1, NULL);
     kg_body box = add(w, KG_BODY_KINEMATIC, kg_box_shape(0.5f, 0.5f), (kg_vec2){0.0f, 0.0f}, 0, &box_tag);
@@ -195,7 +182,7 @@ static void test_destroyed_visitor_ends_its_visit(void)
     kg_sensor_events se = kg_world_get_sensor_events(w);
     KG_CHECK(se.begin_count == 0 && se.end_count == 1);
     if (se.end_count == 1) {
-        KG_CHECK(same_body(se.end[0].a, sensor) && se.end[0].b.generation == 0u);
+        KG_CHECK(kg_test_same_body(se.end[0].a, sensor) && se.end[0].b.generation == 0u);
         KG_CHECK(se.end[0].user_data_b == &box_tag);
     }
     kg_destroy_world(w);
@@ -225,8 +212,8 @@ static void test_tiled_object_with_sensor_property(void)
     for (int step = 1; step <= 120; ++step) {
         KG_CHECK_OK(kg_world_step(w, DT));
         kg_sensor_events se = kg_world_get_sensor_events(w);
-        begin = se.begin_count == 1 && same_body(se.begin[0].a, bodies[trigger]) ? step : begin;
-        end = se.end_count == 1 && same_body(se.end[0].b, bodies[crate]) ? step : end;
+        begin = se.begin_count == 1 && kg_test_same_body(se.begin[0].a, bodies[trigger]) ? step : begin;
+        end = se.end_count == 1 && kg_test_same_body(se.end[0].b, bodies[crate]) ? step : end;
     }
     kg_vec2 p;
     KG_CHECK_OK(kg_body_get_position(w, bodies[crate], &p));
@@ -283,8 +270,8 @@ static sensor_log g_logs[2];
 
 static void test_sensor_events_same_everywhere(void)
 {
-    kg_world* one = make_world(KG_BACKEND_CPU, 1);
-    kg_world* four = make_world(KG_BACKEND_CPU, 4);
+    kg_world* one = kg_test_world(KG_BACKEND_CPU, 1);
+    kg_world* four = kg_test_world(KG_BACKEND_CPU, 4);
     rain_through_sensors(one, &g_logs[0]);
     rain_through_sensors(four, &g_logs[1]);
     measured("%d sensor events over 150 steps", g_logs[0].count);
@@ -293,17 +280,14 @@ static void test_sensor_events_same_everywhere(void)
     KG_CHECK(memcmp(g_logs[0].bytes, g_logs[1].bytes, (size_t)g_logs[0].count * 32) == 0);
     kg_destroy_world(one);
     kg_destroy_world(four);
-    int devices = 0;
-    if (kg_opencl_device_count(&devices) != KG_OK || devices == 0) {
-        printf("  OpenCL part skipped: no device\n");
+    int bitwise = 0;
+    if (!kg_test_opencl_ready(&bitwise)) {
         return;
     }
-    kg_opencl_device_info info;
-    KG_CHECK_OK(kg_opencl_get_device_info(kg_test_opencl_device(), &info));
-    kg_world* cl = make_world(KG_BACKEND_OPENCL, 1);
+    kg_world* cl = kg_test_world(KG_BACKEND_OPENCL, 1);
     rain_through_sensors(cl, &g_logs[1]);
     KG_CHECK(kg_world_backend(cl) == KG_BACKEND_OPENCL);
-    if (info.correctly_rounded_divide_sqrt) {
+    if (bitwise) {
         KG_CHECK(g_logs[0].count == g_logs[1].count);
         KG_CHECK(memcmp(g_logs[0].bytes, g_logs[1].bytes, (size_t)g_logs[0].count * 32) == 0);
     }

@@ -431,6 +431,15 @@ static int kg_cast_leaf(kg_u32 s, void* ctx)
     return kg_report_hit(q, &r);
 }
 
+/* A tile's shape sits at its cell's corner, unturned. */
+static kg_xf kg_tile_xf(kg_vec2 corner)
+{
+    kg_xf xf;
+    xf.p = corner;
+    xf.q = kg_rot_identity();
+    return xf;
+}
+
 /* A one-way tile stops a cast only where the cast comes down onto an upward face (the
  * normal the collision's exposed edges have: kg_tile_template, collide/tilemap.c). */
 static int kg_cast_tile_visit(kg_query* q, kg_tile_at at, KG_GLOBAL const kg_tile_proto* proto, kg_u32 word,
@@ -438,9 +447,7 @@ static int kg_cast_tile_visit(kg_query* q, kg_tile_at at, KG_GLOBAL const kg_til
 {
     (void)word;
     KG_PRIVATE_VIEW(kg_shape, shape, proto->shape);
-    kg_xf xf;
-    xf.p = corner;
-    xf.q = kg_rot_identity();
+    kg_xf xf = kg_tile_xf(corner);
     float t = kg_cast_toi(q, shape, xf);
     if (!(t <= q->ray.max_fraction)) {
         return 1;
@@ -568,9 +575,7 @@ static int kg_overlap_tile_visit(kg_query* q, kg_tile_at at, KG_GLOBAL const kg_
 {
     (void)word;
     KG_PRIVATE_VIEW(kg_shape, shape, proto->shape);
-    kg_xf xf;
-    xf.p = corner;
-    xf.q = kg_rot_identity();
+    kg_xf xf = kg_tile_xf(corner);
     if (!kg_overlaps(q, shape, xf)) {
         return 1;
     }
