@@ -140,7 +140,7 @@ typedef struct error_case {
 } error_case;
 
 static const error_case kErrorFiles[] = {
-    {"bad_syntax.json", "line 3, column 19: malformed JSON near ' \"type\": \"static\"}'"},
+    {"bad_syntax.json", "line 3, column 19: malformed JSON (unexpected character)"},
     {"bad_empty.json", "line 1, column 1: malformed JSON (unexpected end of input)"},
     {"bad_root.json", "(root): must be an object"},
     {"bad_repeated_field.json", "dt: field given twice"},

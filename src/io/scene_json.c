@@ -9,7 +9,6 @@
 #include "io/scene_generate.h"
 #include "io/tiled.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -46,6 +45,10 @@ static const char* const kChainEntryFields[] = {"type", "points", "loop", "cente
                                                 "friction", "restitution", "category", "mask", NULL};
 
 static const char* const kBodyTypes[] = {"static", "dynamic", "kinematic", "particle", NULL};
+
+/* A scene file bigger than this is refused before it is read: 64 MiB holds some 300,000
+ * bodies written out one by one, more than any world the engine steps interactively. */
+#define KG_SCENE_FILE_SIZE_MAX ((size_t)1 << 26)
 
 /* The most entries of a body's "shapes". */
 #define KG_SCENE_MAX_SHAPES 64
@@ -1322,40 +1325,6 @@ kg_result kg_scene_parse(const char* json, size_t length, const char* source_nam
     return KG_OK;
 }
 
-/* Reads a whole file; works for pipes too, whose size is not known in advance. */
-static kg_result kg_read_file(const char* path, char** out, size_t* length)
-{
-    FILE* file = fopen(path, "rb");
-    if (!file) {
-        return kg_fail(KG_ERROR_IO, "%s: cannot open (%s)", path, strerror(errno));
-    }
-    size_t capacity = 1 << 16, used = 0;
-    char* text = malloc(capacity);
-    int out_of_memory = text == NULL;
-    while (!out_of_memory) {
-        used += fread(text + used, 1, capacity - used, file);
-        if (used < capacity) {
-            break;
-        }
-        char* grown = realloc(text, capacity * 2);
-        out_of_memory = grown == NULL;
-        if (grown) {
-            text = grown;
-            capacity *= 2;
-        }
-    }
-    int read_error = ferror(file);
-    int error = errno;
-    fclose(file);
-    if (out_of_memory || read_error) {
-        free(text);
-        return kg_fail(KG_ERROR_IO, "%s: cannot read (%s)", path, out_of_memory ? "out of memory" : strerror(error));
-    }
-    *out = text;
-    *length = used;
-    return KG_OK;
-}
-
 kg_result kg_scene_load_file(const char* path, kg_scene** out)
 {
     if (!path || !out) {
@@ -1364,7 +1333,7 @@ kg_result kg_scene_load_file(const char* path, kg_scene** out)
     *out = NULL;
     char* text = NULL;
     size_t length = 0;
-    KG_TRY(kg_read_file(path, &text, &length));
+    KG_TRY(kg_json_read_file(path, KG_SCENE_FILE_SIZE_MAX, &text, &length));
     kg_result r = kg_scene_parse(text, length, path, out);
     free(text);
     return r;

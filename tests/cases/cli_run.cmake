@@ -93,7 +93,7 @@ endfunction()
 # A bad scene: exit 2, one line naming the file, the JSON path and the fault.
 kg_cli_run_test(bad_radius error "run|bad_radius.json" "EXPECT=bad_radius.json: bodies[1].shape.radius: must be > 0")
 kg_cli_run_test(bad_syntax error "run|bad_syntax.json"
-                "EXPECT=bad_syntax.json: line 3, column 19: malformed JSON near ' \"type\": \"static\"}'")
+                "EXPECT=bad_syntax.json: line 3, column 19: malformed JSON (unexpected character)")
 kg_cli_run_test(bad_unknown_field error "run|bad_unknown_field.json"
                 "EXPECT=bad_unknown_field.json: bodies[0].colour: unknown field")
 kg_cli_run_test(bad_force_body error "run|bad_force_body.json"
