@@ -218,7 +218,10 @@ static const error_case kErrorStrings[] = {
     {"{\"bodies\": [{\"density\": 0, \"shape\": {\"type\": \"circle\", \"radius\": 1}}]}",
      "bodies[0].density: must be > 0 for a dynamic body"},
     {"{\"forces\": [{\"type\": \"wind\", \"direction\": [0, 0], \"strength\": 1}]}",
-     "forces[0].direction: must not be [0, 0]"},
+     "forces[0].direction: must not be [0, 0] nor so short that it has no direction"},
+    /* non-zero, but scaling it to unit length overflows: the engine would refuse it */
+    {"{\"forces\": [{\"type\": \"wind\", \"direction\": [1e-45, 0], \"strength\": 1}]}",
+     "forces[0].direction: must not be [0, 0] nor so short that it has no direction"},
     {"{\"forces\": [{\"type\": \"wind\", \"direction\": [1, 0]}]}", "forces[0].strength: is required"},
     {"{\"forces\": [{\"type\": \"gravity\", \"acceleration\": [0, 1], \"bodies\": []}]}",
      "forces[0].bodies: must name at least one body (leave it out for all bodies)"},

@@ -325,6 +325,8 @@ static void test_broken_maps_are_refused_clearly(void)
          "/dev/zero: not a regular file (a device or socket)"},
         {DATA "bad_directory_tileset.tmj", KG_ERROR_PARSE, "tilesets[0].source:", "not a regular file (a directory)"},
         {"/dev/urandom", KG_ERROR_IO, "/dev/urandom: not a regular file", ""},
+        /* loads only if the engine takes it: these tiles would be infinitely large */
+        {DATA "bad_tiny_ppm.tmj", KG_ERROR_PARSE, "bad_tiny_ppm.tmj: properties.pixels_per_meter:", "is too small"},
         /* a file that is not JSON: where, but nothing of what it holds */
         {DATA "bad_secret_tileset.tmj", KG_ERROR_PARSE, "tilesets[0].source:",
          "not_json.txt: line 1, column 1: malformed JSON (unexpected character)"},

@@ -5,6 +5,7 @@
 #include "kgyro/scene.h"
 
 #include "collide/shape.h"
+#include "core/kg_math.h"
 #include "io/json_util.h"
 #include "io/scene_generate.h"
 #include "io/tiled.h"
@@ -854,6 +855,19 @@ static kg_result kg_read_force_bodies(kg_loader* loader, const cJSON* json, cons
     return r;
 }
 
+/* Whether kg_add_wind_applicator will take direction: the loader makes the computation it
+ * makes (solve/forces.c: scaled by its largest component, then normalised), so that a
+ * direction such as [1e-45, 0], whose scale overflows, is refused here with its path
+ * rather than by the engine later without one. */
+static int kg_wind_direction_usable(kg_vec2 direction)
+{
+    float largest = fmaxf(fabsf(direction.x), fabsf(direction.y));
+    if (!(largest > 0.0f) || !isfinite(largest)) {
+        return 0;
+    }
+    return kg_length_sq(kg_normalize(kg_scale(1.0f / largest, direction))) > 0.0f;
+}
+
 static kg_result kg_read_force_fields(kg_loader* loader, const cJSON* json, const kg_json_path* path,
                                       kg_scene_force* force)
 {
@@ -867,9 +881,9 @@ static kg_result kg_read_force_fields(kg_loader* loader, const cJSON* json, cons
     KG_TRY(kg_json_require(reader, json, path, "direction"));
     KG_TRY(kg_json_require(reader, json, path, "strength"));
     KG_TRY(kg_json_vec2(reader, json, path, "direction", &force->vector));
-    if (force->vector.x == 0.0f && force->vector.y == 0.0f) {
+    if (!kg_wind_direction_usable(force->vector)) {
         kg_json_path direction_path = kg_json_path_key(path, "direction");
-        return kg_json_fail(reader, &direction_path, "must not be [0, 0]");
+        return kg_json_fail(reader, &direction_path, "must not be [0, 0] nor so short that it has no direction");
     }
     KG_TRY(kg_json_float(reader, json, path, "strength", KG_JSON_NON_NEGATIVE, &force->strength));
     return kg_json_float(reader, json, path, "drag", KG_JSON_NON_NEGATIVE, &force->drag);

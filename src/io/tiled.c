@@ -165,6 +165,21 @@ static kg_result kg_string_property(const kg_json_reader* reader, const cJSON* o
 
 /* ---- the map ---- */
 
+/* The map's tiles in metres are what kg_create_tilemap gets (tile pixels / pixels_per_meter);
+ * it refuses a size that is not finite, so a tiny pixels_per_meter (1e-38) is refused here
+ * with its path rather than by the engine without one. */
+static kg_result kg_check_tile_size_in_meters(const kg_tiled* t, const kg_json_reader* reader,
+                                              const kg_json_path* root_path)
+{
+    float width = (float)t->tile_width / t->pixels_per_meter, height = (float)t->tile_height / t->pixels_per_meter;
+    if (isfinite(width) && isfinite(height) && width > 0.0f && height > 0.0f) {
+        return KG_OK;
+    }
+    kg_json_path path = kg_json_path_key(root_path, "properties.pixels_per_meter");
+    return kg_json_fail(reader, &path, "%g is too small: the %d x %d pixel tiles would not be a finite size in metres",
+                        (double)t->pixels_per_meter, t->tile_width, t->tile_height);
+}
+
 static kg_result kg_read_map_header(kg_tiled* t, const cJSON* root)
 {
     const kg_json_reader* reader = &t->reader;
@@ -196,6 +211,7 @@ static kg_result kg_read_map_header(kg_tiled* t, const cJSON* root)
     t->pixels_per_meter = (float)t->tile_width;
     t->friction = 0.6f;
     KG_TRY(kg_float_property(reader, root, &root_path, "pixels_per_meter", KG_JSON_POSITIVE, &t->pixels_per_meter));
+    KG_TRY(kg_check_tile_size_in_meters(t, reader, &root_path));
     KG_TRY(kg_float_property(reader, root, &root_path, "friction", KG_JSON_NON_NEGATIVE, &t->friction));
     return kg_float_property(reader, root, &root_path, "restitution", KG_JSON_UNIT, &t->restitution);
 }
