@@ -87,7 +87,7 @@ static kg_result kg_validate_world_def(const kg_world_def* d)
         !isfinite(d->hit_event_threshold) || d->hit_event_threshold < 0.0f) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "world solver parameters must be finite and positive");
     }
-    if (d->threads < 0 || d->threads > 256 || d->device_index < 0 || d->backend < KG_BACKEND_AUTO ||
+    if (d->threads < 0 || d->threads > KG_MAX_THREADS || d->device_index < 0 || d->backend < KG_BACKEND_AUTO ||
         d->backend > KG_BACKEND_OPENCL) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "invalid backend, device index or thread count");
     }
