@@ -2,6 +2,7 @@
  * impulse of a step against a resting weight, destroyed bodies, and the same events with
  * any thread count and on both backends. */
 #include "kg_test.h"
+#include "kg_twin.h"
 #include "kgyro/kgyro.h"
 #include "kg_test_world.h"
 
@@ -228,8 +229,9 @@ static void log_events(event_log* log, int step, const kg_contact_event* e, int 
         int kind = (int)e[i].kind;
         memcpy(out, &step, 4);
         memcpy(out + 4, &kind, 4);
-        memcpy(out + 8, &e[i].a, 8);
-        memcpy(out + 16, &e[i].b, 8);
+        kg_body a = kg_untagged_body(e[i].a), b = kg_untagged_body(e[i].b);
+        memcpy(out + 8, &a, 8);
+        memcpy(out + 16, &b, 8);
         memcpy(out + 24, &e[i].point, 8);
         memcpy(out + 32, &e[i].normal, 8);
         memcpy(out + 40, &e[i].approach_speed, 4);

@@ -4,6 +4,7 @@
  * destroyed visitor, a Tiled object with sensor = true, and the same events with any
  * thread count and on both backends. */
 #include "kg_test.h"
+#include "kg_twin.h"
 #include "kgyro/kgyro.h"
 #include "kg_test_world.h"
 #include "kgyro/scene.h"
@@ -259,9 +260,11 @@ static void rain_through_sensors(kg_world* w, sensor_log* log)
             memset(out, 0, 32);
             memcpy(out, &step, 4);
             memcpy(out + 4, &kind, 4);
-            memcpy(out + 8, &e->a, 8);
-            memcpy(out + 16, &e->b, 8);
-            memcpy(out + 24, &e->shape_b, 8);
+            kg_body a = kg_untagged_body(e->a), b = kg_untagged_body(e->b);
+            kg_shape_id shape_b = kg_untagged_shape(e->shape_b);
+            memcpy(out + 8, &a, 8);
+            memcpy(out + 16, &b, 8);
+            memcpy(out + 24, &shape_b, 8);
         }
     }
 }

@@ -6,7 +6,11 @@
 #include "kgyro/kgyro.h"
 #include "kgyro/scene.h"
 
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #define DATA KG_SOURCE_DIR "/tests/data/tiled/"
 #define DT (1.0f / 60.0f)
@@ -316,10 +320,23 @@ static void test_broken_maps_are_refused_clearly(void)
          "terrain.tsj): tilewidth: its tiles are 16 x 16 pixels but the map's are 32 x 16"},
         {DATA "bad_syntax.tmj", KG_ERROR_PARSE, "bad_syntax.tmj: line 2, column", "malformed JSON"},
         {DATA "no_such_map.tmj", KG_ERROR_IO, "no_such_map.tmj: cannot open", ""},
+        /* a device or a directory is refused at once, not read for ever */
+        {DATA "bad_device_tileset.tmj", KG_ERROR_PARSE, "tilesets[0].source:",
+         "/dev/zero: not a regular file (a device or socket)"},
+        {DATA "bad_directory_tileset.tmj", KG_ERROR_PARSE, "tilesets[0].source:", "not a regular file (a directory)"},
+        {"/dev/urandom", KG_ERROR_IO, "/dev/urandom: not a regular file", ""},
+        /* loads only if the engine takes it: these tiles would be infinitely large */
+        {DATA "bad_tiny_ppm.tmj", KG_ERROR_PARSE, "bad_tiny_ppm.tmj: properties.pixels_per_meter:", "is too small"},
+        /* a file that is not JSON: where, but nothing of what it holds */
+        {DATA "bad_secret_tileset.tmj", KG_ERROR_PARSE, "tilesets[0].source:",
+         "not_json.txt: line 1, column 1: malformed JSON (unexpected character)"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         check_refused(cases[i].file, cases[i].result, cases[i].where, cases[i].what);
     }
+    kg_scene* scene = NULL;
+    KG_CHECK(kg_scene_load_tiled(DATA "bad_secret_tileset.tmj", &scene) == KG_ERROR_PARSE);
+    KG_CHECK(strstr(kg_last_error(), "hunter2") == NULL);
 }
 
 /* ---- the scene format's tilemap section ---- */
@@ -330,6 +347,26 @@ static kg_scene* parse(const char* json)
     kg_result r = kg_scene_parse(json, strlen(json), DATA "scene.json", &scene);
     KG_CHECK(r == KG_OK || scene == NULL);
     return scene;
+}
+
+/* A scene naming a FIFO as its Tiled map: refused at once (opening it would wait for a
+ * writer that never comes), with the JSON path of the field. */
+static void test_scene_naming_a_fifo_is_refused_at_once(void)
+{
+    char fifo[] = "/tmp/kg_fifo_XXXXXX";
+    KG_CHECK(mkdtemp(fifo) != NULL);
+    char path[64];
+    snprintf(path, sizeof path, "%s/map.tmj", fifo);
+    KG_CHECK(mkfifo(path, 0600) == 0);
+    char json[160];
+    snprintf(json, sizeof json, "{\"tilemap\": {\"tiled\": \"%s\"}}", path);
+    KG_CHECK(parse(json) == NULL);
+    KG_CHECK(strstr(kg_last_error(), "tilemap.tiled: ") && strstr(kg_last_error(), "not a regular file (a FIFO)"));
+    kg_scene* scene = NULL;
+    KG_CHECK(kg_scene_load_file(path, &scene) == KG_ERROR_IO && scene == NULL);
+    KG_CHECK(strstr(kg_last_error(), "not a regular file (a FIFO)") != NULL);
+    unlink(path);
+    rmdir(fifo);
 }
 
 static void test_scene_with_inline_tilemap(void)
@@ -469,4 +506,5 @@ KG_TEST_MAIN(KG_TEST(test_embedded_tileset_map), KG_TEST(test_external_tileset_b
              KG_TEST(test_loaded_level_runs), KG_TEST(test_chains_and_capsules_load),
              KG_TEST(test_chains_and_capsules_run), KG_TEST(test_broken_maps_are_refused_clearly),
              KG_TEST(test_scene_with_inline_tilemap), KG_TEST(test_scene_with_tiled_tilemap),
+             KG_TEST(test_scene_naming_a_fifo_is_refused_at_once),
              KG_TEST(test_bad_tilemap_sections), KG_TEST(test_bad_chain_and_capsule_objects))

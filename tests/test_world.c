@@ -57,6 +57,40 @@ static void test_reuse_gets_new_generation(void)
     kg_destroy_world(w);
 }
 
+/* Two worlds with a body in the same slot: each one's handles name nothing in the other
+ * (types.h: a foreign handle is invalid), for bodies, shapes and applicators alike. */
+static void test_foreign_handles_are_invalid(void)
+{
+    kg_world* mine = make_world(8);
+    kg_world* other = make_world(8);
+    kg_body body = add_box(mine, 0, 0);
+    kg_body foreign = add_box(other, 5, 0);
+    KG_CHECK(body.index == foreign.index);
+    KG_CHECK(!kg_body_is_valid(mine, foreign));
+    kg_vec2 p;
+    KG_CHECK(kg_body_get_position(mine, foreign, &p) == KG_ERROR_INVALID_HANDLE);
+    KG_CHECK(strstr(kg_last_error(), "foreign") != NULL);
+    KG_CHECK(kg_body_set_velocity(mine, foreign, (kg_vec2){1, 0}) == KG_ERROR_INVALID_HANDLE);
+    KG_CHECK(kg_destroy_body(mine, foreign) == KG_ERROR_INVALID_HANDLE);
+    KG_CHECK(kg_body_is_valid(mine, body) && kg_world_body_count(mine) == 1);
+
+    kg_shape_id foreign_shape;
+    int count = 0;
+    KG_CHECK_OK(kg_body_get_shapes(other, foreign, &foreign_shape, 1, &count));
+    kg_body owner;
+    KG_CHECK(kg_shape_get_body(mine, foreign_shape, &owner) == KG_ERROR_INVALID_HANDLE);
+    KG_CHECK(kg_destroy_shape(mine, foreign_shape) == KG_ERROR_INVALID_HANDLE);
+
+    kg_applicator applicator, foreign_applicator;
+    KG_CHECK_OK(kg_add_gravity_applicator(mine, (kg_vec2){0, 1}, NULL, 0, &applicator));
+    KG_CHECK_OK(kg_add_gravity_applicator(other, (kg_vec2){0, 1}, NULL, 0, &foreign_applicator));
+    KG_CHECK(applicator.index == foreign_applicator.index);
+    KG_CHECK(kg_remove_applicator(mine, foreign_applicator) == KG_ERROR_INVALID_HANDLE);
+    KG_CHECK_OK(kg_remove_applicator(mine, applicator));
+    kg_destroy_world(other);
+    kg_destroy_world(mine);
+}
+
 static void test_full_pool_is_an_error_and_leaves_world_intact(void)
 {
     kg_world* w = make_world(3);
@@ -193,6 +227,7 @@ static void test_user_data_is_set_and_read_back(void)
 }
 
 KG_TEST_MAIN(KG_TEST(test_stale_handle_after_destroy), KG_TEST(test_user_data_is_set_and_read_back), KG_TEST(test_reuse_gets_new_generation),
+             KG_TEST(test_foreign_handles_are_invalid),
              KG_TEST(test_full_pool_is_an_error_and_leaves_world_intact),
              KG_TEST(test_bad_body_definitions_are_refused), KG_TEST(test_bad_calls_change_nothing),
              KG_TEST(test_bad_world_definitions_are_refused), KG_TEST(test_get_bodies_lists_live_ones_in_slot_order))

@@ -131,8 +131,8 @@ static int kg_apply_option(kg_run_options* o, const char* name, const char* valu
         }
         o->every = (int)n;
     } else if (strcmp(name, "--threads") == 0) {
-        if (!kg_parse_long(value, 1, 1024, &n)) {
-            return kg_option_error(name, "an integer in [1, 1024]", value);
+        if (!kg_parse_long(value, 1, KG_MAX_THREADS, &n)) {
+            return kg_option_error(name, "an integer in [1, 256] (the library's limit, KG_MAX_THREADS)", value);
         }
         o->threads = (int)n;
     } else if (strcmp(name, "--seed") == 0) {

@@ -17,6 +17,9 @@ typedef enum kg_backend {
 } kg_backend;
 
 /* Everything a world is sized and tuned by. Start from kg_default_world_def(). */
+/* The most CPU worker threads a world may have (kg_world_def.threads). */
+#define KG_MAX_THREADS 256
+
 typedef struct kg_world_def {
     kg_vec2 gravity;          /* m/s^2, applied to every dynamic body and particle */
     int max_bodies;           /* pool capacity: bodies and particles together */
@@ -51,7 +54,7 @@ typedef struct kg_world_def {
     kg_backend backend;
     int device_index;         /* OpenCL device, counted over all platforms (kgyro info lists
                                * them); KGYRO_OPENCL_DEVICE=N overrides it */
-    int threads;              /* CPU worker threads; 0 = 1 */
+    int threads;              /* CPU worker threads, 0 to KG_MAX_THREADS; 0 = 1 */
 } kg_world_def;
 
 KG_API kg_world_def kg_default_world_def(void);

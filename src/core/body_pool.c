@@ -1,6 +1,7 @@
 #include "core/body_pool.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "core/generation.h"
 #include "collide/shape.h"
 
 #include <string.h>
@@ -52,7 +53,7 @@ int kg_body_pool_acquire(kg_body_pool* pool)
 void kg_body_pool_release(kg_body_pool* pool, int index)
 {
     pool->flags[index] = 0;
-    pool->generation[index] += 1;
+    pool->generation[index] = kg_generation_next(pool->generation[index]);
     pool->count -= 1;
     if (index < pool->first_free) {
         pool->first_free = index;
@@ -67,7 +68,7 @@ int kg_body_pool_resolve(const kg_body_pool* pool, kg_body handle)
     int i = (int)handle.index;
     if (handle.generation == 0 || handle.index >= (uint32_t)pool->capacity || !kg_pool_alive(pool, i) ||
         pool->generation[i] != handle.generation) {
-        kg_fail(KG_ERROR_INVALID_HANDLE, "body handle {%u, %u} is stale or invalid (no live body has it)",
+        kg_fail(KG_ERROR_INVALID_HANDLE, "body handle {%u, %u} is stale, foreign or invalid (no live body of this world has it)",
                 handle.index, handle.generation);
         return -1;
     }

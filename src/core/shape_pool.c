@@ -1,6 +1,7 @@
 #include "core/shape_pool.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "core/generation.h"
 
 #include <string.h>
 
@@ -40,6 +41,8 @@ static kg_result kg_shape_pool_grow(kg_shape_pool* pool, int capacity)
 #define KG_COPY_ARRAY(name) memcpy(grown.name, pool->name, (size_t)pool->capacity * sizeof *pool->name);
     KG_SHAPE_POOL_ARRAYS(KG_COPY_ARRAY)
 #undef KG_COPY_ARRAY
+    grown.tag = pool->tag;
+    kg_generation_seed(grown.generation, pool->capacity, capacity, pool->tag);
     if (pool->geometry) {
         grown.geometry = kg_alloc_zeroed((size_t)capacity * sizeof *grown.geometry);
         if (!grown.geometry) {
@@ -105,7 +108,7 @@ int kg_shape_pool_acquire(kg_shape_pool* pool)
 void kg_shape_pool_release(kg_shape_pool* pool, int index)
 {
     pool->flags[index] = KG_SHAPE_HELD;
-    pool->generation[index] += 1;
+    pool->generation[index] = kg_generation_next(pool->generation[index]);
     if (pool->generation[index] == 0) {
         pool->generation[index] = 1;
     }
@@ -133,7 +136,7 @@ int kg_shape_pool_resolve(const kg_shape_pool* pool, kg_shape_id handle)
     int i = (int)handle.index;
     if (handle.generation == 0 || handle.index >= (uint32_t)pool->high_water || !kg_shape_alive(pool, i) ||
         pool->generation[i] != handle.generation) {
-        kg_fail(KG_ERROR_INVALID_HANDLE, "shape handle {%u, %u} is stale or invalid (no live shape has it)",
+        kg_fail(KG_ERROR_INVALID_HANDLE, "shape handle {%u, %u} is stale, foreign or invalid (no live shape of this world has it)",
                 handle.index, handle.generation);
         return -1;
     }

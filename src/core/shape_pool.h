@@ -22,6 +22,7 @@ typedef struct kg_shape_pool {
     int count;      /* live shapes */
     int first_free; /* no free slot below this index */
     int held;       /* destroyed shapes whose slots are not free yet */
+    kg_u32 tag;     /* the world's (core/generation.h): seeds the slots the pool grows by */
     kg_u32 version; /* moves on with every change of a shape (the OpenCL backend uploads them) */
     int compound_bodies; /* bodies with more than one shape: the narrowphase then expands
                           * body pairs into shape pairs (collide/collide.c) */

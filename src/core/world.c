@@ -3,6 +3,7 @@
 #include "backend/backend.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "core/generation.h"
 #include "collide/collide.h"
 #include "collide/events.h"
 #include "collide/query_index.h"
@@ -11,7 +12,26 @@
 #include "solve/solver.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <string.h>
+
+kg_u32 kg_next_world_tag(void)
+{
+    static atomic_uint worlds_made;
+    return (kg_u32)(atomic_fetch_add(&worlds_made, 1u) % 255u) + 1u;
+}
+
+/* Seeds every generation the world hands out with its tag (core/generation.h). */
+static void kg_world_tag_slots(kg_world* w)
+{
+    kg_u32 tag = kg_next_world_tag();
+    kg_generation_seed(w->bodies.generation, 0, w->bodies.capacity, tag);
+    w->shapes.tag = tag;
+    kg_generation_seed(w->shapes.generation, 0, w->shapes.capacity, tag);
+    for (int i = 0; i <= w->def.max_applicators; ++i) {
+        w->applicators[i].generation = kg_generation_first(tag);
+    }
+}
 
 kg_world_def kg_default_world_def(void)
 {
@@ -67,7 +87,7 @@ static kg_result kg_validate_world_def(const kg_world_def* d)
         !isfinite(d->hit_event_threshold) || d->hit_event_threshold < 0.0f) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "world solver parameters must be finite and positive");
     }
-    if (d->threads < 0 || d->threads > 256 || d->device_index < 0 || d->backend < KG_BACKEND_AUTO ||
+    if (d->threads < 0 || d->threads > KG_MAX_THREADS || d->device_index < 0 || d->backend < KG_BACKEND_AUTO ||
         d->backend > KG_BACKEND_OPENCL) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "invalid backend, device index or thread count");
     }
@@ -106,6 +126,9 @@ kg_result kg_create_world(const kg_world_def* def, kg_world** out_world)
         w->applicators = kg_alloc_zeroed((size_t)(w->def.max_applicators + 1) * sizeof *w->applicators);
         w->handle_scratch = kg_alloc_zeroed((size_t)w->def.max_bodies * sizeof *w->handle_scratch);
         r = (w->applicators && w->handle_scratch) ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate a world");
+    }
+    if (r == KG_OK) {
+        kg_world_tag_slots(w);
     }
     if (r == KG_OK && w->def.threads > 1) {
         w->threads = kg_thread_pool_create(w->def.threads);

@@ -1,9 +1,14 @@
 #include "io/json_util.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 /* A path too long for its buffer ends in "..." rather than being cut silently. */
 static void kg_json_mark_truncated(kg_json_path* path, int written)
@@ -44,15 +49,61 @@ kg_result kg_json_fail(const kg_json_reader* reader, const kg_json_path* path, c
     return kg_fail(KG_ERROR_PARSE, "%s: %s: %s", reader->source, where, what);
 }
 
-/* Up to 20 characters of the text at the error, on one line, to show what was found. */
-static void kg_json_excerpt(const char* at, const char* end, char* out, size_t size)
+/* Opens path for reading if it is a regular file of at most max_bytes. O_NONBLOCK: opening
+ * a FIFO would otherwise wait for a writer. */
+static kg_result kg_open_regular_file(const char* path, size_t max_bytes, int* out_fd, size_t* out_size)
 {
-    size_t n = 0;
-    while (at + n < end && n + 1 < size && n < 20 && at[n] != '\n' && at[n] != '\r' && at[n] != '\0') {
-        out[n] = at[n];
-        n++;
+    int fd = open(path, O_RDONLY | O_NONBLOCK);
+    if (fd < 0) {
+        return kg_fail(KG_ERROR_IO, "%s: cannot open (%s)", path, strerror(errno));
     }
-    out[n] = '\0';
+    struct stat info;
+    if (fstat(fd, &info) != 0) {
+        int error = errno;
+        close(fd);
+        return kg_fail(KG_ERROR_IO, "%s: cannot open (%s)", path, strerror(error));
+    }
+    if (!S_ISREG(info.st_mode)) {
+        close(fd);
+        return kg_fail(KG_ERROR_IO, "%s: not a regular file (a %s)", path,
+                       S_ISDIR(info.st_mode) ? "directory" : S_ISFIFO(info.st_mode) ? "FIFO" : "device or socket");
+    }
+    if ((uintmax_t)info.st_size > (uintmax_t)max_bytes) {
+        close(fd);
+        return kg_fail(KG_ERROR_IO, "%s: larger than the limit of %zu bytes", path, max_bytes);
+    }
+    *out_fd = fd;
+    *out_size = (size_t)info.st_size;
+    return KG_OK;
+}
+
+kg_result kg_json_read_file(const char* path, size_t max_bytes, char** out, size_t* length)
+{
+    int fd = -1;
+    size_t size = 0;
+    KG_TRY(kg_open_regular_file(path, max_bytes, &fd, &size));
+    char* text = malloc(size > 0 ? size : 1);
+    size_t used = 0;
+    int error = 0;
+    while (text && used < size) {
+        ssize_t got = read(fd, text + used, size - used);
+        if (got <= 0) {
+            error = got < 0 && errno != EINTR ? errno : 0;
+            if (got == 0 || error != 0) {
+                break; /* a file that shrank while read is taken as it is */
+            }
+            continue;
+        }
+        used += (size_t)got;
+    }
+    close(fd);
+    if (!text || error != 0) {
+        free(text);
+        return kg_fail(KG_ERROR_IO, "%s: cannot read (%s)", path, text ? strerror(error) : "out of memory");
+    }
+    *out = text;
+    *length = used;
+    return KG_OK;
 }
 
 kg_result kg_json_parse(const kg_json_reader* reader, const char* text, size_t length, cJSON** out)
@@ -82,14 +133,11 @@ kg_result kg_json_parse(const kg_json_reader* reader, const char* text, size_t l
             column++;
         }
     }
-    char excerpt[32];
-    kg_json_excerpt(end, text + length, excerpt, sizeof excerpt);
-    if (excerpt[0] == '\0') {
-        return kg_fail(KG_ERROR_PARSE, "%s: line %d, column %d: malformed JSON (unexpected end of input)",
-                       reader->source, line, column);
-    }
-    return kg_fail(KG_ERROR_PARSE, "%s: line %d, column %d: malformed JSON near '%s'", reader->source, line,
-                   column, excerpt);
+    /* Nothing of the text is quoted: a file that is not JSON at all may be a secret one
+     * that a hostile level named (its first line would leak into the message). */
+    const char* what = end == text + length ? "unexpected end of input" : "unexpected character";
+    return kg_fail(KG_ERROR_PARSE, "%s: line %d, column %d: malformed JSON (%s)", reader->source, line, column,
+                   what);
 }
 
 static int kg_json_allowed(const char* key, const char* const* allowed)

@@ -38,6 +38,13 @@ typedef struct kg_json_reader {
 kg_result kg_json_fail(const kg_json_reader* reader, const kg_json_path* path, const char* fmt, ...)
     KG_PRINTF(3, 4);
 
+/* Reads the whole regular file at path, of at most max_bytes, into *out (free() it) and
+ * its length into *length. Anything else (a FIFO, a device, a directory) is refused at
+ * once, before a byte is read, so that a hostile path can neither block the loader nor
+ * feed it without end; so is a file larger than max_bytes. Fails with KG_ERROR_IO and
+ * "PATH: what is wrong". */
+kg_result kg_json_read_file(const char* path, size_t max_bytes, char** out, size_t* length);
+
 /* Parses a whole document. Syntax errors read "SOURCE: line L, column C: ...". */
 kg_result kg_json_parse(const kg_json_reader* reader, const char* text, size_t length, cJSON** out);
 

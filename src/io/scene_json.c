@@ -5,11 +5,11 @@
 #include "kgyro/scene.h"
 
 #include "collide/shape.h"
+#include "core/kg_math.h"
 #include "io/json_util.h"
 #include "io/scene_generate.h"
 #include "io/tiled.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -46,6 +46,10 @@ static const char* const kChainEntryFields[] = {"type", "points", "loop", "cente
                                                 "friction", "restitution", "category", "mask", NULL};
 
 static const char* const kBodyTypes[] = {"static", "dynamic", "kinematic", "particle", NULL};
+
+/* A scene file bigger than this is refused before it is read: 64 MiB holds some 300,000
+ * bodies written out one by one, more than any world the engine steps interactively. */
+#define KG_SCENE_FILE_SIZE_MAX ((size_t)1 << 26)
 
 /* The most entries of a body's "shapes". */
 #define KG_SCENE_MAX_SHAPES 64
@@ -851,6 +855,19 @@ static kg_result kg_read_force_bodies(kg_loader* loader, const cJSON* json, cons
     return r;
 }
 
+/* Whether kg_add_wind_applicator will take direction: the loader makes the computation it
+ * makes (solve/forces.c: scaled by its largest component, then normalised), so that a
+ * direction such as [1e-45, 0], whose scale overflows, is refused here with its path
+ * rather than by the engine later without one. */
+static int kg_wind_direction_usable(kg_vec2 direction)
+{
+    float largest = fmaxf(fabsf(direction.x), fabsf(direction.y));
+    if (!(largest > 0.0f) || !isfinite(largest)) {
+        return 0;
+    }
+    return kg_length_sq(kg_normalize(kg_scale(1.0f / largest, direction))) > 0.0f;
+}
+
 static kg_result kg_read_force_fields(kg_loader* loader, const cJSON* json, const kg_json_path* path,
                                       kg_scene_force* force)
 {
@@ -864,9 +881,9 @@ static kg_result kg_read_force_fields(kg_loader* loader, const cJSON* json, cons
     KG_TRY(kg_json_require(reader, json, path, "direction"));
     KG_TRY(kg_json_require(reader, json, path, "strength"));
     KG_TRY(kg_json_vec2(reader, json, path, "direction", &force->vector));
-    if (force->vector.x == 0.0f && force->vector.y == 0.0f) {
+    if (!kg_wind_direction_usable(force->vector)) {
         kg_json_path direction_path = kg_json_path_key(path, "direction");
-        return kg_json_fail(reader, &direction_path, "must not be [0, 0]");
+        return kg_json_fail(reader, &direction_path, "must not be [0, 0] nor so short that it has no direction");
     }
     KG_TRY(kg_json_float(reader, json, path, "strength", KG_JSON_NON_NEGATIVE, &force->strength));
     return kg_json_float(reader, json, path, "drag", KG_JSON_NON_NEGATIVE, &force->drag);
@@ -1322,40 +1339,6 @@ kg_result kg_scene_parse(const char* json, size_t length, const char* source_nam
     return KG_OK;
 }
 
-/* Reads a whole file; works for pipes too, whose size is not known in advance. */
-static kg_result kg_read_file(const char* path, char** out, size_t* length)
-{
-    FILE* file = fopen(path, "rb");
-    if (!file) {
-        return kg_fail(KG_ERROR_IO, "%s: cannot open (%s)", path, strerror(errno));
-    }
-    size_t capacity = 1 << 16, used = 0;
-    char* text = malloc(capacity);
-    int out_of_memory = text == NULL;
-    while (!out_of_memory) {
-        used += fread(text + used, 1, capacity - used, file);
-        if (used < capacity) {
-            break;
-        }
-        char* grown = realloc(text, capacity * 2);
-        out_of_memory = grown == NULL;
-        if (grown) {
-            text = grown;
-            capacity *= 2;
-        }
-    }
-    int read_error = ferror(file);
-    int error = errno;
-    fclose(file);
-    if (out_of_memory || read_error) {
-        free(text);
-        return kg_fail(KG_ERROR_IO, "%s: cannot read (%s)", path, out_of_memory ? "out of memory" : strerror(error));
-    }
-    *out = text;
-    *length = used;
-    return KG_OK;
-}
-
 kg_result kg_scene_load_file(const char* path, kg_scene** out)
 {
     if (!path || !out) {
@@ -1364,7 +1347,7 @@ kg_result kg_scene_load_file(const char* path, kg_scene** out)
     *out = NULL;
     char* text = NULL;
     size_t length = 0;
-    KG_TRY(kg_read_file(path, &text, &length));
+    KG_TRY(kg_json_read_file(path, KG_SCENE_FILE_SIZE_MAX, &text, &length));
     kg_result r = kg_scene_parse(text, length, path, out);
     free(text);
     return r;

@@ -10,7 +10,6 @@
 #include "collide/shape.h"
 #include "io/json_util.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,7 +22,7 @@
 #define KG_GID_ROTATE_HEX 0x10000000u
 #define KG_GID_MASK 0x0FFFFFFFu
 #define KG_FILE_NAME_MAX 1024
-/* A tileset or map file bigger than this is not one (a device, say): refused, not read. */
+/* A tileset or map file bigger than this is not one: refused, not read. */
 #define KG_FILE_SIZE_MAX ((size_t)1 << 28)
 /* Shape points this far outside the tile (in tile sizes) are rounding, not design. */
 #define KG_TILE_SLACK 1.0e-3f
@@ -80,42 +79,11 @@ int kg_tiled_is_map(const cJSON* root)
 
 /* ---- files ---- */
 
-static kg_result kg_read_text_file(const char* path, char** out, size_t* length)
-{
-    FILE* file = fopen(path, "rb");
-    if (!file) {
-        return kg_fail(KG_ERROR_IO, "%s: cannot open (%s)", path, strerror(errno));
-    }
-    size_t capacity = 1 << 16, used = 0;
-    char* text = malloc(capacity);
-    while (text) {
-        used += fread(text + used, 1, capacity - used, file);
-        if (used < capacity || capacity >= KG_FILE_SIZE_MAX) {
-            break;
-        }
-        char* grown = realloc(text, capacity * 2);
-        if (!grown) {
-            free(text);
-        }
-        text = grown;
-        capacity *= 2;
-    }
-    int failed = !text || ferror(file);
-    fclose(file);
-    if (failed || used >= KG_FILE_SIZE_MAX) {
-        free(text);
-        return kg_fail(KG_ERROR_IO, "%s: cannot read it%s", path, failed ? "" : " (larger than 256 MiB)");
-    }
-    *out = text;
-    *length = used;
-    return KG_OK;
-}
-
 static kg_result kg_parse_file(const char* path, cJSON** out)
 {
     char* text = NULL;
     size_t length = 0;
-    KG_TRY(kg_read_text_file(path, &text, &length));
+    KG_TRY(kg_json_read_file(path, KG_FILE_SIZE_MAX, &text, &length));
     kg_json_reader reader = {path};
     kg_result r = kg_json_parse(&reader, text, length, out);
     free(text);
@@ -197,6 +165,21 @@ static kg_result kg_string_property(const kg_json_reader* reader, const cJSON* o
 
 /* ---- the map ---- */
 
+/* The map's tiles in metres are what kg_create_tilemap gets (tile pixels / pixels_per_meter);
+ * it refuses a size that is not finite, so a tiny pixels_per_meter (1e-38) is refused here
+ * with its path rather than by the engine without one. */
+static kg_result kg_check_tile_size_in_meters(const kg_tiled* t, const kg_json_reader* reader,
+                                              const kg_json_path* root_path)
+{
+    float width = (float)t->tile_width / t->pixels_per_meter, height = (float)t->tile_height / t->pixels_per_meter;
+    if (isfinite(width) && isfinite(height) && width > 0.0f && height > 0.0f) {
+        return KG_OK;
+    }
+    kg_json_path path = kg_json_path_key(root_path, "properties.pixels_per_meter");
+    return kg_json_fail(reader, &path, "%g is too small: the %d x %d pixel tiles would not be a finite size in metres",
+                        (double)t->pixels_per_meter, t->tile_width, t->tile_height);
+}
+
 static kg_result kg_read_map_header(kg_tiled* t, const cJSON* root)
 {
     const kg_json_reader* reader = &t->reader;
@@ -228,6 +211,7 @@ static kg_result kg_read_map_header(kg_tiled* t, const cJSON* root)
     t->pixels_per_meter = (float)t->tile_width;
     t->friction = 0.6f;
     KG_TRY(kg_float_property(reader, root, &root_path, "pixels_per_meter", KG_JSON_POSITIVE, &t->pixels_per_meter));
+    KG_TRY(kg_check_tile_size_in_meters(t, reader, &root_path));
     KG_TRY(kg_float_property(reader, root, &root_path, "friction", KG_JSON_NON_NEGATIVE, &t->friction));
     return kg_float_property(reader, root, &root_path, "restitution", KG_JSON_UNIT, &t->restitution);
 }

@@ -93,7 +93,7 @@ endfunction()
 # A bad scene: exit 2, one line naming the file, the JSON path and the fault.
 kg_cli_run_test(bad_radius error "run|bad_radius.json" "EXPECT=bad_radius.json: bodies[1].shape.radius: must be > 0")
 kg_cli_run_test(bad_syntax error "run|bad_syntax.json"
-                "EXPECT=bad_syntax.json: line 3, column 19: malformed JSON near ' \"type\": \"static\"}'")
+                "EXPECT=bad_syntax.json: line 3, column 19: malformed JSON (unexpected character)")
 kg_cli_run_test(bad_unknown_field error "run|bad_unknown_field.json"
                 "EXPECT=bad_unknown_field.json: bodies[0].colour: unknown field")
 kg_cli_run_test(bad_force_body error "run|bad_force_body.json"
@@ -108,6 +108,8 @@ kg_cli_run_test(bad_generator_name error "run|volcano_3"
                 "EXPECT=unknown scene 'volcano_3' (generators: pyramid_B, stack_N, rain_N, particles_N, large_pyramid, many_pyramids, smash, tumbler)")
 
 # Bad options: exit 2 with a message.
+kg_cli_run_test(bad_threads error "run|pyramid_3|--threads|300"
+                "EXPECT=--threads: expected an integer in [1, 256] (the library's limit, KG_MAX_THREADS) (got '300')")
 kg_cli_run_test(bad_steps error "run|pyramid_3|--steps|-1" "EXPECT=--steps: expected an integer >= 0 (got '-1')")
 kg_cli_run_test(bad_every error "run|pyramid_3|--every=0" "EXPECT=--every: expected an integer >= 1 (got '0')")
 kg_cli_run_test(bad_backend error "run|pyramid_3|--backend|cuda"
