@@ -296,7 +296,11 @@ static kg_shape_def random_shape(rng* r, shape_class* cls)
     }
     case 10: *cls = SHAPE_VALID; return regular_polygon(3 + rng_below(r, 6), a);
     case 11: *cls = SHAPE_VALID; return kg_circle_shape(a);
-    case 12: *cls = SHAPE_VALID; return kg_box_shape(rng_chance(r, 20) ? -a : a, b); /* mirrored is still a box */
+    case 12: { /* a box of negative width is refused, not taken as its mirror image */
+        int negative = rng_chance(r, 20);
+        *cls = negative ? SHAPE_DEGENERATE : SHAPE_VALID;
+        return kg_box_shape(negative ? -a : a, b);
+    }
     default: *cls = SHAPE_VALID; return kg_offset_box_shape(a, b, (kg_vec2){rng_range(r, -1, 1), 0.5f}, a);
     }
 }

@@ -138,6 +138,15 @@ static void test_bad_body_definitions_are_refused(void)
     KG_CHECK(kg_create_body(w, &bd, &out) == KG_ERROR_DEGENERATE_SHAPE);
     bd.shape = kg_box_shape(0.0f, 1.0f);
     KG_CHECK(kg_create_body(w, &bd, &out) == KG_ERROR_DEGENERATE_SHAPE);
+    bd.shape = kg_box_shape(-1.0f, -1.0f); /* its corners' hull is a 1 x 1 box: refused all the same */
+    KG_CHECK(kg_create_body(w, &bd, &out) == KG_ERROR_DEGENERATE_SHAPE);
+    KG_CHECK(strstr(kg_last_error(), "not > 0") != NULL);
+    bd.shape = kg_box_shape(NAN, 1.0f);
+    KG_CHECK(kg_create_body(w, &bd, &out) == KG_ERROR_INVALID_ARGUMENT);
+    bd.shape = kg_polygon_shape(NULL, 3); /* no crash: nothing is read */
+    KG_CHECK(kg_create_body(w, &bd, &out) == KG_ERROR_DEGENERATE_SHAPE);
+    kg_tile_shape tile = kg_tile_polygon(NULL, 3);
+    KG_CHECK(kg_tile_shape_check(&tile) == KG_ERROR_DEGENERATE_SHAPE);
     bd.shape = kg_circle_shape(-1.0f);
     KG_CHECK(kg_create_body(w, &bd, &out) == KG_ERROR_INVALID_ARGUMENT);
     bd.shape = kg_box_shape(1, 1);

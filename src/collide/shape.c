@@ -15,7 +15,11 @@ kg_shape_def kg_offset_box_shape(float width, float height, kg_vec2 center, floa
     kg_shape_def def;
     memset(&def, 0, sizeof def);
     def.type = KG_SHAPE_POLYGON;
-    def.count = 4;
+    /* a box of no or negative size has no vertices, which making it refuses: its corners'
+     * hull would otherwise quietly turn (-1, -1) into a 1 x 1 box (a size not finite keeps
+     * its corners, refused as not finite) */
+    int finite = isfinite(width) && isfinite(height);
+    def.count = finite && (width <= 0.0f || height <= 0.0f) ? 0 : 4;
     float hx = 0.5f * width, hy = 0.5f * height;
     kg_rot q = {cosf(angle), sinf(angle)};
     kg_vec2 corners[4] = {{-hx, -hy}, {hx, -hy}, {hx, hy}, {-hx, hy}};
@@ -39,8 +43,8 @@ kg_shape_def kg_polygon_shape(const kg_vec2* vertices, int count)
     kg_shape_def def;
     memset(&def, 0, sizeof def);
     def.type = KG_SHAPE_POLYGON;
-    def.count = count;
-    for (int i = 0; i < count && i < KG_MAX_POLYGON_VERTICES; ++i) {
+    def.count = vertices ? count : 0; /* no vertices: refused when made, never read */
+    for (int i = 0; vertices && i < count && i < KG_MAX_POLYGON_VERTICES; ++i) {
         def.vertices[i] = vertices[i];
     }
     return def;
@@ -186,6 +190,10 @@ static kg_result kg_build_circle(const kg_shape_def* def, kg_shape* out)
 
 static kg_result kg_build_polygon(const kg_shape_def* def, kg_shape* out)
 {
+    if (def->count == 0) {
+        return kg_fail(KG_ERROR_DEGENERATE_SHAPE, "polygon has no vertices (a box whose width or height is not > 0, "
+                                                  "or kg_polygon_shape given NULL)");
+    }
     if (def->count < 3 || def->count > KG_MAX_POLYGON_VERTICES) {
         return kg_fail(KG_ERROR_DEGENERATE_SHAPE, "polygon needs 3 to %d vertices (got %d)",
                        KG_MAX_POLYGON_VERTICES, def->count);
