@@ -3,6 +3,7 @@
  * and its errors. Expected positions are computed here from each body's state as a game
  * reads it (kg_body_get_state), not from the library's transforms. */
 #include "kg_test.h"
+#include "kg_test_world.h"
 
 #include "debug_draw_recorder.h"
 
@@ -12,31 +13,6 @@
 #include <string.h>
 
 #define KG_TOLERANCE 1e-6
-
-static kg_world* kg_make_world(kg_vec2 gravity)
-{
-    kg_world_def def = kg_default_world_def();
-    def.gravity = gravity;
-    def.backend = KG_BACKEND_CPU;
-    kg_world* world = NULL;
-    KG_CHECK_OK(kg_create_world(&def, &world));
-    return world;
-}
-
-static kg_body kg_add(kg_world* world, kg_body_type type, kg_vec2 at, float angle, kg_shape_def shape)
-{
-    kg_body_def def = kg_default_body_def();
-    def.type = type;
-    def.position = at;
-    def.angle = angle;
-    def.shape = shape;
-    if (type == KG_BODY_PARTICLE && shape.type == KG_SHAPE_NONE) {
-        def.mass = 1.0f;
-    }
-    kg_body body = KG_NULL_BODY_INIT;
-    KG_CHECK_OK(kg_create_body(world, &def, &body));
-    return body;
-}
 
 /* A point of body's frame in the world, from its state as the API gives it. */
 static kg_vec2 kg_body_point(const kg_world* world, kg_body body, kg_vec2 local)
@@ -120,19 +96,19 @@ static int kg_same_calls(const kg_recorder* got, const kg_recorder* want, double
  * colour of its state. */
 static void test_every_shape_kind(void)
 {
-    kg_world* world = kg_make_world((kg_vec2){0.0f, 0.0f});
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
     kg_recorder* want = calloc(2, sizeof *want);
     kg_recorder* got = want + 1;
     kg_shape_def box = kg_offset_box_shape(2.0f, 1.0f, (kg_vec2){0.2f, -0.1f}, 0.25f);
-    kg_body b_static = kg_add(world, KG_BODY_STATIC, (kg_vec2){0.5f, -3.0f}, 0.3f, box);
+    kg_body b_static = kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.5f, -3.0f}, 0.3f, box);
     kg_shape_def circle = kg_circle_shape(0.5f);
     circle.center = (kg_vec2){0.1f, 0.2f};
-    kg_body b_kinematic = kg_add(world, KG_BODY_KINEMATIC, (kg_vec2){3.0f, 0.5f}, 0.5f, circle);
+    kg_body b_kinematic = kg_test_add(world, KG_BODY_KINEMATIC, (kg_vec2){3.0f, 0.5f}, 0.5f, circle);
     kg_shape_def capsule = kg_capsule_shape((kg_vec2){-0.5f, 0.0f}, (kg_vec2){0.5f, 0.1f}, 0.25f);
-    kg_body b_capsule = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-3.0f, 2.0f}, 0.7f, capsule);
+    kg_body b_capsule = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){-3.0f, 2.0f}, 0.7f, capsule);
     kg_shape_def segment = kg_segment_shape((kg_vec2){-1.0f, 0.0f}, (kg_vec2){1.0f, 0.5f});
-    kg_body b_segment = kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -1.5f}, -0.2f, segment);
-    kg_body b_particle = kg_add(world, KG_BODY_PARTICLE, (kg_vec2){2.0f, 2.0f}, 0.0f, (kg_shape_def){0});
+    kg_body b_segment = kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -1.5f}, -0.2f, segment);
+    kg_body b_particle = kg_test_add(world, KG_BODY_PARTICLE, (kg_vec2){2.0f, 2.0f}, 0.0f, (kg_shape_def){0});
     kg_body_def bullet_def = kg_default_body_def();
     bullet_def.position = (kg_vec2){-1.0f, 3.0f};
     bullet_def.angle = -0.4f;
@@ -141,14 +117,14 @@ static void test_every_shape_kind(void)
     kg_body b_bullet;
     KG_CHECK_OK(kg_create_body(world, &bullet_def, &b_bullet));
     /* a chain on a shapeless static body: one segment each */
-    kg_body b_chain = kg_add(world, KG_BODY_STATIC, (kg_vec2){-2.0f, -2.0f}, 0.1f, (kg_shape_def){0});
+    kg_body b_chain = kg_test_add(world, KG_BODY_STATIC, (kg_vec2){-2.0f, -2.0f}, 0.1f, (kg_shape_def){0});
     static const kg_vec2 chain_points[4] = {{0, 0}, {1, 0.2f}, {2, 0}, {3, 0.5f}};
     kg_chain_def chain = kg_default_chain_def();
     chain.points = chain_points;
     chain.count = 4;
     KG_CHECK_OK(kg_create_chain(world, b_chain, &chain, NULL));
     /* a compound body: a box, a circle, and a sensor polygon */
-    kg_body b_compound = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){1.0f, 1.0f}, 1.1f, kg_box_shape(0.6f, 0.6f));
+    kg_body b_compound = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){1.0f, 1.0f}, 1.1f, kg_box_shape(0.6f, 0.6f));
     kg_body_shape_def extra = kg_default_body_shape_def();
     extra.geometry = kg_circle_shape(0.3f);
     extra.geometry.center = (kg_vec2){0.6f, 0.0f};
@@ -211,10 +187,10 @@ static kg_color kg_tint(kg_body body, kg_color state_color, void* context)
 /* A body at rest falls asleep and turns grey; body_color changes what it says. */
 static void test_colours_follow_the_state(void)
 {
-    kg_world* world = kg_make_world((kg_vec2){0.0f, 0.0f});
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
     kg_recorder* got = calloc(1, sizeof *got);
-    kg_body resting = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
-    kg_body spinning = kg_add(world, KG_BODY_KINEMATIC, (kg_vec2){5.0f, 0.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
+    kg_body resting = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
+    kg_body spinning = kg_test_add(world, KG_BODY_KINEMATIC, (kg_vec2){5.0f, 0.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
     KG_CHECK_OK(kg_body_set_angular_velocity(world, spinning, 1.0f));
     kg_debug_draw draw = kg_recording_draw(got, KG_DEBUG_DRAW_SHAPES);
     KG_CHECK_OK(kg_world_draw(world, &draw));
@@ -248,7 +224,7 @@ static void test_colours_follow_the_state(void)
  * cell is, and only the edges that collide. */
 static void test_tiles_and_their_edges(void)
 {
-    kg_world* world = kg_make_world((kg_vec2){0.0f, 0.0f});
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
     kg_recorder* got = calloc(1, sizeof *got);
     kg_tile_shape shapes[4] = {kg_tile_empty(), kg_tile_box(), kg_tile_slope(KG_TILE_BOTTOM_LEFT),
                                kg_tile_platform()};
@@ -304,7 +280,7 @@ static void test_tiles_and_their_edges(void)
  * the 16 cells inside: their fills, and the map's left and bottom borders as edges. */
 static void test_bounds_cull(void)
 {
-    kg_world* world = kg_make_world((kg_vec2){0.0f, 0.0f});
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
     kg_recorder* got = calloc(1, sizeof *got);
     kg_tile_shape shapes[2] = {kg_tile_empty(), kg_tile_box()};
     uint16_t* cells = malloc(1000u * 1000u * sizeof *cells);
@@ -320,8 +296,8 @@ static void test_bounds_cull(void)
     kg_tilemap map;
     KG_CHECK_OK(kg_create_tilemap(world, &def, &map));
     free(cells);
-    kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){2.0f, 2.0f}, 0.0f, kg_box_shape(0.5f, 0.5f));
-    kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){50.0f, 2.0f}, 0.0f, kg_box_shape(0.5f, 0.5f));
+    kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){2.0f, 2.0f}, 0.0f, kg_box_shape(0.5f, 0.5f));
+    kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){50.0f, 2.0f}, 0.0f, kg_box_shape(0.5f, 0.5f));
     kg_debug_draw draw = kg_recording_draw(got, KG_DEBUG_DRAW_TILES | KG_DEBUG_DRAW_SHAPES | KG_DEBUG_DRAW_AABBS);
     draw.use_bounds = 1;
     draw.bounds = (kg_aabb){{0.5f, 0.5f}, {3.5f, 3.5f}};
@@ -350,10 +326,10 @@ static void test_bounds_cull(void)
  * kg_world_get_contact reports them; centres of mass as transforms. */
 static void test_contacts_and_mass(void)
 {
-    kg_world* world = kg_make_world((kg_vec2){0.0f, -10.0f});
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, -10.0f});
     kg_recorder* got = calloc(1, sizeof *got);
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -0.5f}, 0.0f, kg_box_shape(10.0f, 1.0f));
-    kg_body box = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.5f}, 0.0f,
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -0.5f}, 0.0f, kg_box_shape(10.0f, 1.0f));
+    kg_body box = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.5f}, 0.0f,
                          kg_offset_box_shape(1.0f, 1.0f, (kg_vec2){0.3f, 0.0f}, 0.0f));
     for (int i = 0; i < 30; ++i) {
         KG_CHECK_OK(kg_world_step(world, 1.0f / 60.0f));
@@ -397,10 +373,10 @@ static void kg_count_circle(kg_transform xf, float radius, kg_color color, void*
 /* Only the callbacks set are called; none set draws nothing and succeeds. */
 static void test_null_callbacks_skipped(void)
 {
-    kg_world* world = kg_make_world((kg_vec2){0.0f, 0.0f});
-    kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
-    kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){2.0f, 0.0f}, 0.0f, kg_circle_shape(0.5f));
-    kg_add(world, KG_BODY_PARTICLE, (kg_vec2){4.0f, 0.0f}, 0.0f, (kg_shape_def){0});
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
+    kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
+    kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){2.0f, 0.0f}, 0.0f, kg_circle_shape(0.5f));
+    kg_test_add(world, KG_BODY_PARTICLE, (kg_vec2){4.0f, 0.0f}, 0.0f, (kg_shape_def){0});
     kg_debug_draw draw = kg_default_debug_draw();
     draw.flags = 0xFFFFFFFFu;
     KG_CHECK_OK(kg_world_draw(world, &draw));
@@ -416,7 +392,7 @@ static void test_null_callbacks_skipped(void)
 
 static void test_bad_input(void)
 {
-    kg_world* world = kg_make_world((kg_vec2){0.0f, 0.0f});
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
     kg_debug_draw draw = kg_default_debug_draw();
     KG_CHECK(kg_world_draw(NULL, &draw) == KG_ERROR_INVALID_ARGUMENT);
     KG_CHECK(strstr(kg_last_error(), "NULL world") != NULL);

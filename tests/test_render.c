@@ -3,6 +3,7 @@
  * here needs contacts to be resolved: bodies are drawn where they are put, or after
  * falling freely. */
 #include "kg_test.h"
+#include "kg_test_world.h"
 
 #include "canvas.h"
 #include "draw.h"
@@ -26,28 +27,6 @@
 static kg_camera kg_test_camera(void)
 {
     return kg_camera_fit((kg_aabb){{-5.0f, -5.0f}, {5.0f, 5.0f}}, 100, 100, 0.0f);
-}
-
-static kg_world* kg_test_world(kg_vec2 gravity)
-{
-    kg_world_def def = kg_default_world_def();
-    def.gravity = gravity;
-    def.backend = KG_BACKEND_CPU;
-    kg_world* world = NULL;
-    KG_CHECK_OK(kg_create_world(&def, &world));
-    return world;
-}
-
-static kg_body kg_add(kg_world* world, kg_body_type type, kg_vec2 at, float angle, kg_shape_def shape)
-{
-    kg_body_def def = kg_default_body_def();
-    def.type = type;
-    def.position = at;
-    def.angle = angle;
-    def.shape = shape;
-    kg_body body = KG_NULL_BODY_INIT;
-    KG_CHECK_OK(kg_create_body(world, &def, &body));
-    return body;
 }
 
 static void kg_draw_plain(kg_canvas* canvas, const kg_world* world, int aabbs)
@@ -87,9 +66,9 @@ static void test_camera_maps_both_ways(void)
  * edge, background around. */
 static void test_bodies_fill_their_centres(void)
 {
-    kg_world* world = kg_test_world((kg_vec2){0.0f, 0.0f});
-    kg_body box = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_box_shape(2.0f, 2.0f));
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -4.0f}, 0.0f, kg_box_shape(8.0f, 1.0f));
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
+    kg_body box = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_box_shape(2.0f, 2.0f));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -4.0f}, 0.0f, kg_box_shape(8.0f, 1.0f));
     kg_canvas canvas;
     KG_CHECK(kg_canvas_init(&canvas, 100, 100) == 0);
     kg_draw_plain(&canvas, world, 0);
@@ -118,10 +97,10 @@ static void test_bodies_fill_their_centres(void)
  * the segment is its line alone. */
 static void test_capsules_and_segments(void)
 {
-    kg_world* world = kg_test_world((kg_vec2){0.0f, 0.0f});
-    kg_body capsule = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 1.0f}, 0.0f,
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
+    kg_body capsule = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 1.0f}, 0.0f,
                              kg_capsule_shape((kg_vec2){-1.0f, 0.0f}, (kg_vec2){1.0f, 0.0f}, 1.0f));
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -3.0f}, 0.0f, kg_segment_shape((kg_vec2){-4.0f, 0.0f}, (kg_vec2){4.0f, 0.0f}));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -3.0f}, 0.0f, kg_segment_shape((kg_vec2){-4.0f, 0.0f}, (kg_vec2){4.0f, 0.0f}));
     kg_canvas canvas;
     KG_CHECK(kg_canvas_init(&canvas, 100, 100) == 0);
     kg_draw_plain(&canvas, world, 0);
@@ -141,7 +120,7 @@ static void test_capsules_and_segments(void)
  * shapes beyond the 64 that fit the stack are drawn too). */
 static void test_long_chain(void)
 {
-    kg_world* world = kg_test_world((kg_vec2){0.0f, 0.0f});
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
     kg_body_def def = kg_default_body_def();
     def.type = KG_BODY_STATIC;
     kg_body ground = KG_NULL_BODY_INIT;
@@ -168,8 +147,8 @@ static void test_long_chain(void)
 /* A body is drawn where the world has moved it: one second of free fall. */
 static void test_bodies_are_drawn_at_their_pose(void)
 {
-    kg_world* world = kg_test_world((kg_vec2){0.0f, -10.0f});
-    kg_body ball = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-2.0f, 3.0f}, 0.0f, kg_circle_shape(0.8f));
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, -10.0f});
+    kg_body ball = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){-2.0f, 3.0f}, 0.0f, kg_circle_shape(0.8f));
     for (int i = 0; i < 60; ++i) {
         KG_CHECK_OK(kg_world_step(world, 1.0f / 60.0f));
     }
@@ -190,8 +169,8 @@ static void test_bodies_are_drawn_at_their_pose(void)
 /* A box turned by 45 degrees: its bounding box corner lies outside the body. */
 static void test_bounding_boxes_and_rotation(void)
 {
-    kg_world* world = kg_test_world((kg_vec2){0.0f, 0.0f});
-    kg_body box = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.0f}, 0.78539816f, kg_box_shape(4.0f, 4.0f));
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
+    kg_body box = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.0f}, 0.78539816f, kg_box_shape(4.0f, 4.0f));
     kg_canvas canvas;
     KG_CHECK(kg_canvas_init(&canvas, 100, 100) == 0);
     kg_draw_plain(&canvas, world, 0);
@@ -211,14 +190,14 @@ static void test_bounding_boxes_and_rotation(void)
 
 static void test_particles_and_kinematic_bodies(void)
 {
-    kg_world* world = kg_test_world((kg_vec2){0.0f, 0.0f});
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
     kg_body_def def = kg_default_body_def();
     def.type = KG_BODY_PARTICLE;
     def.mass = 1.0f;
     def.position = (kg_vec2){2.0f, 2.0f};
     kg_body particle;
     KG_CHECK_OK(kg_create_body(world, &def, &particle));
-    kg_add(world, KG_BODY_KINEMATIC, (kg_vec2){-3.0f, -3.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
+    kg_test_add(world, KG_BODY_KINEMATIC, (kg_vec2){-3.0f, -3.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
     kg_canvas canvas;
     KG_CHECK(kg_canvas_init(&canvas, 100, 100) == 0);
     kg_draw_plain(&canvas, world, 0);
@@ -247,7 +226,7 @@ static void test_tile_layer_where_the_map_says(void)
     def.shapes = shapes;
     def.shape_count = 4;
     def.tiles = cells;
-    kg_world* world = kg_test_world((kg_vec2){0.0f, 0.0f});
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
     kg_tilemap map;
     KG_CHECK_OK(kg_create_tilemap(world, &def, &map));
     kg_canvas canvas;
@@ -349,9 +328,9 @@ static int kg_count_wrong(const unsigned char* rgb, int stride, const kg_canvas*
 
 static void test_png_round_trip(void)
 {
-    kg_world* world = kg_test_world((kg_vec2){0.0f, 0.0f});
-    kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){1.0f, 1.0f}, 0.3f, kg_box_shape(3.0f, 2.0f));
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){-2.0f, -2.0f}, 0.0f, kg_circle_shape(1.5f));
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
+    kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){1.0f, 1.0f}, 0.3f, kg_box_shape(3.0f, 2.0f));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){-2.0f, -2.0f}, 0.0f, kg_circle_shape(1.5f));
     kg_canvas canvas;
     KG_CHECK(kg_canvas_init(&canvas, 100, 100) == 0);
     kg_draw_plain(&canvas, world, 1);
@@ -375,9 +354,9 @@ static void test_png_round_trip(void)
 static void test_gif_round_trip(void)
 {
     enum { kFrames = 5, kSize = 100 };
-    kg_world* world = kg_test_world((kg_vec2){0.0f, -10.0f});
-    kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 3.0f}, 0.2f, kg_box_shape(2.0f, 1.0f));
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -4.0f}, 0.0f, kg_box_shape(8.0f, 1.0f));
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, -10.0f});
+    kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 3.0f}, 0.2f, kg_box_shape(2.0f, 1.0f));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -4.0f}, 0.0f, kg_box_shape(8.0f, 1.0f));
     kg_canvas frames[kFrames];
     char path[256];
     kg_temp_path(path, sizeof path, "gif");
