@@ -9,6 +9,7 @@
 #include "io/tiled.h"
 #include "collide/shape.h"
 #include "io/json_util.h"
+#include "io/scene_limits.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -79,11 +80,13 @@ int kg_tiled_is_map(const cJSON* root)
 
 /* ---- files ---- */
 
-static kg_result kg_parse_file(const char* path, cJSON** out)
+/* Parses the file at path, no larger than the limits of the scene it goes into allow. */
+static kg_result kg_parse_file(const kg_scene* scene, const char* path, cJSON** out)
 {
     char* text = NULL;
     size_t length = 0;
-    KG_TRY(kg_json_read_file(path, KG_FILE_SIZE_MAX, &text, &length));
+    size_t cap = kg_scene_file_cap(kg_scene_get_limits(scene), KG_FILE_SIZE_MAX);
+    KG_TRY(kg_json_read_file(path, cap, &text, &length));
     kg_json_reader reader = {path};
     kg_result r = kg_json_parse(&reader, text, length, out);
     free(text);
@@ -226,7 +229,7 @@ static kg_result kg_load_external_tileset(kg_tiled* t, kg_tileset* ts, const cha
                                             "export it as a JSON tileset (.tsj), then use that", source);
     }
     kg_tiled_sibling_path(t->reader.source, source, ts->file, sizeof ts->file);
-    kg_result r = kg_parse_file(ts->file, &ts->document);
+    kg_result r = kg_parse_file(t->scene, ts->file, &ts->document);
     if (r != KG_OK) {
         char reason[512];
         snprintf(reason, sizeof reason, "%s", kg_last_error());
@@ -1347,25 +1350,35 @@ kg_result kg_tiled_read(kg_scene* scene, const cJSON* root, const char* path)
 kg_result kg_tiled_load_into(kg_scene* scene, const char* path)
 {
     cJSON* root = NULL;
-    KG_TRY(kg_parse_file(path, &root));
+    KG_TRY(kg_parse_file(scene, path, &root));
     kg_result r = kg_tiled_read(scene, root, path);
     cJSON_Delete(root);
     return r;
 }
 
-kg_result kg_scene_load_tiled(const char* path, kg_scene** out)
+kg_result kg_scene_load_tiled_limited(const char* path, const kg_scene_limits* limits, kg_scene** out)
 {
     if (!path || !out) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_load_tiled: NULL argument");
     }
     *out = NULL;
+    kg_scene_limits defaults = kg_default_scene_limits();
+    limits = limits ? limits : &defaults;
+    KG_TRY(kg_check_scene_limits("kg_scene_load_tiled", limits));
     kg_scene* scene = NULL;
     KG_TRY(kg_scene_create(&scene));
+    kg_scene_set_limits(scene, limits);
     kg_result r = kg_tiled_load_into(scene, path);
+    kg_scene_set_limits(scene, &defaults);
     if (r != KG_OK) {
         kg_scene_destroy(scene);
         return r;
     }
     *out = scene;
     return KG_OK;
+}
+
+kg_result kg_scene_load_tiled(const char* path, kg_scene** out)
+{
+    return kg_scene_load_tiled_limited(path, NULL, out);
 }
