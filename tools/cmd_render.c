@@ -1,6 +1,7 @@
 /* kgyro render: runs a scene offscreen and writes it as an animated GIF and a PNG of
  * the last frame, timing each step on the way. */
 #include "commands.h"
+#include "progress.h"
 #include "render/args.h"
 #include "render/draw.h"
 #include "render/gif.h"
@@ -40,7 +41,7 @@ static void kg_render_usage(FILE* out)
             "usage: kgyro render SCENE [--gif FILE] [--png FILE] [OPTIONS]\n"
             "Runs SCENE (a scene file, a Tiled map (.tmj) or a generator name such as pyramid_10 or\n"
             "rain_2000) offscreen and writes an animated GIF and/or a PNG of the last frame, tile maps\n"
-            "drawn under the bodies.\n\n"
+            "drawn under the bodies. On a terminal, a progress line on stderr while it steps.\n\n"
             "  --gif FILE        animated GIF, one frame every K steps\n"
             "  --png FILE        the last frame as PNG\n"
             "  --steps N         steps to run (default: the scene's, else 300)\n"
@@ -190,7 +191,7 @@ static int kg_add_gif_frame(kg_render_job* job, int delay_cs)
 static int kg_default_every(int steps) { return steps > 150 ? (steps + 149) / 150 : 1; }
 
 /* Steps the scene, adding a GIF frame every so many steps. 0 on success. */
-static int kg_run_frames(kg_render_job* job, int steps)
+static int kg_run_frames(kg_render_job* job, int steps, kg_progress* progress)
 {
     int every = job->options->every > 0 ? job->options->every : kg_default_every(steps);
     int delay_cs = (int)lround(100.0 * every * job->sim.dt);
@@ -199,8 +200,10 @@ static int kg_run_frames(kg_render_job* job, int steps)
         return -1;
     }
     for (int step = 1; step <= steps; ++step) {
+        kg_progress_update(progress, step - 1);
         kg_result r = kg_timed_step(&job->sim, &job->stats);
         if (r != KG_OK) {
+            kg_progress_end(progress);
             fprintf(stderr, "kgyro render: step %d: %s\n", step, kg_last_error());
             return -1;
         }
@@ -290,7 +293,12 @@ int kg_cmd_render(int argc, char** argv)
     if (status == 0) {
         printf("kgyro render: %s, %d bodies, %d steps on %s\n", o.scene, kg_world_body_count(job.sim.world), steps,
                kg_backend_label(kg_world_backend(job.sim.world)));
-        status = kg_run_frames(&job, steps) != 0 ? 1 : 0;
+        char label[256];
+        snprintf(label, sizeof label, "kgyro render: %s", o.scene);
+        kg_progress progress;
+        kg_progress_start(&progress, label, steps);
+        status = kg_run_frames(&job, steps, &progress) != 0 ? 1 : 0;
+        kg_progress_end(&progress);
         kg_print_stats(&job.stats);
         status = status != 0 ? status : kg_finish_job(&job);
     }

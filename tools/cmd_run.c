@@ -2,6 +2,7 @@
  * optionally the contact points) as CSV. Floats are printed with %.9g, which round-trips
  * a float exactly, so two runs can be compared bit for bit with diff. */
 #include "commands.h"
+#include "progress.h"
 
 #include "kgyro/collision.h"
 #include "kgyro/kgyro.h"
@@ -65,6 +66,9 @@ static void kg_run_usage(FILE* out)
             "  --max-bodies N    refuse a scene file (or a Tiled map) asking for more than N bodies,\n"
             "                    before they are allocated: for levels from untrusted sources\n"
             "  -h, --help        show this help\n"
+            "\n"
+            "On a terminal, a progress line on stderr (percentage, steps a second, time left) while\n"
+            "it runs, erased at the end; none when stderr is not a terminal.\n"
             "\n"
             "Exit status: 0 done, 1 the run failed (backend, output file), 2 a bad scene or option.\n",
             KG_RUN_DEFAULT_STEPS);
@@ -478,15 +482,17 @@ static double kg_now_seconds(void)
 }
 
 /* Steps and writes; returns the seconds spent stepping, or a negative number on failure. */
-static double kg_step_all(kg_run* run, int steps, float dt, int every)
+static double kg_step_all(kg_run* run, int steps, float dt, int every, kg_progress* progress)
 {
     double stepping = 0.0;
     if (!kg_write_step(run, 0)) {
         return -1.0;
     }
     for (int step = 1; step <= steps; ++step) {
+        kg_progress_update(progress, step - 1);
         double start = kg_now_seconds();
         if (kg_scene_step(run->scene, run->world, run->bodies, dt) != KG_OK) {
+            kg_progress_end(progress);
             fprintf(stderr, "kgyro run: step %d: %s\n", step, kg_last_error());
             return -1.0;
         }
@@ -537,7 +543,12 @@ static int kg_run_scene(kg_run* run, const kg_run_options* o, kg_scene* scene)
     if (o->events && !kg_csv_open(&run->events_csv, o->events, "step,kind,a,b,x,y,nx,ny,speed")) {
         return 1;
     }
-    double seconds = kg_step_all(run, steps, dt, o->every);
+    char label[256];
+    snprintf(label, sizeof label, "kgyro run: %s", o->scene);
+    kg_progress progress;
+    kg_progress_start(&progress, label, steps);
+    double seconds = kg_step_all(run, steps, dt, o->every, &progress);
+    kg_progress_end(&progress);
     int written = kg_csv_close(&run->states_csv) & kg_csv_close(&run->contacts_csv) & kg_csv_close(&run->events_csv);
     if (seconds < 0.0 || !written) {
         return 1;
