@@ -975,6 +975,40 @@ static void test_limits_tiled_objects(void)
     kg_scene_destroy(scene);
 }
 
+/* Whether a message holds no control character (C0 or DEL) and none of the bytes that
+ * are never valid UTF-8 which the hostile names below use. */
+static int kg_message_is_clean(const char* text)
+{
+    for (const unsigned char* c = (const unsigned char*)text; *c; ++c) {
+        if (*c < 0x20 || *c == 0x7f || *c == 0xff || *c == 0xfe || *c == 0xc0) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* issue 18: names, keys and file paths echoed in loader messages lose their control
+ * characters and invalid UTF-8 (a terminal would run "\x1b[31m"), keeping the rest,
+ * valid UTF-8 included. */
+static void test_messages_echo_clean_names(void)
+{
+    const char* bad_name = "{\"bodies\": [{\"name\": \"\\u001b[31mred\xff\xfe\xc0\xaf\xc3\xa9\", "
+                           "\"shape\": {\"type\": \"circle\", \"radius\": 1}}]}";
+    kg_scene* scene = NULL;
+    KG_CHECK(kg_scene_parse(bad_name, strlen(bad_name), "n.json", &scene) == KG_ERROR_PARSE && scene == NULL);
+    KG_CHECK(kg_message_is_clean(kg_last_error()));
+    KG_CHECK(strstr(kg_last_error(), "n.json: bodies[0].name: '?[31mred????\xc3\xa9' may only contain") != NULL);
+
+    const char* bad_key = "{\"bodies\": [{\"\\u001b]0;title\\u0007\xff\": 1}]}";
+    KG_CHECK(kg_scene_parse(bad_key, strlen(bad_key), "k.json", &scene) == KG_ERROR_PARSE);
+    KG_CHECK(kg_message_is_clean(kg_last_error()));
+    KG_CHECK(strcmp(kg_last_error(), "k.json: bodies[0].?]0;title??: unknown field") == 0);
+
+    KG_CHECK(kg_scene_load_file(SCENES "missing\x1b[2J\xfe.json", &scene) == KG_ERROR_IO);
+    KG_CHECK(kg_message_is_clean(kg_last_error()));
+    KG_CHECK(strstr(kg_last_error(), SCENES "missing?[2J?.json: cannot open") != NULL);
+}
+
 KG_TEST_MAIN(KG_TEST(test_full_scene_fields), KG_TEST(test_defaults), KG_TEST(test_capsule_and_segment), KG_TEST(test_error_files),
              KG_TEST(test_error_strings), KG_TEST(test_compound_body), KG_TEST(test_chains),
              KG_TEST(test_chain_points_cap), KG_TEST(test_unreadable_file), KG_TEST(test_samples_load),
@@ -984,4 +1018,4 @@ KG_TEST_MAIN(KG_TEST(test_full_scene_fields), KG_TEST(test_defaults), KG_TEST(te
              KG_TEST(test_instantiate_bodies), KG_TEST(test_instantiate_forces),
              KG_TEST(test_pivots_keep_walls_on_circle), KG_TEST(test_builder_chains), KG_TEST(test_builder_refuses_bad_body),
              KG_TEST(test_generated_scenes_instantiate), KG_TEST(test_limits_refuse_generators),
-             KG_TEST(test_limits_count_every_body), KG_TEST(test_limits_tiled_objects))
+             KG_TEST(test_limits_count_every_body), KG_TEST(test_limits_tiled_objects), KG_TEST(test_messages_echo_clean_names))

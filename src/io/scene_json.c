@@ -232,7 +232,7 @@ static kg_result kg_read_chain_points(const kg_json_reader* reader, const cJSON*
     }
     kg_vec2* points = malloc((size_t)(count > 0 ? count : 1) * sizeof *points);
     if (!points) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
     }
     def->points = points;
     def->count = count;
@@ -860,7 +860,7 @@ static kg_result kg_read_force_bodies(kg_loader* loader, const cJSON* json, cons
     if (!marks || !indices) {
         free(marks);
         free(indices);
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", loader->reader.source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", loader->reader.source);
     }
     kg_json_path list_path = kg_json_path_key(path, "bodies");
     kg_result r = kg_mark_force_bodies(loader, list, &list_path, marks);
@@ -1207,7 +1207,7 @@ static kg_result kg_read_inline_tilemap(kg_loader* loader, const cJSON* json, co
     }
     uint16_t* tiles = malloc(cells * sizeof *tiles);
     if (!tiles) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
     }
     kg_result r = kg_read_grid(reader, layers, &layers_path, keys, def.shape_count, def.width, def.height, tiles);
     def.shape_count += 1;

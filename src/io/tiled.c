@@ -585,7 +585,7 @@ static kg_result kg_read_tilesets(kg_tiled* t, const cJSON* root)
     t->tileset_count = cJSON_GetArraySize(list);
     t->tilesets = calloc((size_t)(t->tileset_count > 0 ? t->tileset_count : 1), sizeof *t->tilesets);
     if (!t->tilesets) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
     }
     int i = 0;
     t->gid_count = 1;
@@ -598,7 +598,7 @@ static kg_result kg_read_tilesets(kg_tiled* t, const cJSON* root)
     }
     t->raw_shapes = calloc((size_t)t->gid_count, sizeof *t->raw_shapes);
     if (!t->raw_shapes) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
     }
     for (i = 0; i < t->tileset_count; ++i) {
         KG_TRY(kg_read_tileset_tiles(t, &t->tilesets[i]));
@@ -743,7 +743,7 @@ static kg_result kg_variant_id(kg_tiled* t, uint32_t raw, const kg_json_path* pa
         int capacity = t->variant_capacity > 0 ? 2 * t->variant_capacity : 16;
         kg_variant* grown = realloc(t->variants, (size_t)capacity * sizeof *grown);
         if (!grown) {
-            return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+            return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
         }
         t->variants = grown;
         t->variant_capacity = capacity;
@@ -789,13 +789,13 @@ static kg_result kg_add_layer_storage(kg_tiled* t)
 {
     size_t cells = (size_t)t->width * (size_t)t->height;
     if ((long long)cells * (t->layer_count + 1) > (1LL << 28)) {
-        return kg_fail(KG_ERROR_PARSE, "%s: the tile layers hold more than 2^28 cells in all", t->reader.source);
+        return kg_json_fail_message(KG_ERROR_PARSE, "%s: the tile layers hold more than 2^28 cells in all", t->reader.source);
     }
     if (t->layer_count == t->layer_capacity) {
         int capacity = t->layer_capacity > 0 ? 2 * t->layer_capacity : 2;
         uint16_t* grown = realloc(t->tiles, (size_t)capacity * cells * sizeof *grown);
         if (!grown) {
-            return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+            return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
         }
         t->tiles = grown;
         t->layer_capacity = capacity;
@@ -844,7 +844,7 @@ static kg_result kg_read_tile_layer(kg_tiled* t, const cJSON* layer, const kg_js
     }
     uint32_t* gids = malloc((size_t)width * (size_t)height * sizeof *gids);
     if (!gids) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
     }
     kg_result r = kg_read_layer_gids(t, layer, path, gids);
     if (r == KG_OK) {
@@ -1057,7 +1057,7 @@ static kg_result kg_read_chain_points(const kg_tiled* t, const cJSON* object, co
     }
     *out = malloc((size_t)(n > 0 ? n : 1) * sizeof **out);
     if (!*out) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
     }
     *count = n;
     const kg_object_frame unturned = {0.0, 0.0, 0.0};
@@ -1288,7 +1288,7 @@ static kg_result kg_add_tilemap_to_scene(kg_tiled* t)
     int shape_count = t->gid_count + t->variant_count;
     kg_tile_shape* shapes = calloc((size_t)shape_count, sizeof *shapes);
     if (!shapes) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
     }
     for (int id = 0; id < t->gid_count; ++id) {
         shapes[id] = kg_final_shape(t->raw_shapes[id], 0u);
