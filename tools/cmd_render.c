@@ -24,6 +24,7 @@ typedef struct kg_render_options {
     int every; /* 0: about 150 frames in all */
     int contacts, aabbs, grid;
     int seed;
+    int max_bodies; /* -1: no limit */
     kg_backend backend;
     int has_view;
     kg_aabb view;
@@ -53,7 +54,8 @@ static void kg_render_usage(FILE* out)
             "  --aabb            draw bounding boxes\n"
             "  --no-grid         no metre grid in the background\n"
             "  --seed S          seed for generated scenes (default 1)\n"
-            "  --backend B       auto, cpu or opencl (default auto)\n");
+            "  --backend B       auto, cpu or opencl (default auto)\n"
+            "  --max-bodies N    refuse a scene file asking for more than N bodies (untrusted levels)\n");
 }
 
 /* Options that take a value; returns 0 when parsed, -1 when the value is bad or
@@ -61,7 +63,7 @@ static void kg_render_usage(FILE* out)
 static int kg_parse_valued(int argc, char** argv, int* i, kg_render_options* o)
 {
     static const char* const kValued[] = {"--gif",  "--png",  "--steps", "--every", "--size",
-                                          "--view", "--seed", "--backend", NULL};
+                                          "--view", "--seed", "--backend", "--max-bodies", NULL};
     const char* name = argv[*i];
     const char* value = NULL;
     int taken = kg_option_value("kgyro render", argc, argv, i, kValued, &value);
@@ -84,6 +86,8 @@ static int kg_parse_valued(int argc, char** argv, int* i, kg_render_options* o)
         o->has_view = 1;
     } else if (strcmp(name, "--seed") == 0) {
         bad = kg_parse_int(value, 0, 2147483647, &o->seed);
+    } else if (strcmp(name, "--max-bodies") == 0) {
+        bad = kg_parse_int(value, 0, 2147483647, &o->max_bodies);
     } else {
         bad = kg_parse_backend(value, &o->backend);
     }
@@ -96,7 +100,7 @@ static int kg_parse_valued(int argc, char** argv, int* i, kg_render_options* o)
 /* 0: run; 1: help was asked for; 2: bad usage (already reported). */
 static int kg_parse_render_options(int argc, char** argv, kg_render_options* o)
 {
-    *o = (kg_render_options){.steps = -1, .width = 640, .height = 480, .grid = 1, .seed = 1, .backend = KG_BACKEND_AUTO};
+    *o = (kg_render_options){.steps = -1, .width = 640, .height = 480, .grid = 1, .seed = 1, .max_bodies = -1, .backend = KG_BACKEND_AUTO};
     for (int i = 1; i < argc; ++i) {
         int valued = kg_parse_valued(argc, argv, &i, o);
         if (valued < 0) {
@@ -281,7 +285,7 @@ int kg_cmd_render(int argc, char** argv)
         return parsed == 1 ? 0 : 2;
     }
     kg_scene* scene = NULL;
-    if (kg_open_scene(o.scene, (uint32_t)o.seed, &scene) != KG_OK) {
+    if (kg_open_scene(o.scene, (uint32_t)o.seed, o.max_bodies, &scene) != KG_OK) {
         fprintf(stderr, "kgyro render: %s\n", kg_last_error());
         return 2;
     }

@@ -28,14 +28,15 @@ static void kg_view_usage(FILE* out)
             "                      click X Y, shift-click X Y, down X Y, move X Y, up X Y,\n"
             "                      wheel N, key NAME (SDL key names: space, n, c, o, ...), wait N\n"
             "  --seed S            seed for generated scenes (default 1)\n"
-            "  --backend B         auto, cpu or opencl (default auto)\n");
+            "  --backend B         auto, cpu or opencl (default auto)\n"
+            "  --max-bodies N      refuse a scene file asking for more than N bodies (untrusted levels)\n");
 }
 
 /* Options that take a value; 0 parsed, -1 bad or missing value, 1 not one of them. */
 static int kg_parse_view_valued(int argc, char** argv, int* i, kg_view_config* c)
 {
     static const char* const kValued[] = {"--size",   "--view", "--frames",  "--screenshot",
-                                          "--script", "--seed", "--backend", NULL};
+                                          "--script", "--seed", "--backend", "--max-bodies", NULL};
     const char* name = argv[*i];
     const char* value = NULL;
     int taken = kg_option_value("kgyro view", argc, argv, i, kValued, &value);
@@ -57,6 +58,8 @@ static int kg_parse_view_valued(int argc, char** argv, int* i, kg_view_config* c
     } else if (strcmp(name, "--seed") == 0) {
         bad = kg_parse_int(value, 0, 2147483647, &seed);
         c->seed = (uint32_t)seed;
+    } else if (strcmp(name, "--max-bodies") == 0) {
+        bad = kg_parse_int(value, 0, 2147483647, &c->max_bodies);
     } else {
         bad = kg_parse_backend(value, &c->backend);
     }
@@ -68,7 +71,7 @@ static int kg_parse_view_valued(int argc, char** argv, int* i, kg_view_config* c
 
 int kg_cmd_view(int argc, char** argv)
 {
-    kg_view_config config = {.seed = 1, .backend = KG_BACKEND_AUTO, .width = 960, .height = 640};
+    kg_view_config config = {.seed = 1, .max_bodies = -1, .backend = KG_BACKEND_AUTO, .width = 960, .height = 640};
     for (int i = 1; i < argc; ++i) {
         int valued = kg_parse_view_valued(argc, argv, &i, &config);
         if (valued < 0) {

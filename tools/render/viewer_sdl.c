@@ -655,7 +655,7 @@ static int kg_viewer_start(kg_viewer* v)
 {
     const kg_view_config* c = v->config;
     kg_scene* scene = NULL;
-    if (kg_open_scene(c->scene, c->seed, &scene) != KG_OK || kg_sim_start(&v->sim, scene, c->backend, KG_ADD_ROOM) != KG_OK) {
+    if (kg_open_scene(c->scene, c->seed, c->max_bodies, &scene) != KG_OK || kg_sim_start(&v->sim, scene, c->backend, KG_ADD_ROOM) != KG_OK) {
         fprintf(stderr, "kgyro view: %s\n", kg_last_error());
         if (!v->sim.scene) {
             kg_scene_destroy(scene);
