@@ -11,6 +11,7 @@
 #include "kgyro/kgyro.h"
 #include "kgyro/scene.h"
 
+#include <math.h>
 #include <string.h>
 
 /* 10 pixels per metre on a 100 x 100 canvas: world (x, y) is pixel (50 + 10x, 50 - 10y). */
@@ -154,6 +155,41 @@ static void test_view_box_holds_the_map(void)
     kg_fixture_close(&f);
 }
 
+/* issue 18: the default framing is the whole level. In samples/platformer.tmj the
+ * crates that move are a small part of the map; the view holds the whole map and every
+ * body, and no more. */
+static void test_view_box_holds_the_whole_level(void)
+{
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_load_file(KG_SOURCE_DIR "/samples/platformer.tmj", &scene));
+    if (!scene) {
+        return;
+    }
+    kg_tile_fixture f;
+    kg_fixture_open(&f, scene, kg_test_camera());
+    kg_aabb box;
+    KG_CHECK(kg_world_view_box(f.world, &box));
+    const kg_tilemap_def* map = kg_scene_get_tilemap(scene, 0);
+    kg_aabb expected = {map->origin, {map->origin.x + (float)map->width * map->tile_size.x,
+                                      map->origin.y + (float)map->height * map->tile_size.y}};
+    int body_count = kg_scene_body_count(scene);
+    kg_body bodies[32];
+    int got = 0;
+    KG_CHECK_OK(kg_world_get_bodies(f.world, bodies, 32, &got));
+    KG_CHECK(got == body_count && got > 0);
+    for (int i = 0; i < got; ++i) {
+        kg_aabb body;
+        KG_CHECK_OK(kg_body_get_aabb(f.world, bodies[i], &body));
+        expected.lower.x = fminf(expected.lower.x, body.lower.x);
+        expected.lower.y = fminf(expected.lower.y, body.lower.y);
+        expected.upper.x = fmaxf(expected.upper.x, body.upper.x);
+        expected.upper.y = fmaxf(expected.upper.y, body.upper.y);
+    }
+    KG_CHECK(box.lower.x == expected.lower.x && box.lower.y == expected.lower.y);
+    KG_CHECK(box.upper.x == expected.upper.x && box.upper.y == expected.upper.y);
+    kg_fixture_close(&f);
+}
+
 /* samples/platformer.tmj: 1 m tiles from (0, 0). Cell (8, 2) is a slope rising to the
  * right, (15, 2) the same tile flipped (rising to the left), (7, 2) holds only grass (a
  * tile without a collision shape), and cells 16 to 19 of row 13 are one-way platforms. */
@@ -183,4 +219,4 @@ static void test_tiled_level(void)
 }
 
 KG_TEST_MAIN(KG_TEST(test_tiles_where_the_map_says), KG_TEST(test_tiles_changed_at_run_time_show_up),
-             KG_TEST(test_view_box_holds_the_map), KG_TEST(test_tiled_level))
+             KG_TEST(test_view_box_holds_the_map), KG_TEST(test_view_box_holds_the_whole_level), KG_TEST(test_tiled_level))

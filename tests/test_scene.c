@@ -914,6 +914,101 @@ static void test_generated_scenes_instantiate(void)
     }
 }
 
+/* issue 18: an 80-byte file asks a generator for a million bodies; under max_bodies it is
+ * refused at the field that asks, before they are allocated, and the file size cap holds
+ * too. Without limits the same scene loads (checked with a smaller count). */
+static void test_limits_refuse_generators(void)
+{
+    kg_scene_limits limits = kg_default_scene_limits();
+    limits.max_bodies = 1000;
+    kg_scene* scene = (kg_scene*)&limits; /* must come back NULL */
+    kg_result r = kg_scene_load_file_limited(SCENES "hostile_million_bodies.json", &limits, &scene);
+    check_error(r, scene,
+                SCENES "hostile_million_bodies.json: generators[0].count: asks for 1000000 bodies, but max_bodies (1000) "
+                       "leaves room for 1000");
+    const char* pyramid = "{\"generators\": [{\"type\": \"pyramid\", \"base\": 45}]}"; /* 1035 boxes */
+    r = kg_scene_parse_limited(pyramid, strlen(pyramid), "p.json", &limits, &scene);
+    check_error(r, scene, "p.json: generators[0].base: asks for 1035 bodies, but max_bodies (1000) leaves room for 1000");
+    limits.max_file_bytes = 16;
+    KG_CHECK(kg_scene_load_file_limited(SCENES "hostile_million_bodies.json", &limits, &scene) == KG_ERROR_IO);
+    KG_CHECK(scene == NULL && strstr(kg_last_error(), "hostile_million_bodies.json") != NULL);
+}
+
+/* Explicit bodies count as well, and the generators get only the room left; a scene at
+ * exactly the limit loads, and afterwards is an ordinary scene that code can add to. */
+static void test_limits_count_every_body(void)
+{
+    const char* json = "{\"bodies\": [{\"shape\": {\"type\": \"circle\", \"radius\": 1}}],"
+                       " \"generators\": [{\"type\": \"stack\", \"count\": 4}]}";
+    kg_scene_limits limits = kg_default_scene_limits();
+    limits.max_bodies = 4;
+    kg_scene* scene = NULL;
+    kg_result r = kg_scene_parse_limited(json, strlen(json), "s.json", &limits, &scene);
+    check_error(r, scene, "s.json: generators[0].count: asks for 4 bodies, but max_bodies (4) leaves room for 3");
+    limits.max_bodies = 5;
+    KG_CHECK_OK(kg_scene_parse_limited(json, strlen(json), "s.json", &limits, &scene));
+    KG_CHECK(kg_scene_body_count(scene) == 5);
+    kg_body_def def = kg_default_body_def();
+    def.type = KG_BODY_STATIC;
+    KG_CHECK_OK(kg_scene_add_body(scene, "extra", &def));
+    kg_scene_destroy(scene);
+    limits.max_bodies = -1;
+    KG_CHECK(kg_scene_parse_limited(json, strlen(json), "s.json", &limits, &scene) == KG_ERROR_INVALID_ARGUMENT);
+}
+
+/* A Tiled map's object bodies count too (the map loaded once without limits to know how
+ * many it has). */
+static void test_limits_tiled_objects(void)
+{
+    const char* map = KG_SOURCE_DIR "/tests/data/tiled/embedded.tmj";
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_load_tiled(map, &scene));
+    int bodies = kg_scene_body_count(scene);
+    kg_scene_destroy(scene);
+    KG_CHECK(bodies > 0);
+    kg_scene_limits limits = kg_default_scene_limits();
+    limits.max_bodies = bodies - 1;
+    KG_CHECK(kg_scene_load_tiled_limited(map, &limits, &scene) == KG_ERROR_PARSE && scene == NULL);
+    KG_CHECK(strstr(kg_last_error(), "max_bodies") != NULL);
+    limits.max_bodies = bodies;
+    KG_CHECK_OK(kg_scene_load_tiled_limited(map, &limits, &scene));
+    kg_scene_destroy(scene);
+}
+
+/* Whether a message holds no control character (C0 or DEL) and none of the bytes that
+ * are never valid UTF-8 which the hostile names below use. */
+static int kg_message_is_clean(const char* text)
+{
+    for (const unsigned char* c = (const unsigned char*)text; *c; ++c) {
+        if (*c < 0x20 || *c == 0x7f || *c == 0xff || *c == 0xfe || *c == 0xc0) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* issue 18: names, keys and file paths echoed in loader messages lose their control
+ * characters and invalid UTF-8 (a terminal would run "\x1b[31m"), keeping the rest,
+ * valid UTF-8 included. */
+static void test_messages_echo_clean_names(void)
+{
+    const char* bad_name = "{\"bodies\": [{\"name\": \"\\u001b[31mred\xff\xfe\xc0\xaf\xc3\xa9\", "
+                           "\"shape\": {\"type\": \"circle\", \"radius\": 1}}]}";
+    kg_scene* scene = NULL;
+    KG_CHECK(kg_scene_parse(bad_name, strlen(bad_name), "n.json", &scene) == KG_ERROR_PARSE && scene == NULL);
+    KG_CHECK(kg_message_is_clean(kg_last_error()));
+    KG_CHECK(strstr(kg_last_error(), "n.json: bodies[0].name: '?[31mred????\xc3\xa9' may only contain") != NULL);
+
+    const char* bad_key = "{\"bodies\": [{\"\\u001b]0;title\\u0007\xff\": 1}]}";
+    KG_CHECK(kg_scene_parse(bad_key, strlen(bad_key), "k.json", &scene) == KG_ERROR_PARSE);
+    KG_CHECK(kg_message_is_clean(kg_last_error()));
+    KG_CHECK(strcmp(kg_last_error(), "k.json: bodies[0].?]0;title??: unknown field") == 0);
+
+    KG_CHECK(kg_scene_load_file(SCENES "missing\x1b[2J\xfe.json", &scene) == KG_ERROR_IO);
+    KG_CHECK(kg_message_is_clean(kg_last_error()));
+    KG_CHECK(strstr(kg_last_error(), SCENES "missing?[2J?.json: cannot open") != NULL);
+}
+
 KG_TEST_MAIN(KG_TEST(test_full_scene_fields), KG_TEST(test_defaults), KG_TEST(test_capsule_and_segment), KG_TEST(test_error_files),
              KG_TEST(test_error_strings), KG_TEST(test_compound_body), KG_TEST(test_chains),
              KG_TEST(test_chain_points_cap), KG_TEST(test_unreadable_file), KG_TEST(test_samples_load),
@@ -922,4 +1017,5 @@ KG_TEST_MAIN(KG_TEST(test_full_scene_fields), KG_TEST(test_defaults), KG_TEST(te
              KG_TEST(test_particles_and_small_generators), KG_TEST(test_generator_names), KG_TEST(test_builder),
              KG_TEST(test_instantiate_bodies), KG_TEST(test_instantiate_forces),
              KG_TEST(test_pivots_keep_walls_on_circle), KG_TEST(test_builder_chains), KG_TEST(test_builder_refuses_bad_body),
-             KG_TEST(test_generated_scenes_instantiate))
+             KG_TEST(test_generated_scenes_instantiate), KG_TEST(test_limits_refuse_generators),
+             KG_TEST(test_limits_count_every_body), KG_TEST(test_limits_tiled_objects), KG_TEST(test_messages_echo_clean_names))

@@ -2,6 +2,7 @@
  * allocator history, a crash or a hang costs one run instead of the whole bench, and the
  * peak memory a child reports is its own. */
 #include "bench.h"
+#include "progress.h"
 
 #include "kgyro/kgyro.h"
 #ifdef KG_HAVE_PEERS
@@ -288,9 +289,10 @@ static void bench_add_stage_times(const kg_world* world, bench_child_report* rep
 
 /* Steps [first, last); 0 when a step failed. */
 static int bench_step_range(bench_sim* sim, const bench_scene_info* info, int first, int last, double* step_ms,
-                            bench_child_report* report)
+                            bench_child_report* report, kg_progress* progress)
 {
     for (int s = first; s < last; ++s) {
+        kg_progress_update(progress, s);
         double t0 = bench_now_ms();
         int ok = bench_sim_step(sim, info->dt, report->message, sizeof report->message);
         step_ms[s] = bench_now_ms() - t0;
@@ -310,7 +312,8 @@ static int bench_step_range(bench_sim* sim, const bench_scene_info* info, int fi
  * engine's allowed overlap (about 5 mm each, half a metre over 100 rows). Drift is what
  * the top box does after that. */
 static void bench_simulate(bench_sim* sim, const bench_scene_info* info, const bench_config* config,
-                           double* step_ms, kg_body_state* states, bench_child_report* report)
+                           double* step_ms, kg_body_state* states, bench_child_report* report,
+                           kg_progress* progress)
 {
     if (!bench_sim_create(sim, config, report->message, sizeof report->message)) {
         report->status = BENCH_FAILED;
@@ -319,14 +322,14 @@ static void bench_simulate(bench_sim* sim, const bench_scene_info* info, const b
     int settle_steps = info->steps / 4;
     int top = info->is_pyramid ? bench_top_body(sim->scene) : -1;
     kg_vec2 settled = top >= 0 ? kg_scene_body_def(sim->scene, top)->position : (kg_vec2){NAN, NAN};
-    if (!bench_step_range(sim, info, 0, settle_steps, step_ms, report)) {
+    if (!bench_step_range(sim, info, 0, settle_steps, step_ms, report, progress)) {
         return;
     }
     if (top >= 0) {
         bench_sim_states(sim, states);
         settled = states[top].position;
     }
-    if (bench_step_range(sim, info, settle_steps, info->steps, step_ms, report)) {
+    if (bench_step_range(sim, info, settle_steps, info->steps, step_ms, report, progress)) {
         bench_sim_states(sim, states);
         report->check = bench_check_states(sim->scene, info, states, settled);
     }
@@ -386,7 +389,13 @@ static void bench_child(const bench_engine* engine, kg_scene* scene, const bench
     long baseline_kb = bench_reset_peak_kb();
     bench_sim sim = {.engine = engine, .scene = scene, .body_count = info->body_count};
     if (step_ms && states) {
-        bench_simulate(&sim, info, config, step_ms, states, &report);
+        /* A peer's stderr is silenced above, so only kgyro's runs show the line. */
+        char label[BENCH_LABEL_MAX + BENCH_SCENE_NAME_MAX + 16];
+        snprintf(label, sizeof label, "kgyro bench: %s %s", engine->label, info->name);
+        kg_progress progress;
+        kg_progress_start(&progress, label, info->steps);
+        bench_simulate(&sim, info, config, step_ms, states, &report, &progress);
+        kg_progress_end(&progress);
     } else {
         report.status = BENCH_FAILED;
         snprintf(report.message, sizeof report.message, "out of memory");

@@ -1,6 +1,7 @@
 /* kgyro render: runs a scene offscreen and writes it as an animated GIF and a PNG of
  * the last frame, timing each step on the way. */
 #include "commands.h"
+#include "progress.h"
 #include "render/args.h"
 #include "render/draw.h"
 #include "render/gif.h"
@@ -23,6 +24,7 @@ typedef struct kg_render_options {
     int every; /* 0: about 150 frames in all */
     int contacts, aabbs, grid;
     int seed;
+    int max_bodies; /* -1: no limit */
     kg_backend backend;
     int has_view;
     kg_aabb view;
@@ -40,18 +42,20 @@ static void kg_render_usage(FILE* out)
             "usage: kgyro render SCENE [--gif FILE] [--png FILE] [OPTIONS]\n"
             "Runs SCENE (a scene file, a Tiled map (.tmj) or a generator name such as pyramid_10 or\n"
             "rain_2000) offscreen and writes an animated GIF and/or a PNG of the last frame, tile maps\n"
-            "drawn under the bodies.\n\n"
+            "drawn under the bodies. On a terminal, a progress line on stderr while it steps.\n\n"
             "  --gif FILE        animated GIF, one frame every K steps\n"
             "  --png FILE        the last frame as PNG\n"
             "  --steps N         steps to run (default: the scene's, else 300)\n"
             "  --every K         steps per GIF frame (default: about 150 frames in all)\n"
             "  --size WxH        image size in pixels (default 640x480)\n"
-            "  --view X0,Y0,X1,Y1  world box to show in metres (default: fitted to the scene)\n"
+            "  --view X0,Y0,X1,Y1  world box to show in metres (default: the whole level, every body\n"
+            "                      and tile map)\n"
             "  --contacts        draw contact points and normals\n"
             "  --aabb            draw bounding boxes\n"
             "  --no-grid         no metre grid in the background\n"
             "  --seed S          seed for generated scenes (default 1)\n"
-            "  --backend B       auto, cpu or opencl (default auto)\n");
+            "  --backend B       auto, cpu or opencl (default auto)\n"
+            "  --max-bodies N    refuse a scene file asking for more than N bodies (untrusted levels)\n");
 }
 
 /* Options that take a value; returns 0 when parsed, -1 when the value is bad or
@@ -59,7 +63,7 @@ static void kg_render_usage(FILE* out)
 static int kg_parse_valued(int argc, char** argv, int* i, kg_render_options* o)
 {
     static const char* const kValued[] = {"--gif",  "--png",  "--steps", "--every", "--size",
-                                          "--view", "--seed", "--backend", NULL};
+                                          "--view", "--seed", "--backend", "--max-bodies", NULL};
     const char* name = argv[*i];
     const char* value = NULL;
     int taken = kg_option_value("kgyro render", argc, argv, i, kValued, &value);
@@ -82,6 +86,8 @@ static int kg_parse_valued(int argc, char** argv, int* i, kg_render_options* o)
         o->has_view = 1;
     } else if (strcmp(name, "--seed") == 0) {
         bad = kg_parse_int(value, 0, 2147483647, &o->seed);
+    } else if (strcmp(name, "--max-bodies") == 0) {
+        bad = kg_parse_int(value, 0, 2147483647, &o->max_bodies);
     } else {
         bad = kg_parse_backend(value, &o->backend);
     }
@@ -94,7 +100,7 @@ static int kg_parse_valued(int argc, char** argv, int* i, kg_render_options* o)
 /* 0: run; 1: help was asked for; 2: bad usage (already reported). */
 static int kg_parse_render_options(int argc, char** argv, kg_render_options* o)
 {
-    *o = (kg_render_options){.steps = -1, .width = 640, .height = 480, .grid = 1, .seed = 1, .backend = KG_BACKEND_AUTO};
+    *o = (kg_render_options){.steps = -1, .width = 640, .height = 480, .grid = 1, .seed = 1, .max_bodies = -1, .backend = KG_BACKEND_AUTO};
     for (int i = 1; i < argc; ++i) {
         int valued = kg_parse_valued(argc, argv, &i, o);
         if (valued < 0) {
@@ -189,7 +195,7 @@ static int kg_add_gif_frame(kg_render_job* job, int delay_cs)
 static int kg_default_every(int steps) { return steps > 150 ? (steps + 149) / 150 : 1; }
 
 /* Steps the scene, adding a GIF frame every so many steps. 0 on success. */
-static int kg_run_frames(kg_render_job* job, int steps)
+static int kg_run_frames(kg_render_job* job, int steps, kg_progress* progress)
 {
     int every = job->options->every > 0 ? job->options->every : kg_default_every(steps);
     int delay_cs = (int)lround(100.0 * every * job->sim.dt);
@@ -198,8 +204,10 @@ static int kg_run_frames(kg_render_job* job, int steps)
         return -1;
     }
     for (int step = 1; step <= steps; ++step) {
+        kg_progress_update(progress, step - 1);
         kg_result r = kg_timed_step(&job->sim, &job->stats);
         if (r != KG_OK) {
+            kg_progress_end(progress);
             fprintf(stderr, "kgyro render: step %d: %s\n", step, kg_last_error());
             return -1;
         }
@@ -277,7 +285,7 @@ int kg_cmd_render(int argc, char** argv)
         return parsed == 1 ? 0 : 2;
     }
     kg_scene* scene = NULL;
-    if (kg_open_scene(o.scene, (uint32_t)o.seed, &scene) != KG_OK) {
+    if (kg_open_scene(o.scene, (uint32_t)o.seed, o.max_bodies, &scene) != KG_OK) {
         fprintf(stderr, "kgyro render: %s\n", kg_last_error());
         return 2;
     }
@@ -289,7 +297,12 @@ int kg_cmd_render(int argc, char** argv)
     if (status == 0) {
         printf("kgyro render: %s, %d bodies, %d steps on %s\n", o.scene, kg_world_body_count(job.sim.world), steps,
                kg_backend_label(kg_world_backend(job.sim.world)));
-        status = kg_run_frames(&job, steps) != 0 ? 1 : 0;
+        char label[256];
+        snprintf(label, sizeof label, "kgyro render: %s", o.scene);
+        kg_progress progress;
+        kg_progress_start(&progress, label, steps);
+        status = kg_run_frames(&job, steps, &progress) != 0 ? 1 : 0;
+        kg_progress_end(&progress);
         kg_print_stats(&job.stats);
         status = status != 0 ? status : kg_finish_job(&job);
     }

@@ -2,6 +2,7 @@
  * optionally the contact points) as CSV. Floats are printed with %.9g, which round-trips
  * a float exactly, so two runs can be compared bit for bit with diff. */
 #include "commands.h"
+#include "progress.h"
 
 #include "kgyro/collision.h"
 #include "kgyro/kgyro.h"
@@ -26,6 +27,7 @@ typedef struct kg_run_options {
     int threads;          /* -1: the scene's */
     uint32_t seed;
     int no_continuous;    /* --no-continuous: kg_world_def.enable_continuous off */
+    int max_bodies;       /* --max-bodies: the most a scene file may ask for; -1: no limit */
 } kg_run_options;
 
 #define KG_RUN_DEFAULT_STEPS 60
@@ -61,7 +63,12 @@ static void kg_run_usage(FILE* out)
             "  --threads N       CPU worker threads (default: the library's)\n"
             "  --no-continuous   turn continuous collision off (kg_world_def.enable_continuous)\n"
             "  --seed S          seed of the random generators, rain_N and particles_N (default 1)\n"
+            "  --max-bodies N    refuse a scene file (or a Tiled map) asking for more than N bodies,\n"
+            "                    before they are allocated: for levels from untrusted sources\n"
             "  -h, --help        show this help\n"
+            "\n"
+            "On a terminal, a progress line on stderr (percentage, steps a second, time left) while\n"
+            "it runs, erased at the end; none when stderr is not a terminal.\n"
             "\n"
             "Exit status: 0 done, 1 the run failed (backend, output file), 2 a bad scene or option.\n",
             KG_RUN_DEFAULT_STEPS);
@@ -135,6 +142,11 @@ static int kg_apply_option(kg_run_options* o, const char* name, const char* valu
             return kg_option_error(name, "an integer in [1, 256] (the library's limit, KG_MAX_THREADS)", value);
         }
         o->threads = (int)n;
+    } else if (strcmp(name, "--max-bodies") == 0) {
+        if (!kg_parse_long(value, 0, 2147483647L, &n)) {
+            return kg_option_error(name, "an integer >= 0", value);
+        }
+        o->max_bodies = (int)n;
     } else if (strcmp(name, "--seed") == 0) {
         if (!kg_parse_long(value, 0, 4294967295L, &n)) {
             return kg_option_error(name, "an integer in [0, 4294967295]", value);
@@ -160,7 +172,7 @@ static int kg_apply_option(kg_run_options* o, const char* name, const char* valu
 static int kg_is_option_with_value(const char* arg)
 {
     static const char* const names[] = {"--steps", "--dt", "--csv", "--every", "--contacts", "--events",
-                                        "--backend", "--threads", "--seed"};
+                                        "--backend", "--threads", "--seed", "--max-bodies"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
         if (strcmp(arg, names[i]) == 0) {
             return 1;
@@ -173,7 +185,7 @@ static int kg_is_option_with_value(const char* arg)
  * "--opt=value". */
 static int kg_parse_run_options(int argc, char** argv, kg_run_options* o)
 {
-    *o = (kg_run_options){NULL, -1, 0.0f, NULL, 1, NULL, NULL, -1, -1, 1u, 0};
+    *o = (kg_run_options){NULL, -1, 0.0f, NULL, 1, NULL, NULL, -1, -1, 1u, 0, -1};
     for (int i = 1; i < argc; ++i) {
         const char* arg = argv[i];
         if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
@@ -240,7 +252,12 @@ static int kg_names_file(const char* scene)
 
 static int kg_load_scene(const kg_run_options* o, kg_scene** out)
 {
-    kg_result r = kg_names_file(o->scene) ? kg_scene_load_file(o->scene, out) : kg_scene_generate(o->scene, o->seed, out);
+    kg_scene_limits limits = kg_default_scene_limits();
+    if (o->max_bodies >= 0) {
+        limits.max_bodies = o->max_bodies;
+    }
+    kg_result r = kg_names_file(o->scene) ? kg_scene_load_file_limited(o->scene, &limits, out)
+                                          : kg_scene_generate(o->scene, o->seed, out);
     if (r != KG_OK) {
         fprintf(stderr, "kgyro run: %s\n", kg_last_error());
         return 2;
@@ -465,15 +482,17 @@ static double kg_now_seconds(void)
 }
 
 /* Steps and writes; returns the seconds spent stepping, or a negative number on failure. */
-static double kg_step_all(kg_run* run, int steps, float dt, int every)
+static double kg_step_all(kg_run* run, int steps, float dt, int every, kg_progress* progress)
 {
     double stepping = 0.0;
     if (!kg_write_step(run, 0)) {
         return -1.0;
     }
     for (int step = 1; step <= steps; ++step) {
+        kg_progress_update(progress, step - 1);
         double start = kg_now_seconds();
         if (kg_scene_step(run->scene, run->world, run->bodies, dt) != KG_OK) {
+            kg_progress_end(progress);
             fprintf(stderr, "kgyro run: step %d: %s\n", step, kg_last_error());
             return -1.0;
         }
@@ -524,7 +543,12 @@ static int kg_run_scene(kg_run* run, const kg_run_options* o, kg_scene* scene)
     if (o->events && !kg_csv_open(&run->events_csv, o->events, "step,kind,a,b,x,y,nx,ny,speed")) {
         return 1;
     }
-    double seconds = kg_step_all(run, steps, dt, o->every);
+    char label[256];
+    snprintf(label, sizeof label, "kgyro run: %s", o->scene);
+    kg_progress progress;
+    kg_progress_start(&progress, label, steps);
+    double seconds = kg_step_all(run, steps, dt, o->every, &progress);
+    kg_progress_end(&progress);
     int written = kg_csv_close(&run->states_csv) & kg_csv_close(&run->contacts_csv) & kg_csv_close(&run->events_csv);
     if (seconds < 0.0 || !written) {
         return 1;

@@ -31,6 +31,21 @@ typedef struct kg_scene_force {
     const int* body_indices; /* scene body indices, body_count of them */
 } kg_scene_force;
 
+/* What a loader lets a file ask for, so that a level from an untrusted source cannot make
+ * the program allocate without end (an 80-byte scene can ask a generator for a million
+ * bodies). A file over a limit is refused with KG_ERROR_PARSE (KG_ERROR_IO for the file
+ * size) and "FILE: JSON.PATH: what is wrong", before the bodies are allocated. */
+typedef struct kg_scene_limits {
+    int max_bodies;        /* bodies in the whole scene, generators' and Tiled maps' included */
+    size_t max_file_bytes; /* each file read: the scene, a Tiled map, a tileset */
+} kg_scene_limits;
+
+/* The limits the loaders without _limited use: max_bodies INT_MAX (no limit beyond each
+ * generator's own range) and max_file_bytes 256 MiB. Every format also keeps its own
+ * cap, whichever is lower applies: 64 MiB for a scene file, 256 MiB for a Tiled map or
+ * tileset. Lower both for untrusted levels. */
+KG_API kg_scene_limits kg_default_scene_limits(void);
+
 /* Loading. On failure the result is KG_ERROR_IO or KG_ERROR_PARSE and kg_last_error()
  * reads "FILE: JSON.PATH: what is wrong", e.g. "a.json: bodies[3].shape.radius: must be > 0".
  * A Tiled map (.tmj or .json saved by Tiled) loads as a scene too (kg_scene_load_tiled). */
@@ -40,6 +55,11 @@ KG_API kg_result kg_scene_parse(const char* json, size_t length, const char* sou
  * map (one layer each), the collision shapes drawn in its tilesets the tile shapes, its
  * object layers bodies. Errors read "FILE: JSON.PATH: what is wrong", as above. */
 KG_API kg_result kg_scene_load_tiled(const char* path, kg_scene** out);
+/* The same, under limits (NULL = kg_default_scene_limits()). */
+KG_API kg_result kg_scene_load_file_limited(const char* path, const kg_scene_limits* limits, kg_scene** out);
+KG_API kg_result kg_scene_parse_limited(const char* json, size_t length, const char* source_name,
+                                        const kg_scene_limits* limits, kg_scene** out);
+KG_API kg_result kg_scene_load_tiled_limited(const char* path, const kg_scene_limits* limits, kg_scene** out);
 
 /* Building from code. A name is 1 to 63 characters among letters, digits and _-.:/#
  * (so that it goes into a CSV field as is), unique in the scene; NULL means "body<i>"

@@ -38,6 +38,60 @@ kg_json_path kg_json_path_index(const kg_json_path* parent, int index)
     return path;
 }
 
+/* The length of the UTF-8 sequence at s when it is valid and not a control character
+ * (C0, DEL or C1), else 0. Overlong forms, surrogates and code points past U+10FFFF are
+ * invalid. */
+static size_t kg_printable_utf8_length(const unsigned char* s)
+{
+    static const unsigned kShortest[] = {0, 0, 0x80, 0x800, 0x10000};
+    unsigned c = s[0];
+    if (c >= 0x20 && c < 0x7f) {
+        return 1;
+    }
+    size_t n = c >= 0xc2 && c <= 0xdf ? 2 : c >= 0xe0 && c <= 0xef ? 3 : c >= 0xf0 && c <= 0xf4 ? 4 : 0;
+    unsigned code = c & (0x7fu >> n);
+    for (size_t i = 1; i < n; ++i) {
+        if ((s[i] & 0xc0) != 0x80) {
+            return 0; /* also stops at the terminating NUL */
+        }
+        code = (code << 6) | (s[i] & 0x3fu);
+    }
+    int valid = n > 0 && code >= kShortest[n] && code <= 0x10ffff && !(code >= 0xd800 && code <= 0xdfff);
+    return valid && !(code >= 0x80 && code <= 0x9f) ? n : 0;
+}
+
+void kg_json_clean_text(char* out, size_t size, const char* text)
+{
+    const unsigned char* s = (const unsigned char*)text;
+    size_t used = 0;
+    while (*s && used + 1 < size) {
+        size_t n = kg_printable_utf8_length(s);
+        if (n == 0) {
+            out[used++] = '?';
+            s++;
+        } else if (used + n < size) {
+            memcpy(out + used, s, n);
+            used += n;
+            s += n;
+        } else {
+            break;
+        }
+    }
+    out[used] = '\0';
+}
+
+kg_result kg_json_fail_message(kg_result code, const char* fmt, ...)
+{
+    char message[512];
+    va_list args;
+    va_start(args, fmt);
+    vsnprintf(message, sizeof message, fmt, args);
+    va_end(args);
+    char clean[512];
+    kg_json_clean_text(clean, sizeof clean, message);
+    return kg_fail(code, "%s", clean);
+}
+
 kg_result kg_json_fail(const kg_json_reader* reader, const kg_json_path* path, const char* fmt, ...)
 {
     char what[256];
@@ -46,7 +100,7 @@ kg_result kg_json_fail(const kg_json_reader* reader, const kg_json_path* path, c
     vsnprintf(what, sizeof what, fmt, args);
     va_end(args);
     const char* where = path->text[0] != '\0' ? path->text : "(root)";
-    return kg_fail(KG_ERROR_PARSE, "%s: %s: %s", reader->source, where, what);
+    return kg_json_fail_message(KG_ERROR_PARSE, "%s: %s: %s", reader->source, where, what);
 }
 
 /* Opens path for reading if it is a regular file of at most max_bytes. O_NONBLOCK: opening
@@ -55,22 +109,22 @@ static kg_result kg_open_regular_file(const char* path, size_t max_bytes, int* o
 {
     int fd = open(path, O_RDONLY | O_NONBLOCK);
     if (fd < 0) {
-        return kg_fail(KG_ERROR_IO, "%s: cannot open (%s)", path, strerror(errno));
+        return kg_json_fail_message(KG_ERROR_IO, "%s: cannot open (%s)", path, strerror(errno));
     }
     struct stat info;
     if (fstat(fd, &info) != 0) {
         int error = errno;
         close(fd);
-        return kg_fail(KG_ERROR_IO, "%s: cannot open (%s)", path, strerror(error));
+        return kg_json_fail_message(KG_ERROR_IO, "%s: cannot open (%s)", path, strerror(error));
     }
     if (!S_ISREG(info.st_mode)) {
         close(fd);
-        return kg_fail(KG_ERROR_IO, "%s: not a regular file (a %s)", path,
+        return kg_json_fail_message(KG_ERROR_IO, "%s: not a regular file (a %s)", path,
                        S_ISDIR(info.st_mode) ? "directory" : S_ISFIFO(info.st_mode) ? "FIFO" : "device or socket");
     }
     if ((uintmax_t)info.st_size > (uintmax_t)max_bytes) {
         close(fd);
-        return kg_fail(KG_ERROR_IO, "%s: larger than the limit of %zu bytes", path, max_bytes);
+        return kg_json_fail_message(KG_ERROR_IO, "%s: larger than the limit of %zu bytes", path, max_bytes);
     }
     *out_fd = fd;
     *out_size = (size_t)info.st_size;
@@ -99,7 +153,7 @@ kg_result kg_json_read_file(const char* path, size_t max_bytes, char** out, size
     close(fd);
     if (!text || error != 0) {
         free(text);
-        return kg_fail(KG_ERROR_IO, "%s: cannot read (%s)", path, text ? strerror(error) : "out of memory");
+        return kg_json_fail_message(KG_ERROR_IO, "%s: cannot read (%s)", path, text ? strerror(error) : "out of memory");
     }
     *out = text;
     *length = used;
@@ -136,7 +190,7 @@ kg_result kg_json_parse(const kg_json_reader* reader, const char* text, size_t l
     /* Nothing of the text is quoted: a file that is not JSON at all may be a secret one
      * that a hostile level named (its first line would leak into the message). */
     const char* what = end == text + length ? "unexpected end of input" : "unexpected character";
-    return kg_fail(KG_ERROR_PARSE, "%s: line %d, column %d: malformed JSON (%s)", reader->source, line, column,
+    return kg_json_fail_message(KG_ERROR_PARSE, "%s: line %d, column %d: malformed JSON (%s)", reader->source, line, column,
                    what);
 }
 

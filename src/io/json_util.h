@@ -35,8 +35,17 @@ typedef struct kg_json_reader {
     const char* source; /* the file name the messages start with */
 } kg_json_reader;
 
+/* Copies text to out (size bytes, NUL-terminated), each control character and each byte
+ * of invalid UTF-8 turned into '?': names, keys and paths a file gives are echoed in
+ * messages through this (kg_json_fail and the file errors below do it), so that a
+ * hostile file cannot send escape sequences to a terminal or break a log's encoding. */
+void kg_json_clean_text(char* out, size_t size, const char* text);
+
 kg_result kg_json_fail(const kg_json_reader* reader, const kg_json_path* path, const char* fmt, ...)
     KG_PRINTF(3, 4);
+/* A failure with no JSON path (a file that cannot be read, out of memory): the message,
+ * which names a file, cleaned as kg_json_fail's. */
+kg_result kg_json_fail_message(kg_result code, const char* fmt, ...) KG_PRINTF(2, 3);
 
 /* Reads the whole regular file at path, of at most max_bytes, into *out (free() it) and
  * its length into *length. Anything else (a FIFO, a device, a directory) is refused at

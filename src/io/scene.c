@@ -7,7 +7,9 @@
 #include "collide/shape.h"
 #include "core/error.h"
 #include "io/json_util.h"
+#include "io/scene_limits.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,6 +43,7 @@ typedef struct kg_scene_tilemap {
 } kg_scene_tilemap;
 
 struct kg_scene {
+    kg_scene_limits limits;
     kg_world_def world_def;
     float dt;
     int steps;
@@ -103,6 +106,7 @@ kg_result kg_scene_create(kg_scene** out)
     if (!scene) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_create: out of memory");
     }
+    scene->limits = kg_default_scene_limits();
     scene->world_def = kg_default_world_def();
     scene->world_def.gravity = (kg_vec2){0.0f, -10.0f};
     scene->dt = 1.0f / 60.0f;
@@ -141,6 +145,29 @@ void kg_scene_destroy(kg_scene* scene)
     free(scene->last_chain);
     free(scene->chain_count);
     free(scene);
+}
+
+kg_scene_limits kg_default_scene_limits(void)
+{
+    kg_scene_limits limits = {INT_MAX, (size_t)1 << 28};
+    return limits;
+}
+
+void kg_scene_set_limits(kg_scene* scene, const kg_scene_limits* limits) { scene->limits = *limits; }
+const kg_scene_limits* kg_scene_get_limits(const kg_scene* scene) { return &scene->limits; }
+int kg_scene_body_room(const kg_scene* scene) { return scene->limits.max_bodies - scene->body_count; }
+
+kg_result kg_check_scene_limits(const char* function, const kg_scene_limits* limits)
+{
+    if (limits->max_bodies < 0 || limits->max_file_bytes == 0) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: max_bodies must be >= 0 and max_file_bytes > 0", function);
+    }
+    return KG_OK;
+}
+
+size_t kg_scene_file_cap(const kg_scene_limits* limits, size_t format_cap)
+{
+    return limits->max_file_bytes < format_cap ? limits->max_file_bytes : format_cap;
 }
 
 kg_world_def* kg_scene_world_def(kg_scene* scene) { return scene ? &scene->world_def : NULL; }
@@ -340,6 +367,9 @@ kg_result kg_scene_add_body(kg_scene* scene, const char* name, const kg_body_def
     int existing = kg_scene_find_body(scene, name);
     if (existing >= 0) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "duplicate name '%s' (body %d has it)", name, existing);
+    }
+    if (kg_scene_body_room(scene) < 1) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "more than max_bodies (%d) bodies", scene->limits.max_bodies);
     }
     int needed = scene->body_count + 1;
     if (!kg_reserve_bodies(scene, needed) || !kg_name_table_reserve(scene, needed) || !kg_append_name(scene, name)) {

@@ -8,6 +8,7 @@
 #include "core/kg_math.h"
 #include "io/json_util.h"
 #include "io/scene_generate.h"
+#include "io/scene_limits.h"
 #include "io/tiled.h"
 
 #include <math.h>
@@ -231,7 +232,7 @@ static kg_result kg_read_chain_points(const kg_json_reader* reader, const cJSON*
     }
     kg_vec2* points = malloc((size_t)(count > 0 ? count : 1) * sizeof *points);
     if (!points) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
     }
     def->points = points;
     def->count = count;
@@ -619,6 +620,19 @@ static kg_result kg_read_region(const kg_json_reader* reader, const cJSON* json,
     return KG_OK;
 }
 
+/* Refuses a generator asking for more bodies than the limits leave, before it allocates
+ * any: key names the field that sets how many. */
+static kg_result kg_check_room(kg_loader* loader, const kg_json_path* path, const char* key, long long bodies)
+{
+    int room = kg_scene_body_room(loader->scene);
+    if (bodies <= room) {
+        return KG_OK;
+    }
+    kg_json_path key_path = kg_json_path_key(path, key);
+    return kg_json_fail(&loader->reader, &key_path, "asks for %lld bodies, but max_bodies (%d) leaves room for %d", bodies,
+                        kg_scene_get_limits(loader->scene)->max_bodies, room);
+}
+
 /* Turns a generator's own failure (a bad name, say) into a message at its path. */
 static kg_result kg_generated(const kg_json_reader* reader, const kg_json_path* path, kg_result result)
 {
@@ -638,6 +652,7 @@ static kg_result kg_read_pyramid(kg_loader* loader, const cJSON* json, const kg_
     kg_gen_pyramid p = {0, 1.0f, {0.0f, 0.0f}, kg_gen_default_material()};
     KG_TRY(kg_json_require(reader, json, path, "base"));
     KG_TRY(kg_json_int(reader, json, path, "base", 1, 2000, &p.base));
+    KG_TRY(kg_check_room(loader, path, "base", (long long)p.base * (p.base + 1) / 2));
     KG_TRY(kg_json_float(reader, json, path, "box_size", KG_JSON_POSITIVE, &p.box_size));
     KG_TRY(kg_json_vec2(reader, json, path, "origin", &p.origin));
     KG_TRY(kg_read_gen_material(reader, json, path, &p.material));
@@ -650,6 +665,7 @@ static kg_result kg_read_stack(kg_loader* loader, const cJSON* json, const kg_js
     kg_gen_stack p = {0, 1.0f, 0.0f, {0.0f, 0.0f}, kg_gen_default_material()};
     KG_TRY(kg_json_require(reader, json, path, "count"));
     KG_TRY(kg_json_int(reader, json, path, "count", 1, 100000, &p.count));
+    KG_TRY(kg_check_room(loader, path, "count", p.count));
     KG_TRY(kg_json_float(reader, json, path, "box_size", KG_JSON_POSITIVE, &p.box_size));
     KG_TRY(kg_json_float(reader, json, path, "gap", KG_JSON_NON_NEGATIVE, &p.gap));
     KG_TRY(kg_json_vec2(reader, json, path, "origin", &p.origin));
@@ -669,6 +685,7 @@ static kg_result kg_read_container(kg_loader* loader, const cJSON* json, const k
     KG_TRY(kg_json_float(reader, json, path, "height", KG_JSON_POSITIVE, &p.height));
     KG_TRY(kg_json_float(reader, json, path, "thickness", KG_JSON_POSITIVE, &p.thickness));
     KG_TRY(kg_read_gen_material(reader, json, path, &p.material));
+    KG_TRY(kg_check_room(loader, path, "type", 3)); /* a floor and two walls */
     return kg_generated(reader, path, kg_gen_container_bodies(loader->scene, prefix, &p));
 }
 
@@ -678,6 +695,7 @@ static kg_result kg_read_rain(kg_loader* loader, const cJSON* json, const kg_jso
     kg_gen_rain p = {0, 1u, {{0.0f, 0.0f}, {0.0f, 0.0f}}, 0.2f, 0.8f, kg_gen_default_material()};
     KG_TRY(kg_json_require(reader, json, path, "count"));
     KG_TRY(kg_json_int(reader, json, path, "count", 1, 1000000, &p.count));
+    KG_TRY(kg_check_room(loader, path, "count", p.count));
     KG_TRY(kg_json_uint32(reader, json, path, "seed", &p.seed));
     KG_TRY(kg_read_region(reader, json, path, &p.region));
     KG_TRY(kg_json_float(reader, json, path, "min_size", KG_JSON_POSITIVE, &p.min_size));
@@ -703,6 +721,7 @@ static kg_result kg_read_particles(kg_loader* loader, const cJSON* json, const k
     kg_gen_particles p = {0, 1u, {{0.0f, 0.0f}, {0.0f, 0.0f}}, 0.05f, 0.0f, kg_gen_default_material()};
     KG_TRY(kg_json_require(reader, json, path, "count"));
     KG_TRY(kg_json_int(reader, json, path, "count", 1, 1000000, &p.count));
+    KG_TRY(kg_check_room(loader, path, "count", p.count));
     KG_TRY(kg_json_uint32(reader, json, path, "seed", &p.seed));
     KG_TRY(kg_read_region(reader, json, path, &p.region));
     KG_TRY(kg_json_float(reader, json, path, "radius", KG_JSON_POSITIVE, &p.radius));
@@ -841,7 +860,7 @@ static kg_result kg_read_force_bodies(kg_loader* loader, const cJSON* json, cons
     if (!marks || !indices) {
         free(marks);
         free(indices);
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", loader->reader.source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", loader->reader.source);
     }
     kg_json_path list_path = kg_json_path_key(path, "bodies");
     kg_result r = kg_mark_force_bodies(loader, list, &list_path, marks);
@@ -1188,7 +1207,7 @@ static kg_result kg_read_inline_tilemap(kg_loader* loader, const cJSON* json, co
     }
     uint16_t* tiles = malloc(cells * sizeof *tiles);
     if (!tiles) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
     }
     kg_result r = kg_read_grid(reader, layers, &layers_path, keys, def.shape_count, def.width, def.height, tiles);
     def.shape_count += 1;
@@ -1314,7 +1333,19 @@ static kg_result kg_read_scene(kg_loader* loader, const cJSON* root)
     return kg_read_list(loader, root, "forces", kg_read_force_item);
 }
 
-kg_result kg_scene_parse(const char* json, size_t length, const char* source_name, kg_scene** out)
+/* Reads root into a new scene under limits, which the scene keeps only while it is read. */
+static kg_result kg_read_new_scene(kg_loader* loader, const cJSON* root, const kg_scene_limits* limits)
+{
+    KG_TRY(kg_scene_create(&loader->scene));
+    kg_scene_set_limits(loader->scene, limits);
+    kg_result r = kg_read_scene(loader, root);
+    kg_scene_limits defaults = kg_default_scene_limits();
+    kg_scene_set_limits(loader->scene, &defaults);
+    return r;
+}
+
+kg_result kg_scene_parse_limited(const char* json, size_t length, const char* source_name,
+                                 const kg_scene_limits* limits, kg_scene** out)
 {
     if (!out) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_parse: out is NULL");
@@ -1323,13 +1354,13 @@ kg_result kg_scene_parse(const char* json, size_t length, const char* source_nam
     if (!json) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_parse: json is NULL");
     }
+    kg_scene_limits defaults = kg_default_scene_limits();
+    limits = limits ? limits : &defaults;
+    KG_TRY(kg_check_scene_limits("kg_scene_parse", limits));
     kg_loader loader = {{source_name ? source_name : "(scene)"}, NULL};
     cJSON* root = NULL;
     KG_TRY(kg_json_parse(&loader.reader, json, length, &root));
-    kg_result r = kg_scene_create(&loader.scene);
-    if (r == KG_OK) {
-        r = kg_read_scene(&loader, root);
-    }
+    kg_result r = kg_read_new_scene(&loader, root, limits);
     cJSON_Delete(root);
     if (r != KG_OK) {
         kg_scene_destroy(loader.scene);
@@ -1339,16 +1370,29 @@ kg_result kg_scene_parse(const char* json, size_t length, const char* source_nam
     return KG_OK;
 }
 
-kg_result kg_scene_load_file(const char* path, kg_scene** out)
+kg_result kg_scene_parse(const char* json, size_t length, const char* source_name, kg_scene** out)
+{
+    return kg_scene_parse_limited(json, length, source_name, NULL, out);
+}
+
+kg_result kg_scene_load_file_limited(const char* path, const kg_scene_limits* limits, kg_scene** out)
 {
     if (!path || !out) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_load_file: NULL argument");
     }
     *out = NULL;
+    kg_scene_limits defaults = kg_default_scene_limits();
+    limits = limits ? limits : &defaults;
+    KG_TRY(kg_check_scene_limits("kg_scene_load_file", limits));
     char* text = NULL;
     size_t length = 0;
-    KG_TRY(kg_json_read_file(path, KG_SCENE_FILE_SIZE_MAX, &text, &length));
-    kg_result r = kg_scene_parse(text, length, path, out);
+    KG_TRY(kg_json_read_file(path, kg_scene_file_cap(limits, KG_SCENE_FILE_SIZE_MAX), &text, &length));
+    kg_result r = kg_scene_parse_limited(text, length, path, limits, out);
     free(text);
     return r;
+}
+
+kg_result kg_scene_load_file(const char* path, kg_scene** out)
+{
+    return kg_scene_load_file_limited(path, NULL, out);
 }

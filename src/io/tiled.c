@@ -9,6 +9,7 @@
 #include "io/tiled.h"
 #include "collide/shape.h"
 #include "io/json_util.h"
+#include "io/scene_limits.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -79,11 +80,13 @@ int kg_tiled_is_map(const cJSON* root)
 
 /* ---- files ---- */
 
-static kg_result kg_parse_file(const char* path, cJSON** out)
+/* Parses the file at path, no larger than the limits of the scene it goes into allow. */
+static kg_result kg_parse_file(const kg_scene* scene, const char* path, cJSON** out)
 {
     char* text = NULL;
     size_t length = 0;
-    KG_TRY(kg_json_read_file(path, KG_FILE_SIZE_MAX, &text, &length));
+    size_t cap = kg_scene_file_cap(kg_scene_get_limits(scene), KG_FILE_SIZE_MAX);
+    KG_TRY(kg_json_read_file(path, cap, &text, &length));
     kg_json_reader reader = {path};
     kg_result r = kg_json_parse(&reader, text, length, out);
     free(text);
@@ -226,7 +229,7 @@ static kg_result kg_load_external_tileset(kg_tiled* t, kg_tileset* ts, const cha
                                             "export it as a JSON tileset (.tsj), then use that", source);
     }
     kg_tiled_sibling_path(t->reader.source, source, ts->file, sizeof ts->file);
-    kg_result r = kg_parse_file(ts->file, &ts->document);
+    kg_result r = kg_parse_file(t->scene, ts->file, &ts->document);
     if (r != KG_OK) {
         char reason[512];
         snprintf(reason, sizeof reason, "%s", kg_last_error());
@@ -582,7 +585,7 @@ static kg_result kg_read_tilesets(kg_tiled* t, const cJSON* root)
     t->tileset_count = cJSON_GetArraySize(list);
     t->tilesets = calloc((size_t)(t->tileset_count > 0 ? t->tileset_count : 1), sizeof *t->tilesets);
     if (!t->tilesets) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
     }
     int i = 0;
     t->gid_count = 1;
@@ -595,7 +598,7 @@ static kg_result kg_read_tilesets(kg_tiled* t, const cJSON* root)
     }
     t->raw_shapes = calloc((size_t)t->gid_count, sizeof *t->raw_shapes);
     if (!t->raw_shapes) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
     }
     for (i = 0; i < t->tileset_count; ++i) {
         KG_TRY(kg_read_tileset_tiles(t, &t->tilesets[i]));
@@ -740,7 +743,7 @@ static kg_result kg_variant_id(kg_tiled* t, uint32_t raw, const kg_json_path* pa
         int capacity = t->variant_capacity > 0 ? 2 * t->variant_capacity : 16;
         kg_variant* grown = realloc(t->variants, (size_t)capacity * sizeof *grown);
         if (!grown) {
-            return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+            return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
         }
         t->variants = grown;
         t->variant_capacity = capacity;
@@ -786,13 +789,13 @@ static kg_result kg_add_layer_storage(kg_tiled* t)
 {
     size_t cells = (size_t)t->width * (size_t)t->height;
     if ((long long)cells * (t->layer_count + 1) > (1LL << 28)) {
-        return kg_fail(KG_ERROR_PARSE, "%s: the tile layers hold more than 2^28 cells in all", t->reader.source);
+        return kg_json_fail_message(KG_ERROR_PARSE, "%s: the tile layers hold more than 2^28 cells in all", t->reader.source);
     }
     if (t->layer_count == t->layer_capacity) {
         int capacity = t->layer_capacity > 0 ? 2 * t->layer_capacity : 2;
         uint16_t* grown = realloc(t->tiles, (size_t)capacity * cells * sizeof *grown);
         if (!grown) {
-            return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+            return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
         }
         t->tiles = grown;
         t->layer_capacity = capacity;
@@ -841,7 +844,7 @@ static kg_result kg_read_tile_layer(kg_tiled* t, const cJSON* layer, const kg_js
     }
     uint32_t* gids = malloc((size_t)width * (size_t)height * sizeof *gids);
     if (!gids) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
     }
     kg_result r = kg_read_layer_gids(t, layer, path, gids);
     if (r == KG_OK) {
@@ -1054,7 +1057,7 @@ static kg_result kg_read_chain_points(const kg_tiled* t, const cJSON* object, co
     }
     *out = malloc((size_t)(n > 0 ? n : 1) * sizeof **out);
     if (!*out) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
     }
     *count = n;
     const kg_object_frame unturned = {0.0, 0.0, 0.0};
@@ -1285,7 +1288,7 @@ static kg_result kg_add_tilemap_to_scene(kg_tiled* t)
     int shape_count = t->gid_count + t->variant_count;
     kg_tile_shape* shapes = calloc((size_t)shape_count, sizeof *shapes);
     if (!shapes) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", t->reader.source);
     }
     for (int id = 0; id < t->gid_count; ++id) {
         shapes[id] = kg_final_shape(t->raw_shapes[id], 0u);
@@ -1347,25 +1350,35 @@ kg_result kg_tiled_read(kg_scene* scene, const cJSON* root, const char* path)
 kg_result kg_tiled_load_into(kg_scene* scene, const char* path)
 {
     cJSON* root = NULL;
-    KG_TRY(kg_parse_file(path, &root));
+    KG_TRY(kg_parse_file(scene, path, &root));
     kg_result r = kg_tiled_read(scene, root, path);
     cJSON_Delete(root);
     return r;
 }
 
-kg_result kg_scene_load_tiled(const char* path, kg_scene** out)
+kg_result kg_scene_load_tiled_limited(const char* path, const kg_scene_limits* limits, kg_scene** out)
 {
     if (!path || !out) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_load_tiled: NULL argument");
     }
     *out = NULL;
+    kg_scene_limits defaults = kg_default_scene_limits();
+    limits = limits ? limits : &defaults;
+    KG_TRY(kg_check_scene_limits("kg_scene_load_tiled", limits));
     kg_scene* scene = NULL;
     KG_TRY(kg_scene_create(&scene));
+    kg_scene_set_limits(scene, limits);
     kg_result r = kg_tiled_load_into(scene, path);
+    kg_scene_set_limits(scene, &defaults);
     if (r != KG_OK) {
         kg_scene_destroy(scene);
         return r;
     }
     *out = scene;
     return KG_OK;
+}
+
+kg_result kg_scene_load_tiled(const char* path, kg_scene** out)
+{
+    return kg_scene_load_tiled_limited(path, NULL, out);
 }

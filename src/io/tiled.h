@@ -14,7 +14,8 @@ int kg_tiled_is_map(const cJSON* root);
  * tilesets are looked for) to scene: one tile map and the bodies of its object layers. */
 kg_result kg_tiled_read(kg_scene* scene, const cJSON* root, const char* path);
 
-/* Reads the Tiled map file at path into scene, as kg_tiled_read. */
+/* Reads the Tiled map file at path into scene, as kg_tiled_read. It and its tilesets
+ * are read under the limits scene holds (io/scene_limits.h). */
 kg_result kg_tiled_load_into(kg_scene* scene, const char* path);
 
 /* source relative to the directory of the file `from` (as it is when absolute). */

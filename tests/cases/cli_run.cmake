@@ -10,12 +10,16 @@ if(CMAKE_SCRIPT_MODE_FILE)
                   WORKING_DIRECTORY "${WORKDIR}"
                   RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(MODE STREQUAL "error")
-    # exit code 2 and exactly one line on stderr: "kgyro run: MESSAGE"
+    # exit code 2 and exactly one line on stderr: "kgyro COMMAND: MESSAGE" (COMMAND: run
+    # unless given)
+    if(NOT DEFINED COMMAND)
+      set(COMMAND run)
+    endif()
     if(NOT code EQUAL 2)
       message(FATAL_ERROR "exit code ${code}, expected 2; stderr: ${err}")
     endif()
-    if(NOT err STREQUAL "kgyro run: ${EXPECT}\n")
-      message(FATAL_ERROR "stderr:\n  '${err}'\nexpected:\n  'kgyro run: ${EXPECT}'")
+    if(NOT err STREQUAL "kgyro ${COMMAND}: ${EXPECT}\n")
+      message(FATAL_ERROR "stderr:\n  '${err}'\nexpected:\n  'kgyro ${COMMAND}: ${EXPECT}'")
     endif()
   elseif(MODE STREQUAL "csv")
     # exit code 0; CSV has the header and ROWS (or at least ROWS_AT_LEAST) data rows;
@@ -44,7 +48,7 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(NOT code EQUAL 0)
       message(FATAL_ERROR "exit code ${code}")
     endif()
-    foreach(option --steps --dt --csv --every --contacts --events --backend --threads --seed)
+    foreach(option --steps --dt --csv --every --contacts --events --backend --threads --seed --max-bodies)
       string(FIND "${out}" "${option}" found)
       if(found EQUAL -1)
         message(FATAL_ERROR "--help does not explain ${option}:\n${out}")
@@ -144,3 +148,12 @@ kg_cli_run_test(deterministic same "run|rain_50|--steps|30|--backend|cpu|--csv|$
 kg_cli_run_test(threads_same_csv same
                 "run|rain_1000|--steps|240|--every|1|--backend|cpu|--threads|1|--csv|${kg_cli_out}/rain_1000.csv"
                 "CSV=${kg_cli_out}/rain_1000.csv" "AGAIN=--threads|4")
+
+# issue 18: an 80-byte scene asking a generator for a million bodies is refused under
+# --max-bodies before they are allocated, naming the field
+kg_cli_run_test(max_bodies error "run|hostile_million_bodies.json|--max-bodies|1000"
+                "EXPECT=hostile_million_bodies.json: generators[0].count: asks for 1000000 bodies, but max_bodies (1000) leaves room for 1000")
+kg_cli_run_test(render_max_bodies error "render|hostile_million_bodies.json|--max-bodies|1000|--png|${kg_cli_out}/never.png"
+                "EXPECT=hostile_million_bodies.json: generators[0].count: asks for 1000000 bodies, but max_bodies (1000) leaves room for 1000"
+                COMMAND=render)
+kg_cli_run_test(bad_max_bodies error "run|pyramid_3|--max-bodies|-5" "EXPECT=--max-bodies: expected an integer >= 0 (got '-5')")

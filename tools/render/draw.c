@@ -59,23 +59,6 @@ static kg_body* kg_live_bodies(const kg_world* world, int* count)
     return bodies;
 }
 
-/* The union of the AABBs of the bodies that move (all but the static ones). */
-static int kg_moving_union(const kg_world* world, const kg_body* bodies, int count, kg_aabb* out)
-{
-    int found = 0;
-    for (int i = 0; i < count; ++i) {
-        kg_body_type type;
-        kg_aabb box;
-        if (kg_body_get_type(world, bodies[i], &type) != KG_OK || type == KG_BODY_STATIC ||
-            kg_body_get_aabb(world, bodies[i], &box) != KG_OK) {
-            continue;
-        }
-        *out = found ? kg_aabb_union(*out, box) : box;
-        found = 1;
-    }
-    return found;
-}
-
 static int kg_tilemap_box(const kg_world* world, kg_tilemap map, kg_aabb* out)
 {
     kg_tilemap_def def;
@@ -87,69 +70,44 @@ static int kg_tilemap_box(const kg_world* world, kg_tilemap map, kg_aabb* out)
     return 1;
 }
 
-/* The boxes of what does not move: static bodies and tile maps. *count of them; NULL
- * when there are none or no memory. */
-static kg_aabb* kg_terrain_boxes(const kg_world* world, const kg_body* bodies, int body_count, int* count)
+/* Grows *view (empty while *found is 0) to hold box. */
+static void kg_view_add(kg_aabb* view, int* found, kg_aabb box)
 {
-    int map_count = kg_world_tilemap_count(world), capacity = body_count + map_count;
-    kg_aabb* boxes = capacity > 0 ? malloc((size_t)capacity * sizeof *boxes) : NULL;
-    kg_tilemap* maps = map_count > 0 ? malloc((size_t)map_count * sizeof *maps) : NULL;
-    *count = 0;
-    for (int i = 0; boxes && i < body_count; ++i) {
-        kg_body_type type;
-        if (kg_body_get_type(world, bodies[i], &type) == KG_OK && type == KG_BODY_STATIC &&
-            kg_body_get_aabb(world, bodies[i], &boxes[*count]) == KG_OK) {
-            (*count)++;
-        }
-    }
-    if (boxes && maps && kg_world_get_tilemaps(world, maps, map_count, &map_count) == KG_OK) {
-        for (int i = 0; i < map_count; ++i) {
-            *count += kg_tilemap_box(world, maps[i], &boxes[*count]);
-        }
-    }
-    free(maps);
-    return boxes;
+    *view = *found ? kg_aabb_union(*view, box) : box;
+    *found = 1;
 }
 
-/* The terrain that reaches into the moving bodies' box, grown a little sideways and by
- * half its height up and down (to find the floor under a pile), clipped to it. */
-static kg_aabb kg_add_nearby_terrain(const kg_aabb* terrain, int count, kg_aabb moving)
+/* The union of every body's box, static ones included. */
+static int kg_bodies_box(const kg_world* world, kg_aabb* view)
 {
-    float grow_x = 0.1f * (moving.upper.x - moving.lower.x), grow_y = 0.5f * (moving.upper.y - moving.lower.y);
-    kg_aabb near = {{moving.lower.x - grow_x, moving.lower.y - grow_y}, {moving.upper.x + grow_x, moving.upper.y + grow_y}};
-    kg_aabb view = moving;
+    int count, found = 0;
+    kg_body* bodies = kg_live_bodies(world, &count);
     for (int i = 0; i < count; ++i) {
-        kg_aabb box = terrain[i];
-        kg_aabb clipped = {{fmaxf(box.lower.x, near.lower.x), fmaxf(box.lower.y, near.lower.y)},
-                           {fminf(box.upper.x, near.upper.x), fminf(box.upper.y, near.upper.y)}};
-        if (clipped.lower.x <= clipped.upper.x && clipped.lower.y <= clipped.upper.y) {
-            view = kg_aabb_union(view, clipped);
+        kg_aabb box;
+        if (kg_body_get_aabb(world, bodies[i], &box) == KG_OK) {
+            kg_view_add(view, &found, box);
         }
     }
-    return view;
-}
-
-int kg_world_view_box(const kg_world* world, kg_aabb* out)
-{
-    int body_count, terrain_count;
-    kg_body* bodies = kg_live_bodies(world, &body_count);
-    kg_aabb* terrain = kg_terrain_boxes(world, bodies, body_count, &terrain_count);
-    kg_aabb moving = {{0.0f, 0.0f}, {0.0f, 0.0f}}; /* set when found; zeroed for the compiler */
-    int found = kg_moving_union(world, bodies, body_count, &moving);
-    if (found) {
-        *out = kg_add_nearby_terrain(terrain, terrain_count, moving);
-    } else if (terrain_count > 0) {
-        *out = terrain[0];
-        for (int i = 1; i < terrain_count; ++i) {
-            *out = kg_aabb_union(*out, terrain[i]);
-        }
-        found = 1;
-    }
-    free(terrain);
     free(bodies);
     return found;
 }
 
+int kg_world_view_box(const kg_world* world, kg_aabb* out)
+{
+    int found = kg_bodies_box(world, out);
+    int map_count = kg_world_tilemap_count(world);
+    kg_tilemap* maps = map_count > 0 ? malloc((size_t)map_count * sizeof *maps) : NULL;
+    if (maps && kg_world_get_tilemaps(world, maps, map_count, &map_count) == KG_OK) {
+        for (int i = 0; i < map_count; ++i) {
+            kg_aabb box;
+            if (kg_tilemap_box(world, maps[i], &box)) {
+                kg_view_add(out, &found, box);
+            }
+        }
+    }
+    free(maps);
+    return found;
+}
 
 /* ---- the world through kg_world_draw: its callbacks rasterise into the canvas ---- */
 

@@ -23,9 +23,9 @@ kg_camera kg_camera_fit(kg_aabb box, int width, int height, float margin);
 /* Zooms by factor keeping the world point under screen point fixed. */
 void kg_camera_zoom_at(kg_camera* camera, kg_point screen, float factor);
 
-/* The box a camera should show for a world: every moving body, and the static ones and
- * tile maps only where they are near the moving ones, so that a long floor does not
- * shrink the scene. Returns 0 when the world has neither bodies nor tile maps. */
+/* The box a camera should show for a world: the whole level, every body (static ones
+ * included) and every tile map whole. Returns 0 when the world has neither bodies nor
+ * tile maps. */
 int kg_world_view_box(const kg_world* world, kg_aabb* out);
 
 typedef struct kg_draw_options {

@@ -11,10 +11,12 @@ static int kg_ends_with(const char* text, const char* suffix)
 }
 
 /* kg_scene_load_file recognises a map saved by Tiled (.tmj, or .json) by its contents. */
-kg_result kg_open_scene(const char* name, uint32_t seed, kg_scene** out)
+kg_result kg_open_scene(const char* name, uint32_t seed, int max_bodies, kg_scene** out)
 {
     if (access(name, F_OK) == 0 || strchr(name, '/') || kg_ends_with(name, ".json") || kg_ends_with(name, ".tmj")) {
-        return kg_scene_load_file(name, out);
+        kg_scene_limits limits = kg_default_scene_limits();
+        limits.max_bodies = max_bodies >= 0 ? max_bodies : limits.max_bodies;
+        return kg_scene_load_file_limited(name, &limits, out);
     }
     return kg_scene_generate(name, seed, out);
 }

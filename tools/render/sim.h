@@ -14,8 +14,9 @@ typedef struct kg_sim {
 } kg_sim;
 
 /* Opens name as the tools take a scene: a path to a scene file or a Tiled map (.tmj),
- * else a generator name (kg_scene_generate with seed). */
-kg_result kg_open_scene(const char* name, uint32_t seed, kg_scene** out);
+ * read under max_bodies (-1: no limit; kg_scene_limits), else a generator name
+ * (kg_scene_generate with seed). */
+kg_result kg_open_scene(const char* name, uint32_t seed, int max_bodies, kg_scene** out);
 
 /* Builds the world for scene on backend, with room for extra_bodies more bodies. The
  * sim owns the scene from here on, also on failure. */

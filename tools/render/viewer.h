@@ -7,6 +7,7 @@
 typedef struct kg_view_config {
     const char* scene;      /* a scene file or a generator name */
     uint32_t seed;
+    int max_bodies;         /* the most a scene file may ask for; -1: no limit */
     kg_backend backend;
     int width, height;      /* window size */
     int frames;             /* exit after this many frames; 0 = run until closed */

@@ -604,11 +604,33 @@ static int kg_screenshot(kg_viewer* v, const char* path)
 
 /* ---- setting up and the frame loop ---- */
 
+/* SDL falls back to its headless drivers ("offscreen", "dummy") when no display works,
+ * and the viewer would then run unseen until killed. Unless SDL_VIDEODRIVER asks for one
+ * of them, only the drivers that show something are tried, so that without a display SDL
+ * fails and says why. */
+static void kg_want_visible_driver(void)
+{
+    if (getenv("SDL_VIDEODRIVER")) {
+        return;
+    }
+    char drivers[256] = "";
+    for (int i = 0; i < SDL_GetNumVideoDrivers(); ++i) {
+        const char* name = SDL_GetVideoDriver(i);
+        if (strcmp(name, "offscreen") != 0 && strcmp(name, "dummy") != 0) {
+            size_t used = strlen(drivers);
+            snprintf(drivers + used, sizeof drivers - used, "%s%s", used > 0 ? "," : "", name);
+        }
+    }
+    SDL_SetHint(SDL_HINT_VIDEODRIVER, drivers);
+}
+
 static int kg_open_window(kg_viewer* v)
 {
     const kg_view_config* c = v->config;
+    kg_want_visible_driver();
     if (SDL_Init(SDL_INIT_VIDEO) != 0) {
-        fprintf(stderr, "kgyro view: cannot open a window: %s\n", SDL_GetError());
+        fprintf(stderr, "kgyro view: cannot open a window: %s (no display? set DISPLAY or WAYLAND_DISPLAY, or "
+                        "SDL_VIDEODRIVER=offscreen to run unseen)\n", SDL_GetError());
         return 1;
     }
     char title[160];
@@ -633,7 +655,7 @@ static int kg_viewer_start(kg_viewer* v)
 {
     const kg_view_config* c = v->config;
     kg_scene* scene = NULL;
-    if (kg_open_scene(c->scene, c->seed, &scene) != KG_OK || kg_sim_start(&v->sim, scene, c->backend, KG_ADD_ROOM) != KG_OK) {
+    if (kg_open_scene(c->scene, c->seed, c->max_bodies, &scene) != KG_OK || kg_sim_start(&v->sim, scene, c->backend, KG_ADD_ROOM) != KG_OK) {
         fprintf(stderr, "kgyro view: %s\n", kg_last_error());
         if (!v->sim.scene) {
             kg_scene_destroy(scene);

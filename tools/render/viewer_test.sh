@@ -4,15 +4,12 @@
 # then checks its own report and the pixels of the screenshot it read back from its
 # window; then switches a running scene to OpenCL and checks that every body came along;
 # then shows the Tiled level samples/platformer.tmj with its tiles, and without after 't'.
-# Exits 77 (skipped) when Xvfb is not installed.
+# First checks that without a display it exits 1 with SDL's message. Exits 77 (skipped)
+# after that check when Xvfb is not installed.
 # Usage: viewer_test.sh KGYRO PROBE SCENE OUTDIR
 set -eu
 kgyro=$1 probe=$2 scene=$3 out=$4
 
-if ! command -v Xvfb >/dev/null 2>&1; then
-  echo "SKIP: Xvfb is not installed (Debian: apt-get install xvfb)"
-  exit 77
-fi
 # Under AddressSanitizer, leak checking is off for the viewer alone: SDL, X11 and D-Bus
 # keep memory to the end of the process, some of it inside libraries already unloaded
 # then, which no suppression can name. Every memory access is still checked.
@@ -20,6 +17,22 @@ if [ -n "${ASAN_OPTIONS:-}" ]; then
   export ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0"
 fi
 mkdir -p "$out"
+
+# Without a display (and no SDL_VIDEODRIVER asking for a headless one) the viewer fails
+# at once with SDL's reason and exit 1: it must neither hang nor run unseen.
+code=0
+env -u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER timeout 30 "$kgyro" view "$scene" \
+  >"$out/no_display.log" 2>&1 || code=$?
+if [ "$code" -ne 1 ] || ! grep -q "kgyro view: cannot open a window: .*not available" "$out/no_display.log"; then
+  echo "without a display: exit $code (expected 1 and SDL's message):"
+  cat "$out/no_display.log"
+  exit 1
+fi
+
+if ! command -v Xvfb >/dev/null 2>&1; then
+  echo "SKIP: Xvfb is not installed (Debian: apt-get install xvfb)"
+  exit 77
+fi
 shot="$out/viewer.png"
 log="$out/viewer.log"
 rm -f "$shot" "$log" "$out/display"
