@@ -212,6 +212,36 @@ static void test_tile_contact_names_its_cell(void)
     kg_destroy_world(w);
 }
 
+/* A ball resting on a tile of layer 1 destroyed: its end event names that layer and cell. */
+static void test_destroyed_body_on_a_tile_names_the_layer(void)
+{
+    kg_world* w = kg_test_world(KG_BACKEND_CPU, 1);
+    kg_tile_shape shapes[2] = {kg_tile_empty(), kg_tile_box()};
+    kg_tilemap_def def = kg_default_tilemap_def();
+    def.width = 8;
+    def.height = 2;
+    def.layer_count = 2;
+    def.tile_size = (kg_vec2){1.0f, 1.0f};
+    def.shapes = shapes;
+    def.shape_count = 2;
+    kg_tilemap map;
+    KG_CHECK_OK(kg_create_tilemap(w, &def, &map));
+    KG_CHECK_OK(kg_tilemap_set_tile(w, map, 1, 3, 0, 1));
+    kg_body ball = add_body(w, kg_circle_shape(0.25f), (kg_vec2){3.5f, 1.25f}, NULL);
+    for (int step = 0; step < 30; ++step) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+    }
+    KG_CHECK_OK(kg_destroy_body(w, ball));
+    KG_CHECK_OK(kg_world_step(w, DT));
+    kg_contact_events ev = kg_world_get_contact_events(w);
+    KG_CHECK(ev.end_count == 1);
+    if (ev.end_count == 1) {
+        KG_CHECK(ev.end[0].a.generation == 0u && ev.end[0].map.index == map.index);
+        KG_CHECK(ev.end[0].layer == 1 && ev.end[0].x == 3 && ev.end[0].y == 0);
+    }
+    kg_destroy_world(w);
+}
+
 /* ---- the same events everywhere ---- */
 
 #define MAX_LOG 20000
@@ -297,5 +327,6 @@ static void test_events_same_on_opencl(void)
 
 KG_TEST_MAIN(KG_TEST(test_ball_lands_when_free_fall_says), KG_TEST(test_total_impulse_carries_the_weight),
              KG_TEST(test_destroyed_body_ends_its_contacts), KG_TEST(test_sliding_off_a_ledge_ends_and_begins),
-             KG_TEST(test_tile_contact_names_its_cell), KG_TEST(test_events_same_with_any_thread_count),
+             KG_TEST(test_tile_contact_names_its_cell),
+             KG_TEST(test_destroyed_body_on_a_tile_names_the_layer), KG_TEST(test_events_same_with_any_thread_count),
              KG_TEST(test_events_same_on_opencl))

@@ -26,8 +26,9 @@ struct kg_events {
     int touching_capacity[2];
     kg_event_list begin, end, hit;
     uint64_t made_after; /* the step count the lists were made at; 0: none yet */
-    kg_event_list destroyed_end; /* ends of destroyed bodies' contacts, each tagged (its
-                                  * layer field, until handed out) with the step count then */
+    kg_event_list destroyed_end; /* ends of destroyed bodies' contacts, */
+    uint64_t* destroyed_at;      /* each with the step count when its body was destroyed */
+    int destroyed_at_capacity;
 };
 
 kg_result kg_grow(void** items, int* capacity, int need, size_t size)
@@ -79,6 +80,13 @@ static int kg_touches(const kg_contact* c, float slop)
         touching |= c->manifold.points[j].separation < slop;
     }
     return touching;
+}
+
+/* Contact k of a list as a touch record. */
+static kg_touch kg_touch_of(const kg_contact* c, int k)
+{
+    kg_touch t = {c->a, c->b, c->shape_a, c->shape_b, c->tile, c->generation_a, c->generation_b, (kg_u32)k};
+    return t;
 }
 
 /* An event's bodies, shapes, user data and tile, from a touch record. */
@@ -147,8 +155,7 @@ static kg_result kg_list_touching(const kg_world* world, struct kg_events* ev, i
         if (c->b == KG_NULL_INDEX && tiles_from < 0) {
             tiles_from = n;
         }
-        kg_touch t = {c->a, c->b, c->shape_a, c->shape_b, c->tile, c->generation_a, c->generation_b, (kg_u32)k};
-        out[n++] = t;
+        out[n++] = kg_touch_of(c, k);
     }
     if (tiles_from >= 0) { /* tile contacts come by map and body: ordered here by body and tile */
         qsort(out + tiles_from, (size_t)(n - tiles_from), sizeof *out, kg_touch_sort);
@@ -199,7 +206,7 @@ static kg_result kg_find_hits(const kg_world* world, struct kg_events* ev, const
             continue;
         }
         const kg_contact* c = &contacts[k];
-        kg_touch t = {c->a, c->b, c->shape_a, c->shape_b, c->tile, c->generation_a, c->generation_b, (kg_u32)k};
+        kg_touch t = kg_touch_of(c, k);
         kg_contact_event e = kg_event_of(world, KG_EVENT_HIT, &t);
         e.normal = m->normal;
         e.point = m->points[fastest].point;
@@ -227,12 +234,12 @@ static kg_result kg_hand_out_destroyed(struct kg_events* ev, uint64_t step)
 {
     int kept = 0;
     for (int i = 0; i < ev->destroyed_end.count; ++i) {
-        kg_contact_event e = ev->destroyed_end.items[i];
-        if ((uint64_t)e.layer + 1u == step) {
-            e.layer = 0;
-            KG_TRY(kg_push(&ev->end, &e));
-        } else if ((uint64_t)e.layer >= step) {
-            ev->destroyed_end.items[kept++] = e;
+        uint64_t at = ev->destroyed_at[i];
+        if (at + 1u == step) {
+            KG_TRY(kg_push(&ev->end, &ev->destroyed_end.items[i]));
+        } else if (at >= step) {
+            ev->destroyed_at[kept] = at;
+            ev->destroyed_end.items[kept++] = ev->destroyed_end.items[i];
         }
     }
     ev->destroyed_end.count = kept;
@@ -271,12 +278,11 @@ void kg_events_body_destroyed(kg_world* world, kg_u32 slot)
     const kg_contact* contacts = kg_collision_synced_contacts(world, &count);
     for (int k = 0; k < count; ++k) {
         const kg_contact* c = &contacts[k];
-        kg_touch t = {c->a, c->b, c->shape_a, c->shape_b, c->tile, c->generation_a, c->generation_b, (kg_u32)k};
+        kg_touch t = kg_touch_of(c, k);
         if ((t.a != slot && t.b != slot) || !kg_touches(c, world->def.linear_slop) || !kg_touch_alive(world, &t)) {
             continue; /* not the body's, or ended already (the other body destroyed first) */
         }
         kg_contact_event e = kg_event_of(world, KG_EVENT_END, &t);
-        e.layer = (int)world->step_index; /* the tag: handed out with the next step's events */
         kg_body none = KG_NULL_BODY_INIT;
         kg_shape_id no_shape = KG_NULL_SHAPE_INIT;
         if (t.a == slot) {
@@ -286,9 +292,12 @@ void kg_events_body_destroyed(kg_world* world, kg_u32 slot)
             e.b = none;
             e.shape_b = no_shape;
         }
-        if (kg_push(&ev->destroyed_end, &e) != KG_OK) {
+        int at = ev->destroyed_end.count; /* handed out with the next step's events */
+        if (kg_grow((void**)&ev->destroyed_at, &ev->destroyed_at_capacity, at + 1, sizeof *ev->destroyed_at) != KG_OK ||
+            kg_push(&ev->destroyed_end, &e) != KG_OK) {
             return; /* out of memory: the end is lost, the world is not */
         }
+        ev->destroyed_at[at] = world->step_index;
     }
 }
 
@@ -305,6 +314,7 @@ void kg_events_destroy(kg_world* world)
     kg_free(ev->end.items);
     kg_free(ev->hit.items);
     kg_free(ev->destroyed_end.items);
+    kg_free(ev->destroyed_at);
     kg_free(ev);
     world->events = NULL;
 }
