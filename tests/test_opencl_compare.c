@@ -8,6 +8,7 @@
  * rounded. A device that cannot round them correctly is held to the 1e-4 m tolerance.
  * Skips (exit 77) when no OpenCL device exists. */
 #include "kg_test.h"
+#include "kg_test_world.h"
 #include "kg_twin.h"
 #include "kgyro/kgyro.h"
 #include "kgyro/opencl.h"
@@ -29,21 +30,9 @@ typedef void kg_scene_fn(kg_world* world);
 static int g_bitwise_expected;
 static int g_max_bodies = 2100; /* of the worlds kg_make_world makes */
 
-static kg_body kg_add(kg_world* world, kg_body_type type, kg_vec2 position, float angle, kg_shape_def shape)
-{
-    kg_body_def def = kg_default_body_def();
-    def.type = type;
-    def.position = position;
-    def.angle = angle;
-    def.shape = shape;
-    kg_body body = KG_NULL_BODY_INIT;
-    KG_CHECK_OK(kg_create_body(world, &def, &body));
-    return body;
-}
-
 static void kg_ground(kg_world* world, float width)
 {
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -0.5f}, 0.0f, kg_box_shape(width, 1.0f));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -0.5f}, 0.0f, kg_box_shape(width, 1.0f));
 }
 
 static void kg_projectile_scene(kg_world* world)
@@ -62,7 +51,7 @@ static void kg_stack_scene(kg_world* world)
 {
     kg_ground(world, 40.0f);
     for (int i = 0; i < 10; ++i) {
-        kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.5f + 1.0f * (float)i}, 0.0f, kg_box_shape(1.0f, 1.0f));
+        kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.5f + 1.0f * (float)i}, 0.0f, kg_box_shape(1.0f, 1.0f));
     }
 }
 
@@ -73,7 +62,7 @@ static void kg_pyramid_scene(kg_world* world)
     for (int row = 0; row < base; ++row) {
         for (int k = 0; k < base - row; ++k) {
             float x = ((float)k - 0.5f * (float)(base - row - 1)) * 1.05f;
-            kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){x, 0.5f + (float)row}, 0.0f, kg_box_shape(1.0f, 1.0f));
+            kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){x, 0.5f + (float)row}, 0.0f, kg_box_shape(1.0f, 1.0f));
         }
     }
 }
@@ -106,7 +95,7 @@ static void kg_rain_scene(kg_world* world)
             shape = kg_polygon_shape(tri, 3);
         } break;
         }
-        kg_add(world, KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
+        kg_test_add(world, KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
     }
 }
 
@@ -124,11 +113,11 @@ static void kg_sizes_scene(kg_world* world)
 {
     uint32_t seed = 777u;
     kg_ground(world, 400.0f);
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){50000.0f, -0.5f}, 0.0f, kg_box_shape(20.0f, 1.0f));
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -5000.0f}, 0.0f, kg_box_shape(2.0e7f, 2.0f));
-    kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){30.0f, -4998.0f}, 0.3f, kg_box_shape(1.0f, 0.5f));
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -20000.0f}, 0.0f, kg_box_shape(4.0e9f, 2.0f));
-    kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-30.0f, -19998.0f}, 0.3f, kg_box_shape(1.0f, 0.5f));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){50000.0f, -0.5f}, 0.0f, kg_box_shape(20.0f, 1.0f));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -5000.0f}, 0.0f, kg_box_shape(2.0e7f, 2.0f));
+    kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){30.0f, -4998.0f}, 0.3f, kg_box_shape(1.0f, 0.5f));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -20000.0f}, 0.0f, kg_box_shape(4.0e9f, 2.0f));
+    kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){-30.0f, -19998.0f}, 0.3f, kg_box_shape(1.0f, 0.5f));
     for (int i = 0; i < 600; ++i) {
         float size = kg_log_uniform(&seed, 0.04f, 3.0f);
         int far = i % 10 == 9;
@@ -168,9 +157,9 @@ static void kg_piles_scene(kg_world* world)
 {
     uint32_t seed = 4242u;
     kg_ground(world, 300.0f);
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){1.0e6f, -0.5f}, 0.0f, kg_box_shape(40.0f, 1.0f));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){1.0e6f, -0.5f}, 0.0f, kg_box_shape(40.0f, 1.0f));
     for (int w = -1; w <= 1; w += 2) {
-        kg_add(world, KG_BODY_STATIC, (kg_vec2){45.0f * (float)w, 50.0f}, 0.0f, kg_box_shape(1.0f, 100.0f));
+        kg_test_add(world, KG_BODY_STATIC, (kg_vec2){45.0f * (float)w, 50.0f}, 0.0f, kg_box_shape(1.0f, 100.0f));
     }
     for (int pile = 0; pile < 5; ++pile) {
         kg_vec2 centre = {pile == 4 ? 1.0e6f : -30.0f + 15.0f * (float)pile, 3.0f};
@@ -178,10 +167,10 @@ static void kg_piles_scene(kg_world* world)
             float size = kg_log_uniform(&seed, 0.02f, 2.0f);
             kg_vec2 p = {centre.x + kg_uniform(&seed, -2.0f, 2.0f), centre.y + kg_uniform(&seed, 0.0f, 4.0f)};
             kg_shape_def shape = i % 3 == 0 ? kg_circle_shape(0.5f * size) : kg_box_shape(size, 0.5f * size);
-            kg_add(world, i % 5 == 0 ? KG_BODY_PARTICLE : KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
+            kg_test_add(world, i % 5 == 0 ? KG_BODY_PARTICLE : KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
         }
     }
-    kg_body slab = kg_add(world, KG_BODY_KINEMATIC, (kg_vec2){-40.0f, 1.5f}, 0.0f, kg_box_shape(20.0f, 0.5f));
+    kg_body slab = kg_test_add(world, KG_BODY_KINEMATIC, (kg_vec2){-40.0f, 1.5f}, 0.0f, kg_box_shape(20.0f, 0.5f));
     KG_CHECK_OK(kg_body_set_velocity(world, slab, (kg_vec2){6.0f, 0.0f}));
 }
 
@@ -213,7 +202,7 @@ static void kg_applicator_scene(kg_world* world)
     kg_body bodies[12];
     for (int i = 0; i < 12; ++i) {
         kg_shape_def shape = i % 2 ? kg_circle_shape(0.3f) : kg_box_shape(0.6f, 0.4f);
-        bodies[i] = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-3.0f + 0.6f * (float)i, 2.0f + 0.7f * (float)i}, 0.1f * (float)i,
+        bodies[i] = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){-3.0f + 0.6f * (float)i, 2.0f + 0.7f * (float)i}, 0.1f * (float)i,
                            shape);
     }
     kg_body listed[4] = {bodies[1], bodies[5], bodies[1], bodies[9]};
@@ -288,15 +277,15 @@ static void kg_tiles_scene(kg_world* world)
         kg_vec2 p = {kg_uniform(&seed, -14.0f, 22.0f), 4.0f + 0.5f * (float)(i / 10) + kg_uniform(&seed, 0.0f, 0.3f)};
         float size = kg_uniform(&seed, 0.3f, 0.7f);
         kg_shape_def shape = i % 2 ? kg_circle_shape(0.5f * size) : kg_box_shape(size, 0.8f * size);
-        kg_body body = kg_add(world, KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
+        kg_body body = kg_test_add(world, KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
         if (i % 15 == 7) {
             KG_CHECK_OK(kg_body_set_velocity(world, body, (kg_vec2){kg_uniform(&seed, -6.0f, 6.0f), -8.0f}));
         }
     }
     /* one jumping up through the platform from below, one sliding fast along the floor */
-    kg_body jumper = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-0.5f, 0.4f}, 0.0f, kg_box_shape(0.5f, 0.5f));
+    kg_body jumper = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){-0.5f, 0.4f}, 0.0f, kg_box_shape(0.5f, 0.5f));
     KG_CHECK_OK(kg_body_set_velocity(world, jumper, (kg_vec2){0.5f, 11.0f}));
-    kg_body slider = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-12.0f, 0.3f}, 0.0f, kg_circle_shape(0.25f));
+    kg_body slider = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){-12.0f, 0.3f}, 0.0f, kg_circle_shape(0.25f));
     KG_CHECK_OK(kg_body_set_velocity(world, slider, (kg_vec2){10.0f, 0.0f}));
 }
 
@@ -305,8 +294,8 @@ static void kg_tiles_scene(kg_world* world)
 static void kg_capsules_scene(kg_world* world)
 {
     kg_ground(world, 40.0f);
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_segment_shape((kg_vec2){-12.0f, 6.0f}, (kg_vec2){-2.0f, 1.0f}));
-    kg_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_segment_shape((kg_vec2){2.0f, 2.0f}, (kg_vec2){12.0f, 4.0f}));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_segment_shape((kg_vec2){-12.0f, 6.0f}, (kg_vec2){-2.0f, 1.0f}));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_segment_shape((kg_vec2){2.0f, 2.0f}, (kg_vec2){12.0f, 4.0f}));
     kg_tile_shape shapes[2] = {kg_tile_empty(), kg_tile_box()};
     uint16_t ledge[6] = {1, 1, 1, 1, 1, 1};
     kg_tilemap_def def = kg_default_tilemap_def();
@@ -325,7 +314,7 @@ static void kg_capsules_scene(kg_world* world)
         kg_vec2 half = {0.5f * size * kg_uniform(&seed, 0.1f, 1.0f), 0.0f};
         kg_shape_def shape = kg_capsule_shape((kg_vec2){-half.x, 0.0f}, half, 0.3f * size);
         shape = i % 4 == 1 ? kg_circle_shape(0.4f * size) : (i % 4 == 2 ? kg_box_shape(size, 0.6f * size) : shape);
-        kg_add(world, KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
+        kg_test_add(world, KG_BODY_DYNAMIC, p, kg_uniform(&seed, 0.0f, 3.0f), shape);
     }
     kg_body_def sweeper = kg_default_body_def();
     sweeper.type = KG_BODY_KINEMATIC;
@@ -344,7 +333,7 @@ static void kg_tunnelling_scene(kg_world* world)
 {
     kg_ground(world, 60.0f);
     for (int k = 0; k < 12; ++k) { /* a wall of bricks: the ground is a large static body then */
-        kg_add(world, KG_BODY_STATIC, (kg_vec2){10.1f, 0.25f + 0.5f * (float)k}, 0.0f, kg_box_shape(0.2f, 0.5f));
+        kg_test_add(world, KG_BODY_STATIC, (kg_vec2){10.1f, 0.25f + 0.5f * (float)k}, 0.0f, kg_box_shape(0.2f, 0.5f));
     }
     static uint16_t column[30];
     for (int y = 0; y < 30; ++y) {
@@ -397,7 +386,7 @@ static void kg_compound_scene(kg_world* world)
     kg_tilemap handle;
     KG_CHECK_OK(kg_create_tilemap(world, &map, &handle));
     for (int k = 0; k < 4; ++k) {
-        kg_body body = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){23.0f + 2.5f * (float)k, 2.0f}, 0.3f * (float)k,
+        kg_body body = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){23.0f + 2.5f * (float)k, 2.0f}, 0.3f * (float)k,
                               kg_box_shape(1.4f, 0.2f));
         kg_body_shape_def disc = kg_default_body_shape_def();
         disc.geometry = kg_shape_moved(kg_circle_shape(0.25f), (kg_vec2){0.7f, 0.0f}, 0.0f);
@@ -406,7 +395,7 @@ static void kg_compound_scene(kg_world* world)
     }
     for (int k = 0; k < 60; ++k) {
         float x = -6.0f + (float)(k % 6) * 2.2f, y = 1.0f + (float)(k / 6) * 1.3f;
-        kg_body body = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){x, y}, 0.2f * (float)(k % 7), kg_box_shape(1.2f, 0.3f));
+        kg_body body = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){x, y}, 0.2f * (float)(k % 7), kg_box_shape(1.2f, 0.3f));
         kg_body_shape_def part = kg_default_body_shape_def();
         kg_shape_id id;
         if (k % 3 == 0) {
@@ -539,7 +528,7 @@ static void kg_chains_scene(kg_world* world)
         kg_shape_def shape = k % 3 == 0   ? kg_box_shape(0.4f, 0.3f)
                              : k % 3 == 1 ? kg_circle_shape(0.2f)
                                           : kg_capsule_shape((kg_vec2){-0.2f, 0.0f}, (kg_vec2){0.2f, 0.0f}, 0.15f);
-        kg_body body = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-15.0f + 0.5f * (float)k, 8.0f + 0.3f * (float)(k % 7)},
+        kg_body body = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){-15.0f + 0.5f * (float)k, 8.0f + 0.3f * (float)(k % 7)},
                               0.1f * (float)k, shape);
         if (k % 10 == 5) {
             KG_CHECK_OK(kg_body_set_velocity(world, body, (kg_vec2){0.0f, -40.0f - 16.0f * (float)(k / 10)}));
@@ -632,7 +621,7 @@ static void kg_sleep_scene(kg_world* world)
     for (int i = 0; i < 100; ++i) {
         int k = i % 50, row = k / 10;
         float x = (i < 50 ? -12.0f : 3.0f) + 0.95f * (float)(k % 10) + 0.3f * (float)(row % 2);
-        kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){x, 0.45f + 0.92f * (float)row}, 0.0f, kg_box_shape(0.9f, 0.9f));
+        kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){x, 0.45f + 0.92f * (float)row}, 0.0f, kg_box_shape(0.9f, 0.9f));
     }
     kg_body_def pusher = kg_default_body_def();
     pusher.type = KG_BODY_KINEMATIC;
@@ -661,7 +650,7 @@ static void test_sleep_and_wake(void)
     for (int s = 0; s < 240; ++s) {
         int asleep = kg_world_asleep_count(both[0]);
         for (int w = 0; dropped < 0 && asleep == 100 && w < 2; ++w) {
-            kg_add(both[w], KG_BODY_DYNAMIC, (kg_vec2){-7.5f, 4.5f}, 0.3f, kg_box_shape(0.6f, 0.6f));
+            kg_test_add(both[w], KG_BODY_DYNAMIC, (kg_vec2){-7.5f, 4.5f}, 0.3f, kg_box_shape(0.6f, 0.6f));
         }
         dropped = dropped < 0 && asleep == 100 ? s : dropped;
         fewest_after_drop = dropped >= 0 && asleep < fewest_after_drop ? asleep : fewest_after_drop;
@@ -730,7 +719,7 @@ static void kg_many_shapes_scene(kg_world* world)
 {
     kg_ground(world, 40.0f);
     for (int k = 0; k < 12; ++k) {
-        kg_body body = kg_add(world, KG_BODY_DYNAMIC, (kg_vec2){-4.0f + 0.7f * (float)k, 1.0f + 0.6f * (float)(k % 3)},
+        kg_body body = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){-4.0f + 0.7f * (float)k, 1.0f + 0.6f * (float)(k % 3)},
                               k % 2 ? 3.0f : 0.2f, kg_box_shape(1.0f, 0.2f)); /* every other one discs down */
         for (int j = 0; j < 4; ++j) {
             kg_body_shape_def part = kg_default_body_shape_def();

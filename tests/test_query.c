@@ -4,6 +4,7 @@
  * 10,000 random bodies: the same shape, the same bits), overlaps and shape casts the same
  * way, the callback's clipping, bad input, and the OpenCL backend (PoCL) against the CPU. */
 #include "kg_test.h"
+#include "kg_test_world.h"
 #include "kg_twin.h"
 #include "kgyro/kgyro.h"
 #include "kgyro/opencl.h"
@@ -26,18 +27,6 @@ static kg_world* kg_new_world(int max_bodies, kg_backend backend)
     def.device_index = kg_test_opencl_device();
     kg_world* world = NULL;
     return kg_create_world(&def, &world) == KG_OK ? world : NULL;
-}
-
-static kg_body kg_put(kg_world* world, kg_body_type type, kg_vec2 position, float angle, kg_shape_def shape)
-{
-    kg_body_def def = kg_default_body_def();
-    def.type = type;
-    def.position = position;
-    def.angle = angle;
-    def.shape = shape;
-    kg_body body = KG_NULL_BODY_INIT;
-    KG_CHECK_OK(kg_create_body(world, &def, &body));
-    return body;
 }
 
 /* Compared without the world's tag: hits in twin worlds are compared too (kg_twin.h). */
@@ -66,14 +55,14 @@ static kg_ray_result kg_expect_hit(kg_world* world, kg_vec2 origin, kg_vec2 tran
 static void test_ray_circle_and_polygon(void)
 {
     kg_world* world = kg_new_world(64, KG_BACKEND_CPU);
-    kg_body ball = kg_put(world, KG_BODY_DYNAMIC, (kg_vec2){3.0f, 1.0f}, 0.0f, kg_circle_shape(0.5f));
+    kg_body ball = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){3.0f, 1.0f}, 0.0f, kg_circle_shape(0.5f));
     kg_ray_result r = kg_expect_hit(world, (kg_vec2){0.0f, 1.2f}, (kg_vec2){10.0f, 0.0f}, 3.0 - sqrt(0.25 - 0.04), 1.2,
                                     -sqrt(0.25 - 0.04) / 0.5, 0.2 / 0.5);
     KG_CHECK(kg_same_body(r.body, ball));
     /* a box turned by 30 degrees: the ray along y = 10.2 from the left meets its lower-left
      * face, whose outward normal is (-sin 60, -cos 60) turned... solved here in double */
     float angle = 0.5235988f;
-    kg_put(world, KG_BODY_STATIC, (kg_vec2){10.0f, 10.0f}, angle, kg_box_shape(2.0f, 1.0f));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){10.0f, 10.0f}, angle, kg_box_shape(2.0f, 1.0f));
     double c = cos((double)angle), s = sin((double)angle);
     /* the box's faces in the world: centre + t * axis; the ray y = 10.2 enters by the face
      * with the largest entering t among those facing against +x */
@@ -95,7 +84,7 @@ static void test_ray_circle_and_polygon(void)
     kg_expect_hit(world, (kg_vec2){6.0f, 10.2f}, (kg_vec2){8.0f, 0.0f}, best_t, 10.2, bnx, bny);
     /* a triangle, hit on its slanted face from above */
     const kg_vec2 tri[3] = {{0.0f, 0.0f}, {2.0f, 0.0f}, {0.0f, 2.0f}};
-    kg_put(world, KG_BODY_STATIC, (kg_vec2){20.0f, 0.0f}, 0.0f, kg_polygon_shape(tri, 3));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){20.0f, 0.0f}, 0.0f, kg_polygon_shape(tri, 3));
     kg_expect_hit(world, (kg_vec2){20.5f, 5.0f}, (kg_vec2){0.0f, -10.0f}, 20.5, 1.5, sqrt(0.5), sqrt(0.5));
     kg_destroy_world(world);
 }
@@ -103,17 +92,17 @@ static void test_ray_circle_and_polygon(void)
 static void test_ray_capsule_and_segments(void)
 {
     kg_world* world = kg_new_world(64, KG_BACKEND_CPU);
-    kg_put(world, KG_BODY_STATIC, (kg_vec2){0.0f, 5.0f}, 0.0f,
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 5.0f}, 0.0f,
            kg_capsule_shape((kg_vec2){-1.0f, 0.0f}, (kg_vec2){1.0f, 0.0f}, 0.5f));
     kg_expect_hit(world, (kg_vec2){0.3f, 10.0f}, (kg_vec2){0.0f, -10.0f}, 0.3, 5.5, 0.0, 1.0);   /* flat side */
     kg_expect_hit(world, (kg_vec2){-5.0f, 5.2f}, (kg_vec2){10.0f, 0.0f}, -1.0 - sqrt(0.25 - 0.04), 5.2,
                   -sqrt(0.25 - 0.04) / 0.5, 0.4); /* round end */
     /* the same capsule turned upright */
-    kg_put(world, KG_BODY_STATIC, (kg_vec2){10.0f, 5.0f}, 1.5707964f,
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){10.0f, 5.0f}, 1.5707964f,
            kg_capsule_shape((kg_vec2){-1.0f, 0.0f}, (kg_vec2){1.0f, 0.0f}, 0.5f));
     kg_expect_hit(world, (kg_vec2){5.0f, 5.3f}, (kg_vec2){10.0f, 0.0f}, 9.5, 5.3, -1.0, 0.0);
     /* a two-sided segment: from below and from above */
-    kg_put(world, KG_BODY_STATIC, (kg_vec2){0.0f, -5.0f}, 0.0f, kg_segment_shape((kg_vec2){-2.0f, 0.0f}, (kg_vec2){2.0f, 0.0f}));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -5.0f}, 0.0f, kg_segment_shape((kg_vec2){-2.0f, 0.0f}, (kg_vec2){2.0f, 0.0f}));
     kg_expect_hit(world, (kg_vec2){0.5f, -8.0f}, (kg_vec2){0.0f, 4.0f}, 0.5, -5.0, 0.0, -1.0);
     kg_expect_hit(world, (kg_vec2){0.5f, -2.0f}, (kg_vec2){0.0f, -4.0f}, 0.5, -5.0, 0.0, 1.0);
     /* a chain ground listed right to left (normal up): solid from above only */
@@ -141,8 +130,8 @@ static void test_ray_capsule_and_segments(void)
 static void test_ray_grazing_inside_rotated(void)
 {
     kg_world* world = kg_new_world(64, KG_BACKEND_CPU);
-    kg_body a = kg_put(world, KG_BODY_STATIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
-    kg_body b = kg_put(world, KG_BODY_STATIC, (kg_vec2){4.0f, 0.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
+    kg_body a = kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
+    kg_body b = kg_test_add(world, KG_BODY_STATIC, (kg_vec2){4.0f, 0.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
     /* along the top face of a: it enters a by its left side at the corner */
     kg_ray_result r = kg_expect_hit(world, (kg_vec2){-5.0f, 0.5f}, (kg_vec2){20.0f, 0.0f}, -0.5, 0.5, -1.0, 0.0);
     KG_CHECK(kg_same_body(r.body, a));
@@ -239,7 +228,7 @@ static void test_ray_callback_clips(void)
 {
     kg_world* world = kg_new_world(64, KG_BACKEND_CPU);
     for (int i = 0; i < 5; ++i) {
-        kg_put(world, KG_BODY_STATIC, (kg_vec2){2.0f + 2.0f * (float)i, 0.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
+        kg_test_add(world, KG_BODY_STATIC, (kg_vec2){2.0f + 2.0f * (float)i, 0.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
     }
     kg_vec2 o = {0.0f, 0.0f}, t = {20.0f, 0.0f};
     kg_hits all = {0, 1.0f, {0}};
@@ -551,7 +540,7 @@ static void test_overlaps_match_brute_force(void)
 static void test_shape_cast_analytic(void)
 {
     kg_world* world = kg_new_world(16, KG_BACKEND_CPU);
-    kg_body ground = kg_put(world, KG_BODY_STATIC, (kg_vec2){0.0f, -0.5f}, 0.0f, kg_box_shape(20.0f, 1.0f));
+    kg_body ground = kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -0.5f}, 0.0f, kg_box_shape(20.0f, 1.0f));
     kg_shape_def ball = kg_circle_shape(0.5f);
     kg_ray_result r;
     KG_CHECK_OK(kg_world_cast_shape_closest(world, &ball, (kg_vec2){1.0f, 5.0f}, 0.0f, (kg_vec2){0.0f, -10.0f},
@@ -574,7 +563,7 @@ static void test_shape_cast_analytic(void)
                                             kg_default_query_filter(), &r));
     KG_CHECK(r.hit && r.fraction == 0.0f && r.normal.y == 1.0f);
     /* a body's own cast leaves the body out */
-    kg_body drop = kg_put(world, KG_BODY_DYNAMIC, (kg_vec2){5.0f, 2.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
+    kg_body drop = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){5.0f, 2.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
     KG_CHECK_OK(kg_world_cast_body_closest(world, drop, (kg_vec2){0.0f, -3.0f}, kg_default_query_filter(), &r));
     KG_CHECK(r.hit && kg_same_body(r.body, ground));
     KG_CHECK_NEAR(r.fraction, 1.5 / 3.0, 1.0e-5);
@@ -644,10 +633,10 @@ static void test_shape_casts_match_brute_force(void)
 
 static void kg_drop_scene(kg_world* world)
 {
-    kg_put(world, KG_BODY_STATIC, (kg_vec2){0.0f, -0.5f}, 0.0f, kg_box_shape(60.0f, 1.0f));
+    kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, -0.5f}, 0.0f, kg_box_shape(60.0f, 1.0f));
     g_seed = 5u;
     for (int i = 0; i < 400; ++i) {
-        kg_put(world, KG_BODY_DYNAMIC, (kg_vec2){kg_rand(-25.0f, 25.0f), kg_rand(1.0f, 30.0f)}, kg_rand(-3.0f, 3.0f),
+        kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){kg_rand(-25.0f, 25.0f), kg_rand(1.0f, 30.0f)}, kg_rand(-3.0f, 3.0f),
                kg_random_shape());
     }
 }
