@@ -956,6 +956,35 @@ static void test_limits_count_every_body(void)
     KG_CHECK(kg_scene_parse_limited(json, strlen(json), "s.json", &limits, &scene) == KG_ERROR_INVALID_ARGUMENT);
 }
 
+/* A generator's name under limits: refused before a body is made when it asks for more,
+ * at exactly the limit it is the scene kg_scene_generate makes, and handed back with the
+ * default limits like a loaded one. */
+static void test_limits_generator_names(void)
+{
+    kg_scene_limits limits = kg_default_scene_limits();
+    limits.max_bodies = 1000;
+    kg_scene* scene = (kg_scene*)&limits; /* must come back NULL */
+    const char* names[2] = {"rain_1000000", "many_pyramids"};
+    for (int i = 0; i < 2; ++i) {
+        char expected[128];
+        snprintf(expected, sizeof expected, "scene '%s': more than max_bodies (1000) bodies", names[i]);
+        KG_CHECK(kg_scene_generate_limited(names[i], 1u, &limits, &scene) == KG_ERROR_INVALID_ARGUMENT);
+        KG_CHECK(scene == NULL && strcmp(kg_last_error(), expected) == 0);
+    }
+    kg_scene* unlimited = NULL;
+    KG_CHECK_OK(kg_scene_generate("pyramid_10", 1u, &unlimited));
+    limits.max_bodies = kg_scene_body_count(unlimited);
+    KG_CHECK_OK(kg_scene_generate_limited("pyramid_10", 1u, &limits, &scene));
+    KG_CHECK(kg_scene_body_count(scene) == kg_scene_body_count(unlimited));
+    kg_body_def def = kg_default_body_def();
+    def.type = KG_BODY_STATIC;
+    KG_CHECK_OK(kg_scene_add_body(scene, "extra", &def));
+    kg_scene_destroy(scene);
+    kg_scene_destroy(unlimited);
+    limits.max_bodies = -1;
+    KG_CHECK(kg_scene_generate_limited("pyramid_10", 1u, &limits, &scene) == KG_ERROR_INVALID_ARGUMENT);
+}
+
 /* A Tiled map's object bodies count too (the map loaded once without limits to know how
  * many it has). */
 static void test_limits_tiled_objects(void)
@@ -1018,4 +1047,4 @@ KG_TEST_MAIN(KG_TEST(test_full_scene_fields), KG_TEST(test_defaults), KG_TEST(te
              KG_TEST(test_instantiate_bodies), KG_TEST(test_instantiate_forces),
              KG_TEST(test_pivots_keep_walls_on_circle), KG_TEST(test_builder_chains), KG_TEST(test_builder_refuses_bad_body),
              KG_TEST(test_generated_scenes_instantiate), KG_TEST(test_limits_refuse_generators),
-             KG_TEST(test_limits_count_every_body), KG_TEST(test_limits_tiled_objects), KG_TEST(test_messages_echo_clean_names))
+             KG_TEST(test_limits_count_every_body), KG_TEST(test_limits_generator_names), KG_TEST(test_limits_tiled_objects), KG_TEST(test_messages_echo_clean_names))

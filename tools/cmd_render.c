@@ -55,7 +55,7 @@ static void kg_render_usage(FILE* out)
             "  --no-grid         no metre grid in the background\n"
             "  --seed S          seed for generated scenes (default 1)\n"
             "  --backend B       auto, cpu or opencl (default auto)\n"
-            "  --max-bodies N    refuse a scene file asking for more than N bodies (untrusted levels)\n");
+            "  --max-bodies N    refuse a scene or generator asking for more than N bodies (untrusted levels)\n");
 }
 
 /* Options that take a value; returns 0 when parsed, -1 when the value is bad or

@@ -3,6 +3,7 @@
  * a float exactly, so two runs can be compared bit for bit with diff. */
 #include "commands.h"
 #include "progress.h"
+#include "render/sim.h"
 
 #include "kgyro/collision.h"
 #include "kgyro/kgyro.h"
@@ -63,8 +64,8 @@ static void kg_run_usage(FILE* out)
             "  --threads N       CPU worker threads (default: the library's)\n"
             "  --no-continuous   turn continuous collision off (kg_world_def.enable_continuous)\n"
             "  --seed S          seed of the random generators, rain_N and particles_N (default 1)\n"
-            "  --max-bodies N    refuse a scene file (or a Tiled map) asking for more than N bodies,\n"
-            "                    before they are allocated: for levels from untrusted sources\n"
+            "  --max-bodies N    refuse a scene file, a Tiled map or a generator name asking for more\n"
+            "                    than N bodies, before they are allocated: for untrusted levels\n"
             "  -h, --help        show this help\n"
             "\n"
             "On a terminal, a progress line on stderr (percentage, steps a second, time left) while\n"
@@ -106,19 +107,6 @@ static int kg_parse_seconds(const char* text, float* out)
     return 1;
 }
 
-static int kg_parse_backend(const char* text, int* out)
-{
-    static const char* const names[] = {"auto", "cpu", "opencl"};
-    static const kg_backend values[] = {KG_BACKEND_AUTO, KG_BACKEND_CPU, KG_BACKEND_OPENCL};
-    for (int i = 0; i < 3; ++i) {
-        if (strcmp(text, names[i]) == 0) {
-            *out = (int)values[i];
-            return 1;
-        }
-    }
-    return 0;
-}
-
 /* Applies one "--name value" option; returns an exit code on error, else 0. */
 static int kg_apply_option(kg_run_options* o, const char* name, const char* value)
 {
@@ -153,9 +141,11 @@ static int kg_apply_option(kg_run_options* o, const char* name, const char* valu
         }
         o->seed = (uint32_t)n;
     } else if (strcmp(name, "--backend") == 0) {
-        if (!kg_parse_backend(value, &o->backend)) {
+        kg_backend backend;
+        if (kg_parse_backend(value, &backend) != 0) {
             return kg_option_error(name, "auto, cpu or opencl", value);
         }
+        o->backend = (int)backend;
     } else if (strcmp(name, "--csv") == 0) {
         o->csv = value;
     } else if (strcmp(name, "--contacts") == 0) {
@@ -233,32 +223,9 @@ static int kg_parse_run_options(int argc, char** argv, kg_run_options* o)
 
 /* ---- the scene ---- */
 
-static int kg_ends_with(const char* text, const char* suffix)
-{
-    size_t n = strlen(text), m = strlen(suffix);
-    return n >= m && strcmp(text + n - m, suffix) == 0;
-}
-
-/* A file when it exists or looks like one; a generator name otherwise. */
-static int kg_names_file(const char* scene)
-{
-    FILE* file = fopen(scene, "rb");
-    if (file) {
-        fclose(file);
-        return 1;
-    }
-    return strchr(scene, '/') != NULL || kg_ends_with(scene, ".json") || kg_ends_with(scene, ".tmj");
-}
-
 static int kg_load_scene(const kg_run_options* o, kg_scene** out)
 {
-    kg_scene_limits limits = kg_default_scene_limits();
-    if (o->max_bodies >= 0) {
-        limits.max_bodies = o->max_bodies;
-    }
-    kg_result r = kg_names_file(o->scene) ? kg_scene_load_file_limited(o->scene, &limits, out)
-                                          : kg_scene_generate(o->scene, o->seed, out);
-    if (r != KG_OK) {
+    if (kg_open_scene(o->scene, o->seed, o->max_bodies, out) != KG_OK) {
         fprintf(stderr, "kgyro run: %s\n", kg_last_error());
         return 2;
     }

@@ -29,7 +29,7 @@ static void kg_view_usage(FILE* out)
             "                      wheel N, key NAME (SDL key names: space, n, c, o, ...), wait N\n"
             "  --seed S            seed for generated scenes (default 1)\n"
             "  --backend B         auto, cpu or opencl (default auto)\n"
-            "  --max-bodies N      refuse a scene file asking for more than N bodies (untrusted levels)\n");
+            "  --max-bodies N      refuse a scene or generator asking for more than N bodies (untrusted levels)\n");
 }
 
 /* Options that take a value; 0 parsed, -1 bad or missing value, 1 not one of them. */

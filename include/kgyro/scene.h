@@ -133,6 +133,11 @@ KG_API kg_result kg_scene_step(const kg_scene* scene, kg_world* world, const kg_
  * name or a size out of range is KG_ERROR_INVALID_ARGUMENT. docs/scene-format.md has
  * the layouts. */
 KG_API kg_result kg_scene_generate(const char* name, uint32_t seed, kg_scene** out);
+/* The same under limits (NULL = kg_default_scene_limits()): a name asking for more than
+ * limits->max_bodies bodies is KG_ERROR_INVALID_ARGUMENT, "rain_N" and the like before
+ * any body is made. For names typed by users of a game's console or a server's config. */
+KG_API kg_result kg_scene_generate_limited(const char* name, uint32_t seed, const kg_scene_limits* limits,
+                                           kg_scene** out);
 
 #ifdef __cplusplus
 }

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "io/json_util.h"
+#include "io/scene_limits.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -498,13 +499,24 @@ static const kg_sized_generator kSizedGenerators[] = {
     {"particles_", 1000000, 600, kg_gen_named_particles},
 };
 
+/* r, a generator's failure, with the scene's name before its message. */
+static kg_result kg_named_failure(const char* name, kg_result r)
+{
+    if (r == KG_OK) {
+        return r;
+    }
+    char why[256];
+    snprintf(why, sizeof why, "%s", kg_last_error());
+    return kg_fail(r, "scene '%s': %s", name, why);
+}
+
 static kg_result kg_generate_into(kg_scene* scene, const char* name, uint32_t seed)
 {
     const kg_benchmark* benchmark = kg_find_benchmark(name);
     if (benchmark) {
         kg_scene_world_def(scene)->gravity = benchmark->gravity;
         KG_TRY(kg_scene_set_steps(scene, benchmark->steps));
-        return benchmark->build(scene, "");
+        return kg_named_failure(name, benchmark->build(scene, ""));
     }
     for (size_t i = 0; i < sizeof kSizedGenerators / sizeof kSizedGenerators[0]; ++i) {
         const kg_sized_generator* g = &kSizedGenerators[i];
@@ -515,25 +527,39 @@ static kg_result kg_generate_into(kg_scene* scene, const char* name, uint32_t se
         if (n == 0) {
             return kg_fail(KG_ERROR_INVALID_ARGUMENT, "scene '%s': %sN needs N in [1, %d]", name, g->prefix, g->max);
         }
+        if (n > kg_scene_body_room(scene)) { /* before any is made: the limit is there to spare the memory */
+            return kg_fail(KG_ERROR_INVALID_ARGUMENT, "scene '%s': more than max_bodies (%d) bodies", name,
+                           kg_scene_get_limits(scene)->max_bodies);
+        }
         KG_TRY(kg_scene_set_steps(scene, g->steps));
-        return g->build(scene, n, seed);
+        return kg_named_failure(name, g->build(scene, n, seed));
     }
     return kg_fail(KG_ERROR_INVALID_ARGUMENT, "unknown scene '%s' (generators: %s)", name, KG_GENERATOR_NAMES);
 }
 
 kg_result kg_scene_generate(const char* name, uint32_t seed, kg_scene** out)
 {
+    return kg_scene_generate_limited(name, seed, NULL, out);
+}
+
+kg_result kg_scene_generate_limited(const char* name, uint32_t seed, const kg_scene_limits* limits, kg_scene** out)
+{
     if (!name || !out) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_generate: NULL argument");
     }
     *out = NULL;
+    kg_scene_limits chosen = limits ? *limits : kg_default_scene_limits();
+    KG_TRY(kg_check_scene_limits("kg_scene_generate_limited", &chosen));
     kg_scene* scene;
     KG_TRY(kg_scene_create(&scene));
+    kg_scene_set_limits(scene, &chosen);
     kg_result r = kg_generate_into(scene, name, seed);
     if (r != KG_OK) {
         kg_scene_destroy(scene);
         return r;
     }
+    kg_scene_limits defaults = kg_default_scene_limits();
+    kg_scene_set_limits(scene, &defaults); /* as the loaders hand a scene over */
     *out = scene;
     return KG_OK;
 }

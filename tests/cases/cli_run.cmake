@@ -156,4 +156,9 @@ kg_cli_run_test(max_bodies error "run|hostile_million_bodies.json|--max-bodies|1
 kg_cli_run_test(render_max_bodies error "render|hostile_million_bodies.json|--max-bodies|1000|--png|${kg_cli_out}/never.png"
                 "EXPECT=hostile_million_bodies.json: generators[0].count: asks for 1000000 bodies, but max_bodies (1000) leaves room for 1000"
                 COMMAND=render)
+# ... and a generator's name asking for more (rain_N before any body is made)
+kg_cli_run_test(max_bodies_generator error "run|rain_1000000|--max-bodies|1000"
+                "EXPECT=scene 'rain_1000000': more than max_bodies (1000) bodies")
+kg_cli_run_test(max_bodies_benchmark error "run|large_pyramid|--max-bodies|1000"
+                "EXPECT=scene 'large_pyramid': more than max_bodies (1000) bodies")
 kg_cli_run_test(bad_max_bodies error "run|pyramid_3|--max-bodies|-5" "EXPECT=--max-bodies: expected an integer >= 0 (got '-5')")

@@ -4,7 +4,7 @@
 #include <string.h>
 #include <unistd.h>
 
-static int kg_ends_with(const char* text, const char* suffix)
+int kg_ends_with(const char* text, const char* suffix)
 {
     size_t length = strlen(text), suffix_length = strlen(suffix);
     return length >= suffix_length && strcmp(text + length - suffix_length, suffix) == 0;
@@ -13,12 +13,12 @@ static int kg_ends_with(const char* text, const char* suffix)
 /* kg_scene_load_file recognises a map saved by Tiled (.tmj, or .json) by its contents. */
 kg_result kg_open_scene(const char* name, uint32_t seed, int max_bodies, kg_scene** out)
 {
+    kg_scene_limits limits = kg_default_scene_limits();
+    limits.max_bodies = max_bodies >= 0 ? max_bodies : limits.max_bodies;
     if (access(name, F_OK) == 0 || strchr(name, '/') || kg_ends_with(name, ".json") || kg_ends_with(name, ".tmj")) {
-        kg_scene_limits limits = kg_default_scene_limits();
-        limits.max_bodies = max_bodies >= 0 ? max_bodies : limits.max_bodies;
         return kg_scene_load_file_limited(name, &limits, out);
     }
-    return kg_scene_generate(name, seed, out);
+    return kg_scene_generate_limited(name, seed, &limits, out);
 }
 
 kg_result kg_sim_start(kg_sim* sim, kg_scene* scene, kg_backend backend, int extra_bodies)

@@ -13,9 +13,12 @@ typedef struct kg_sim {
     float dt;
 } kg_sim;
 
+/* Whether text ends with suffix ("level.tmj", ".tmj"). */
+int kg_ends_with(const char* text, const char* suffix);
+
 /* Opens name as the tools take a scene: a path to a scene file or a Tiled map (.tmj),
  * read under max_bodies (-1: no limit; kg_scene_limits), else a generator name
- * (kg_scene_generate with seed). */
+ * (kg_scene_generate_limited with seed, under the same max_bodies). */
 kg_result kg_open_scene(const char* name, uint32_t seed, int max_bodies, kg_scene** out);
 
 /* Builds the world for scene on backend, with room for extra_bodies more bodies. The
