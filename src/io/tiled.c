@@ -10,6 +10,8 @@
 #include "collide/shape.h"
 #include "io/json_util.h"
 #include "io/scene_limits.h"
+#include "io/scene_props.h"
+#include "io/tiled_decode.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -608,48 +610,72 @@ static kg_result kg_read_tilesets(kg_tiled* t, const cJSON* root)
 
 /* ---- tile layers ---- */
 
-static int kg_base64_digit(char c)
+/* Refuses a compression the loader cannot read, or one without base64. */
+static kg_result kg_check_compression(const kg_json_reader* reader, const kg_json_path* path, const char* encoding,
+                                      const char* compression)
 {
-    if (c >= 'A' && c <= 'Z') {
-        return c - 'A';
+    kg_json_path p = kg_json_path_key(path, "compression");
+    if (compression[0] == '\0') {
+        return KG_OK;
     }
-    if (c >= 'a' && c <= 'z') {
-        return c - 'a' + 26;
+    if (strcmp(compression, "zstd") == 0) {
+        return kg_json_fail(reader, &p, "zstd-compressed layer data is not supported: in Tiled, set Map > Map "
+                                        "Properties > Tile Layer Format to CSV, or to Base64 uncompressed, zlib or "
+                                        "gzip compressed");
     }
-    if (c >= '0' && c <= '9') {
-        return c - '0' + 52;
+    if (strcmp(compression, "zlib") != 0 && strcmp(compression, "gzip") != 0) {
+        return kg_json_fail(reader, &p, "must be \"zlib\", \"gzip\" or \"\" (got \"%s\")", compression);
     }
-    return c == '+' ? 62 : (c == '/' ? 63 : -1);
+    if (strcmp(encoding, "base64") != 0) {
+        return kg_json_fail(reader, &p, "%s-compressed data must be base64-encoded (the encoding is \"%s\")",
+                            compression, encoding);
+    }
+    return KG_OK;
 }
 
-/* Decodes standard base64 into exactly size bytes; 0 if malformed or of another size. */
-static int kg_base64_decode(const char* text, unsigned char* out, size_t size)
+/* A base64 layer (compressed or not) into its gids, row by row from the top. */
+static kg_result kg_read_base64_gids(const kg_tiled* t, const cJSON* data, const kg_json_path* data_path,
+                                     const char* compression, uint32_t* gids)
 {
-    size_t length = strlen(text), written = 0;
-    while (length > 0 && text[length - 1] == '=') {
-        length--;
+    size_t count = (size_t)t->width * (size_t)t->height;
+    unsigned char* bytes = (unsigned char*)gids;
+    const char* what = cJSON_IsString(data) ? kg_tiled_decode(data->valuestring, compression, bytes, 4 * count)
+                                            : "is not a string";
+    if (what && compression[0] == '\0') {
+        return kg_json_fail(&t->reader, data_path, "must be base64 of %zu bytes (4 per cell)", 4 * count);
     }
-    uint32_t bits = 0;
-    int held = 0;
-    for (size_t i = 0; i < length; ++i) {
-        int digit = kg_base64_digit(text[i]);
-        if (digit < 0) {
-            return 0;
-        }
-        bits = (bits << 6) | (uint32_t)digit;
-        held += 6;
-        if (held >= 8) {
-            held -= 8;
-            if (written == size) {
-                return 0;
-            }
-            out[written++] = (unsigned char)(bits >> held);
-        }
+    if (what) {
+        return kg_json_fail(&t->reader, data_path, "the %s data %s (the layer is %d x %d tiles: %zu bytes, 4 per "
+                                                   "cell)", compression, what, t->width, t->height, 4 * count);
     }
-    return written == size;
+    for (size_t i = 0; i < count; ++i) { /* little-endian, whatever the machine */
+        const unsigned char* b = bytes + 4 * i;
+        gids[i] = (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+    }
+    return KG_OK;
 }
 
-/* The layer's raw gids, row by row from the top, as Tiled stores them. */
+/* A CSV layer (in Tiled's JSON, an array of gids) into its gids, row by row from the top. */
+static kg_result kg_read_csv_gids(const kg_tiled* t, const cJSON* data, const kg_json_path* data_path, uint32_t* gids)
+{
+    size_t count = (size_t)t->width * (size_t)t->height;
+    if (!cJSON_IsArray(data) || (size_t)cJSON_GetArraySize(data) != count) {
+        return kg_json_fail(&t->reader, data_path, "must be an array of %zu tile ids (width x height)", count);
+    }
+    size_t i = 0;
+    for (const cJSON* item = data->child; item; item = item->next, ++i) {
+        double v = cJSON_IsNumber(item) ? item->valuedouble : -1.0;
+        if (!(v >= 0.0 && v <= 4294967295.0) || v != floor(v)) {
+            kg_json_path p = kg_json_path_index(data_path, (int)i);
+            return kg_json_fail(&t->reader, &p, "must be a tile id (an integer in [0, 4294967295])");
+        }
+        gids[i] = (uint32_t)v;
+    }
+    return KG_OK;
+}
+
+/* The layer's raw gids, row by row from the top, as Tiled stores them: CSV (a JSON array)
+ * or base64, uncompressed or zlib or gzip compressed. */
 static kg_result kg_read_layer_gids(const kg_tiled* t, const cJSON* layer, const kg_json_path* path, uint32_t* gids)
 {
     const kg_json_reader* reader = &t->reader;
@@ -657,43 +683,16 @@ static kg_result kg_read_layer_gids(const kg_tiled* t, const cJSON* layer, const
     const char* compression = "";
     KG_TRY(kg_json_string(reader, layer, path, "encoding", &encoding));
     KG_TRY(kg_json_string(reader, layer, path, "compression", &compression));
-    if (compression[0] != '\0') {
-        kg_json_path p = kg_json_path_key(path, "compression");
-        return kg_json_fail(reader, &p, "%s-compressed layer data is not supported: in Tiled, set Map > Map "
-                                        "Properties > Tile Layer Format to CSV or Base64 (uncompressed)", compression);
-    }
-    KG_TRY(kg_json_require(reader, layer, path, "data"));
-    const cJSON* data = cJSON_GetObjectItemCaseSensitive(layer, "data");
-    kg_json_path data_path = kg_json_path_key(path, "data");
-    size_t count = (size_t)t->width * (size_t)t->height;
-    if (strcmp(encoding, "base64") == 0) {
-        unsigned char* bytes = (unsigned char*)gids;
-        if (!cJSON_IsString(data) || !kg_base64_decode(data->valuestring, bytes, 4 * count)) {
-            return kg_json_fail(reader, &data_path, "must be base64 of %zu bytes (4 per cell)", 4 * count);
-        }
-        for (size_t i = 0; i < count; ++i) { /* little-endian, whatever the machine */
-            const unsigned char* b = bytes + 4 * i;
-            gids[i] = (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
-        }
-        return KG_OK;
-    }
-    if (strcmp(encoding, "csv") != 0) {
+    if (strcmp(encoding, "csv") != 0 && strcmp(encoding, "base64") != 0) {
         kg_json_path p = kg_json_path_key(path, "encoding");
         return kg_json_fail(reader, &p, "must be \"csv\" or \"base64\" (got \"%s\")", encoding);
     }
-    if (!cJSON_IsArray(data) || (size_t)cJSON_GetArraySize(data) != count) {
-        return kg_json_fail(reader, &data_path, "must be an array of %zu tile ids (width x height)", count);
-    }
-    size_t i = 0;
-    for (const cJSON* item = data->child; item; item = item->next, ++i) {
-        double v = cJSON_IsNumber(item) ? item->valuedouble : -1.0;
-        if (!(v >= 0.0 && v <= 4294967295.0) || v != floor(v)) {
-            kg_json_path p = kg_json_path_index(&data_path, (int)i);
-            return kg_json_fail(reader, &p, "must be a tile id (an integer in [0, 4294967295])");
-        }
-        gids[i] = (uint32_t)v;
-    }
-    return KG_OK;
+    KG_TRY(kg_check_compression(reader, path, encoding, compression));
+    KG_TRY(kg_json_require(reader, layer, path, "data"));
+    const cJSON* data = cJSON_GetObjectItemCaseSensitive(layer, "data");
+    kg_json_path data_path = kg_json_path_key(path, "data");
+    return strcmp(encoding, "base64") == 0 ? kg_read_base64_gids(t, data, &data_path, compression, gids)
+                                           : kg_read_csv_gids(t, data, &data_path, gids);
 }
 
 /* Applies Tiled's flips to a point of the tile (fractions, y down): the diagonal flip
