@@ -230,8 +230,7 @@ static kg_result kg_add_property(kg_scene_level* level, const kg_scene_property*
     return KG_OK;
 }
 
-kg_result kg_scene_set_properties(kg_scene* scene, kg_scene_owner owner, int index,
-                                  const kg_scene_property* properties, int count)
+kg_result kg_scene_add_property(kg_scene* scene, kg_scene_owner owner, int index, const kg_scene_property* property)
 {
     kg_scene_level* level = kg_level(scene);
     if (!level) {
@@ -242,15 +241,13 @@ kg_result kg_scene_set_properties(kg_scene* scene, kg_scene_owner owner, int ind
         return kg_out_of_memory();
     }
     kg_prop_range* range = kg_owner_range(level, owner, index);
-    if (!range || range->count > 0) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_set_properties: no owner %d of kind %d, or it has "
-                                                  "properties already", index, (int)owner);
+    if (!range || (range->count > 0 && range->first + range->count != level->prop_count)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_add_property: no owner %d of kind %d, or its "
+                                                  "properties were not added together", index, (int)owner);
     }
-    int first = level->prop_count;
-    for (int i = 0; i < count; ++i) {
-        KG_TRY(kg_add_property(level, &properties[i]));
-    }
-    *range = (kg_prop_range){first, count};
+    KG_TRY(kg_add_property(level, property));
+    range->first = range->count > 0 ? range->first : level->prop_count - 1;
+    range->count += 1;
     return KG_OK;
 }
 

@@ -25,10 +25,10 @@ kg_result kg_scene_add_layer(kg_scene* scene, const kg_scene_layer* layer, int* 
 kg_result kg_scene_add_marker(kg_scene* scene, const kg_scene_marker* marker, int* index);
 /* The Tiled object body index came from: its class ("" for none) and layer. */
 kg_result kg_scene_set_body_origin(kg_scene* scene, int index, const char* class_name, int layer);
-/* Gives the owner its properties (copied), once: an owner that has some keeps them and
- * this fails with KG_ERROR_INVALID_ARGUMENT. */
-kg_result kg_scene_set_properties(kg_scene* scene, kg_scene_owner owner, int index,
-                                  const kg_scene_property* properties, int count);
+/* Adds a property (its strings copied) to the owner, after those it has: an owner's
+ * properties are added one after the other, with no other owner's in between
+ * (KG_ERROR_INVALID_ARGUMENT otherwise, or for an owner that does not exist). */
+kg_result kg_scene_add_property(kg_scene* scene, kg_scene_owner owner, int index, const kg_scene_property* property);
 /* Adds a note (what a loader ignored); past the 100th, notes are dropped. */
 kg_result kg_scene_add_note(kg_scene* scene, const char* text);
 
