@@ -428,7 +428,8 @@ static kg_result kg_unsupported_object(const kg_json_reader* reader, const kg_js
 {
     const char* what = kind == KG_OBJECT_POLYLINE ? "a polyline has no area: draw a polygon instead"
                        : kind == KG_OBJECT_TILE   ? "tile objects are not supported as bodies: draw a rectangle, "
-                                                    "ellipse or polygon"
+                                                    "ellipse or polygon (or give the object or its layer the "
+                                                    "bool property \"physics\" false: a marker)"
                                                   : "this kind of object has no collision shape";
     return kg_json_fail(reader, path, "%s", what);
 }
