@@ -53,7 +53,8 @@ KG_API kg_result kg_scene_load_file(const char* path, kg_scene** out);
 KG_API kg_result kg_scene_parse(const char* json, size_t length, const char* source_name, kg_scene** out);
 /* A Tiled map (orthogonal, JSON format, docs/tilemaps.md): its tile layers become one tile
  * map (one layer each), the collision shapes drawn in its tilesets the tile shapes, its
- * object layers bodies. Errors read "FILE: JSON.PATH: what is wrong", as above. */
+ * object layers bodies and markers, its custom properties the scene's (below, "Tiled
+ * levels"). Errors read "FILE: JSON.PATH: what is wrong", as above. */
 KG_API kg_result kg_scene_load_tiled(const char* path, kg_scene** out);
 /* The same, under limits (NULL = kg_default_scene_limits()). */
 KG_API kg_result kg_scene_load_file_limited(const char* path, const kg_scene_limits* limits, kg_scene** out);

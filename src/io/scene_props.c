@@ -22,15 +22,16 @@ typedef struct kg_prop_record {
     size_t name, text;
 } kg_prop_record;
 
+/* Layers and markers start with their name, so that one look-up finds either. */
 typedef struct kg_layer_record {
-    kg_scene_layer value;
     size_t name, kind;
+    kg_scene_layer value;
     kg_prop_range props;
 } kg_layer_record;
 
 typedef struct kg_marker_record {
-    kg_scene_marker value;
     size_t name, class_name;
+    kg_scene_marker value;
     kg_prop_range props;
 } kg_marker_record;
 
@@ -145,7 +146,7 @@ kg_result kg_scene_add_layer(kg_scene* scene, const kg_scene_layer* layer, int* 
         !kg_scene_grow((void**)&level->layers, &level->layer_capacity, level->layer_count + 1, sizeof *level->layers)) {
         return kg_out_of_memory();
     }
-    kg_layer_record record = {*layer, kg_intern(level, layer->name), kg_intern(level, layer->kind), {0, 0}};
+    kg_layer_record record = {kg_intern(level, layer->name), kg_intern(level, layer->kind), *layer, {0, 0}};
     if (record.name == 0 || record.kind == 0) {
         return kg_out_of_memory();
     }
@@ -161,7 +162,7 @@ kg_result kg_scene_add_marker(kg_scene* scene, const kg_scene_marker* marker, in
                                  sizeof *level->markers)) {
         return kg_out_of_memory();
     }
-    kg_marker_record record = {*marker, kg_intern(level, marker->name), kg_intern(level, marker->class_name), {0, 0}};
+    kg_marker_record record = {kg_intern(level, marker->name), kg_intern(level, marker->class_name), *marker, {0, 0}};
     if (record.name == 0 || record.class_name == 0) {
         return kg_out_of_memory();
     }
@@ -200,7 +201,7 @@ kg_result kg_scene_set_body_origin(kg_scene* scene, int index, const char* class
 }
 
 /* The property range of an owner, or NULL when there is no such owner. */
-static kg_prop_range* kg_owner_range(kg_scene_level* level, kg_scene_owner owner, int index)
+static const kg_prop_range* kg_owner_range(const kg_scene_level* level, kg_scene_owner owner, int index)
 {
     if (!level || index < 0) {
         return NULL;
@@ -240,7 +241,7 @@ kg_result kg_scene_add_property(kg_scene* scene, kg_scene_owner owner, int index
         !kg_body_record_of(level, index)) {
         return kg_out_of_memory();
     }
-    kg_prop_range* range = kg_owner_range(level, owner, index);
+    kg_prop_range* range = (kg_prop_range*)kg_owner_range(level, owner, index); /* level is ours to change */
     if (!range || (range->count > 0 && range->first + range->count != level->prop_count)) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_add_property: no owner %d of kind %d, or its "
                                                   "properties were not added together", index, (int)owner);
@@ -282,7 +283,7 @@ static const char* kg_text(const kg_scene_level* level, size_t offset)
 
 int kg_scene_property_count(const kg_scene* scene, kg_scene_owner owner, int index)
 {
-    const kg_prop_range* range = kg_owner_range((kg_scene_level*)kg_level_of(scene), owner, index);
+    const kg_prop_range* range = kg_owner_range(kg_level_of(scene), owner, index);
     return range ? range->count : 0;
 }
 
@@ -301,7 +302,7 @@ kg_result kg_scene_get_property(const kg_scene* scene, kg_scene_owner owner, int
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_get_property: NULL argument");
     }
     const kg_scene_level* level = kg_level_of(scene);
-    const kg_prop_range* range = kg_owner_range((kg_scene_level*)level, owner, index);
+    const kg_prop_range* range = kg_owner_range(level, owner, index);
     if (!range || k < 0 || k >= range->count) {
         return kg_fail(KG_ERROR_NOT_FOUND, "kg_scene_get_property: owner %d of kind %d has no property %d", index,
                        (int)owner, k);
@@ -317,7 +318,7 @@ kg_result kg_scene_find_property(const kg_scene* scene, kg_scene_owner owner, in
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_find_property: NULL argument");
     }
     const kg_scene_level* level = kg_level_of(scene);
-    const kg_prop_range* range = kg_owner_range((kg_scene_level*)level, owner, index);
+    const kg_prop_range* range = kg_owner_range(level, owner, index);
     for (int i = 0; range && i < range->count; ++i) {
         if (strcmp(level->strings + level->props[range->first + i].name, name) == 0) {
             kg_read_property(level, range->first + i, out);
@@ -368,15 +369,24 @@ kg_result kg_scene_get_layer(const kg_scene* scene, int index, kg_scene_layer* o
     return KG_OK;
 }
 
-int kg_scene_find_layer(const kg_scene* scene, const char* name)
+/* The index of the first of count records (size bytes each, starting with their name's
+ * offset) called name, or -1. */
+static int kg_find_named(const kg_scene_level* level, const void* records, int count, size_t size, const char* name)
 {
-    const kg_scene_level* level = kg_level_of(scene);
-    for (int i = 0; name && level && i < level->layer_count; ++i) {
-        if (strcmp(level->strings + level->layers[i].name, name) == 0) {
+    for (int i = 0; name && i < count; ++i) {
+        size_t offset;
+        memcpy(&offset, (const char*)records + (size_t)i * size, sizeof offset);
+        if (strcmp(level->strings + offset, name) == 0) {
             return i;
         }
     }
     return -1;
+}
+
+int kg_scene_find_layer(const kg_scene* scene, const char* name)
+{
+    const kg_scene_level* level = kg_level_of(scene);
+    return level ? kg_find_named(level, level->layers, level->layer_count, sizeof *level->layers, name) : -1;
 }
 
 int kg_scene_marker_count(const kg_scene* scene)
@@ -401,12 +411,7 @@ kg_result kg_scene_get_marker(const kg_scene* scene, int index, kg_scene_marker*
 int kg_scene_find_marker(const kg_scene* scene, const char* name)
 {
     const kg_scene_level* level = kg_level_of(scene);
-    for (int i = 0; name && level && i < level->marker_count; ++i) {
-        if (strcmp(level->strings + level->markers[i].name, name) == 0) {
-            return i;
-        }
-    }
-    return -1;
+    return level ? kg_find_named(level, level->markers, level->marker_count, sizeof *level->markers, name) : -1;
 }
 
 int kg_scene_note_count(const kg_scene* scene)

@@ -1,8 +1,11 @@
 /* The Tiled map loader: Tiled's JSON map format (.tmj, or .json saved by Tiled) into a
  * scene. Orthogonal, finite maps; embedded and external (.tsj) tilesets; tile layers with
- * CSV or uncompressed base64 data, flipped and rotated tiles included; the collision shapes
- * drawn in Tiled's tile collision editor; object layers as bodies (polylines, and polygons
- * on static layers, as chains; ellipses as circles or capsules). Tiled's y axis points
+ * CSV or base64 data, uncompressed or zlib or gzip compressed (tiled_decode.c), flipped and
+ * rotated tiles included; the collision shapes drawn in Tiled's tile collision editor;
+ * object layers as bodies (polylines, and polygons on static layers, as chains; ellipses
+ * as circles or capsules); point objects, and the objects of layers whose "physics" is
+ * false, as markers; the custom properties of the map, layers and objects kept in the
+ * scene (tiled_level.c). Tiled's y axis points
  * down, kgyro's up: the map's bottom-left corner is the world origin, pixels_per_meter
  * (a map property, the tile width by default) the scale. Anything this does not support is
  * an error naming the file, the JSON path and what is wrong (docs/tilemaps.md). */
