@@ -303,6 +303,41 @@ static void test_everything_runs(void)
     kg_scene_destroy(scene);
 }
 
+/* "physics" false on one object of a layer of bodies makes that object a marker; on a
+ * layer, its body properties ("type": "spawner" here) are not read as a body's. */
+static void test_physics_false_makes_markers(void)
+{
+    static const char json[] =
+        "{\"type\": \"map\", \"width\": 2, \"height\": 2, \"tilewidth\": 16, \"tileheight\": 16, \"layers\": ["
+        " {\"type\": \"objectgroup\", \"name\": \"things\", \"properties\": [{\"name\": \"density\", \"type\":"
+        "  \"float\", \"value\": 2}], \"objects\": ["
+        "  {\"id\": 1, \"name\": \"box\", \"x\": 0, \"y\": 0, \"width\": 16, \"height\": 16},"
+        "  {\"id\": 2, \"name\": \"ghost\", \"x\": 16, \"y\": 0, \"width\": 16, \"height\": 8, \"properties\":"
+        "   [{\"name\": \"physics\", \"type\": \"bool\", \"value\": false}]}]},"
+        " {\"type\": \"objectgroup\", \"name\": \"spawns\", \"offsetx\": 8, \"properties\": ["
+        "  {\"name\": \"physics\", \"type\": \"bool\", \"value\": false},"
+        "  {\"name\": \"type\", \"type\": \"string\", \"value\": \"spawner\"}], \"objects\": ["
+        "  {\"id\": 3, \"name\": \"enemy\", \"gid\": 0, \"x\": 0, \"y\": 32, \"width\": 16, \"height\": 16}]}]}";
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_parse(json, sizeof json - 1, "inline.tmj", &scene));
+    KG_CHECK(kg_scene_body_count(scene) == 1 && kg_scene_find_body(scene, "box#1") == 0);
+    KG_CHECK(kg_scene_marker_count(scene) == 2);
+    kg_scene_marker ghost, enemy;
+    KG_CHECK_OK(kg_scene_get_marker(scene, kg_scene_find_marker(scene, "ghost"), &ghost));
+    KG_CHECK_OK(kg_scene_get_marker(scene, kg_scene_find_marker(scene, "enemy"), &enemy));
+    KG_CHECK(ghost.shape == KG_MARKER_RECTANGLE && ghost.layer == 0);
+    KG_CHECK_NEAR(ghost.position.x, 1.5, 0.0);
+    KG_CHECK_NEAR(ghost.position.y, 1.75, 0.0);
+    KG_CHECK(enemy.shape == KG_MARKER_TILE && enemy.layer == 1);
+    KG_CHECK_NEAR(enemy.position.x, 1.0, 0.0); /* the layer's offset of 8 px applied */
+    KG_CHECK_NEAR(enemy.position.y, 0.5, 0.0);
+    kg_scene_layer spawns;
+    KG_CHECK_OK(kg_scene_get_layer(scene, 1, &spawns));
+    KG_CHECK(spawns.markers == 1 && same_text(spawns.name, "spawns"));
+    check_property(scene, KG_SCENE_LAYER, 1, "type", KG_PROPERTY_STRING, "spawner", 0.0);
+    kg_scene_destroy(scene);
+}
+
 /* A scene built from code has none of it. */
 static void test_scenes_from_code_have_no_level_data(void)
 {
@@ -325,4 +360,4 @@ static void test_scenes_from_code_have_no_level_data(void)
 KG_TEST_MAIN(KG_TEST(test_map_properties), KG_TEST(test_layers_and_their_properties),
              KG_TEST(test_bodies_properties_and_classes), KG_TEST(test_markers), KG_TEST(test_ignored_things_are_noted),
              KG_TEST(test_every_encoding_gives_the_same_tiles), KG_TEST(test_everything_runs),
-             KG_TEST(test_scenes_from_code_have_no_level_data))
+             KG_TEST(test_physics_false_makes_markers), KG_TEST(test_scenes_from_code_have_no_level_data))
