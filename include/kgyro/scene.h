@@ -168,7 +168,7 @@ KG_API kg_result kg_scene_find_property(const kg_scene* scene, kg_scene_owner ow
 KG_API kg_result kg_scene_body_property(const kg_scene* scene, int body_index, const char* name,
                                         kg_scene_property* out);
 
-/* The object's class (Tiled 1.9 and later) or type (before) of body index: "" when it
+/* The object's class ("class" in Tiled 1.9, "type" before and from 1.10) of body index: "" when it
  * has none or was not made from a Tiled object, NULL for an index out of range. */
 KG_API const char* kg_scene_body_class(const kg_scene* scene, int index);
 /* The layer (kg_scene_get_layer's index) of the Tiled object body index was made from,
@@ -186,6 +186,7 @@ typedef struct kg_scene_layer {
     int markers;       /* an object layer whose objects are markers, not bodies */
 } kg_scene_layer;
 
+/* Layer index into out; KG_ERROR_INVALID_ARGUMENT for an index out of range or NULL out. */
 KG_API int kg_scene_layer_count(const kg_scene* scene);
 KG_API kg_result kg_scene_get_layer(const kg_scene* scene, int index, kg_scene_layer* out);
 /* The index of the first layer called name, or -1. */
@@ -201,7 +202,8 @@ typedef enum kg_scene_marker_shape {
 } kg_scene_marker_shape;
 
 /* A Tiled object that is not a body: a point object on any layer, and every object
- * (text objects aside) on a layer with the bool property "physics" false. Positions are
+ * (text objects aside) on a layer with the bool property "physics" false or with that
+ * property itself; its body properties (type, density...) are not read. Positions are
  * in metres in the frame of the bodies (y up, the map's bottom-left corner at the
  * origin). */
 typedef struct kg_scene_marker {
@@ -216,6 +218,7 @@ typedef struct kg_scene_marker {
     int layer;               /* kg_scene_get_layer's index */
 } kg_scene_marker;
 
+/* Marker index into out; KG_ERROR_INVALID_ARGUMENT for an index out of range or NULL out. */
 KG_API int kg_scene_marker_count(const kg_scene* scene);
 KG_API kg_result kg_scene_get_marker(const kg_scene* scene, int index, kg_scene_marker* out);
 /* The index of the first marker called name, or -1. */
