@@ -1,6 +1,6 @@
 # Installing KineticGyro (included at the end of the top-level CMakeLists.txt):
 #   include/kgyro/*.h, libkgyro.a, libkgyro.so.VERSION (soname libkgyro.so.MAJOR),
-#   libkgyro_io.a (scenes, needs cJSON), the kgyro command, the CMake package
+#   libkgyro_io.a (scenes, needs cJSON and zlib), the kgyro command, the CMake package
 #   (find_package(kgyro) gives kgyro::kgyro, kgyro::kgyro_shared and kgyro::io) and the
 #   pkg-config file kgyro.pc. The package and kgyro.pc are relocatable: they find the
 #   prefix from where they were installed, so `cmake --install BUILD --prefix DIR` works.

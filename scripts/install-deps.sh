@@ -4,7 +4,7 @@
 # Usage: scripts/install-deps.sh [core|test|demo|bench|all]
 set -euo pipefail
 
-core="cmake make gcc clang pkg-config libcjson-dev"
+core="cmake make gcc clang pkg-config libcjson-dev zlib1g-dev"
 test_extra="ocl-icd-opencl-dev opencl-headers pocl-opencl-icd libclang-rt-14-dev libstb-dev xvfb libsdl2-dev"
 bench_extra="libbox2d-dev libchipmunk-dev gnuplot-nox g++"
 # Only `make bench` needs valgrind (scripts/callgrind.sh: the step's instruction counts).

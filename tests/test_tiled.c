@@ -301,7 +301,22 @@ static void test_broken_maps_are_refused_clearly(void)
     } cases[] = {
         {DATA "bad_infinite.tmj", KG_ERROR_PARSE, "bad_infinite.tmj: infinite:", "infinite maps are not supported"},
         {DATA "bad_isometric.tmj", KG_ERROR_PARSE, "orientation:", "only orthogonal maps"},
-        {DATA "bad_compressed.tmj", KG_ERROR_PARSE, "layers[0].compression:", "zlib-compressed layer data"},
+        /* compressed layer data, hostile (tests/data/tiled/make_everything.py made these) */
+        {DATA "bad_compressed.tmj", KG_ERROR_PARSE, "layers[0].data:",
+         "the zlib data decompresses to fewer bytes than the layer needs; the layer needs 384 bytes (12 x 8 tiles"},
+        {DATA "bad_layer_zlib_bomb.tmj", KG_ERROR_PARSE, "bad_layer_zlib_bomb.tmj: layers[0].data:",
+         "the zlib data decompresses to more bytes than the layer needs; the layer needs 32 bytes (4 x 2 tiles"},
+        {DATA "bad_layer_zlib_truncated.tmj", KG_ERROR_PARSE, "layers[0].data:", "the zlib data is truncated"},
+        {DATA "bad_layer_zlib_short.tmj", KG_ERROR_PARSE, "layers[0].data:", "decompresses to fewer bytes"},
+        {DATA "bad_layer_zlib_trailing.tmj", KG_ERROR_PARSE, "layers[0].data:",
+         "has bytes after the end of the compressed stream"},
+        {DATA "bad_layer_zlib_garbage.tmj", KG_ERROR_PARSE, "layers[0].data:", "is not valid compressed data"},
+        {DATA "bad_layer_gzip_no_trailer.tmj", KG_ERROR_PARSE, "layers[0].data:", "the gzip data is truncated"},
+        {DATA "bad_layer_gzip_bad_base64.tmj", KG_ERROR_PARSE, "layers[0].data:", "the gzip data is not base64"},
+        {DATA "bad_layer_zstd.tmj", KG_ERROR_PARSE, "bad_layer_zstd.tmj: layers[0].compression:",
+         "zstd-compressed layer data is not supported: in Tiled, set Map > Map Properties > Tile Layer Format"},
+        {DATA "bad_layer_csv_compressed.tmj", KG_ERROR_PARSE, "layers[0].compression:",
+         "zlib-compressed data must be base64-encoded (the encoding is \"csv\")"},
         {DATA "bad_concave.tmj", KG_ERROR_PARSE, "tilesets[0].tiles[1].objectgroup.objects[0].polygon:",
          "concave"},
         {DATA "bad_xml_tileset.tmj", KG_ERROR_PARSE, "tilesets[0].source:", "XML tileset"},
@@ -502,9 +517,52 @@ static void test_bad_chain_and_capsule_objects(void)
                          "layers[0].objects[0].properties.chain_flip.value:", "must be true or false");
 }
 
+/* Custom properties are kept, so each must hold a value of its type. */
+static void test_bad_custom_properties(void)
+{
+    static const struct {
+        const char* property;
+        const char* where;
+        const char* what;
+    } cases[] = {
+        {"{\"name\": \"hp\", \"type\": \"int\", \"value\": 1.5}", "objects[0].properties.hp.value:",
+         "must be an integer in [-2147483648, 2147483647]"},
+        {"{\"name\": \"hp\", \"type\": \"int\", \"value\": 3e9}", "objects[0].properties.hp.value:",
+         "must be an integer"},
+        {"{\"name\": \"w\", \"type\": \"float\", \"value\": \"2\"}", "properties.w.value:",
+         "must be a finite number"},
+        {"{\"name\": \"b\", \"type\": \"bool\", \"value\": 1}", "properties.b.value:", "must be true or false"},
+        {"{\"name\": \"c\", \"type\": \"color\", \"value\": \"#12345\"}", "properties.c.value:",
+         "must be a color, \"#aarrggbb\" or \"#rrggbb\""},
+        {"{\"name\": \"c\", \"type\": \"color\", \"value\": \"#gg0000\"}", "properties.c.value:", "must be a color"},
+        {"{\"name\": \"f\", \"type\": \"file\", \"value\": 7}", "properties.f.value:", "must be a string"},
+        {"{\"name\": \"o\", \"type\": \"object\", \"value\": -1}", "properties.o.value:",
+         "must be an object id (an integer >= 0)"},
+        {"{\"name\": \"k\", \"type\": \"class\", \"value\": 5}", "properties.k.value:",
+         "must be an object (the members of a class)"},
+        {"{\"name\": \"k\", \"type\": \"class\", \"value\": {\"a\": [1]}}", "properties.k.value.a:",
+         "must be a string, a number, true, false or an object"},
+        {"{\"name\": \"k\", \"type\": \"class\", \"value\": {\"a\": {\"b\": {\"c\": {\"d\": {\"e\": {\"f\": "
+         "{\"g\": {\"h\": {\"i\": 1}}}}}}}}}}", "properties.k.value.a.b.c.d.e.f.g.h:", "classes nested more than 8 deep"},
+        {"{\"name\": \"v\", \"type\": \"vector\", \"value\": 1}", "properties.v.type:",
+         "must be \"string\", \"int\", \"float\", \"bool\", \"color\", \"file\", \"object\" or \"class\" (got "
+         "\"vector\")"},
+        {"{\"name\": \"v\", \"type\": \"string\"}", "properties.v.value:", "is required"},
+        {"{\"type\": \"string\", \"value\": \"x\"}", "objects[0].properties[0].name:", "is required"},
+        {"7", "objects[0].properties[0]:", "must be an object (a property)"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        char object[512];
+        snprintf(object, sizeof object, "{\"id\": 1, \"width\": 16, \"height\": 16, \"properties\": [%s]}",
+                 cases[i].property);
+        check_object_refused("static", object, cases[i].where, cases[i].what);
+    }
+}
+
 KG_TEST_MAIN(KG_TEST(test_embedded_tileset_map), KG_TEST(test_external_tileset_base64_and_groups),
              KG_TEST(test_loaded_level_runs), KG_TEST(test_chains_and_capsules_load),
              KG_TEST(test_chains_and_capsules_run), KG_TEST(test_broken_maps_are_refused_clearly),
              KG_TEST(test_scene_with_inline_tilemap), KG_TEST(test_scene_with_tiled_tilemap),
              KG_TEST(test_scene_naming_a_fifo_is_refused_at_once),
-             KG_TEST(test_bad_tilemap_sections), KG_TEST(test_bad_chain_and_capsule_objects))
+             KG_TEST(test_bad_tilemap_sections), KG_TEST(test_bad_chain_and_capsule_objects),
+             KG_TEST(test_bad_custom_properties))

@@ -53,7 +53,8 @@ KG_API kg_result kg_scene_load_file(const char* path, kg_scene** out);
 KG_API kg_result kg_scene_parse(const char* json, size_t length, const char* source_name, kg_scene** out);
 /* A Tiled map (orthogonal, JSON format, docs/tilemaps.md): its tile layers become one tile
  * map (one layer each), the collision shapes drawn in its tilesets the tile shapes, its
- * object layers bodies. Errors read "FILE: JSON.PATH: what is wrong", as above. */
+ * object layers bodies and markers, its custom properties the scene's (below, "Tiled
+ * levels"). Errors read "FILE: JSON.PATH: what is wrong", as above. */
 KG_API kg_result kg_scene_load_tiled(const char* path, kg_scene** out);
 /* The same, under limits (NULL = kg_default_scene_limits()). */
 KG_API kg_result kg_scene_load_file_limited(const char* path, const kg_scene_limits* limits, kg_scene** out);
@@ -112,6 +113,121 @@ KG_API const kg_scene_force* kg_scene_get_force(const kg_scene* scene, int index
 KG_API int kg_scene_tilemap_count(const kg_scene* scene);
 /* The scene's copy (shapes and tiles point into the scene). */
 KG_API const kg_tilemap_def* kg_scene_get_tilemap(const kg_scene* scene, int index);
+
+/* Tiled levels: properties, markers, classes. What a Tiled map holds beside its physics
+ * (docs/tilemaps.md, "Properties, markers and notes"): the custom properties of the map,
+ * of its layers and of its objects, the objects that are not bodies (markers: spawn
+ * points, checkpoints, trigger areas), the objects' classes, and notes on what the loader
+ * ignored. Scenes built otherwise have none of these. Strings point into the scene and
+ * stay valid until it is destroyed or added to. */
+
+typedef enum kg_scene_property_type {
+    KG_PROPERTY_STRING = 0, /* string: text */
+    KG_PROPERTY_INT = 1,    /* integer (and number) */
+    KG_PROPERTY_FLOAT = 2,  /* number */
+    KG_PROPERTY_BOOL = 3,   /* boolean */
+    KG_PROPERTY_COLOR = 4,  /* color (and text, as Tiled wrote it: "#aarrggbb", "" unset) */
+    KG_PROPERTY_FILE = 5,   /* text: the path as Tiled wrote it, relative to the map */
+    KG_PROPERTY_OBJECT = 6  /* integer: the id of the object referred to, 0 for none */
+} kg_scene_property_type;
+
+/* One custom property. Only the fields of its type are set, the others are zero (NULL).
+ * A Tiled class-typed property is flattened: each of its members set in the map is a
+ * property "CLASS_PROPERTY.MEMBER" (nested classes go on: "a.b.c"), typed by its JSON
+ * value: a string STRING, a whole number INT, another number FLOAT, true/false BOOL. */
+typedef struct kg_scene_property {
+    const char* name;
+    kg_scene_property_type type;
+    const char* text;  /* STRING, FILE, COLOR */
+    int integer;       /* INT, OBJECT */
+    double number;     /* FLOAT, and INT as a double */
+    int boolean;       /* BOOL: 0 or 1 */
+    uint32_t color;    /* COLOR: 0xAARRGGBB (alpha 0xFF when Tiled wrote #rrggbb) */
+} kg_scene_property;
+
+/* Whose properties: the Tiled map (index: 0, or the order of the maps a scene file names),
+ * a layer (kg_scene_get_layer's index), a body (its scene index) or a marker. */
+typedef enum kg_scene_owner {
+    KG_SCENE_MAP = 0,
+    KG_SCENE_LAYER = 1,
+    KG_SCENE_BODY = 2,
+    KG_SCENE_MARKER = 3
+} kg_scene_owner;
+
+/* How many properties the owner has (0 for none, or an index out of range), property k
+ * of them in the order of the file, and the one called name. A body's properties are its
+ * object's own, those the loader interprets (type, density, sensor...) included; its
+ * layer's are read through the layer (kg_scene_body_layer). Absent: KG_ERROR_NOT_FOUND;
+ * NULL arguments: KG_ERROR_INVALID_ARGUMENT. */
+KG_API int kg_scene_property_count(const kg_scene* scene, kg_scene_owner owner, int index);
+KG_API kg_result kg_scene_get_property(const kg_scene* scene, kg_scene_owner owner, int index, int k,
+                                       kg_scene_property* out);
+KG_API kg_result kg_scene_find_property(const kg_scene* scene, kg_scene_owner owner, int index, const char* name,
+                                        kg_scene_property* out);
+/* kg_scene_find_property(scene, KG_SCENE_BODY, body_index, name, out). */
+KG_API kg_result kg_scene_body_property(const kg_scene* scene, int body_index, const char* name,
+                                        kg_scene_property* out);
+
+/* The object's class ("class" in Tiled 1.9, "type" before and from 1.10) of body index: "" when it
+ * has none or was not made from a Tiled object, NULL for an index out of range. */
+KG_API const char* kg_scene_body_class(const kg_scene* scene, int index);
+/* The layer (kg_scene_get_layer's index) of the Tiled object body index was made from,
+ * or -1. */
+KG_API int kg_scene_body_layer(const kg_scene* scene, int index);
+
+/* Every layer of the Tiled maps read into the scene, in file order, a group before the
+ * layers in it. */
+typedef struct kg_scene_layer {
+    const char* name;  /* Tiled's (layer names need not be unique) */
+    const char* kind;  /* "tilelayer", "objectgroup", "imagelayer" or "group" */
+    int map;           /* which Tiled map (KG_SCENE_MAP's index) */
+    int parent;        /* the group layer it is in, or -1 */
+    int tile_layer;    /* a tile layer's layer in its tile map, else -1 */
+    int markers;       /* an object layer whose objects are markers, not bodies */
+} kg_scene_layer;
+
+/* Layer index into out; KG_ERROR_INVALID_ARGUMENT for an index out of range or NULL out. */
+KG_API int kg_scene_layer_count(const kg_scene* scene);
+KG_API kg_result kg_scene_get_layer(const kg_scene* scene, int index, kg_scene_layer* out);
+/* The index of the first layer called name, or -1. */
+KG_API int kg_scene_find_layer(const kg_scene* scene, const char* name);
+
+typedef enum kg_scene_marker_shape {
+    KG_MARKER_POINT = 0,
+    KG_MARKER_RECTANGLE = 1,
+    KG_MARKER_ELLIPSE = 2,
+    KG_MARKER_POLYGON = 3,
+    KG_MARKER_POLYLINE = 4,
+    KG_MARKER_TILE = 5 /* a tile object */
+} kg_scene_marker_shape;
+
+/* A Tiled object that is not a body: a point object on any layer, and every object
+ * (text objects aside) on a layer with the bool property "physics" false or with that
+ * property itself; its body properties (type, density...) are not read. Positions are
+ * in metres in the frame of the bodies (y up, the map's bottom-left corner at the
+ * origin). */
+typedef struct kg_scene_marker {
+    const char* name;        /* the object's name, "" when unnamed */
+    const char* class_name;  /* its class (or type), "" when none */
+    int id;                  /* its Tiled object id */
+    kg_scene_marker_shape shape;
+    kg_vec2 position;        /* a point: the point; a rectangle, ellipse or tile: its centre;
+                              * a polygon or polyline: the object's origin */
+    kg_vec2 size;            /* width and height (0 for a point, a polygon, a polyline) */
+    float angle;             /* radians, counter-clockwise (Tiled's rotation, which is clockwise) */
+    int layer;               /* kg_scene_get_layer's index */
+} kg_scene_marker;
+
+/* Marker index into out; KG_ERROR_INVALID_ARGUMENT for an index out of range or NULL out. */
+KG_API int kg_scene_marker_count(const kg_scene* scene);
+KG_API kg_result kg_scene_get_marker(const kg_scene* scene, int index, kg_scene_marker* out);
+/* The index of the first marker called name, or -1. */
+KG_API int kg_scene_find_marker(const kg_scene* scene, const char* name);
+
+/* What the loader ignored, one note each ("FILE: JSON.PATH: an image layer is ignored"):
+ * image layers, text objects. The first 100 are kept. */
+KG_API int kg_scene_note_count(const kg_scene* scene);
+KG_API const char* kg_scene_get_note(const kg_scene* scene, int index);
 
 /* Creates a world holding the scene, its bodies, forces and tile maps (in scene order, so
  * kg_world_get_tilemaps lists them in that order). The world is made from

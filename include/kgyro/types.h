@@ -29,8 +29,9 @@ typedef enum kg_result {
     KG_ERROR_PARSE = -7,            /* malformed scene or map file */
     KG_ERROR_BACKEND = -8,          /* backend unavailable or failed */
     KG_ERROR_UNSUPPORTED = -9,      /* valid request this build or backend cannot do */
-    KG_ERROR_LOCKED = -10           /* a call a callback made inside kg_world_step that the step
+    KG_ERROR_LOCKED = -10,          /* a call a callback made inside kg_world_step that the step
                                      * cannot take then: docs/queries-events.md, "Callbacks" */
+    KG_ERROR_NOT_FOUND = -11        /* a look-up by name found nothing (kg_scene_body_property...) */
 } kg_result;
 
 /* A short constant name for a result code, such as "invalid handle". */

@@ -21,6 +21,7 @@ const char* kg_result_string(kg_result result)
     case KG_ERROR_BACKEND: return "backend error";
     case KG_ERROR_UNSUPPORTED: return "unsupported";
     case KG_ERROR_LOCKED: return "world locked inside a step";
+    case KG_ERROR_NOT_FOUND: return "not found";
     }
     return "unknown error";
 }

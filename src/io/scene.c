@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "io/json_util.h"
 #include "io/scene_limits.h"
+#include "io/scene_props.h"
 
 #include <limits.h>
 #include <math.h>
@@ -76,6 +77,8 @@ struct kg_scene {
 
     int tilemap_count, tilemap_capacity;
     kg_scene_tilemap* tilemaps;
+
+    kg_scene_level* level; /* Tiled levels' properties and markers (scene_props.c), or NULL */
 };
 
 /* Grows *items to hold at least needed elements, doubling. */
@@ -96,6 +99,14 @@ static int kg_grow(void** items, int* capacity, int needed, size_t item_size)
     *capacity = next;
     return 1;
 }
+
+int kg_scene_grow(void** items, int* capacity, int needed, size_t item_size)
+{
+    return kg_grow(items, capacity, needed, item_size);
+}
+
+kg_scene_level* kg_scene_get_level(const kg_scene* scene) { return scene->level; }
+void kg_scene_set_level(kg_scene* scene, kg_scene_level* level) { scene->level = level; }
 
 kg_result kg_scene_create(kg_scene** out)
 {
@@ -144,6 +155,7 @@ void kg_scene_destroy(kg_scene* scene)
     free(scene->first_chain);
     free(scene->last_chain);
     free(scene->chain_count);
+    kg_scene_level_free(scene->level);
     free(scene);
 }
 

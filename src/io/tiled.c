@@ -1,8 +1,11 @@
 /* The Tiled map loader: Tiled's JSON map format (.tmj, or .json saved by Tiled) into a
  * scene. Orthogonal, finite maps; embedded and external (.tsj) tilesets; tile layers with
- * CSV or uncompressed base64 data, flipped and rotated tiles included; the collision shapes
- * drawn in Tiled's tile collision editor; object layers as bodies (polylines, and polygons
- * on static layers, as chains; ellipses as circles or capsules). Tiled's y axis points
+ * CSV or base64 data, uncompressed or zlib or gzip compressed (tiled_decode.c), flipped and
+ * rotated tiles included; the collision shapes drawn in Tiled's tile collision editor;
+ * object layers as bodies (polylines, and polygons on static layers, as chains; ellipses
+ * as circles or capsules); point objects, and the objects of layers whose "physics" is
+ * false, as markers; the custom properties of the map, layers and objects kept in the
+ * scene (tiled_level.c). Tiled's y axis points
  * down, kgyro's up: the map's bottom-left corner is the world origin, pixels_per_meter
  * (a map property, the tile width by default) the scale. Anything this does not support is
  * an error naming the file, the JSON path and what is wrong (docs/tilemaps.md). */
@@ -10,7 +13,11 @@
 #include "collide/shape.h"
 #include "io/json_util.h"
 #include "io/scene_limits.h"
+#include "io/scene_props.h"
+#include "io/tiled_decode.h"
+#include "io/tiled_level.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -64,6 +71,10 @@ typedef struct kg_tiled {
     uint16_t* tiles;        /* layer after layer, bottom row first */
     int layer_count, layer_capacity;
     kg_vec2 object_offset;  /* of the object layer being read, pixels */
+    int map_index;          /* this map's KG_SCENE_MAP index */
+    int group;              /* the group layer being read (its scene layer index), or -1 */
+    int layer_index;        /* the object layer being read (its scene layer index) */
+    int layer_physics;      /* whether its objects are bodies (property "physics", default true) */
 } kg_tiled;
 
 static int kg_has(const cJSON* object, const char* key)
@@ -129,17 +140,6 @@ static kg_json_path kg_property_path(const kg_json_path* owner, const char* name
 {
     kg_json_path list = kg_json_path_key(owner, "properties");
     return kg_json_path_key(&list, name);
-}
-
-static kg_result kg_check_properties(const kg_json_reader* reader, const cJSON* owner, const kg_json_path* path)
-{
-    const cJSON* list = cJSON_GetObjectItemCaseSensitive(owner, "properties");
-    if (list && !cJSON_IsArray(list)) {
-        kg_json_path list_path = kg_json_path_key(path, "properties");
-        return kg_json_fail(reader, &list_path, "must be an array (the format of Tiled 1.2 and later: save the "
-                                                "map again with a recent Tiled)");
-    }
-    return KG_OK;
 }
 
 static kg_result kg_float_property(const kg_json_reader* reader, const cJSON* owner, const kg_json_path* path,
@@ -210,7 +210,7 @@ static kg_result kg_read_map_header(kg_tiled* t, const cJSON* root)
         return kg_json_fail(reader, &root_path, "the map is %d x %d tiles; at most 2^28 cells are supported",
                             t->width, t->height);
     }
-    KG_TRY(kg_check_properties(reader, root, &root_path));
+    KG_TRY(kg_tiled_check_properties(reader, root, &root_path));
     t->pixels_per_meter = (float)t->tile_width;
     t->friction = 0.6f;
     KG_TRY(kg_float_property(reader, root, &root_path, "pixels_per_meter", KG_JSON_POSITIVE, &t->pixels_per_meter));
@@ -431,7 +431,8 @@ static kg_result kg_unsupported_object(const kg_json_reader* reader, const kg_js
 {
     const char* what = kind == KG_OBJECT_POLYLINE ? "a polyline has no area: draw a polygon instead"
                        : kind == KG_OBJECT_TILE   ? "tile objects are not supported as bodies: draw a rectangle, "
-                                                    "ellipse or polygon"
+                                                    "ellipse or polygon (or give the object or its layer the "
+                                                    "bool property \"physics\" false: a marker)"
                                                   : "this kind of object has no collision shape";
     return kg_json_fail(reader, path, "%s", what);
 }
@@ -541,7 +542,7 @@ static kg_result kg_read_tile_shape(const kg_tiled* t, const kg_tileset* ts, con
         KG_TRY(kg_check_tile_shape(reader, &object_path, out));
     }
     int one_way = 0;
-    KG_TRY(kg_check_properties(reader, tile, path));
+    KG_TRY(kg_tiled_check_properties(reader, tile, path));
     KG_TRY(kg_bool_property(reader, tile, path, "one_way", &one_way));
     if (one_way && out->type != KG_TILE_SHAPE_POLYGON) {
         kg_json_path p = kg_property_path(path, "one_way");
@@ -608,48 +609,72 @@ static kg_result kg_read_tilesets(kg_tiled* t, const cJSON* root)
 
 /* ---- tile layers ---- */
 
-static int kg_base64_digit(char c)
+/* Refuses a compression the loader cannot read, or one without base64. */
+static kg_result kg_check_compression(const kg_json_reader* reader, const kg_json_path* path, const char* encoding,
+                                      const char* compression)
 {
-    if (c >= 'A' && c <= 'Z') {
-        return c - 'A';
+    kg_json_path p = kg_json_path_key(path, "compression");
+    if (compression[0] == '\0') {
+        return KG_OK;
     }
-    if (c >= 'a' && c <= 'z') {
-        return c - 'a' + 26;
+    if (strcmp(compression, "zstd") == 0) {
+        return kg_json_fail(reader, &p, "zstd-compressed layer data is not supported: in Tiled, set Map > Map "
+                                        "Properties > Tile Layer Format to CSV, or to Base64 uncompressed, zlib or "
+                                        "gzip compressed");
     }
-    if (c >= '0' && c <= '9') {
-        return c - '0' + 52;
+    if (strcmp(compression, "zlib") != 0 && strcmp(compression, "gzip") != 0) {
+        return kg_json_fail(reader, &p, "must be \"zlib\", \"gzip\" or \"\" (got \"%s\")", compression);
     }
-    return c == '+' ? 62 : (c == '/' ? 63 : -1);
+    if (strcmp(encoding, "base64") != 0) {
+        return kg_json_fail(reader, &p, "%s-compressed data must be base64-encoded (the encoding is \"%s\")",
+                            compression, encoding);
+    }
+    return KG_OK;
 }
 
-/* Decodes standard base64 into exactly size bytes; 0 if malformed or of another size. */
-static int kg_base64_decode(const char* text, unsigned char* out, size_t size)
+/* A base64 layer (compressed or not) into its gids, row by row from the top. */
+static kg_result kg_read_base64_gids(const kg_tiled* t, const cJSON* data, const kg_json_path* data_path,
+                                     const char* compression, uint32_t* gids)
 {
-    size_t length = strlen(text), written = 0;
-    while (length > 0 && text[length - 1] == '=') {
-        length--;
+    size_t count = (size_t)t->width * (size_t)t->height;
+    unsigned char* bytes = (unsigned char*)gids;
+    const char* what = cJSON_IsString(data) ? kg_tiled_decode(data->valuestring, compression, bytes, 4 * count)
+                                            : "is not a string";
+    if (what && compression[0] == '\0') {
+        return kg_json_fail(&t->reader, data_path, "must be base64 of %zu bytes (4 per cell)", 4 * count);
     }
-    uint32_t bits = 0;
-    int held = 0;
-    for (size_t i = 0; i < length; ++i) {
-        int digit = kg_base64_digit(text[i]);
-        if (digit < 0) {
-            return 0;
-        }
-        bits = (bits << 6) | (uint32_t)digit;
-        held += 6;
-        if (held >= 8) {
-            held -= 8;
-            if (written == size) {
-                return 0;
-            }
-            out[written++] = (unsigned char)(bits >> held);
-        }
+    if (what) {
+        return kg_json_fail(&t->reader, data_path, "the %s data %s; the layer needs %zu bytes (%d x %d tiles, 4 per "
+                                                   "cell)", compression, what, 4 * count, t->width, t->height);
     }
-    return written == size;
+    for (size_t i = 0; i < count; ++i) { /* little-endian, whatever the machine */
+        const unsigned char* b = bytes + 4 * i;
+        gids[i] = (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+    }
+    return KG_OK;
 }
 
-/* The layer's raw gids, row by row from the top, as Tiled stores them. */
+/* A CSV layer (in Tiled's JSON, an array of gids) into its gids, row by row from the top. */
+static kg_result kg_read_csv_gids(const kg_tiled* t, const cJSON* data, const kg_json_path* data_path, uint32_t* gids)
+{
+    size_t count = (size_t)t->width * (size_t)t->height;
+    if (!cJSON_IsArray(data) || (size_t)cJSON_GetArraySize(data) != count) {
+        return kg_json_fail(&t->reader, data_path, "must be an array of %zu tile ids (width x height)", count);
+    }
+    size_t i = 0;
+    for (const cJSON* item = data->child; item; item = item->next, ++i) {
+        double v = cJSON_IsNumber(item) ? item->valuedouble : -1.0;
+        if (!(v >= 0.0 && v <= 4294967295.0) || v != floor(v)) {
+            kg_json_path p = kg_json_path_index(data_path, (int)i);
+            return kg_json_fail(&t->reader, &p, "must be a tile id (an integer in [0, 4294967295])");
+        }
+        gids[i] = (uint32_t)v;
+    }
+    return KG_OK;
+}
+
+/* The layer's raw gids, row by row from the top, as Tiled stores them: CSV (a JSON array)
+ * or base64, uncompressed or zlib or gzip compressed. */
 static kg_result kg_read_layer_gids(const kg_tiled* t, const cJSON* layer, const kg_json_path* path, uint32_t* gids)
 {
     const kg_json_reader* reader = &t->reader;
@@ -657,43 +682,16 @@ static kg_result kg_read_layer_gids(const kg_tiled* t, const cJSON* layer, const
     const char* compression = "";
     KG_TRY(kg_json_string(reader, layer, path, "encoding", &encoding));
     KG_TRY(kg_json_string(reader, layer, path, "compression", &compression));
-    if (compression[0] != '\0') {
-        kg_json_path p = kg_json_path_key(path, "compression");
-        return kg_json_fail(reader, &p, "%s-compressed layer data is not supported: in Tiled, set Map > Map "
-                                        "Properties > Tile Layer Format to CSV or Base64 (uncompressed)", compression);
-    }
-    KG_TRY(kg_json_require(reader, layer, path, "data"));
-    const cJSON* data = cJSON_GetObjectItemCaseSensitive(layer, "data");
-    kg_json_path data_path = kg_json_path_key(path, "data");
-    size_t count = (size_t)t->width * (size_t)t->height;
-    if (strcmp(encoding, "base64") == 0) {
-        unsigned char* bytes = (unsigned char*)gids;
-        if (!cJSON_IsString(data) || !kg_base64_decode(data->valuestring, bytes, 4 * count)) {
-            return kg_json_fail(reader, &data_path, "must be base64 of %zu bytes (4 per cell)", 4 * count);
-        }
-        for (size_t i = 0; i < count; ++i) { /* little-endian, whatever the machine */
-            const unsigned char* b = bytes + 4 * i;
-            gids[i] = (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
-        }
-        return KG_OK;
-    }
-    if (strcmp(encoding, "csv") != 0) {
+    if (strcmp(encoding, "csv") != 0 && strcmp(encoding, "base64") != 0) {
         kg_json_path p = kg_json_path_key(path, "encoding");
         return kg_json_fail(reader, &p, "must be \"csv\" or \"base64\" (got \"%s\")", encoding);
     }
-    if (!cJSON_IsArray(data) || (size_t)cJSON_GetArraySize(data) != count) {
-        return kg_json_fail(reader, &data_path, "must be an array of %zu tile ids (width x height)", count);
-    }
-    size_t i = 0;
-    for (const cJSON* item = data->child; item; item = item->next, ++i) {
-        double v = cJSON_IsNumber(item) ? item->valuedouble : -1.0;
-        if (!(v >= 0.0 && v <= 4294967295.0) || v != floor(v)) {
-            kg_json_path p = kg_json_path_index(&data_path, (int)i);
-            return kg_json_fail(reader, &p, "must be a tile id (an integer in [0, 4294967295])");
-        }
-        gids[i] = (uint32_t)v;
-    }
-    return KG_OK;
+    KG_TRY(kg_check_compression(reader, path, encoding, compression));
+    KG_TRY(kg_json_require(reader, layer, path, "data"));
+    const cJSON* data = cJSON_GetObjectItemCaseSensitive(layer, "data");
+    kg_json_path data_path = kg_json_path_key(path, "data");
+    return strcmp(encoding, "base64") == 0 ? kg_read_base64_gids(t, data, &data_path, compression, gids)
+                                           : kg_read_csv_gids(t, data, &data_path, gids);
 }
 
 /* Applies Tiled's flips to a point of the tile (fractions, y down): the diagonal flip
@@ -888,7 +886,7 @@ static kg_result kg_read_body_type(const kg_json_reader* reader, const cJSON* ow
 static kg_result kg_read_body_properties(const kg_json_reader* reader, const cJSON* owner, const kg_json_path* path,
                                          kg_body_def* def)
 {
-    KG_TRY(kg_check_properties(reader, owner, path));
+    KG_TRY(kg_tiled_check_properties(reader, owner, path));
     if (kg_property(owner, "density") && kg_property(owner, "mass")) {
         kg_json_path p = kg_property_path(path, "mass");
         return kg_json_fail(reader, &p, "give density or mass, not both");
@@ -930,13 +928,26 @@ static kg_shape_def kg_ellipse_capsule(float width, float height)
 
 /* An object's frame in the layer's pixels (the layer's offset applied), and the angle of
  * its body, from the object's rotation. */
-static kg_result kg_read_body_frame(const kg_tiled* t, const cJSON* object, const kg_json_path* path,
-                                    kg_object_frame* frame, kg_body_def* def)
+static kg_result kg_read_layer_frame(const kg_tiled* t, const cJSON* object, const kg_json_path* path,
+                                     kg_object_frame* frame)
 {
     KG_TRY(kg_read_object_frame(&t->reader, object, path, frame));
     frame->x += t->object_offset.x;
     frame->y += t->object_offset.y;
-    def->angle = (float)(-frame->rotation * 3.14159265358979323846 / 180.0);
+    return KG_OK;
+}
+
+/* Tiled's rotation (degrees clockwise on screen) as kgyro's angle (radians, counter-clockwise). */
+static float kg_world_angle(const kg_object_frame* frame)
+{
+    return (float)(-frame->rotation * 3.14159265358979323846 / 180.0);
+}
+
+static kg_result kg_read_body_frame(const kg_tiled* t, const cJSON* object, const kg_json_path* path,
+                                    kg_object_frame* frame, kg_body_def* def)
+{
+    KG_TRY(kg_read_layer_frame(t, object, path, frame));
+    def->angle = kg_world_angle(frame);
     return KG_OK;
 }
 
@@ -1029,7 +1040,11 @@ static kg_result kg_add_object_body(kg_tiled* t, const cJSON* object, const kg_j
         snprintf(reason, sizeof reason, "%s", kg_last_error());
         return kg_json_fail(reader, path, "%s", reason);
     }
-    return KG_OK;
+    int index = kg_scene_body_count(t->scene) - 1;
+    const char* class_name = "";
+    KG_TRY(kg_tiled_object_class(reader, object, path, &class_name));
+    KG_TRY(kg_scene_set_body_origin(t->scene, index, class_name, t->layer_index));
+    return kg_tiled_keep_properties(t->scene, reader, object, path, KG_SCENE_BODY, index);
 }
 
 /* ---- chains: polylines, and polygons on static layers ---- */
@@ -1179,14 +1194,67 @@ static kg_result kg_check_shape_properties(const kg_json_reader* reader, const c
     return KG_OK;
 }
 
+/* The marker shape of each kg_object_kind (a text object makes no marker). */
+static const kg_scene_marker_shape kMarkerShapes[] = {KG_MARKER_RECTANGLE, KG_MARKER_ELLIPSE, KG_MARKER_POLYGON,
+                                                      KG_MARKER_POINT, KG_MARKER_POLYLINE, KG_MARKER_POINT,
+                                                      KG_MARKER_TILE};
+
+/* Where a marker is: a point at its point; a rectangle, ellipse or tile object at its
+ * centre (a tile object's origin is its bottom-left corner, the others' the top-left);
+ * a polygon or polyline at its origin. Size in metres, 0 when it has none. */
+static kg_result kg_read_marker_place(const kg_tiled* t, const cJSON* object, const kg_json_path* path,
+                                      kg_object_kind kind, kg_scene_marker* m)
+{
+    const kg_json_reader* reader = &t->reader;
+    kg_object_frame frame;
+    float width = 0.0f, height = 0.0f;
+    KG_TRY(kg_read_layer_frame(t, object, path, &frame));
+    int sized = kind == KG_OBJECT_RECTANGLE || kind == KG_OBJECT_ELLIPSE || kind == KG_OBJECT_TILE;
+    if (sized) {
+        KG_TRY(kg_json_float(reader, object, path, "width", KG_JSON_NON_NEGATIVE, &width));
+        KG_TRY(kg_json_float(reader, object, path, "height", KG_JSON_NON_NEGATIVE, &height));
+    }
+    double down = kind == KG_OBJECT_TILE ? -0.5 * height : 0.5 * height;
+    kg_vec2 anchor = kg_object_point(&frame, 0.5 * width, down);
+    m->position = kg_world_point(t, anchor);
+    m->size = (kg_vec2){width / t->pixels_per_meter, height / t->pixels_per_meter};
+    m->angle = kg_world_angle(&frame);
+    return KG_OK;
+}
+
+/* An object that is not a body (a point, or any object where "physics" is false): a
+ * marker, with its properties. */
+static kg_result kg_add_object_marker(kg_tiled* t, const cJSON* object, const kg_json_path* path, kg_object_kind kind)
+{
+    const kg_json_reader* reader = &t->reader;
+    kg_scene_marker m;
+    memset(&m, 0, sizeof m);
+    m.name = "";
+    m.shape = kMarkerShapes[kind];
+    m.layer = t->layer_index;
+    KG_TRY(kg_json_string(reader, object, path, "name", &m.name));
+    KG_TRY(kg_tiled_object_class(reader, object, path, &m.class_name));
+    KG_TRY(kg_json_int(reader, object, path, "id", 0, INT_MAX, &m.id));
+    KG_TRY(kg_read_marker_place(t, object, path, kind, &m));
+    int index = 0;
+    KG_TRY(kg_scene_add_marker(t->scene, &m, &index));
+    return kg_tiled_keep_properties(t->scene, reader, object, path, KG_SCENE_MARKER, index);
+}
+
 static kg_result kg_read_object_body(kg_tiled* t, const cJSON* object, const kg_json_path* path,
                                      const kg_body_def* layer_def)
 {
     const kg_json_reader* reader = &t->reader;
     kg_object_kind kind = KG_OBJECT_RECTANGLE;
+    int physics = t->layer_physics;
     KG_TRY(kg_object_kind_of(reader, object, path, &kind));
-    if (kind == KG_OBJECT_POINT || kind == KG_OBJECT_TEXT) {
-        return KG_OK; /* markers and labels: no body */
+    if (kind == KG_OBJECT_TEXT) {
+        return kg_tiled_note(t->scene, reader, path, "a text object is ignored");
+    }
+    KG_TRY(kg_tiled_check_properties(reader, object, path));
+    KG_TRY(kg_bool_property(reader, object, path, "physics", &physics));
+    if (kind == KG_OBJECT_POINT || !physics) {
+        return kg_add_object_marker(t, object, path, kind);
     }
     kg_body_def def = *layer_def;
     KG_TRY(kg_read_body_properties(reader, object, path, &def));
@@ -1200,11 +1268,14 @@ static kg_result kg_read_object_body(kg_tiled* t, const cJSON* object, const kg_
     return kg_add_object_body(t, object, path, &def);
 }
 
+/* An object layer: bodies, or markers where its property "physics" is false. */
 static kg_result kg_read_object_layer(kg_tiled* t, const cJSON* layer, const kg_json_path* path)
 {
     const kg_json_reader* reader = &t->reader;
     kg_body_def layer_def = kg_default_body_def();
-    KG_TRY(kg_read_body_properties(reader, layer, path, &layer_def));
+    if (t->layer_physics) {
+        KG_TRY(kg_read_body_properties(reader, layer, path, &layer_def));
+    }
     t->object_offset = (kg_vec2){0.0f, 0.0f};
     KG_TRY(kg_json_float(reader, layer, path, "offsetx", KG_JSON_ANY, &t->object_offset.x));
     KG_TRY(kg_json_float(reader, layer, path, "offsety", KG_JSON_ANY, &t->object_offset.y));
@@ -1223,7 +1294,7 @@ static kg_result kg_read_object_layer(kg_tiled* t, const cJSON* layer, const kg_
 
 static kg_result kg_read_layers(kg_tiled* t, const cJSON* owner, const kg_json_path* path, int depth);
 
-static kg_result kg_read_group(kg_tiled* t, const cJSON* group, const kg_json_path* path, int depth)
+static kg_result kg_read_group(kg_tiled* t, const cJSON* group, const kg_json_path* path, int depth, int index)
 {
     float offset_x = 0.0f, offset_y = 0.0f;
     KG_TRY(kg_json_float(&t->reader, group, path, "offsetx", KG_JSON_ANY, &offset_x));
@@ -1232,7 +1303,29 @@ static kg_result kg_read_group(kg_tiled* t, const cJSON* group, const kg_json_pa
         return kg_json_fail(&t->reader, path, "group layer offsets are not supported (the group is offset by %g, "
                                               "%g pixels)", (double)offset_x, (double)offset_y);
     }
-    return kg_read_layers(t, group, path, depth + 1);
+    int outer = t->group;
+    t->group = index;
+    kg_result r = kg_read_layers(t, group, path, depth + 1);
+    t->group = outer;
+    return r;
+}
+
+/* Records the layer (kind: its index in types) in the scene, with its properties;
+ * *index gets its scene index. An object layer's "physics" says whether its objects are
+ * bodies. */
+static kg_result kg_add_scene_layer(kg_tiled* t, const cJSON* layer, const kg_json_path* path, int kind,
+                                    const char* type, int* index)
+{
+    const kg_json_reader* reader = &t->reader;
+    kg_scene_layer record = {"", type, t->map_index, t->group, kind == 0 ? t->layer_count : -1, 0};
+    KG_TRY(kg_json_string(reader, layer, path, "name", &record.name));
+    KG_TRY(kg_tiled_check_properties(reader, layer, path));
+    t->layer_physics = 1;
+    KG_TRY(kg_bool_property(reader, layer, path, "physics", &t->layer_physics));
+    record.markers = kind == 1 && !t->layer_physics;
+    KG_TRY(kg_scene_add_layer(t->scene, &record, index));
+    t->layer_index = *index;
+    return kg_tiled_keep_properties(t->scene, reader, layer, path, KG_SCENE_LAYER, *index);
 }
 
 static kg_result kg_read_layer(kg_tiled* t, const cJSON* layer, const kg_json_path* path, int depth)
@@ -1244,20 +1337,22 @@ static kg_result kg_read_layer(kg_tiled* t, const cJSON* layer, const kg_json_pa
     const char* type = NULL;
     KG_TRY(kg_json_require(&t->reader, layer, path, "type"));
     KG_TRY(kg_json_string(&t->reader, layer, path, "type", &type));
-    int kind = 0;
+    int kind = 0, index = 0;
     while (types[kind] && strcmp(types[kind], type) != 0) {
         kind++;
     }
+    if (!types[kind]) {
+        kg_json_path p = kg_json_path_key(path, "type");
+        return kg_json_fail(&t->reader, &p, "must be \"tilelayer\", \"objectgroup\", \"group\" or \"imagelayer\" "
+                                            "(got \"%s\")", type);
+    }
+    KG_TRY(kg_add_scene_layer(t, layer, path, kind, type, &index));
     switch (kind) {
     case 0: return kg_read_tile_layer(t, layer, path);
     case 1: return kg_read_object_layer(t, layer, path);
-    case 2: return kg_read_group(t, layer, path, depth);
-    case 3: return KG_OK; /* pictures only */
-    default: break;
+    case 2: return kg_read_group(t, layer, path, depth, index);
+    default: return kg_tiled_note(t->scene, &t->reader, path, "an image layer is ignored (pictures only)");
     }
-    kg_json_path p = kg_json_path_key(path, "type");
-    return kg_json_fail(&t->reader, &p, "must be \"tilelayer\", \"objectgroup\", \"group\" or \"imagelayer\" "
-                                        "(got \"%s\")", type);
 }
 
 /* The layers of the map or of a group, in order (groups flattened). */
@@ -1329,10 +1424,17 @@ kg_result kg_tiled_read(kg_scene* scene, const cJSON* root, const char* path)
     memset(&t, 0, sizeof t);
     t.scene = scene;
     t.reader.source = path;
+    t.group = -1;
     kg_json_path root_path = {""};
     kg_result r = cJSON_IsObject(root) ? KG_OK : kg_json_fail(&t.reader, &root_path, "must be an object");
     if (r == KG_OK) {
         r = kg_read_map_header(&t, root);
+    }
+    if (r == KG_OK) {
+        r = kg_scene_add_map(scene, &t.map_index);
+    }
+    if (r == KG_OK) {
+        r = kg_tiled_keep_properties(scene, &t.reader, root, &root_path, KG_SCENE_MAP, t.map_index);
     }
     if (r == KG_OK) {
         r = kg_read_tilesets(&t, root);

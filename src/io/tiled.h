@@ -11,7 +11,8 @@
 int kg_tiled_is_map(const cJSON* root);
 
 /* Adds the map in root (read from path, which names it in messages and is where external
- * tilesets are looked for) to scene: one tile map and the bodies of its object layers. */
+ * tilesets are looked for) to scene: one tile map, the bodies and markers of its object
+ * layers, its layers and the custom properties of the map, layers and objects. */
 kg_result kg_tiled_read(kg_scene* scene, const cJSON* root, const char* path);
 
 /* Reads the Tiled map file at path into scene, as kg_tiled_read. It and its tilesets
