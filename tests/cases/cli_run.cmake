@@ -44,6 +44,12 @@ if(CMAKE_SCRIPT_MODE_FILE)
     if(named EQUAL -1)
       message(FATAL_ERROR "the summary does not say where the output went:\n${out}")
     endif()
+    if(DEFINED STDERR_HAS)
+      string(FIND "${err}" "${STDERR_HAS}" said)
+      if(said EQUAL -1)
+        message(FATAL_ERROR "stderr does not say '${STDERR_HAS}':\n${err}")
+      endif()
+    endif()
   elseif(MODE STREQUAL "help")
     if(NOT code EQUAL 0)
       message(FATAL_ERROR "exit code ${code}")
@@ -148,6 +154,12 @@ kg_cli_run_test(deterministic same "run|rain_50|--steps|30|--backend|cpu|--csv|$
 kg_cli_run_test(threads_same_csv same
                 "run|rain_1000|--steps|240|--every|1|--backend|cpu|--threads|1|--csv|${kg_cli_out}/rain_1000.csv"
                 "CSV=${kg_cli_out}/rain_1000.csv" "AGAIN=--threads|4")
+
+# issue 18: what the loader ignored of a Tiled level (an image layer, text objects) is
+# said on stderr, and the level runs
+kg_cli_run_test(tiled_notes csv "run|../tiled/everything.tmj|--steps|1|--csv|${kg_cli_out}/everything.csv"
+                "CSV=${kg_cli_out}/everything.csv" "HEADER=step,id,name,x,y,angle,vx,vy,omega" ROWS_AT_LEAST=2
+                "STDERR_HAS=kgyro: note: ../tiled/everything.tmj: layers[3]: an image layer is ignored (pictures only)")
 
 # issue 18: an 80-byte scene asking a generator for a million bodies is refused under
 # --max-bodies before they are allocated, naming the field

@@ -1,5 +1,6 @@
 #include "sim.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -16,7 +17,11 @@ kg_result kg_open_scene(const char* name, uint32_t seed, int max_bodies, kg_scen
     kg_scene_limits limits = kg_default_scene_limits();
     limits.max_bodies = max_bodies >= 0 ? max_bodies : limits.max_bodies;
     if (access(name, F_OK) == 0 || strchr(name, '/') || kg_ends_with(name, ".json") || kg_ends_with(name, ".tmj")) {
-        return kg_scene_load_file_limited(name, &limits, out);
+        kg_result r = kg_scene_load_file_limited(name, &limits, out);
+        for (int i = 0; r == KG_OK && i < kg_scene_note_count(*out); ++i) {
+            fprintf(stderr, "kgyro: note: %s\n", kg_scene_get_note(*out, i));
+        }
+        return r;
     }
     return kg_scene_generate_limited(name, seed, &limits, out);
 }

@@ -17,8 +17,9 @@ typedef struct kg_sim {
 int kg_ends_with(const char* text, const char* suffix);
 
 /* Opens name as the tools take a scene: a path to a scene file or a Tiled map (.tmj),
- * read under max_bodies (-1: no limit; kg_scene_limits), else a generator name
- * (kg_scene_generate_limited with seed, under the same max_bodies). */
+ * read under max_bodies (-1: no limit; kg_scene_limits), its notes (what the loader
+ * ignored, kg_scene_get_note) on stderr, else a generator name (kg_scene_generate_limited
+ * with seed, under the same max_bodies). */
 kg_result kg_open_scene(const char* name, uint32_t seed, int max_bodies, kg_scene** out);
 
 /* Builds the world for scene on backend, with room for extra_bodies more bodies. The
