@@ -117,15 +117,22 @@ KG_FN void kg_kinematic_stirs(int k, KG_GLOBAL const kg_contact* contacts, KG_GL
  * body's parent becomes its island's root (the lowest slot), and least[root] the
  * shortest rest time of the island's bodies; a moving kinematic body keeps what it
  * touches awake without joining islands. */
-KG_FN void kg_link_islands(int bodies, int count, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
-                           KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
-                           KG_GLOBAL const float* sleep_time, KG_GLOBAL kg_u32* parent, KG_GLOBAL float* least)
+KG_FN void kg_link_joined_islands(int bodies, int count, KG_GLOBAL const kg_contact* contacts, int joints,
+                                  KG_GLOBAL const kg_u32* joined, KG_GLOBAL const kg_u32* flags,
+                                  KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
+                                  KG_GLOBAL const float* sleep_time, KG_GLOBAL kg_u32* parent, KG_GLOBAL float* least)
 {
     for (int i = 0; i < bodies; ++i) {
         kg_island_reset((kg_u32)i, parent, least);
     }
     for (int k = 0; k < count; ++k) {
         kg_u32 a = contacts[k].a, b = contacts[k].b;
+        if (kg_islander(flags, a) && kg_islander(flags, b)) {
+            kg_island_link(parent, a, b);
+        }
+    }
+    for (int k = 0; k < joints; ++k) { /* a joint links its two bodies as a contact does */
+        kg_u32 a = joined[2 * k], b = joined[2 * k + 1];
         if (kg_islander(flags, a) && kg_islander(flags, b)) {
             kg_island_link(parent, a, b);
         }
@@ -140,6 +147,23 @@ KG_FN void kg_link_islands(int bodies, int count, KG_GLOBAL const kg_contact* co
     for (int k = 0; k < count; ++k) {
         kg_kinematic_stirs(k, contacts, flags, velocity, omega, parent, least);
     }
+    for (int k = 0; k < joints; ++k) { /* a moving kinematic body keeps what it drives awake */
+        kg_u32 a = joined[2 * k], b = joined[2 * k + 1];
+        if (kg_stirring_kinematic(flags, velocity, omega, a) && kg_islander(flags, b)) {
+            least[parent[b]] = 0.0f;
+        } else if (kg_stirring_kinematic(flags, velocity, omega, b) && kg_islander(flags, a)) {
+            least[parent[a]] = 0.0f;
+        }
+    }
+}
+
+/* The islands of the contacts alone (kg_link_joined_islands without joints). */
+KG_FN void kg_link_islands(int bodies, int count, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                           KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
+                           KG_GLOBAL const float* sleep_time, KG_GLOBAL kg_u32* parent, KG_GLOBAL float* least)
+{
+    kg_link_joined_islands(bodies, count, contacts, 0, (KG_GLOBAL const kg_u32*)0,
+                           flags, velocity, omega, sleep_time, parent, least);
 }
 
 /* The root above slot i, read only (on the device hooks may be moving it meanwhile:

@@ -1,0 +1,41 @@
+/* The world's joints (include/kgyro/joint.h): a pool of solver rows (solve/joint_row.h)
+ * beside the host's bookkeeping, generational handles carrying the world's tag, and what
+ * the other stages ask of it: the solver's passes, the pairs of bodies that must not
+ * collide, the links of the islands, and the joints a destroyed body took with it. */
+#ifndef KG_JOINT_INTERNAL_H
+#define KG_JOINT_INTERNAL_H
+
+#include "core/world.h"
+#include "kgyro/joint.h"
+#include "solve/contact_solver.h"
+
+struct kg_joints;
+struct kg_pair;
+
+void kg_joints_destroy(kg_world* world);
+/* How many live joints (0 without a pool). */
+int kg_joints_live(const kg_world* world);
+
+/* The solve stage's share: rows prepared once a step (after the bodies are loaded), then
+ * one pass over every joint, serially in slot order (warm start, solve, relax). */
+void kg_joints_prepare(kg_world* world, const kg_solver_body* bodies, kg_solver_params prm);
+void kg_joints_pass(kg_world* world, kg_solver_body* bodies, kg_solver_params prm, int pass);
+
+/* Drops from pairs (count of them, sorted by (a, b), a < b) the pairs of bodies joined
+ * by a joint that does not collide_connected; returns how many are left. A merge with
+ * the sorted list of such pairs: one pass over the pairs while such a joint exists,
+ * nothing otherwise. */
+int kg_joints_filter_pairs(kg_world* world, struct kg_pair* pairs, int count);
+
+/* The islands' links: body slot pairs (2 a link) of the joints between two bodies, and
+ * their number in *count. */
+const kg_u32* kg_joints_links(kg_world* world, int* count);
+
+/* Body slot `slot` (handle body) is being destroyed: its joints go with it, each listed
+ * for kg_world_get_joint_events, the other bodies woken. */
+void kg_joints_body_destroyed(kg_world* world, kg_u32 slot, kg_body body);
+
+/* A step begins: the joints destroyed since the last one become its events. */
+void kg_joints_begin_step(kg_world* world);
+
+#endif

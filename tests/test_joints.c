@@ -1,0 +1,681 @@
+/* Joints (include/kgyro/joint.h, docs/joints.md): the acceptance of issue 17 that the
+ * first kinds can meet, with the numbers asserted and printed. */
+#include "kg_test.h"
+#include "kg_test_world.h"
+
+#define DT (1.0f / 60.0f)
+#define PI_F 3.14159265359f
+#define PI_D 3.14159265358979323846
+
+static kg_world* joint_world(int threads, int sleep)
+{
+    kg_world_def def = kg_default_world_def();
+    def.backend = KG_BACKEND_CPU;
+    def.threads = threads;
+    def.enable_sleep = sleep;
+    kg_world* w = NULL;
+    KG_CHECK_OK(kg_create_world(&def, &w));
+    return w;
+}
+
+static kg_body add_body(kg_world* w, kg_vec2 at, kg_shape_def shape, float density)
+{
+    kg_body_def def = kg_default_body_def();
+    def.position = at;
+    def.shape = shape;
+    def.density = density;
+    kg_body b = KG_NULL_BODY_INIT;
+    KG_CHECK_OK(kg_create_body(w, &def, &b));
+    return b;
+}
+
+static kg_vec2 position_of(kg_world* w, kg_body b)
+{
+    kg_vec2 p = {0.0f, 0.0f};
+    KG_CHECK_OK(kg_body_get_position(w, b, &p));
+    return p;
+}
+
+static kg_body null_body(void)
+{
+    kg_body none = KG_NULL_BODY_INIT;
+    return none;
+}
+
+/* A revolute joint between a (null: the world) and b at a world point. */
+static kg_joint hinge(kg_world* w, kg_body a, kg_body b, kg_vec2 at, const kg_revolute_joint_def* base)
+{
+    kg_revolute_joint_def def = base ? *base : kg_default_revolute_joint_def();
+    def.base.body_a = a;
+    def.base.body_b = b;
+    KG_CHECK_OK(kg_joint_local_point(w, a, at, &def.local_anchor_a));
+    KG_CHECK_OK(kg_joint_local_point(w, b, at, &def.local_anchor_b));
+    kg_joint j = KG_NULL_JOINT_INIT;
+    KG_CHECK_OK(kg_create_revolute_joint(w, &def, &j));
+    return j;
+}
+
+/* Time of the upward crossings of zero by a sampled signal (linear interpolation). */
+typedef struct crossings {
+    double first, last;
+    int count;
+    double previous;
+} crossings;
+
+static void crossing_sample(crossings* c, double t, double value)
+{
+    if (c->previous < 0.0 && value >= 0.0) {
+        double at = t - DT * value / (value - c->previous);
+        if (c->count == 0) {
+            c->first = at;
+        }
+        c->last = at;
+        c->count += 1;
+    }
+    c->previous = value;
+}
+
+static double crossing_period(const crossings* c) { return c->count > 1 ? (c->last - c->first) / (c->count - 1) : 0.0; }
+
+/* A disc of radius 0.1 on a massless rod of 2 m (a revolute joint at the pivot, the disc's
+ * own hinge point 2 m from its centre), released at 0.1 rad: the physical pendulum's
+ * period T = 2 pi sqrt(I_pivot / (m g L)) (1 + theta^2 / 16) within 0.5% over 10 s, the
+ * length within 1 mm, the swing energy within 1%. */
+static void test_revolute_pendulum_period_length_energy(void)
+{
+    kg_world* w = joint_world(1, 0);
+    const float length = 2.0f, theta0 = 0.1f, g = 10.0f;
+    kg_vec2 pivot = {0.0f, 10.0f};
+    kg_vec2 start = {pivot.x + length * sinf(theta0), pivot.y - length * cosf(theta0)};
+    kg_body bob = add_body(w, start, kg_circle_shape(0.1f), 1.0f);
+    hinge(w, null_body(), bob, pivot, NULL);
+    kg_mass_data md;
+    KG_CHECK_OK(kg_body_get_mass_data(w, bob, &md));
+    double i_pivot = (double)md.inertia + (double)md.mass * length * length;
+    double expected = 2.0 * PI_D * sqrt(i_pivot / ((double)md.mass * g * length)) * (1.0 + theta0 * theta0 / 16.0);
+    crossings c = {0.0, 0.0, 0, -1.0};
+    c.previous = start.x - pivot.x; /* positive: the first crossing is the return */
+    double worst_length = 0.0, e0 = -1.0, e_first = 0.0, e_last = 0.0;
+    int first_n = 0, last_n = 0;
+    int steps = (int)(10.0f / DT);
+    for (int s = 1; s <= steps; ++s) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+        kg_body_state st;
+        KG_CHECK_OK(kg_body_get_state(w, bob, &st));
+        double dx = st.position.x - pivot.x, dy = st.position.y - pivot.y;
+        worst_length = fmax(worst_length, fabs(sqrt(dx * dx + dy * dy) - length));
+        crossing_sample(&c, s * DT, -dx); /* x falls through zero: a full period between each */
+        double v2 = (double)st.velocity.x * st.velocity.x + (double)st.velocity.y * st.velocity.y;
+        double e = 0.5 * md.mass * v2 + 0.5 * md.inertia * (double)st.angular_velocity * st.angular_velocity +
+                   md.mass * g * (dy + length); /* the swing's energy, 0 at rest at the bottom */
+        if (e0 < 0.0) {
+            e0 = md.mass * g * length * (1.0 - cos(theta0));
+        }
+        if (s <= (int)(expected / DT)) { /* the first period's mean and the last one's */
+            e_first += e;
+            first_n++;
+        }
+        if (s > steps - (int)(expected / DT)) {
+            e_last += e;
+            last_n++;
+        }
+    }
+    double period = crossing_period(&c);
+    e_first /= first_n;
+    e_last /= last_n;
+    measured("measured: pendulum period %.5f s against %.5f (%.3f%%) over %d periods, length off by %.3g mm at "
+             "worst, swing energy %.6g J at release, mean over the first period %.6g, over the last %.6g (%.3f%% "
+             "lost)\n",
+             period, expected, 100.0 * (period - expected) / expected, c.count - 1, 1000.0 * worst_length, e0,
+             e_first, e_last, 100.0 * (e_first - e_last) / e_first);
+    KG_CHECK(c.count >= 3);
+    KG_CHECK_NEAR(period, expected, 0.005 * expected);
+    KG_CHECK(worst_length < 0.001);
+    KG_CHECK(fabs(e_first - e_last) <= 0.01 * e_first);
+    kg_destroy_world(w);
+}
+
+/* 40 links of 0.5 m hung from the world carry a load of 100 times a link's mass: the
+ * chain stretches less than 1% and comes to rest (falls asleep). */
+static void test_hanging_chain_with_heavy_load(void)
+{
+    kg_world* w = joint_world(1, 1);
+    const int links = 40;
+    const float link = 0.5f;
+    kg_vec2 top = {0.0f, 30.0f};
+    kg_body prev = null_body();
+    kg_body body[41];
+    kg_joint last = KG_NULL_JOINT_INIT;
+    float link_mass = 0.0f;
+    for (int i = 0; i < links; ++i) {
+        kg_vec2 at = {top.x, top.y - (i + 0.5f) * link};
+        body[i] = add_body(w, at, kg_box_shape(0.1f, link), 1.0f);
+        last = hinge(w, prev, body[i], (kg_vec2){top.x, top.y - i * link}, NULL);
+        prev = body[i];
+    }
+    kg_mass_data md;
+    KG_CHECK_OK(kg_body_get_mass_data(w, body[0], &md));
+    link_mass = md.mass;
+    kg_body_def def = kg_default_body_def();
+    def.position = (kg_vec2){top.x, top.y - links * link - 0.25f};
+    def.shape = kg_box_shape(0.5f, 0.5f);
+    def.mass = 100.0f * link_mass;
+    KG_CHECK_OK(kg_create_body(w, &def, &body[links]));
+    kg_joint load = hinge(w, prev, body[links], (kg_vec2){top.x, top.y - links * link}, NULL);
+    (void)last;
+    double worst = 0.0;
+    int asleep_at = -1;
+    for (int s = 1; s <= 600; ++s) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+        kg_vec2 a, b;
+        KG_CHECK_OK(kg_joint_get_world_anchors(w, load, &a, &b));
+        double stretch = (top.y - b.y - links * link) / (links * link);
+        worst = fmax(worst, stretch);
+        if (asleep_at < 0 && kg_world_asleep_count(w) == links + 1) {
+            asleep_at = s;
+        }
+    }
+    kg_vec2 a, b;
+    KG_CHECK_OK(kg_joint_get_world_anchors(w, load, &a, &b));
+    double final_stretch = (top.y - b.y - links * link) / (links * link);
+    kg_vec2 force;
+    float torque;
+    KG_CHECK_OK(kg_joint_get_reaction(w, load, &force, &torque));
+    measured("measured: chain of %d links with a load of 100x: stretch %.4f%% at the end, %.4f%% at worst; asleep "
+             "at %.2f s; the load's joint pulls %.4g N (its weight %.4g N)\n",
+             links, 100.0 * final_stretch, 100.0 * worst, asleep_at * DT, (double)force.y, 1000.0 * link_mass);
+    KG_CHECK(worst < 0.01);
+    KG_CHECK(asleep_at > 0);
+    kg_destroy_world(w);
+}
+
+/* A wheel on a motor (2 rad/s, at most 10 N m) turns against a load of 5 N m at its
+ * target speed within 2%; against 20 N m it stalls, the motor's torque at its maximum
+ * within 2%. */
+static void test_revolute_motor_speed_and_stall(void)
+{
+    kg_world* w = joint_world(1, 0);
+    KG_CHECK_OK(kg_world_set_gravity(w, (kg_vec2){0.0f, 0.0f}));
+    kg_body wheel = add_body(w, (kg_vec2){0.0f, 0.0f}, kg_circle_shape(0.5f), 1.0f);
+    kg_revolute_joint_def def = kg_default_revolute_joint_def();
+    def.enable_motor = 1;
+    def.motor_speed = 2.0f;
+    def.max_motor_torque = 10.0f;
+    kg_joint j = hinge(w, null_body(), wheel, (kg_vec2){0.0f, 0.0f}, &def);
+    float omega = 0.0f, torque = 0.0f;
+    kg_vec2 force;
+    for (int s = 0; s < 120; ++s) {
+        KG_CHECK_OK(kg_body_apply_torque(w, wheel, -5.0f));
+        KG_CHECK_OK(kg_world_step(w, DT));
+    }
+    KG_CHECK_OK(kg_body_get_angular_velocity(w, wheel, &omega));
+    KG_CHECK_OK(kg_joint_get_reaction(w, j, &force, &torque));
+    measured("measured: motor at %.5f rad/s against a target of 2 under 5 N m, its torque %.5f N m\n", (double)omega,
+             (double)torque);
+    KG_CHECK_NEAR(omega, 2.0f, 0.04f);
+    KG_CHECK_NEAR(torque, 5.0f, 0.1f);
+    for (int s = 0; s < 120; ++s) {
+        KG_CHECK_OK(kg_body_apply_torque(w, wheel, -20.0f));
+        KG_CHECK_OK(kg_world_step(w, DT));
+    }
+    KG_CHECK_OK(kg_body_get_angular_velocity(w, wheel, &omega));
+    KG_CHECK_OK(kg_joint_get_reaction(w, j, &force, &torque));
+    measured("measured: stalled under 20 N m: %.4f rad/s, the motor's torque %.5f N m (max 10)\n", (double)omega,
+             (double)torque);
+    KG_CHECK(omega < 0.0f);
+    KG_CHECK_NEAR(torque, 10.0f, 0.2f);
+    kg_destroy_world(w);
+}
+
+/* A door (1 m x 0.1 m) hinged at its left end rests on its lower limit (0) under its
+ * weight and a load of 10 times it at its tip: it goes less than 0.5 degrees past it. */
+static void test_revolute_door_limit_under_load(void)
+{
+    kg_world* w = joint_world(1, 0);
+    kg_body door = add_body(w, (kg_vec2){0.5f, 5.0f}, kg_box_shape(1.0f, 0.1f), 1.0f);
+    kg_revolute_joint_def def = kg_default_revolute_joint_def();
+    def.enable_limit = 1;
+    def.lower_angle = 0.0f;
+    def.upper_angle = 0.5f * PI_F;
+    kg_joint j = hinge(w, null_body(), door, (kg_vec2){0.0f, 5.0f}, &def);
+    kg_mass_data md;
+    KG_CHECK_OK(kg_body_get_mass_data(w, door, &md));
+    float worst = 0.0f, angle = 0.0f;
+    for (int s = 0; s < 300; ++s) {
+        kg_vec2 tip;
+        kg_vec2 local_tip = {0.5f, 0.0f};
+        kg_body_state st;
+        KG_CHECK_OK(kg_body_get_state(w, door, &st));
+        tip.x = st.position.x + cosf(st.angle) * local_tip.x;
+        tip.y = st.position.y + sinf(st.angle) * local_tip.x;
+        KG_CHECK_OK(kg_body_apply_force(w, door, (kg_vec2){0.0f, -10.0f * md.mass * 10.0f}, tip));
+        KG_CHECK_OK(kg_world_step(w, DT));
+        KG_CHECK_OK(kg_revolute_joint_get_angle(w, j, &angle));
+        worst = fminf(worst, angle);
+    }
+    measured("measured: door past its limit by %.4f degrees at the end, %.4f at worst (10x load at its tip)\n",
+             (double)(-angle * 180.0f / PI_F), (double)(-worst * 180.0f / PI_F));
+    KG_CHECK(-worst * 180.0f / PI_F < 0.5f);
+    kg_destroy_world(w);
+}
+
+/* A 1 kg disc on a distance spring of 2 Hz (damping ratio 0.02) to the world, pulled
+ * 0.1 m out, no gravity: it oscillates at 2 Hz (less the damping's share) within 2%. */
+static void test_distance_spring_frequency(void)
+{
+    kg_world* w = joint_world(1, 0);
+    KG_CHECK_OK(kg_world_set_gravity(w, (kg_vec2){0.0f, 0.0f}));
+    kg_body_def bd = kg_default_body_def();
+    bd.position = (kg_vec2){1.1f, 0.0f};
+    bd.shape = kg_circle_shape(0.1f);
+    bd.mass = 1.0f;
+    kg_body ball = KG_NULL_BODY_INIT;
+    KG_CHECK_OK(kg_create_body(w, &bd, &ball));
+    kg_distance_joint_def def = kg_default_distance_joint_def();
+    def.base.body_b = ball;
+    def.local_anchor_a = (kg_vec2){0.0f, 0.0f};
+    def.length = 1.0f;
+    def.enable_spring = 1;
+    def.hertz = 2.0f;
+    def.damping_ratio = 0.02f;
+    kg_joint j = KG_NULL_JOINT_INIT;
+    KG_CHECK_OK(kg_create_distance_joint(w, &def, &j));
+    crossings c = {0.0, 0.0, 0, 1.0};
+    for (int s = 1; s <= 300; ++s) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+        crossing_sample(&c, s * DT, position_of(w, ball).x - 1.0f);
+    }
+    double expected = 1.0 / (2.0 * sqrt(1.0 - 0.02 * 0.02));
+    double period = crossing_period(&c);
+    measured("measured: distance spring period %.5f s against %.5f (%.3f%%) over %d periods\n", period, expected,
+             100.0 * (period - expected) / expected, c.count - 1);
+    KG_CHECK(c.count >= 5);
+    KG_CHECK_NEAR(period, expected, 0.02 * expected);
+    kg_destroy_world(w);
+}
+
+/* A rope of 2 m (a distance joint with a maximum length only) catches a ball dropped
+ * from beside its anchor and swings it: never longer than 2 m by more than 1%. */
+static void test_rope_never_overstretches(void)
+{
+    kg_world* w = joint_world(1, 0);
+    kg_body ball = add_body(w, (kg_vec2){1.0f, 10.0f}, kg_circle_shape(0.1f), 5.0f);
+    kg_distance_joint_def def = kg_default_distance_joint_def();
+    def.base.body_b = ball;
+    def.local_anchor_a = (kg_vec2){0.0f, 10.0f};
+    def.length = 2.0f;
+    def.enable_spring = 1;
+    def.hertz = 0.0f;
+    def.enable_limit = 1;
+    def.min_length = 0.0f;
+    def.max_length = 2.0f;
+    kg_joint j = KG_NULL_JOINT_INIT;
+    KG_CHECK_OK(kg_create_distance_joint(w, &def, &j));
+    double worst = 0.0, shortest = 10.0;
+    for (int s = 0; s < 600; ++s) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+        kg_vec2 p = position_of(w, ball);
+        double len = sqrt((double)p.x * p.x + (double)(p.y - 10.0f) * (p.y - 10.0f));
+        worst = fmax(worst, len);
+        shortest = fmin(shortest, len);
+    }
+    measured("measured: rope of 2 m at most %.5f m long (%.3f%% over), at least %.4f m (slack at the start)\n", worst,
+             100.0 * (worst - 2.0) / 2.0, shortest);
+    KG_CHECK(worst <= 2.0 * 1.01);
+    KG_CHECK(shortest < 1.5);
+    kg_destroy_world(w);
+}
+
+/* Ten planks of 0.5 m x 0.1 m welded end to end, the first welded to the world: a stiff
+ * cantilever. The tip sags (the soft constraint's equilibrium) less than 10% of what a
+ * single soft weld at the root alone would let a rigid beam rotate to ... measured as the
+ * tip's drop against the beam's length: less than 1%. Soft welds bend as their angular
+ * hertz says: one plank on an angular spring of 4 Hz sags m g d / (I (2 pi f)^2) within 10%. */
+static void test_weld_cantilever_and_soft_weld(void)
+{
+    kg_world* w = joint_world(1, 0);
+    const int planks = 10;
+    const float plank = 0.5f;
+    kg_body prev = null_body();
+    kg_body tip = KG_NULL_BODY_INIT;
+    for (int i = 0; i < planks; ++i) {
+        kg_body b = add_body(w, (kg_vec2){(i + 0.5f) * plank, 5.0f}, kg_box_shape(plank, 0.1f), 1.0f);
+        kg_weld_joint_def def = kg_default_weld_joint_def();
+        def.base.body_a = prev;
+        def.base.body_b = b;
+        kg_vec2 at = {i * plank, 5.0f};
+        KG_CHECK_OK(kg_joint_local_point(w, prev, at, &def.local_anchor_a));
+        KG_CHECK_OK(kg_joint_local_point(w, b, at, &def.local_anchor_b));
+        kg_joint j = KG_NULL_JOINT_INIT;
+        KG_CHECK_OK(kg_create_weld_joint(w, &def, &j));
+        prev = b;
+        tip = b;
+    }
+    for (int s = 0; s < 300; ++s) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+    }
+    kg_body_state st;
+    KG_CHECK_OK(kg_body_get_state(w, tip, &st));
+    float drop = 5.0f - (st.position.y + sinf(st.angle) * 0.5f * plank);
+    measured("measured: welded cantilever of %d planks (%.1f m): tip drop %.4f m (%.3f%% of its length), tip angle "
+             "%.4f rad\n",
+             planks, (double)(planks * plank), (double)drop, (double)(100.0f * drop / (planks * plank)),
+             (double)st.angle);
+    KG_CHECK(drop < 0.01f * planks * plank);
+    kg_destroy_world(w);
+
+    /* one soft weld */
+    w = joint_world(1, 0);
+    kg_body b = add_body(w, (kg_vec2){0.5f, 5.0f}, kg_box_shape(1.0f, 0.1f), 1.0f);
+    kg_weld_joint_def def = kg_default_weld_joint_def();
+    def.base.body_b = b;
+    def.local_anchor_a = (kg_vec2){0.0f, 5.0f};
+    def.local_anchor_b = (kg_vec2){-0.5f, 0.0f};
+    def.angular_hertz = 4.0f;
+    def.angular_damping_ratio = 1.0f;
+    kg_joint j = KG_NULL_JOINT_INIT;
+    KG_CHECK_OK(kg_create_weld_joint(w, &def, &j));
+    for (int s = 0; s < 300; ++s) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+    }
+    kg_mass_data md;
+    KG_CHECK_OK(kg_body_get_mass_data(w, b, &md));
+    KG_CHECK_OK(kg_body_get_state(w, b, &st));
+    double k = md.inertia * pow(2.0 * PI_D * 4.0, 2.0);
+    /* the spring's torque k theta holds the weight's about the anchor, m g d cos(theta) */
+    double expected = 0.0;
+    for (int it = 0; it < 50; ++it) {
+        expected = md.mass * 10.0 * 0.5 * cos(expected) / k;
+    }
+    measured("measured: soft weld (4 Hz) sags %.5f rad against %.5f (%.2f%%)\n", (double)-st.angle, expected,
+             100.0 * (-st.angle - expected) / expected);
+    KG_CHECK_NEAR(-st.angle, expected, 0.1 * expected);
+    kg_destroy_world(w);
+}
+
+/* A mouse joint drags a 1 kg box to its target; a weak one (max force 2 N) never pulls
+ * harder than that. */
+static void test_mouse_joint_drags_to_target(void)
+{
+    kg_world* w = joint_world(1, 0);
+    KG_CHECK_OK(kg_world_set_gravity(w, (kg_vec2){0.0f, 0.0f}));
+    kg_body_def bd = kg_default_body_def();
+    bd.shape = kg_box_shape(0.5f, 0.5f);
+    bd.mass = 1.0f;
+    kg_body box = KG_NULL_BODY_INIT;
+    KG_CHECK_OK(kg_create_body(w, &bd, &box));
+    kg_mouse_joint_def def = kg_default_mouse_joint_def();
+    def.base.body_b = box;
+    def.target = (kg_vec2){3.0f, 2.0f};
+    def.max_force = 1000.0f;
+    kg_joint j = KG_NULL_JOINT_INIT;
+    KG_CHECK_OK(kg_create_mouse_joint(w, &def, &j));
+    for (int s = 0; s < 180; ++s) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+    }
+    kg_vec2 p = position_of(w, box);
+    double off = sqrt((double)(p.x - 3.0f) * (p.x - 3.0f) + (double)(p.y - 2.0f) * (p.y - 2.0f));
+    measured("measured: mouse joint: box %.4g m from its target after 3 s\n", off);
+    KG_CHECK(off < 0.01);
+    KG_CHECK_OK(kg_mouse_joint_set_target(w, j, (kg_vec2){-10.0f, 2.0f}));
+    KG_CHECK_OK(kg_mouse_joint_set_max_force(w, j, 2.0f));
+    float most = 0.0f;
+    for (int s = 0; s < 60; ++s) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+        kg_vec2 f;
+        float t;
+        KG_CHECK_OK(kg_joint_get_reaction(w, j, &f, &t));
+        most = fmaxf(most, sqrtf(f.x * f.x + f.y * f.y));
+    }
+    kg_vec2 v;
+    KG_CHECK_OK(kg_body_get_velocity(w, box, &v));
+    measured("measured: weak mouse joint (2 N): its largest force %.5f N, the box at %.4f m/s after 1 s\n",
+             (double)most, (double)sqrtf(v.x * v.x + v.y * v.y));
+    KG_CHECK(most <= 2.0f * 1.0001f);
+    KG_CHECK(sqrtf(v.x * v.x + v.y * v.y) < 2.0f * 1.01f);
+    kg_destroy_world(w);
+}
+
+/* Two overlapping boxes joined by a hinge do not collide; with collide_connected they do. */
+static void test_collide_connected(void)
+{
+    for (int connected = 0; connected < 2; ++connected) {
+        kg_world* w = joint_world(1, 0);
+        KG_CHECK_OK(kg_world_set_gravity(w, (kg_vec2){0.0f, 0.0f}));
+        kg_body a = add_body(w, (kg_vec2){0.0f, 0.0f}, kg_box_shape(1.0f, 0.2f), 1.0f);
+        kg_body b = add_body(w, (kg_vec2){0.8f, 0.0f}, kg_box_shape(1.0f, 0.2f), 1.0f);
+        kg_body c = add_body(w, (kg_vec2){-0.8f, 0.0f}, kg_box_shape(1.0f, 0.2f), 1.0f); /* touches a: not joined */
+        kg_revolute_joint_def def = kg_default_revolute_joint_def();
+        def.base.collide_connected = connected;
+        hinge(w, a, b, (kg_vec2){0.4f, 0.0f}, &def);
+        KG_CHECK_OK(kg_world_step(w, DT));
+        int contacts = kg_world_contact_count(w);
+        measured("measured: collide_connected %d: %d contacts (a-c always, a-b only when connected)\n", connected,
+                 contacts);
+        KG_CHECK(contacts == 1 + connected);
+        (void)c;
+        kg_destroy_world(w);
+    }
+}
+
+/* Bodies joined by a joint sleep as one island and wake as one. */
+static void test_joined_bodies_sleep_and_wake_together(void)
+{
+    kg_world* w = joint_world(1, 1);
+    kg_body ground = KG_NULL_BODY_INIT;
+    {
+        kg_body_def def = kg_default_body_def();
+        def.type = KG_BODY_STATIC;
+        def.shape = kg_box_shape(20.0f, 1.0f);
+        KG_CHECK_OK(kg_create_body(w, &def, &ground));
+    }
+    kg_body a = add_body(w, (kg_vec2){0.0f, 0.75f}, kg_box_shape(0.5f, 0.5f), 1.0f);
+    kg_body b = add_body(w, (kg_vec2){3.0f, 0.75f}, kg_box_shape(0.5f, 0.5f), 1.0f);
+    kg_distance_joint_def def = kg_default_distance_joint_def();
+    def.base.body_a = a;
+    def.base.body_b = b;
+    def.length = 3.0f;
+    kg_joint j = KG_NULL_JOINT_INIT;
+    KG_CHECK_OK(kg_create_distance_joint(w, &def, &j));
+    int asleep_at = -1;
+    for (int s = 0; s < 120 && asleep_at < 0; ++s) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+        KG_CHECK(kg_body_is_awake(w, a) == kg_body_is_awake(w, b));
+        if (!kg_body_is_awake(w, a)) {
+            asleep_at = s;
+        }
+    }
+    KG_CHECK(asleep_at > 0);
+    KG_CHECK_OK(kg_body_set_velocity(w, a, (kg_vec2){1.0f, 0.0f}));
+    KG_CHECK_OK(kg_world_step(w, DT));
+    measured("measured: joined boxes asleep together at step %d; after a's push: a awake %d, b awake %d\n", asleep_at,
+             kg_body_is_awake(w, a), kg_body_is_awake(w, b));
+    KG_CHECK(kg_body_is_awake(w, a) && kg_body_is_awake(w, b));
+    kg_destroy_world(w);
+}
+
+/* A scene of every kind: a chain, a rope, welded planks, a motor, a mouse joint, boxes
+ * falling on them; its bits after 240 steps on 1 and 4 threads. */
+static void joint_scene(kg_world* w)
+{
+    kg_body_def gd = kg_default_body_def();
+    gd.type = KG_BODY_STATIC;
+    gd.shape = kg_box_shape(40.0f, 1.0f);
+    kg_body ground = KG_NULL_BODY_INIT;
+    KG_CHECK_OK(kg_create_body(w, &gd, &ground));
+    kg_body prev = null_body();
+    for (int i = 0; i < 12; ++i) {
+        kg_body b = add_body(w, (kg_vec2){-5.0f + (i + 0.5f) * 0.8f, 8.0f}, kg_box_shape(0.8f, 0.1f), 1.0f);
+        hinge(w, prev, b, (kg_vec2){-5.0f + i * 0.8f, 8.0f}, NULL);
+        prev = b;
+    }
+    kg_body wheel = add_body(w, (kg_vec2){6.0f, 3.0f}, kg_circle_shape(0.6f), 1.0f);
+    kg_revolute_joint_def md = kg_default_revolute_joint_def();
+    md.enable_motor = 1;
+    md.motor_speed = -3.0f;
+    md.max_motor_torque = 50.0f;
+    hinge(w, ground, wheel, (kg_vec2){6.0f, 3.0f}, &md);
+    kg_body weld_prev = ground;
+    for (int i = 0; i < 5; ++i) {
+        kg_body b = add_body(w, (kg_vec2){10.0f + (i + 0.5f) * 0.6f, 4.0f}, kg_box_shape(0.6f, 0.15f), 1.0f);
+        kg_weld_joint_def wd = kg_default_weld_joint_def();
+        wd.base.body_a = weld_prev;
+        wd.base.body_b = b;
+        wd.angular_hertz = i == 2 ? 3.0f : 0.0f;
+        kg_vec2 at = {10.0f + i * 0.6f, 4.0f};
+        KG_CHECK_OK(kg_joint_local_point(w, weld_prev, at, &wd.local_anchor_a));
+        KG_CHECK_OK(kg_joint_local_point(w, b, at, &wd.local_anchor_b));
+        KG_CHECK_OK(kg_create_weld_joint(w, &wd, NULL));
+        weld_prev = b;
+    }
+    kg_body ball = add_body(w, (kg_vec2){-8.0f, 6.0f}, kg_circle_shape(0.3f), 2.0f);
+    kg_distance_joint_def rope = kg_default_distance_joint_def();
+    rope.base.body_b = ball;
+    rope.local_anchor_a = (kg_vec2){-10.0f, 9.0f};
+    rope.enable_spring = 1;
+    rope.enable_limit = 1;
+    rope.max_length = 3.5f;
+    rope.length = 3.5f;
+    KG_CHECK_OK(kg_create_distance_joint(w, &rope, NULL));
+    kg_body dragged = add_body(w, (kg_vec2){2.0f, 1.0f}, kg_box_shape(0.5f, 0.5f), 1.0f);
+    kg_mouse_joint_def mouse = kg_default_mouse_joint_def();
+    mouse.base.body_b = dragged;
+    mouse.target = (kg_vec2){2.0f, 5.0f};
+    KG_CHECK_OK(kg_create_mouse_joint(w, &mouse, NULL));
+    for (int i = 0; i < 30; ++i) {
+        add_body(w, (kg_vec2){-6.0f + 0.7f * (float)(i % 20), 11.0f + 0.8f * (float)(i / 20)}, kg_box_shape(0.4f, 0.4f),
+                 1.0f);
+    }
+}
+
+static void run_joint_scene(int threads, kg_body_state* out, int* count)
+{
+    kg_world* w = joint_world(threads, 1);
+    joint_scene(w);
+    for (int s = 0; s < 240; ++s) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+    }
+    kg_body bodies[128];
+    KG_CHECK_OK(kg_world_get_bodies(w, bodies, 128, count));
+    KG_CHECK_OK(kg_world_get_body_states(w, bodies, *count, out));
+    kg_destroy_world(w);
+}
+
+static void test_bitwise_equal_on_1_and_4_threads(void)
+{
+    kg_body_state one[128], four[128];
+    int n1 = 0, n4 = 0;
+    run_joint_scene(1, one, &n1);
+    run_joint_scene(4, four, &n4);
+    int same = n1 == n4 && memcmp(one, four, (size_t)n1 * sizeof one[0]) == 0;
+    int finite = 1;
+    for (int i = 0; i < n1; ++i) {
+        finite &= isfinite(one[i].position.x) && isfinite(one[i].position.y);
+    }
+    measured("measured: joint scene of %d bodies after 4 s: 1 and 4 threads %s\n", n1,
+             same ? "bitwise equal" : "DIFFER");
+    KG_CHECK(same);
+    KG_CHECK(finite);
+}
+
+/* The OpenCL backend refuses joints with a clear error (it does not solve them yet). */
+static void test_opencl_refuses_joints(void)
+{
+    int bitwise = 0;
+    if (!kg_test_opencl_ready(&bitwise)) {
+        return;
+    }
+    kg_world* w = kg_test_world(KG_BACKEND_OPENCL, 1);
+    kg_body b = add_body(w, (kg_vec2){0.0f, 0.0f}, kg_circle_shape(0.5f), 1.0f);
+    kg_revolute_joint_def def = kg_default_revolute_joint_def();
+    def.base.body_b = b;
+    kg_joint j = KG_NULL_JOINT_INIT;
+    KG_CHECK(kg_create_revolute_joint(w, &def, &j) == KG_ERROR_UNSUPPORTED);
+    measured("measured: OpenCL world: %s\n", kg_last_error());
+    kg_destroy_world(w);
+}
+
+/* Bad input is refused with a clear error and changes nothing. */
+static void test_bad_input(void)
+{
+    kg_world* w = joint_world(1, 0);
+    kg_world* other = joint_world(1, 0);
+    kg_body a = add_body(w, (kg_vec2){0.0f, 0.0f}, kg_circle_shape(0.5f), 1.0f);
+    kg_body b = add_body(w, (kg_vec2){1.0f, 0.0f}, kg_circle_shape(0.5f), 1.0f);
+    kg_body foreign = add_body(other, (kg_vec2){1.0f, 0.0f}, kg_circle_shape(0.5f), 1.0f);
+    kg_revolute_joint_def def = kg_default_revolute_joint_def();
+    kg_joint j = KG_NULL_JOINT_INIT;
+    def.base.body_a = a;
+    def.base.body_b = a;
+    KG_CHECK(kg_create_revolute_joint(w, &def, &j) == KG_ERROR_INVALID_ARGUMENT); /* a body and itself */
+    def.base.body_b = foreign;
+    KG_CHECK(kg_create_revolute_joint(w, &def, &j) == KG_ERROR_INVALID_HANDLE); /* another world's body */
+    def.base.body_b = b;
+    def.local_anchor_a.x = NAN;
+    KG_CHECK(kg_create_revolute_joint(w, &def, &j) == KG_ERROR_INVALID_ARGUMENT);
+    def.local_anchor_a.x = 0.0f;
+    def.lower_angle = 1.0f;
+    def.upper_angle = -1.0f;
+    KG_CHECK(kg_create_revolute_joint(w, &def, &j) == KG_ERROR_INVALID_ARGUMENT);
+    def.lower_angle = -1.0f;
+    def.hertz = -1.0f;
+    KG_CHECK(kg_create_revolute_joint(w, &def, &j) == KG_ERROR_INVALID_ARGUMENT);
+    def.hertz = 0.0f;
+    KG_CHECK(kg_create_revolute_joint(w, NULL, &j) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_world_joint_count(w) == 0);
+    kg_distance_joint_def dd = kg_default_distance_joint_def();
+    dd.base.body_b = b;
+    dd.length = 0.0f;
+    KG_CHECK(kg_create_distance_joint(w, &dd, &j) == KG_ERROR_INVALID_ARGUMENT);
+    dd.length = 1.0f;
+    dd.min_length = 2.0f;
+    dd.max_length = 1.0f;
+    KG_CHECK(kg_create_distance_joint(w, &dd, &j) == KG_ERROR_INVALID_ARGUMENT);
+    kg_mouse_joint_def mj = kg_default_mouse_joint_def();
+    mj.base.body_b = b;
+    mj.target.y = INFINITY;
+    KG_CHECK(kg_create_mouse_joint(w, &mj, &j) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_world_joint_count(w) == 0);
+
+    /* a live joint, then a foreign, a wrong-type and a stale handle */
+    KG_CHECK_OK(kg_create_revolute_joint(w, &def, &j));
+    KG_CHECK(kg_joint_is_valid(w, j));
+    KG_CHECK(!kg_joint_is_valid(other, j));
+    KG_CHECK(kg_destroy_joint(other, j) == KG_ERROR_INVALID_HANDLE);
+    KG_CHECK(kg_distance_joint_set_length(w, j, 2.0f) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_revolute_joint_set_limits(w, j, 1, NAN, 1.0f) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK_OK(kg_revolute_joint_set_limits(w, j, 1, -0.5f, 0.5f));
+    kg_joint none = KG_NULL_JOINT_INIT;
+    KG_CHECK(kg_destroy_joint(w, none) == KG_ERROR_INVALID_HANDLE);
+    KG_CHECK_OK(kg_world_step(w, DT));
+
+    /* a destroyed body takes its joint with it, and the next step says so */
+    int tag = 7;
+    KG_CHECK_OK(kg_joint_set_user_data(w, j, &tag));
+    KG_CHECK_OK(kg_destroy_body(w, a));
+    KG_CHECK(!kg_joint_is_valid(w, j));
+    KG_CHECK(kg_world_joint_count(w) == 0);
+    kg_vec2 f;
+    float t;
+    KG_CHECK(kg_joint_get_reaction(w, j, &f, &t) == KG_ERROR_INVALID_HANDLE);
+    def.base.body_a = a; /* now dead */
+    KG_CHECK(kg_create_revolute_joint(w, &def, &j) == KG_ERROR_INVALID_HANDLE);
+    KG_CHECK_OK(kg_world_step(w, DT));
+    kg_joint_events ev = kg_world_get_joint_events(w);
+    measured("measured: after destroying a body: %d joint event(s), kind %d, user data %s\n", ev.count,
+             ev.count > 0 ? (int)ev.events[0].kind : -1, ev.count > 0 && ev.events[0].user_data == &tag ? "kept" : "lost");
+    KG_CHECK(ev.count == 1 && ev.events[0].kind == KG_JOINT_EVENT_BODY_DESTROYED && ev.events[0].user_data == &tag &&
+             kg_test_same_body(ev.events[0].body, a));
+    KG_CHECK_OK(kg_world_step(w, DT));
+    KG_CHECK(kg_world_get_joint_events(w).count == 0);
+    kg_destroy_world(other);
+    kg_destroy_world(w);
+}
+
+KG_TEST_MAIN(KG_TEST(test_revolute_pendulum_period_length_energy), KG_TEST(test_hanging_chain_with_heavy_load),
+             KG_TEST(test_revolute_motor_speed_and_stall), KG_TEST(test_revolute_door_limit_under_load),
+             KG_TEST(test_distance_spring_frequency), KG_TEST(test_rope_never_overstretches),
+             KG_TEST(test_weld_cantilever_and_soft_weld), KG_TEST(test_mouse_joint_drags_to_target),
+             KG_TEST(test_collide_connected), KG_TEST(test_joined_bodies_sleep_and_wake_together),
+             KG_TEST(test_bitwise_equal_on_1_and_4_threads), KG_TEST(test_opencl_refuses_joints),
+             KG_TEST(test_bad_input))
