@@ -166,7 +166,7 @@ static kg_joint_base_def kg_default_base(void)
 {
     kg_joint_base_def d;
     memset(&d, 0, sizeof d);
-    d.constraint_hertz = 60.0f;
+    d.constraint_hertz = 0.0f; /* as stiff as the sub-step allows: half its rate */
     d.constraint_damping_ratio = 5.0f;
     return d;
 }
@@ -635,9 +635,12 @@ void kg_joints_pass(kg_world* world, kg_solver_body* bodies, kg_solver_params pr
     if (!j || j->count == 0) {
         return;
     }
-    for (int i = 0; i < j->high_water; ++i) {
-        if (j->info[i].alive) {
-            kg_joint_pass(j->rows, i, bodies, prm, pass);
+    int iterations = pass == KG_PASS_WARM_START ? 1 : KG_JOINT_ITERATIONS;
+    for (int it = 0; it < iterations; ++it) {
+        for (int i = 0; i < j->high_water; ++i) {
+            if (j->info[i].alive) {
+                kg_joint_pass(j->rows, i, bodies, prm, pass);
+            }
         }
     }
 }

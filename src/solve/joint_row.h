@@ -108,11 +108,24 @@ KG_FN kg_vec2 kg_solve22(float k11, float k12, float k22, kg_vec2 b)
     return kg_v2(det * (k22 * b.x - k12 * b.y), det * (k11 * b.y - k12 * b.x));
 }
 
-/* The softness of a hertz capped at a quarter of the sub-step rate (stiffer springs go
- * unstable, docs/design.md). */
+/* A joint's springs, its rigid parts' position correction included, are capped at this
+ * fraction of the sub-step rate. Contacts stop at a quarter (stacks explode at half,
+ * docs/design.md); a joint's rows, solved KG_JOINT_ITERATIONS times a pass, hold at half,
+ * and a soft constraint under a load F settles F / (m (2 pi hertz)^2) away from its
+ * target, so the higher cap is what lets a 40-link chain carry 100 times a link's mass
+ * within 1% (a quarter: 3.3%; docs/joints.md has the measurements). */
+#define KG_JOINT_HERTZ_CAP 0.5f
+
+/* Each solve and relax pass runs over the joints this many times (warm starting once):
+ * Gauss-Seidel over a chain of very unequal masses converges slowly, and the soft
+ * constraint's equilibrium is the same fixed point however many times it is iterated.
+ * Joints are few and each pass is serial: 4 costs little (docs/joints.md). */
+#define KG_JOINT_ITERATIONS 4
+
+/* The softness of a hertz capped at KG_JOINT_HERTZ_CAP of the sub-step rate. */
 KG_FN kg_softness kg_joint_softness(float hertz, float damping_ratio, kg_solver_params prm)
 {
-    return kg_make_softness(kg_minf(hertz, 0.25f * prm.inv_h), damping_ratio, prm.h);
+    return kg_make_softness(kg_minf(hertz, KG_JOINT_HERTZ_CAP * prm.inv_h), damping_ratio, prm.h);
 }
 
 /* What prepare reads of one side: the centre of mass and rotation at the step's start,
@@ -160,7 +173,9 @@ KG_FN void kg_joint_prepare(KG_GLOBAL kg_joint_row* rows, int j, KG_GLOBAL const
     r.delta_angle = kg_unwind_angle(kg_relative_angle(qb, qa) - r.reference_angle);
     float k = r.inv_i_a + r.inv_i_b;
     r.axial_mass = k > 0.0f ? 1.0f / k : 0.0f;
-    r.soft = kg_joint_softness(r.constraint_hertz, r.constraint_damping_ratio, prm);
+    /* 0: as stiff as the sub-step allows (the cap) */
+    float hertz = r.constraint_hertz > 0.0f ? r.constraint_hertz : KG_JOINT_HERTZ_CAP * prm.inv_h;
+    r.soft = kg_joint_softness(hertz, r.constraint_damping_ratio, prm);
     r.spring = kg_joint_softness(r.hertz, r.damping_ratio, prm);
     r.spring2 = kg_joint_softness(r.hertz2, r.damping_ratio2, prm);
     if (r.type == KG_JOINT_ROW_DISTANCE) {
