@@ -2,6 +2,7 @@
  * first kinds can meet, with the numbers asserted and printed. */
 #include "kg_test.h"
 #include "kg_test_world.h"
+#include "kgyro/scene.h"
 
 #define DT (1.0f / 60.0f)
 #define PI_F 3.14159265359f
@@ -703,10 +704,72 @@ static void test_bad_input(void)
     kg_destroy_world(w);
 }
 
+/* A scene file's "joints": every kind made when instantiated, a pendulum from the file
+ * swinging as the API's does; a wrong entry refused with its JSON path. */
+static void test_scene_joints(void)
+{
+    const char* json = "{\"gravity\": [0, -10], \"bodies\": ["
+                       "{\"name\": \"bob\", \"position\": [2, 10], \"shape\": {\"type\": \"circle\", \"radius\": 0.1}},"
+                       "{\"name\": \"p1\", \"position\": [5, 5], \"shape\": {\"type\": \"box\", \"width\": 1, \"height\": 0.2}},"
+                       "{\"name\": \"p2\", \"position\": [6, 5], \"shape\": {\"type\": \"box\", \"width\": 1, \"height\": 0.2}},"
+                       "{\"name\": \"ball\", \"position\": [-5, 5], \"shape\": {\"type\": \"circle\", \"radius\": 0.2}}],"
+                       "\"joints\": ["
+                       "{\"type\": \"revolute\", \"b\": \"bob\", \"anchor\": [0, 10], \"enable_motor\": false},"
+                       "{\"type\": \"weld\", \"b\": \"p1\", \"anchor\": [4.5, 5]},"
+                       "{\"type\": \"weld\", \"a\": \"p1\", \"b\": \"p2\", \"anchor\": [5.5, 5], \"angular_hertz\": 5},"
+                       "{\"type\": \"distance\", \"b\": \"ball\", \"anchor_a\": [-5, 8], \"anchor_b\": [-5, 5.2],"
+                       " \"enable_spring\": true, \"hertz\": 2, \"damping_ratio\": 0.1},"
+                       "{\"type\": \"mouse\", \"b\": \"ball\", \"target\": [-4, 5], \"max_force\": 50}]}";
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_parse(json, strlen(json), "joints.json", &scene));
+    KG_CHECK(kg_scene_joint_count(scene) == 5);
+    kg_world_def def = kg_default_world_def();
+    def.backend = KG_BACKEND_CPU;
+    def.enable_sleep = 0;
+    kg_world* w = NULL;
+    kg_body handles[4];
+    KG_CHECK_OK(kg_scene_instantiate(scene, &def, &w, handles));
+    KG_CHECK(kg_world_joint_count(w) == 5);
+    for (int s = 0; s < 120; ++s) {
+        KG_CHECK_OK(kg_world_step(w, DT));
+    }
+    kg_vec2 p = position_of(w, handles[0]);
+    double len = sqrt((double)p.x * p.x + (double)(p.y - 10.0f) * (p.y - 10.0f));
+    measured("measured: scene pendulum length %.5f m after 2 s (2 m), weld tip at y %.4f\n", len,
+             (double)position_of(w, handles[2]).y);
+    KG_CHECK_NEAR(len, 2.0, 0.001);
+    kg_destroy_world(w);
+    kg_scene_destroy(scene);
+
+    const char* bad[] = {
+        "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"hinge\", \"b\": \"x\"}]}",
+        "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"revolute\", \"b\": \"y\", \"anchor\": [0, 0]}]}",
+        "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"revolute\", \"b\": \"x\"}]}",
+        "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"revolute\", \"b\": \"x\", \"anchor\": [0, 0], \"hertz\": -1}]}",
+        "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"weld\", \"a\": \"x\", \"b\": \"x\", \"anchor\": [0, 0]}]}",
+        "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"distance\", \"b\": \"x\", \"anchor_a\": [0, 0], \"anchor_b\": [0, 1], \"spring\": 1}]}",
+        "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"prismatic\", \"b\": \"x\"}]}",
+    };
+    const char* paths[] = {"joints[0].type", "joints[0].b", "joints[0].anchor", "joints[0].hertz", "joints[0].b",
+                           "joints[0].spring", "joints[0].type"};
+    for (int i = 0; i < (int)(sizeof bad / sizeof bad[0]); ++i) {
+        kg_scene* sc = NULL;
+        kg_result r = kg_scene_parse(bad[i], strlen(bad[i]), "bad.json", &sc);
+        int names_path = strstr(kg_last_error(), paths[i]) != NULL;
+        if (r != KG_ERROR_PARSE || !names_path) {
+            fprintf(stderr, "bad scene %d: result %d, message \"%s\" (expected the path %s)\n", i, (int)r,
+                    kg_last_error(), paths[i]);
+        }
+        KG_CHECK(r == KG_ERROR_PARSE && names_path);
+        kg_scene_destroy(sc);
+    }
+    measured("measured: a bad joint entry is refused: \"%s\"\n", kg_last_error());
+}
+
 KG_TEST_MAIN(KG_TEST(test_revolute_pendulum_period_length_energy), KG_TEST(test_hanging_chain_with_heavy_load),
              KG_TEST(test_revolute_motor_speed_and_stall), KG_TEST(test_revolute_door_limit_under_load),
              KG_TEST(test_distance_spring_frequency), KG_TEST(test_rope_never_overstretches),
              KG_TEST(test_weld_cantilever_and_soft_weld), KG_TEST(test_mouse_joint_drags_to_target),
              KG_TEST(test_collide_connected), KG_TEST(test_joined_bodies_sleep_and_wake_together),
              KG_TEST(test_bitwise_equal_on_1_and_4_threads), KG_TEST(test_opencl_refuses_joints),
-             KG_TEST(test_bad_input))
+             KG_TEST(test_bad_input), KG_TEST(test_scene_joints))
