@@ -766,10 +766,61 @@ static void test_scene_joints(void)
     measured("measured: a bad joint entry is refused: \"%s\"\n", kg_last_error());
 }
 
+typedef struct drawn {
+    int segments, points;
+    kg_vec2 a, b;
+} drawn;
+
+static void draw_segment(kg_vec2 p1, kg_vec2 p2, kg_color color, void* context)
+{
+    drawn* d = context;
+    if (color == KG_DEBUG_COLOR_JOINT) {
+        d->segments += 1;
+        d->a = p1;
+        d->b = p2;
+    }
+}
+
+static void draw_point(kg_vec2 p, float size, kg_color color, void* context)
+{
+    (void)p;
+    (void)size;
+    drawn* d = context;
+    d->points += color == KG_DEBUG_COLOR_JOINT;
+}
+
+/* Debug draw shows a joint as a segment between its anchors, a dot at each. */
+static void test_debug_draw_joints(void)
+{
+    kg_world* w = joint_world(1, 0);
+    kg_body a = add_body(w, (kg_vec2){0.0f, 0.0f}, kg_circle_shape(0.2f), 1.0f);
+    kg_body b = add_body(w, (kg_vec2){2.0f, 0.0f}, kg_circle_shape(0.2f), 1.0f);
+    kg_distance_joint_def def = kg_default_distance_joint_def();
+    def.base.body_a = a;
+    def.base.body_b = b;
+    def.length = 2.0f;
+    KG_CHECK_OK(kg_create_distance_joint(w, &def, NULL));
+    drawn d;
+    memset(&d, 0, sizeof d);
+    kg_debug_draw draw = kg_default_debug_draw();
+    draw.draw_segment = draw_segment;
+    draw.draw_point = draw_point;
+    draw.context = &d;
+    KG_CHECK_OK(kg_world_draw(w, &draw));
+    measured("measured: debug draw: %d joint segment(s) from (%g, %g) to (%g, %g), %d anchor dots\n", d.segments,
+             (double)d.a.x, (double)d.a.y, (double)d.b.x, (double)d.b.y, d.points);
+    KG_CHECK(d.segments == 1 && d.points == 2 && d.a.x == 0.0f && d.b.x == 2.0f);
+    draw.flags &= ~(unsigned)KG_DEBUG_DRAW_JOINTS;
+    memset(&d, 0, sizeof d);
+    KG_CHECK_OK(kg_world_draw(w, &draw));
+    KG_CHECK(d.segments == 0);
+    kg_destroy_world(w);
+}
+
 KG_TEST_MAIN(KG_TEST(test_revolute_pendulum_period_length_energy), KG_TEST(test_hanging_chain_with_heavy_load),
              KG_TEST(test_revolute_motor_speed_and_stall), KG_TEST(test_revolute_door_limit_under_load),
              KG_TEST(test_distance_spring_frequency), KG_TEST(test_rope_never_overstretches),
              KG_TEST(test_weld_cantilever_and_soft_weld), KG_TEST(test_mouse_joint_drags_to_target),
              KG_TEST(test_collide_connected), KG_TEST(test_joined_bodies_sleep_and_wake_together),
              KG_TEST(test_bitwise_equal_on_1_and_4_threads), KG_TEST(test_opencl_refuses_joints),
-             KG_TEST(test_bad_input), KG_TEST(test_scene_joints))
+             KG_TEST(test_bad_input), KG_TEST(test_scene_joints), KG_TEST(test_debug_draw_joints))

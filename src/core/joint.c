@@ -63,6 +63,19 @@ int kg_joints_live(const kg_world* world) { return world && world->joints ? worl
 
 int kg_world_joint_count(const kg_world* world) { return kg_joints_live(world); }
 
+int kg_joints_slots(const kg_world* world) { return world && world->joints ? world->joints->high_water : 0; }
+
+kg_joint kg_joint_of_slot(const kg_world* world, uint32_t i)
+{
+    kg_joint j = KG_NULL_JOINT_INIT;
+    const struct kg_joints* p = world ? world->joints : NULL;
+    if (p && i < (uint32_t)p->high_water && p->info[i].alive) {
+        j.index = i;
+        j.generation = p->info[i].generation;
+    }
+    return j;
+}
+
 /* The pool, made with the first joint; NULL (error set) when out of memory. */
 static struct kg_joints* kg_joints_of(kg_world* world)
 {

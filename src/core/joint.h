@@ -35,6 +35,11 @@ const kg_u32* kg_joints_links(kg_world* world, int* count);
  * for kg_world_get_joint_events, the other bodies woken. */
 void kg_joints_body_destroyed(kg_world* world, kg_u32 slot, kg_body body);
 
+/* The slots a joint may hold ([0, slots)) and the handle of slot i's live joint (all
+ * zero when none): for walking the joints in slot order (debug draw). */
+int kg_joints_slots(const kg_world* world);
+kg_joint kg_joint_of_slot(const kg_world* world, uint32_t i);
+
 /* A step begins: the joints destroyed since the last one become its events. */
 void kg_joints_begin_step(kg_world* world);
 
