@@ -13,7 +13,9 @@
  * joint then holds body_b to the world (its anchor_a is a world point). A joint between a
  * body and itself, a NaN anchor or option, or a stale body is refused
  * (KG_ERROR_INVALID_ARGUMENT / KG_ERROR_INVALID_HANDLE). The OpenCL backend does not solve
- * joints yet: creating one in an OpenCL world fails with KG_ERROR_UNSUPPORTED. */
+ * joints yet: creating one in an OpenCL world fails with KG_ERROR_UNSUPPORTED.
+ * (The setters' names follow the kind: kg_revolute_joint_set_motor on a weld joint is
+ * refused with KG_ERROR_INVALID_ARGUMENT.) */
 #ifndef KGYRO_JOINT_H
 #define KGYRO_JOINT_H
 
@@ -36,9 +38,9 @@ typedef enum kg_joint_type {
     KG_JOINT_DISTANCE = 1,
     KG_JOINT_WELD = 2,
     KG_JOINT_MOUSE = 3,
-    KG_JOINT_PRISMATIC = 4, /* not yet: refused (KG_ERROR_UNSUPPORTED) */
-    KG_JOINT_WHEEL = 5,     /* not yet */
-    KG_JOINT_MOTOR = 6      /* not yet */
+    KG_JOINT_PRISMATIC = 4,
+    KG_JOINT_WHEEL = 5,
+    KG_JOINT_MOTOR = 6
 } kg_joint_type;
 
 /* What every joint definition starts with. */
@@ -110,15 +112,66 @@ typedef struct kg_mouse_joint_def {
     float max_force;        /* N, >= 0; default 1000 */
 } kg_mouse_joint_def;
 
+/* A slider: body_b moves along local_axis_a (in body_a's frame, through the anchors)
+ * without turning relative to body_a; its translation (anchor b's offset from anchor a
+ * along the axis) kept within [lower_translation, upper_translation], driven at
+ * motor_speed (m/s) with at most max_motor_force, pulled to 0 by a spring. */
+typedef struct kg_prismatic_joint_def {
+    kg_joint_base_def base;
+    kg_vec2 local_anchor_a, local_anchor_b;
+    kg_vec2 local_axis_a; /* normalized when created; default (1, 0) */
+    float reference_angle;
+    int enable_limit;
+    float lower_translation, upper_translation; /* m, lower <= upper */
+    int enable_motor;
+    float motor_speed, max_motor_force;
+    int enable_spring;
+    float hertz, damping_ratio;
+} kg_prismatic_joint_def;
+
+/* A wheel (cars): body_b's anchor stays on the line of local_axis_a through anchor a (the
+ * suspension, with a spring of hertz and damping ratio about translation 0 and optional
+ * limits along it), and turns freely, driven by a motor (motor_speed rad/s, at most
+ * max_motor_torque). */
+typedef struct kg_wheel_joint_def {
+    kg_joint_base_def base;
+    kg_vec2 local_anchor_a, local_anchor_b;
+    kg_vec2 local_axis_a; /* default (0, 1): a suspension pointing up */
+    int enable_limit;
+    float lower_translation, upper_translation;
+    int enable_motor;
+    float motor_speed, max_motor_torque;
+    int enable_spring; /* default on, 1 Hz, damping 0.7 */
+    float hertz, damping_ratio;
+} kg_wheel_joint_def;
+
+/* Drives body_b to a pose relative to body_a: its origin to linear_offset (a point of
+ * a's frame) and its angle to a's plus angular_offset, with at most max_force and
+ * max_torque, correcting correction_factor (0 to 1) of the error each sub-step. */
+typedef struct kg_motor_joint_def {
+    kg_joint_base_def base;
+    kg_vec2 linear_offset;
+    float angular_offset;
+    float max_force;         /* default 1 */
+    float max_torque;        /* default 1 */
+    float correction_factor; /* default 0.3 */
+} kg_motor_joint_def;
+
 KG_API kg_revolute_joint_def kg_default_revolute_joint_def(void);
 KG_API kg_distance_joint_def kg_default_distance_joint_def(void);
 KG_API kg_weld_joint_def kg_default_weld_joint_def(void);
 KG_API kg_mouse_joint_def kg_default_mouse_joint_def(void);
+KG_API kg_prismatic_joint_def kg_default_prismatic_joint_def(void);
+KG_API kg_wheel_joint_def kg_default_wheel_joint_def(void);
+KG_API kg_motor_joint_def kg_default_motor_joint_def(void);
 
 KG_API kg_result kg_create_revolute_joint(kg_world* world, const kg_revolute_joint_def* def, kg_joint* out);
 KG_API kg_result kg_create_distance_joint(kg_world* world, const kg_distance_joint_def* def, kg_joint* out);
 KG_API kg_result kg_create_weld_joint(kg_world* world, const kg_weld_joint_def* def, kg_joint* out);
 KG_API kg_result kg_create_mouse_joint(kg_world* world, const kg_mouse_joint_def* def, kg_joint* out);
+KG_API kg_result kg_create_prismatic_joint(kg_world* world, const kg_prismatic_joint_def* def, kg_joint* out);
+KG_API kg_result kg_create_wheel_joint(kg_world* world, const kg_wheel_joint_def* def, kg_joint* out);
+KG_API kg_result kg_create_motor_joint(kg_world* world, const kg_motor_joint_def* def, kg_joint* out);
 
 /* Destroys a joint; its bodies are woken and collide again. */
 KG_API kg_result kg_destroy_joint(kg_world* world, kg_joint joint);
@@ -168,6 +221,27 @@ KG_API kg_result kg_weld_joint_set_stiffness(kg_world* world, kg_joint joint, fl
 /* Mouse setters. */
 KG_API kg_result kg_mouse_joint_set_target(kg_world* world, kg_joint joint, kg_vec2 target);
 KG_API kg_result kg_mouse_joint_set_max_force(kg_world* world, kg_joint joint, float max_force);
+
+/* Prismatic and wheel setters: limits (translations), motor (prismatic: speed m/s and
+ * largest force; wheel: speed rad/s and largest torque), spring. */
+KG_API kg_result kg_prismatic_joint_set_limits(kg_world* world, kg_joint joint, int enable, float lower,
+                                               float upper);
+KG_API kg_result kg_prismatic_joint_set_motor(kg_world* world, kg_joint joint, int enable, float speed,
+                                              float max_force);
+KG_API kg_result kg_prismatic_joint_set_spring(kg_world* world, kg_joint joint, int enable, float hertz,
+                                               float damping_ratio);
+KG_API kg_result kg_wheel_joint_set_limits(kg_world* world, kg_joint joint, int enable, float lower, float upper);
+KG_API kg_result kg_wheel_joint_set_motor(kg_world* world, kg_joint joint, int enable, float speed,
+                                          float max_torque);
+KG_API kg_result kg_wheel_joint_set_spring(kg_world* world, kg_joint joint, int enable, float hertz,
+                                           float damping_ratio);
+/* The translation now (prismatic, wheel): anchor b's offset from anchor a along the axis. */
+KG_API kg_result kg_joint_get_translation(const kg_world* world, kg_joint joint, float* out);
+
+/* Motor joint setters. */
+KG_API kg_result kg_motor_joint_set_offsets(kg_world* world, kg_joint joint, kg_vec2 linear_offset,
+                                            float angular_offset);
+KG_API kg_result kg_motor_joint_set_max(kg_world* world, kg_joint joint, float max_force, float max_torque);
 
 /* Why a joint ended without kg_destroy_joint. */
 typedef enum kg_joint_event_kind {

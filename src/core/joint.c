@@ -224,6 +224,42 @@ kg_mouse_joint_def kg_default_mouse_joint_def(void)
     return d;
 }
 
+kg_prismatic_joint_def kg_default_prismatic_joint_def(void)
+{
+    kg_prismatic_joint_def d;
+    memset(&d, 0, sizeof d);
+    d.base = kg_default_base();
+    d.local_axis_a = kg_v2(1.0f, 0.0f);
+    d.lower_translation = -1.0f;
+    d.upper_translation = 1.0f;
+    return d;
+}
+
+kg_wheel_joint_def kg_default_wheel_joint_def(void)
+{
+    kg_wheel_joint_def d;
+    memset(&d, 0, sizeof d);
+    d.base = kg_default_base();
+    d.local_axis_a = kg_v2(0.0f, 1.0f);
+    d.lower_translation = -0.25f;
+    d.upper_translation = 0.25f;
+    d.enable_spring = 1;
+    d.hertz = 1.0f;
+    d.damping_ratio = 0.7f;
+    return d;
+}
+
+kg_motor_joint_def kg_default_motor_joint_def(void)
+{
+    kg_motor_joint_def d;
+    memset(&d, 0, sizeof d);
+    d.base = kg_default_base();
+    d.max_force = 1.0f;
+    d.max_torque = 1.0f;
+    d.correction_factor = 0.3f;
+    return d;
+}
+
 /* The checks every kind shares: the world takes joints now, body_b lives, body_a is the
  * world or another live body, the constraint's softness is sane. Fills the row's slots
  * and the bodies' generations. */
@@ -448,6 +484,114 @@ kg_result kg_create_mouse_joint(kg_world* world, const kg_mouse_joint_def* def, 
     row.hertz = def->hertz;
     row.damping_ratio = def->damping_ratio;
     row.max_force = def->max_force;
+    return kg_add_joint(world, &row, &info, out);
+}
+
+static kg_result kg_check_translations(float lower, float upper, const char* call)
+{
+    if (!isfinite(lower) || !isfinite(upper) || lower > upper) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: translation limits must be finite, lower <= upper", call);
+    }
+    return KG_OK;
+}
+
+/* axis normalized into *out, or an error for a zero or non-finite one. */
+static kg_result kg_check_axis(kg_vec2 axis, const char* call, kg_vec2* out)
+{
+    float length = sqrtf(axis.x * axis.x + axis.y * axis.y);
+    if (!kg_finite2(axis) || !(length > 1e-6f) || !isfinite(length)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: the axis must be finite and not zero", call);
+    }
+    *out = kg_v2(axis.x / length, axis.y / length);
+    return KG_OK;
+}
+
+kg_result kg_create_prismatic_joint(kg_world* world, const kg_prismatic_joint_def* def, kg_joint* out)
+{
+    const char* call = "kg_create_prismatic_joint";
+    kg_joint_row row;
+    kg_joint_info info;
+    kg_result r = kg_check_base(world, def ? &def->base : NULL, call, 0, &row, &info);
+    if (r != KG_OK) {
+        return r;
+    }
+    if (!kg_finite2(def->local_anchor_a) || !kg_finite2(def->local_anchor_b) || !isfinite(def->reference_angle)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: anchors and reference angle must be finite", call);
+    }
+    if ((r = kg_check_axis(def->local_axis_a, call, &row.local_axis)) != KG_OK ||
+        (r = kg_check_translations(def->lower_translation, def->upper_translation, call)) != KG_OK ||
+        (r = kg_check_motor(def->motor_speed, def->max_motor_force, call)) != KG_OK ||
+        (r = kg_check_spring(def->hertz, def->damping_ratio, call)) != KG_OK) {
+        return r;
+    }
+    row.type = KG_JOINT_ROW_PRISMATIC;
+    row.options = kg_option(def->enable_limit, KG_JOINT_LIMIT) | kg_option(def->enable_motor, KG_JOINT_MOTOR) |
+                  kg_option(def->enable_spring, KG_JOINT_SPRING);
+    row.local_a = def->local_anchor_a;
+    row.local_b = def->local_anchor_b;
+    row.reference_angle = def->reference_angle;
+    row.lower = def->lower_translation;
+    row.upper = def->upper_translation;
+    row.motor_speed = def->motor_speed;
+    row.max_motor_torque = def->max_motor_force;
+    row.hertz = def->hertz;
+    row.damping_ratio = def->damping_ratio;
+    return kg_add_joint(world, &row, &info, out);
+}
+
+kg_result kg_create_wheel_joint(kg_world* world, const kg_wheel_joint_def* def, kg_joint* out)
+{
+    const char* call = "kg_create_wheel_joint";
+    kg_joint_row row;
+    kg_joint_info info;
+    kg_result r = kg_check_base(world, def ? &def->base : NULL, call, 0, &row, &info);
+    if (r != KG_OK) {
+        return r;
+    }
+    if (!kg_finite2(def->local_anchor_a) || !kg_finite2(def->local_anchor_b)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: anchors must be finite", call);
+    }
+    if ((r = kg_check_axis(def->local_axis_a, call, &row.local_axis)) != KG_OK ||
+        (r = kg_check_translations(def->lower_translation, def->upper_translation, call)) != KG_OK ||
+        (r = kg_check_motor(def->motor_speed, def->max_motor_torque, call)) != KG_OK ||
+        (r = kg_check_spring(def->hertz, def->damping_ratio, call)) != KG_OK) {
+        return r;
+    }
+    row.type = KG_JOINT_ROW_WHEEL;
+    row.options = kg_option(def->enable_limit, KG_JOINT_LIMIT) | kg_option(def->enable_motor, KG_JOINT_MOTOR) |
+                  kg_option(def->enable_spring, KG_JOINT_SPRING);
+    row.local_a = def->local_anchor_a;
+    row.local_b = def->local_anchor_b;
+    row.lower = def->lower_translation;
+    row.upper = def->upper_translation;
+    row.motor_speed = def->motor_speed;
+    row.max_motor_torque = def->max_motor_torque;
+    row.hertz = def->hertz;
+    row.damping_ratio = def->damping_ratio;
+    return kg_add_joint(world, &row, &info, out);
+}
+
+kg_result kg_create_motor_joint(kg_world* world, const kg_motor_joint_def* def, kg_joint* out)
+{
+    const char* call = "kg_create_motor_joint";
+    kg_joint_row row;
+    kg_joint_info info;
+    kg_result r = kg_check_base(world, def ? &def->base : NULL, call, 0, &row, &info);
+    if (r != KG_OK) {
+        return r;
+    }
+    if (!kg_finite2(def->linear_offset) || !isfinite(def->angular_offset) || !kg_nonneg(def->max_force) ||
+        !kg_nonneg(def->max_torque) || !kg_nonneg(def->correction_factor) || def->correction_factor > 1.0f) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: offsets must be finite, max_force and max_torque >= 0, "
+                       "correction_factor in [0, 1]", call);
+    }
+    row.type = KG_JOINT_ROW_MOTOR;
+    row.local_a = def->linear_offset;
+    row.local_b = kg_v2(0.0f, 0.0f);
+    row.reference_angle = def->angular_offset;
+    row.max_force = def->max_force;
+    row.max_motor_torque = def->max_torque;
+    row.length = def->correction_factor;
     return kg_add_joint(world, &row, &info, out);
 }
 
@@ -907,6 +1051,139 @@ kg_result kg_weld_joint_set_stiffness(kg_world* world, kg_joint joint, float lin
     r->damping_ratio = linear_damping_ratio;
     r->hertz2 = angular_hertz;
     r->damping_ratio2 = angular_damping_ratio;
+    return KG_OK;
+}
+
+/* The shared setters of the kinds along an axis. */
+static kg_result kg_axis_set_limits(kg_world* world, kg_joint joint, kg_i32 type, const char* call, int enable,
+                                    float lower, float upper)
+{
+    kg_result res = kg_check_translations(lower, upper, call);
+    kg_joint_row* r = res == KG_OK ? kg_write_joint(world, joint, type, call) : NULL;
+    if (!r) {
+        return kg_last_result();
+    }
+    r->options = (r->options & ~KG_JOINT_LIMIT) | kg_option(enable, KG_JOINT_LIMIT);
+    r->lower = lower;
+    r->upper = upper;
+    if (!enable) {
+        r->lower_impulse = r->upper_impulse = 0.0f;
+    }
+    return KG_OK;
+}
+
+static kg_result kg_axis_set_motor(kg_world* world, kg_joint joint, kg_i32 type, const char* call, int enable,
+                                   float speed, float most)
+{
+    kg_result res = kg_check_motor(speed, most, call);
+    kg_joint_row* r = res == KG_OK ? kg_write_joint(world, joint, type, call) : NULL;
+    if (!r) {
+        return kg_last_result();
+    }
+    r->options = (r->options & ~KG_JOINT_MOTOR) | kg_option(enable, KG_JOINT_MOTOR);
+    r->motor_speed = speed;
+    r->max_motor_torque = most;
+    if (!enable) {
+        r->motor_impulse = 0.0f;
+    }
+    return KG_OK;
+}
+
+static kg_result kg_axis_set_spring(kg_world* world, kg_joint joint, kg_i32 type, const char* call, int enable,
+                                    float hertz, float damping_ratio)
+{
+    kg_result res = kg_check_spring(hertz, damping_ratio, call);
+    kg_joint_row* r = res == KG_OK ? kg_write_joint(world, joint, type, call) : NULL;
+    if (!r) {
+        return kg_last_result();
+    }
+    r->options = (r->options & ~KG_JOINT_SPRING) | kg_option(enable, KG_JOINT_SPRING);
+    r->hertz = hertz;
+    r->damping_ratio = damping_ratio;
+    if (!enable) {
+        r->spring_impulse = 0.0f;
+    }
+    return KG_OK;
+}
+
+kg_result kg_prismatic_joint_set_limits(kg_world* world, kg_joint joint, int enable, float lower, float upper)
+{
+    return kg_axis_set_limits(world, joint, KG_JOINT_ROW_PRISMATIC, "kg_prismatic_joint_set_limits", enable, lower,
+                              upper);
+}
+
+kg_result kg_prismatic_joint_set_motor(kg_world* world, kg_joint joint, int enable, float speed, float max_force)
+{
+    return kg_axis_set_motor(world, joint, KG_JOINT_ROW_PRISMATIC, "kg_prismatic_joint_set_motor", enable, speed,
+                             max_force);
+}
+
+kg_result kg_prismatic_joint_set_spring(kg_world* world, kg_joint joint, int enable, float hertz, float damping_ratio)
+{
+    return kg_axis_set_spring(world, joint, KG_JOINT_ROW_PRISMATIC, "kg_prismatic_joint_set_spring", enable, hertz,
+                              damping_ratio);
+}
+
+kg_result kg_wheel_joint_set_limits(kg_world* world, kg_joint joint, int enable, float lower, float upper)
+{
+    return kg_axis_set_limits(world, joint, KG_JOINT_ROW_WHEEL, "kg_wheel_joint_set_limits", enable, lower, upper);
+}
+
+kg_result kg_wheel_joint_set_motor(kg_world* world, kg_joint joint, int enable, float speed, float max_torque)
+{
+    return kg_axis_set_motor(world, joint, KG_JOINT_ROW_WHEEL, "kg_wheel_joint_set_motor", enable, speed, max_torque);
+}
+
+kg_result kg_wheel_joint_set_spring(kg_world* world, kg_joint joint, int enable, float hertz, float damping_ratio)
+{
+    return kg_axis_set_spring(world, joint, KG_JOINT_ROW_WHEEL, "kg_wheel_joint_set_spring", enable, hertz,
+                              damping_ratio);
+}
+
+kg_result kg_joint_get_translation(const kg_world* world, kg_joint joint, float* out)
+{
+    const kg_joint_row* r = kg_read_joint(world, joint, out);
+    if (!r) {
+        return kg_last_result();
+    }
+    if (r->type != KG_JOINT_ROW_PRISMATIC && r->type != KG_JOINT_ROW_WHEEL) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_joint_get_translation: not a prismatic or wheel joint");
+    }
+    const kg_body_pool* p = kg_world_read_pool(world);
+    kg_vec2 a = r->a == KG_NULL_INDEX ? r->local_a : kg_xf_point(p->xf[r->a], r->local_a);
+    kg_vec2 b = kg_xf_point(p->xf[r->b], r->local_b);
+    kg_rot qa = r->a == KG_NULL_INDEX ? kg_rot_identity() : p->rot[r->a];
+    *out = kg_dot(kg_sub(b, a), kg_rotate(qa, r->local_axis));
+    return KG_OK;
+}
+
+kg_result kg_motor_joint_set_offsets(kg_world* world, kg_joint joint, kg_vec2 linear_offset, float angular_offset)
+{
+    const char* call = "kg_motor_joint_set_offsets";
+    if (!kg_finite2(linear_offset) || !isfinite(angular_offset)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: offsets must be finite", call);
+    }
+    kg_joint_row* r = kg_write_joint(world, joint, KG_JOINT_ROW_MOTOR, call);
+    if (!r) {
+        return kg_last_result();
+    }
+    r->local_a = linear_offset;
+    r->reference_angle = angular_offset;
+    return KG_OK;
+}
+
+kg_result kg_motor_joint_set_max(kg_world* world, kg_joint joint, float max_force, float max_torque)
+{
+    const char* call = "kg_motor_joint_set_max";
+    if (!kg_nonneg(max_force) || !kg_nonneg(max_torque)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: max_force and max_torque must be finite and >= 0", call);
+    }
+    kg_joint_row* r = kg_write_joint(world, joint, KG_JOINT_ROW_MOTOR, call);
+    if (!r) {
+        return kg_last_result();
+    }
+    r->max_force = max_force;
+    r->max_motor_torque = max_torque;
     return KG_OK;
 }
 

@@ -17,6 +17,9 @@
 #define KG_JOINT_ROW_DISTANCE 1
 #define KG_JOINT_ROW_WELD 2
 #define KG_JOINT_ROW_MOUSE 3
+#define KG_JOINT_ROW_PRISMATIC 4
+#define KG_JOINT_ROW_WHEEL 5
+#define KG_JOINT_ROW_MOTOR 6
 
 /* kg_joint_row.options */
 #define KG_JOINT_LIMIT 1u
@@ -30,10 +33,12 @@ typedef struct kg_joint_row {
     kg_u32 options;     /* KG_JOINT_LIMIT | KG_JOINT_MOTOR | KG_JOINT_SPRING */
     kg_vec2 local_a;    /* anchor in a's origin frame (the world: a world point; mouse: the target) */
     kg_vec2 local_b;    /* anchor in b's origin frame */
-    float reference_angle;
-    float lower, upper; /* revolute: angles (rad); distance: min and max length */
-    float length;       /* distance: rest length */
-    float motor_speed, max_motor_torque;
+    kg_vec2 local_axis; /* prismatic, wheel: the axis in a's frame (unit) */
+    float reference_angle; /* motor joint: the angular offset */
+    float lower, upper; /* revolute: angles (rad); distance: min and max length; prismatic, wheel: translations */
+    float length;       /* distance: rest length; motor joint: the correction factor */
+    float motor_speed, max_motor_torque; /* prismatic: max_motor_torque is the motor's largest force;
+                                          * motor joint: the largest torque */
     float hertz, damping_ratio;   /* revolute and distance spring; weld linear; mouse */
     float hertz2, damping_ratio2; /* weld angular */
     float max_force;              /* mouse */
@@ -42,19 +47,24 @@ typedef struct kg_joint_row {
     float inv_mass_a, inv_i_a, inv_mass_b, inv_i_b; /* zero for a body that takes no impulse */
     kg_vec2 anchor_a, anchor_b; /* from the centres of mass, world axes, at the step's start */
     kg_vec2 delta_center;       /* centre b - centre a at the step's start (mouse: centre b - target) */
-    kg_vec2 axis;               /* distance: the direction a to b of the last pass */
+    kg_vec2 axis;               /* distance: the direction a to b of the last pass; prismatic,
+                                 * wheel: the axis in world axes at the step's start */
     float delta_angle;          /* angle b - angle a - reference at the step's start, in [-pi, pi] */
-    float axial_mass;           /* revolute, weld, mouse: of the relative rotation; distance: along the axis */
+    float axial_mass;           /* revolute, weld, mouse, motor: of the relative rotation; distance,
+                                 * prismatic, wheel: along the axis */
+    float angular_mass;         /* wheel: of the relative rotation (its motor) */
     kg_softness soft;           /* the rigid parts' position correction (solve pass only) */
     kg_softness spring;         /* the joint's own spring (every pass) */
     kg_softness spring2;        /* weld angular */
     kg_i32 active;              /* 0: neither body takes impulses (asleep, static): not solved */
-    /* accumulated over a sub-step, carried to the next step (warm starting) */
+    /* accumulated over a sub-step, carried to the next step (warm starting); prismatic:
+     * linear_impulse.x across the axis, angular_impulse the rotation's; wheel:
+     * linear_impulse.x across the axis */
     kg_vec2 linear_impulse;
     float angular_impulse, spring_impulse, motor_impulse, lower_impulse, upper_impulse;
 } kg_joint_row;
 
-KG_STATIC_ASSERT(sizeof(kg_joint_row) == 208, joint_row_size);
+KG_STATIC_ASSERT(sizeof(kg_joint_row) == 220, joint_row_size);
 
 #define KG_JOINT_PI 3.14159265359f
 
@@ -183,6 +193,14 @@ KG_FN void kg_joint_prepare(KG_GLOBAL kg_joint_row* rows, int j, KG_GLOBAL const
         r.axis = kg_normalize(d);
         float cra = kg_cross(r.anchor_a, r.axis), crb = kg_cross(r.anchor_b, r.axis);
         float ka = r.inv_mass_a + r.inv_mass_b + r.inv_i_a * cra * cra + r.inv_i_b * crb * crb;
+        r.axial_mass = ka > 0.0f ? 1.0f / ka : 0.0f;
+    }
+    r.angular_mass = r.axial_mass;
+    if (r.type == KG_JOINT_ROW_PRISMATIC || r.type == KG_JOINT_ROW_WHEEL) {
+        r.axis = kg_rotate(qa, r.local_axis);
+        kg_vec2 d = kg_add(kg_sub(r.anchor_b, r.anchor_a), r.delta_center);
+        float a1 = kg_cross(kg_add(d, r.anchor_a), r.axis), a2 = kg_cross(r.anchor_b, r.axis);
+        float ka = r.inv_mass_a + r.inv_mass_b + r.inv_i_a * a1 * a1 + r.inv_i_b * a2 * a2;
         r.axial_mass = ka > 0.0f ? 1.0f / ka : 0.0f;
     }
     if (r.type == KG_JOINT_ROW_MOUSE) {
@@ -396,6 +414,158 @@ KG_FN void kg_mouse_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params pr
     s->b.w = s->b.w + ib * kg_cross(rb, impulse);
 }
 
+/* The geometry of a joint along an axis (prismatic, wheel) now: the axis turned with a,
+ * the anchors' offset d, the lever arms along the axis (a1, a2) and across it (s1, s2). */
+typedef struct kg_axis_frame {
+    kg_vec2 axis, perp, d;
+    float a1, a2, s1, s2, translation;
+} kg_axis_frame;
+
+KG_FN kg_axis_frame kg_axis_frame_of(const kg_joint_row* r, const kg_joint_pair* s)
+{
+    kg_axis_frame f;
+    f.d = kg_joint_separation(r, s);
+    f.axis = kg_rotate(s->a.dq, r->axis);
+    f.perp = kg_left_perp(f.axis);
+    kg_vec2 da = kg_add(f.d, s->ra);
+    f.a1 = kg_cross(da, f.axis);
+    f.a2 = kg_cross(s->rb, f.axis);
+    f.s1 = kg_cross(da, f.perp);
+    f.s2 = kg_cross(s->rb, f.perp);
+    f.translation = kg_dot(f.axis, f.d);
+    return f;
+}
+
+/* An impulse along the frame's axis (and one across it, and a pure torque). */
+KG_FN void kg_axis_apply(const kg_joint_row* r, kg_joint_pair* s, const kg_axis_frame* f, float axial, float across,
+                         float angular)
+{
+    kg_vec2 p = kg_add(kg_scale(axial, f->axis), kg_scale(across, f->perp));
+    float la = axial * f->a1 + across * f->s1 + angular, lb = axial * f->a2 + across * f->s2 + angular;
+    s->a.v = kg_mul_sub(s->a.v, r->inv_mass_a, p);
+    s->a.w = s->a.w - r->inv_i_a * la;
+    s->b.v = kg_mul_add(s->b.v, r->inv_mass_b, p);
+    s->b.w = s->b.w + r->inv_i_b * lb;
+}
+
+/* The speed b moves along the axis relative to a. */
+KG_FN float kg_axis_speed(const kg_joint_pair* s, const kg_axis_frame* f)
+{
+    return kg_dot(f->axis, kg_sub(s->b.v, s->a.v)) + f->a2 * s->b.w - f->a1 * s->a.w;
+}
+
+/* Along the axis (prismatic, wheel): the spring about translation 0, the limits. */
+KG_FN void kg_axis_spring_and_limits(kg_joint_row* r, kg_joint_pair* s, const kg_axis_frame* f, kg_solver_params prm,
+                                     int use_bias)
+{
+    if ((r->options & KG_JOINT_SPRING) && r->hertz > 0.0f) {
+        float cdot = kg_axis_speed(s, f);
+        float impulse = -r->spring.mass_scale * r->axial_mass * (cdot + r->spring.bias_rate * f->translation) -
+                        r->spring.impulse_scale * r->spring_impulse;
+        r->spring_impulse += impulse;
+        kg_axis_apply(r, s, f, impulse, 0.0f, 0.0f);
+    }
+    if (r->options & KG_JOINT_LIMIT) {
+        float lower = kg_joint_one_sided(f->translation - r->lower, kg_axis_speed(s, f), r->axial_mass,
+                                         &r->lower_impulse, r->soft, use_bias, prm);
+        kg_axis_apply(r, s, f, lower, 0.0f, 0.0f);
+        float upper = kg_joint_one_sided(r->upper - f->translation, -kg_axis_speed(s, f), r->axial_mass,
+                                         &r->upper_impulse, r->soft, use_bias, prm);
+        kg_axis_apply(r, s, f, -upper, 0.0f, 0.0f);
+    }
+}
+
+/* A slider: b moves along a's axis only, without turning relative to a; a motor
+ * (max_motor_torque is its largest force), a spring and limits along the axis. */
+KG_FN void kg_prismatic_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, int use_bias)
+{
+    kg_axis_frame f = kg_axis_frame_of(r, s);
+    if (r->options & KG_JOINT_MOTOR) {
+        float impulse = r->axial_mass * (r->motor_speed - kg_axis_speed(s, &f));
+        float old = r->motor_impulse, most = prm.h * r->max_motor_torque;
+        r->motor_impulse = kg_clampf(old + impulse, -most, most);
+        kg_axis_apply(r, s, &f, r->motor_impulse - old, 0.0f, 0.0f);
+    }
+    kg_axis_spring_and_limits(r, s, &f, prm, use_bias);
+    /* across the axis and the rotation, as one 2x2 block */
+    float ma = r->inv_mass_a, mb = r->inv_mass_b, ia = r->inv_i_a, ib = r->inv_i_b;
+    kg_vec2 cdot = kg_v2(kg_dot(f.perp, kg_sub(s->b.v, s->a.v)) + f.s2 * s->b.w - f.s1 * s->a.w, s->b.w - s->a.w);
+    kg_vec2 bias = kg_v2(0.0f, 0.0f);
+    float mass_scale = 1.0f, impulse_scale = 0.0f;
+    if (use_bias) {
+        bias = kg_scale(r->soft.bias_rate, kg_v2(kg_dot(f.perp, f.d), kg_joint_angle_now(r, s)));
+        mass_scale = r->soft.mass_scale;
+        impulse_scale = r->soft.impulse_scale;
+    }
+    float k11 = ma + mb + ia * f.s1 * f.s1 + ib * f.s2 * f.s2, k12 = ia * f.s1 + ib * f.s2, k22 = ia + ib;
+    k22 = k22 == 0.0f ? 1.0f : k22; /* neither turns */
+    kg_vec2 x = kg_solve22(k11, k12, k22, kg_add(cdot, bias));
+    kg_vec2 acc = kg_v2(r->linear_impulse.x, r->angular_impulse);
+    kg_vec2 impulse = kg_v2(-mass_scale * x.x - impulse_scale * acc.x, -mass_scale * x.y - impulse_scale * acc.y);
+    r->linear_impulse.x += impulse.x;
+    r->angular_impulse += impulse.y;
+    kg_axis_apply(r, s, &f, 0.0f, impulse.x, impulse.y);
+}
+
+/* A wheel: b's anchor on a's axis (the suspension: a spring and limits along it), b free
+ * to turn, driven by a motor on the rotation. */
+KG_FN void kg_wheel_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, int use_bias)
+{
+    if (r->options & KG_JOINT_MOTOR) {
+        float impulse = -r->angular_mass * (s->b.w - s->a.w - r->motor_speed);
+        float old = r->motor_impulse, most = prm.h * r->max_motor_torque;
+        r->motor_impulse = kg_clampf(old + impulse, -most, most);
+        impulse = r->motor_impulse - old;
+        s->a.w -= r->inv_i_a * impulse;
+        s->b.w += r->inv_i_b * impulse;
+    }
+    kg_axis_frame f = kg_axis_frame_of(r, s);
+    kg_axis_spring_and_limits(r, s, &f, prm, use_bias);
+    /* the point on the line */
+    float cdot = kg_dot(f.perp, kg_sub(s->b.v, s->a.v)) + f.s2 * s->b.w - f.s1 * s->a.w;
+    float bias = 0.0f, mass_scale = 1.0f, impulse_scale = 0.0f;
+    if (use_bias) {
+        bias = r->soft.bias_rate * kg_dot(f.perp, f.d);
+        mass_scale = r->soft.mass_scale;
+        impulse_scale = r->soft.impulse_scale;
+    }
+    float k = r->inv_mass_a + r->inv_mass_b + r->inv_i_a * f.s1 * f.s1 + r->inv_i_b * f.s2 * f.s2;
+    float mass = k > 0.0f ? 1.0f / k : 0.0f;
+    float impulse = -mass_scale * mass * (cdot + bias) - impulse_scale * r->linear_impulse.x;
+    r->linear_impulse.x += impulse;
+    kg_axis_apply(r, s, &f, 0.0f, impulse, 0.0f);
+}
+
+/* A motor joint: drives b's origin to the point local_a of a's frame and its angle to
+ * a's plus reference_angle, with at most max_force and max_motor_torque, correcting a
+ * share (length: the correction factor) of the error each sub-step. */
+KG_FN void kg_motor_joint_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm)
+{
+    {
+        float bias = prm.inv_h * r->length * kg_joint_angle_now(r, s);
+        float impulse = -r->axial_mass * (s->b.w - s->a.w + bias);
+        float old = r->angular_impulse, most = prm.h * r->max_motor_torque;
+        r->angular_impulse = kg_clampf(old + impulse, -most, most);
+        impulse = r->angular_impulse - old;
+        s->a.w -= r->inv_i_a * impulse;
+        s->b.w += r->inv_i_b * impulse;
+    }
+    kg_vec2 cdot = kg_joint_relative_velocity(s);
+    kg_vec2 bias = kg_scale(prm.inv_h * r->length, kg_joint_separation(r, s));
+    float ma = r->inv_mass_a, mb = r->inv_mass_b, ia = r->inv_i_a, ib = r->inv_i_b;
+    kg_vec2 ra = s->ra, rb = s->rb;
+    float k11 = ma + mb + ra.y * ra.y * ia + rb.y * rb.y * ib;
+    float k12 = -ra.y * ra.x * ia - rb.y * rb.x * ib;
+    float k22 = ma + mb + ra.x * ra.x * ia + rb.x * rb.x * ib;
+    kg_vec2 x = kg_solve22(k11, k12, k22, kg_add(cdot, bias));
+    kg_vec2 old = r->linear_impulse;
+    kg_vec2 acc = kg_sub(old, x);
+    float most = prm.h * r->max_force, mag = kg_length(acc);
+    acc = mag > most ? kg_scale(most, kg_normalize(acc)) : acc;
+    r->linear_impulse = acc;
+    kg_joint_apply(r, s, kg_sub(acc, old), 0.0f);
+}
+
 /* The impulses of last sub-step applied again at the start of a sub-step. */
 KG_FN void kg_joint_warm_start(const kg_joint_row* r, kg_joint_pair* s)
 {
@@ -410,7 +580,20 @@ KG_FN void kg_joint_warm_start(const kg_joint_row* r, kg_joint_pair* s)
         kg_joint_apply(r, s, kg_scale(axial, kg_normalize(d)), 0.0f);
         break;
     }
-    case KG_JOINT_ROW_WELD: kg_joint_apply(r, s, r->linear_impulse, r->angular_impulse); break;
+    case KG_JOINT_ROW_WELD:
+    case KG_JOINT_ROW_MOTOR: kg_joint_apply(r, s, r->linear_impulse, r->angular_impulse); break;
+    case KG_JOINT_ROW_PRISMATIC: {
+        kg_axis_frame f = kg_axis_frame_of(r, s);
+        kg_axis_apply(r, s, &f, r->spring_impulse + r->motor_impulse + r->lower_impulse - r->upper_impulse,
+                      r->linear_impulse.x, r->angular_impulse);
+        break;
+    }
+    case KG_JOINT_ROW_WHEEL: {
+        kg_axis_frame f = kg_axis_frame_of(r, s);
+        kg_axis_apply(r, s, &f, r->spring_impulse + r->lower_impulse - r->upper_impulse, r->linear_impulse.x,
+                      r->motor_impulse);
+        break;
+    }
     default: /* mouse: b alone */
         s->b.v = kg_mul_add(s->b.v, r->inv_mass_b, r->linear_impulse);
         s->b.w = s->b.w + r->inv_i_b * (kg_cross(s->rb, r->linear_impulse) + r->angular_impulse);
@@ -441,6 +624,12 @@ KG_FN void kg_joint_pass(KG_GLOBAL kg_joint_row* rows, int j, KG_GLOBAL kg_solve
         kg_distance_solve(&r, &s, prm, use_bias);
     } else if (r.type == KG_JOINT_ROW_WELD) {
         kg_weld_solve(&r, &s, use_bias);
+    } else if (r.type == KG_JOINT_ROW_PRISMATIC) {
+        kg_prismatic_solve(&r, &s, prm, use_bias);
+    } else if (r.type == KG_JOINT_ROW_WHEEL) {
+        kg_wheel_solve(&r, &s, prm, use_bias);
+    } else if (r.type == KG_JOINT_ROW_MOTOR) {
+        kg_motor_joint_solve(&r, &s, prm);
     } else {
         kg_mouse_solve(&r, &s, prm);
     }
@@ -460,6 +649,15 @@ KG_FN void kg_joint_reaction(const kg_joint_row* r, float inv_h, kg_vec2* force,
     case KG_JOINT_ROW_DISTANCE:
         p = kg_scale(r->spring_impulse + r->lower_impulse - r->upper_impulse, r->axis);
         break;
+    case KG_JOINT_ROW_PRISMATIC:
+    case KG_JOINT_ROW_WHEEL: {
+        /* along the axis and across it, at the step's start axis */
+        float axial = r->spring_impulse + r->lower_impulse - r->upper_impulse +
+                      (r->type == KG_JOINT_ROW_PRISMATIC ? r->motor_impulse : 0.0f);
+        p = kg_add(kg_scale(axial, r->axis), kg_scale(r->linear_impulse.x, kg_left_perp(r->axis)));
+        t = r->type == KG_JOINT_ROW_PRISMATIC ? r->angular_impulse : r->motor_impulse;
+        break;
+    }
     default: t = r->angular_impulse; break;
     }
     *force = kg_scale(inv_h, p);
