@@ -574,6 +574,33 @@ static void joint_scene(kg_world* w)
     mouse.base.body_b = dragged;
     mouse.target = (kg_vec2){2.0f, 5.0f};
     KG_CHECK_OK(kg_create_mouse_joint(w, &mouse, NULL));
+    kg_body cart = add_body(w, (kg_vec2){14.0f, 1.0f}, kg_box_shape(2.0f, 0.4f), 1.0f);
+    kg_prismatic_joint_def pd = kg_default_prismatic_joint_def();
+    pd.base.body_a = ground;
+    pd.base.body_b = cart;
+    KG_CHECK_OK(kg_joint_local_point(w, ground, (kg_vec2){14.0f, 1.0f}, &pd.local_anchor_a));
+    pd.enable_motor = 1;
+    pd.motor_speed = 1.0f;
+    pd.max_motor_force = 30.0f;
+    pd.enable_limit = 1;
+    KG_CHECK_OK(kg_create_prismatic_joint(w, &pd, NULL));
+    kg_body tyre = add_body(w, (kg_vec2){14.8f, 0.6f}, kg_circle_shape(0.25f), 1.0f);
+    kg_wheel_joint_def wh = kg_default_wheel_joint_def();
+    wh.base.body_a = cart;
+    wh.base.body_b = tyre;
+    KG_CHECK_OK(kg_joint_local_point(w, cart, (kg_vec2){14.8f, 0.6f}, &wh.local_anchor_a));
+    wh.enable_motor = 1;
+    wh.motor_speed = -4.0f;
+    wh.max_motor_torque = 5.0f;
+    KG_CHECK_OK(kg_create_wheel_joint(w, &wh, NULL));
+    kg_body puppet = add_body(w, (kg_vec2){-12.0f, 3.0f}, kg_box_shape(0.5f, 0.5f), 1.0f);
+    kg_motor_joint_def mo = kg_default_motor_joint_def();
+    mo.base.body_b = puppet;
+    mo.linear_offset = (kg_vec2){-12.0f, 5.0f};
+    mo.angular_offset = 1.0f;
+    mo.max_force = 40.0f;
+    mo.max_torque = 5.0f;
+    KG_CHECK_OK(kg_create_motor_joint(w, &mo, NULL));
     for (int i = 0; i < 30; ++i) {
         add_body(w, (kg_vec2){-6.0f + 0.7f * (float)(i % 20), 11.0f + 0.8f * (float)(i / 20)}, kg_box_shape(0.4f, 0.4f),
                  1.0f);
@@ -712,32 +739,49 @@ static void test_scene_joints(void)
                        "{\"name\": \"bob\", \"position\": [2, 10], \"shape\": {\"type\": \"circle\", \"radius\": 0.1}},"
                        "{\"name\": \"p1\", \"position\": [5, 5], \"shape\": {\"type\": \"box\", \"width\": 1, \"height\": 0.2}},"
                        "{\"name\": \"p2\", \"position\": [6, 5], \"shape\": {\"type\": \"box\", \"width\": 1, \"height\": 0.2}},"
-                       "{\"name\": \"ball\", \"position\": [-5, 5], \"shape\": {\"type\": \"circle\", \"radius\": 0.2}}],"
+                       "{\"name\": \"ball\", \"position\": [-5, 5], \"shape\": {\"type\": \"circle\", \"radius\": 0.2}},"
+                       "{\"name\": \"car\", \"position\": [10, 5], \"shape\": {\"type\": \"box\", \"width\": 2, \"height\": 0.4}},"
+                       "{\"name\": \"tyre\", \"position\": [10.8, 4.5], \"shape\": {\"type\": \"circle\", \"radius\": 0.3}},"
+                       "{\"name\": \"crate\", \"position\": [15, 5], \"angle\": 0.3, \"shape\": {\"type\": \"box\", \"width\": 0.5, \"height\": 0.5}}],"
                        "\"joints\": ["
                        "{\"type\": \"revolute\", \"b\": \"bob\", \"anchor\": [0, 10], \"enable_motor\": false},"
                        "{\"type\": \"weld\", \"b\": \"p1\", \"anchor\": [4.5, 5]},"
                        "{\"type\": \"weld\", \"a\": \"p1\", \"b\": \"p2\", \"anchor\": [5.5, 5], \"angular_hertz\": 5},"
                        "{\"type\": \"distance\", \"b\": \"ball\", \"anchor_a\": [-5, 8], \"anchor_b\": [-5, 5.2],"
                        " \"enable_spring\": true, \"hertz\": 2, \"damping_ratio\": 0.1},"
-                       "{\"type\": \"mouse\", \"b\": \"ball\", \"target\": [-4, 5], \"max_force\": 50}]}";
+                       "{\"type\": \"mouse\", \"b\": \"ball\", \"target\": [-4, 5], \"max_force\": 50},"
+                       "{\"type\": \"prismatic\", \"b\": \"car\", \"anchor\": [10, 5], \"axis\": [1, 0],"
+                       " \"enable_limit\": true, \"lower_translation\": -1, \"upper_translation\": 1},"
+                       "{\"type\": \"wheel\", \"a\": \"car\", \"b\": \"tyre\", \"anchor\": [10.8, 4.5], \"axis\": [0, 1],"
+                       " \"enable_motor\": true, \"motor_speed\": -5, \"max_motor_torque\": 10, \"hertz\": 4},"
+                       "{\"type\": \"motor\", \"b\": \"crate\", \"max_force\": 100, \"max_torque\": 100}]}";
     kg_scene* scene = NULL;
     KG_CHECK_OK(kg_scene_parse(json, strlen(json), "joints.json", &scene));
-    KG_CHECK(kg_scene_joint_count(scene) == 5);
+    KG_CHECK(kg_scene_joint_count(scene) == 8);
     kg_world_def def = kg_default_world_def();
     def.backend = KG_BACKEND_CPU;
     def.enable_sleep = 0;
     kg_world* w = NULL;
-    kg_body handles[4];
+    kg_body handles[7];
     KG_CHECK_OK(kg_scene_instantiate(scene, &def, &w, handles));
-    KG_CHECK(kg_world_joint_count(w) == 5);
+    KG_CHECK(kg_world_joint_count(w) == 8);
     for (int s = 0; s < 120; ++s) {
         KG_CHECK_OK(kg_world_step(w, DT));
     }
     kg_vec2 p = position_of(w, handles[0]);
     double len = sqrt((double)p.x * p.x + (double)(p.y - 10.0f) * (p.y - 10.0f));
-    measured("measured: scene pendulum length %.5f m after 2 s (2 m), weld tip at y %.4f\n", len,
-             (double)position_of(w, handles[2]).y);
+    kg_body_state crate;
+    KG_CHECK_OK(kg_body_get_state(w, handles[6], &crate));
+    float spin = 0.0f;
+    KG_CHECK_OK(kg_body_get_angular_velocity(w, handles[5], &spin));
+    measured("measured: scene pendulum length %.5f m after 2 s (2 m), weld tip at y %.4f, tyre spinning at %.3f "
+             "rad/s (motor -5), crate held at (%.4f, %.4f) turned %.4f (the motor joint's start pose)\n",
+             len, (double)position_of(w, handles[2]).y, (double)spin, (double)crate.position.x,
+             (double)crate.position.y, (double)crate.angle);
     KG_CHECK_NEAR(len, 2.0, 0.001);
+    KG_CHECK_NEAR(spin, -5.0f, 0.1f);
+    KG_CHECK_NEAR(crate.position.x, 15.0f, 0.01f);
+    KG_CHECK_NEAR(crate.angle, 0.3f, 0.01f);
     kg_destroy_world(w);
     kg_scene_destroy(scene);
 
@@ -748,10 +792,10 @@ static void test_scene_joints(void)
         "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"revolute\", \"b\": \"x\", \"anchor\": [0, 0], \"hertz\": -1}]}",
         "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"weld\", \"a\": \"x\", \"b\": \"x\", \"anchor\": [0, 0]}]}",
         "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"distance\", \"b\": \"x\", \"anchor_a\": [0, 0], \"anchor_b\": [0, 1], \"spring\": 1}]}",
-        "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"prismatic\", \"b\": \"x\"}]}",
+        "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"prismatic\", \"b\": \"x\", \"anchor\": [0, 0], \"axis\": [0, 0]}]}",
     };
     const char* paths[] = {"joints[0].type", "joints[0].b", "joints[0].anchor", "joints[0].hertz", "joints[0].b",
-                           "joints[0].spring", "joints[0].type"};
+                           "joints[0].spring", "joints[0].axis"};
     for (int i = 0; i < (int)(sizeof bad / sizeof bad[0]); ++i) {
         kg_scene* sc = NULL;
         kg_result r = kg_scene_parse(bad[i], strlen(bad[i]), "bad.json", &sc);

@@ -116,19 +116,25 @@ KG_API const kg_tilemap_def* kg_scene_get_tilemap(const kg_scene* scene, int ind
 
 /* Joints (kgyro/joint.h, the scene file's "joints"). A scene joint names its bodies by
  * scene index (body_a -1: held to the world) and places its anchors in world
- * coordinates at the scene's start: anchor_a is the anchor of a revolute or weld joint,
- * and distance's end on body_a; anchor_b distance's end on body_b, and the point of body_b
- * a mouse joint drags (to mouse.target). The definition of its type gives every other
- * option; its bodies and local anchors are ignored (kg_scene_instantiate makes them).
+ * coordinates at the scene's start: anchor_a is the anchor of a revolute, weld,
+ * prismatic or wheel joint, and distance's end on body_a; anchor_b distance's end on
+ * body_b, and the point of body_b a mouse joint drags (to mouse.target); axis the world
+ * direction of a prismatic or wheel joint's axis. The definition of its type gives every
+ * other option; its bodies, local anchors and local axis are ignored (kg_scene_instantiate
+ * makes them).
  * Checked when instantiated (the kind's kg_create_*_joint), but for the body indices. */
 typedef struct kg_scene_joint {
     kg_joint_type type;
     int body_a, body_b;
     kg_vec2 anchor_a, anchor_b;
+    kg_vec2 axis;
     kg_revolute_joint_def revolute;
     kg_distance_joint_def distance;
     kg_weld_joint_def weld;
     kg_mouse_joint_def mouse;
+    kg_prismatic_joint_def prismatic;
+    kg_wheel_joint_def wheel;
+    kg_motor_joint_def motor;
 } kg_scene_joint;
 
 KG_API kg_result kg_scene_add_joint(kg_scene* scene, const kg_scene_joint* joint);

@@ -23,6 +23,16 @@ static const char* const kWeldFields[] = {KG_JOINT_COMMON,         "anchor",    
 static const char* const kMouseFields[] = {KG_JOINT_COMMON, "target", "anchor", "hertz", "damping_ratio", "max_force",
                                            NULL};
 
+static const char* const kPrismaticFields[] = {KG_JOINT_COMMON, "anchor", "axis", "reference_angle", "enable_limit",
+                                               "lower_translation", "upper_translation", "enable_motor",
+                                               "motor_speed", "max_motor_force", "enable_spring", "hertz",
+                                               "damping_ratio", NULL};
+static const char* const kWheelFields[] = {KG_JOINT_COMMON, "anchor", "axis", "enable_limit", "lower_translation",
+                                           "upper_translation", "enable_motor", "motor_speed", "max_motor_torque",
+                                           "enable_spring", "hertz", "damping_ratio", NULL};
+static const char* const kMotorFields[] = {KG_JOINT_COMMON, "linear_offset", "angular_offset", "max_force",
+                                           "max_torque", "correction_factor", NULL};
+
 static const char* const kJointTypes[] = {"revolute", "distance", "weld", "mouse", "prismatic", "wheel", "motor", NULL};
 
 /* The scene index of the body that object's key names: -1 when absent (the world) unless
@@ -165,6 +175,83 @@ static kg_result kg_read_mouse(const kg_json_reader* reader, const cJSON* item, 
     return kg_json_float(reader, item, path, "max_force", KG_JSON_NON_NEGATIVE, &d->max_force);
 }
 
+/* The axis (required, not zero) and the translation limits of a prismatic or wheel joint. */
+static kg_result kg_read_axis_limits(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
+                                     kg_scene_joint* j, int* enable, float* lower, float* upper)
+{
+    KG_TRY(kg_json_require(reader, item, path, "anchor"));
+    KG_TRY(kg_json_vec2(reader, item, path, "anchor", &j->anchor_a));
+    j->anchor_b = j->anchor_a;
+    KG_TRY(kg_json_require(reader, item, path, "axis"));
+    KG_TRY(kg_json_vec2(reader, item, path, "axis", &j->axis));
+    if (j->axis.x * j->axis.x + j->axis.y * j->axis.y < 1e-12f) {
+        kg_json_path at = kg_json_path_key(path, "axis");
+        return kg_json_fail(reader, &at, "must not be zero");
+    }
+    KG_TRY(kg_json_bool(reader, item, path, "enable_limit", enable));
+    KG_TRY(kg_json_float(reader, item, path, "lower_translation", KG_JSON_ANY, lower));
+    KG_TRY(kg_json_float(reader, item, path, "upper_translation", KG_JSON_ANY, upper));
+    if (*lower > *upper) {
+        kg_json_path at = kg_json_path_key(path, "lower_translation");
+        return kg_json_fail(reader, &at, "must be <= upper_translation");
+    }
+    return KG_OK;
+}
+
+static kg_result kg_read_prismatic(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
+                                   const kg_scene* scene, kg_scene_joint* j)
+{
+    kg_prismatic_joint_def* d = &j->prismatic;
+    KG_TRY(kg_json_check_object(reader, item, path, kPrismaticFields));
+    KG_TRY(kg_read_base(reader, item, path, &d->base));
+    KG_TRY(kg_read_axis_limits(reader, item, path, j, &d->enable_limit, &d->lower_translation,
+                               &d->upper_translation));
+    d->reference_angle = kg_scene_angle(scene, j->body_b) - kg_scene_angle(scene, j->body_a);
+    KG_TRY(kg_json_float(reader, item, path, "reference_angle", KG_JSON_ANY, &d->reference_angle));
+    KG_TRY(kg_json_bool(reader, item, path, "enable_motor", &d->enable_motor));
+    KG_TRY(kg_json_float(reader, item, path, "motor_speed", KG_JSON_ANY, &d->motor_speed));
+    KG_TRY(kg_json_float(reader, item, path, "max_motor_force", KG_JSON_NON_NEGATIVE, &d->max_motor_force));
+    KG_TRY(kg_json_bool(reader, item, path, "enable_spring", &d->enable_spring));
+    KG_TRY(kg_json_float(reader, item, path, "hertz", KG_JSON_NON_NEGATIVE, &d->hertz));
+    return kg_json_float(reader, item, path, "damping_ratio", KG_JSON_NON_NEGATIVE, &d->damping_ratio);
+}
+
+static kg_result kg_read_wheel(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
+                               kg_scene_joint* j)
+{
+    kg_wheel_joint_def* d = &j->wheel;
+    KG_TRY(kg_json_check_object(reader, item, path, kWheelFields));
+    KG_TRY(kg_read_base(reader, item, path, &d->base));
+    KG_TRY(kg_read_axis_limits(reader, item, path, j, &d->enable_limit, &d->lower_translation,
+                               &d->upper_translation));
+    KG_TRY(kg_json_bool(reader, item, path, "enable_motor", &d->enable_motor));
+    KG_TRY(kg_json_float(reader, item, path, "motor_speed", KG_JSON_ANY, &d->motor_speed));
+    KG_TRY(kg_json_float(reader, item, path, "max_motor_torque", KG_JSON_NON_NEGATIVE, &d->max_motor_torque));
+    KG_TRY(kg_json_bool(reader, item, path, "enable_spring", &d->enable_spring));
+    KG_TRY(kg_json_float(reader, item, path, "hertz", KG_JSON_NON_NEGATIVE, &d->hertz));
+    return kg_json_float(reader, item, path, "damping_ratio", KG_JSON_NON_NEGATIVE, &d->damping_ratio);
+}
+
+static kg_result kg_read_motor(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
+                               const kg_scene* scene, kg_scene_joint* j)
+{
+    kg_motor_joint_def* d = &j->motor;
+    KG_TRY(kg_json_check_object(reader, item, path, kMotorFields));
+    KG_TRY(kg_read_base(reader, item, path, &d->base));
+    /* default: the pose b has relative to a at the scene's start */
+    float angle_a = kg_scene_angle(scene, j->body_a);
+    kg_vec2 pa = kg_scene_position(scene, j->body_a), pb = kg_scene_position(scene, j->body_b);
+    float c = cosf(angle_a), s = sinf(angle_a), dx = pb.x - pa.x, dy = pb.y - pa.y;
+    d->linear_offset.x = c * dx + s * dy;
+    d->linear_offset.y = -s * dx + c * dy;
+    d->angular_offset = kg_scene_angle(scene, j->body_b) - angle_a;
+    KG_TRY(kg_json_vec2(reader, item, path, "linear_offset", &d->linear_offset));
+    KG_TRY(kg_json_float(reader, item, path, "angular_offset", KG_JSON_ANY, &d->angular_offset));
+    KG_TRY(kg_json_float(reader, item, path, "max_force", KG_JSON_NON_NEGATIVE, &d->max_force));
+    KG_TRY(kg_json_float(reader, item, path, "max_torque", KG_JSON_NON_NEGATIVE, &d->max_torque));
+    return kg_json_float(reader, item, path, "correction_factor", KG_JSON_UNIT, &d->correction_factor);
+}
+
 static kg_result kg_read_joint(const kg_json_reader* reader, kg_scene* scene, const cJSON* item,
                                const kg_json_path* path)
 {
@@ -183,9 +270,6 @@ static kg_result kg_read_joint(const kg_json_reader* reader, kg_scene* scene, co
         return kg_json_fail(reader, &type_path,
                             "must be one of revolute, distance, weld, mouse, prismatic, wheel, motor");
     }
-    if (kind > (int)KG_JOINT_MOUSE) {
-        return kg_json_fail(reader, &type_path, "\"%s\" joints are not supported yet (docs/joints.md)", type);
-    }
     kg_scene_joint j;
     memset(&j, 0, sizeof j);
     j.type = (kg_joint_type)kind;
@@ -193,6 +277,9 @@ static kg_result kg_read_joint(const kg_json_reader* reader, kg_scene* scene, co
     j.distance = kg_default_distance_joint_def();
     j.weld = kg_default_weld_joint_def();
     j.mouse = kg_default_mouse_joint_def();
+    j.prismatic = kg_default_prismatic_joint_def();
+    j.wheel = kg_default_wheel_joint_def();
+    j.motor = kg_default_motor_joint_def();
     KG_TRY(kg_read_joint_body(reader, scene, item, path, "a", 0, &j.body_a));
     KG_TRY(kg_read_joint_body(reader, scene, item, path, "b", 1, &j.body_b));
     if (j.body_a == j.body_b) {
@@ -203,7 +290,10 @@ static kg_result kg_read_joint(const kg_json_reader* reader, kg_scene* scene, co
     case KG_JOINT_REVOLUTE: KG_TRY(kg_read_revolute(reader, item, path, scene, &j)); break;
     case KG_JOINT_DISTANCE: KG_TRY(kg_read_distance(reader, item, path, &j)); break;
     case KG_JOINT_WELD: KG_TRY(kg_read_weld(reader, item, path, scene, &j)); break;
-    default: KG_TRY(kg_read_mouse(reader, item, path, scene, &j)); break;
+    case KG_JOINT_MOUSE: KG_TRY(kg_read_mouse(reader, item, path, scene, &j)); break;
+    case KG_JOINT_PRISMATIC: KG_TRY(kg_read_prismatic(reader, item, path, scene, &j)); break;
+    case KG_JOINT_WHEEL: KG_TRY(kg_read_wheel(reader, item, path, &j)); break;
+    default: KG_TRY(kg_read_motor(reader, item, path, scene, &j)); break;
     }
     if (kg_scene_add_joint(scene, &j) != KG_OK) {
         return kg_json_fail(reader, path, "%s", kg_last_error());
@@ -232,6 +322,17 @@ static kg_body kg_handle_or_world(const kg_body* handles, int index)
 {
     kg_body none = KG_NULL_BODY_INIT;
     return index < 0 ? none : handles[index];
+}
+
+/* A world direction in body's frame (the world's for KG_NULL_BODY). */
+static kg_vec2 kg_local_axis(const kg_world* world, kg_body body, kg_vec2 axis)
+{
+    kg_vec2 origin = {0.0f, 0.0f}, o, p;
+    if (kg_joint_local_point(world, body, origin, &o) != KG_OK || kg_joint_local_point(world, body, axis, &p) != KG_OK) {
+        return axis;
+    }
+    kg_vec2 d = {p.x - o.x, p.y - o.y};
+    return d;
 }
 
 kg_result kg_create_scene_joints(const kg_scene* scene, kg_world* world, const kg_body* handles)
@@ -278,7 +379,34 @@ kg_result kg_create_scene_joints(const kg_scene* scene, kg_world* world, const k
             r = kg_create_mouse_joint(world, &d, NULL);
             break;
         }
-        default: r = kg_fail(KG_ERROR_UNSUPPORTED, "joint %d: its type is not supported yet", i); break;
+        case KG_JOINT_PRISMATIC: {
+            kg_prismatic_joint_def d = j->prismatic;
+            d.base.body_a = a;
+            d.base.body_b = b;
+            d.local_anchor_a = la;
+            d.local_anchor_b = lb;
+            d.local_axis_a = kg_local_axis(world, a, j->axis);
+            r = kg_create_prismatic_joint(world, &d, NULL);
+            break;
+        }
+        case KG_JOINT_WHEEL: {
+            kg_wheel_joint_def d = j->wheel;
+            d.base.body_a = a;
+            d.base.body_b = b;
+            d.local_anchor_a = la;
+            d.local_anchor_b = lb;
+            d.local_axis_a = kg_local_axis(world, a, j->axis);
+            r = kg_create_wheel_joint(world, &d, NULL);
+            break;
+        }
+        case KG_JOINT_MOTOR: {
+            kg_motor_joint_def d = j->motor;
+            d.base.body_a = a;
+            d.base.body_b = b;
+            r = kg_create_motor_joint(world, &d, NULL);
+            break;
+        }
+        default: r = kg_fail(KG_ERROR_UNSUPPORTED, "joint %d: unknown type", i); break;
         }
         if (r != KG_OK) {
             char why[256];
