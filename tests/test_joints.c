@@ -8,6 +8,27 @@
 #define PI_F 3.14159265359f
 #define PI_D 3.14159265358979323846
 
+/* A world on backend (the test's OpenCL device), else as joint_world. */
+static kg_world* backend_world(kg_backend backend, int sleep)
+{
+    kg_world_def def = kg_default_world_def();
+    def.backend = backend;
+    def.device_index = kg_test_opencl_device();
+    def.enable_sleep = sleep;
+    kg_world* w = NULL;
+    KG_CHECK_OK(kg_create_world(&def, &w));
+    return w;
+}
+
+/* How many backends to run a test on: the CPU, and OpenCL when a device is there. */
+static int backend_count(void)
+{
+    int devices = 0;
+    return kg_opencl_device_count(&devices) == KG_OK && devices > 0 ? 2 : 1;
+}
+
+static const kg_backend kBackends[2] = {KG_BACKEND_CPU, KG_BACKEND_OPENCL};
+
 static kg_world* joint_world(int threads, int sleep)
 {
     kg_world_def def = kg_default_world_def();
@@ -468,11 +489,13 @@ static void test_mouse_joint_drags_to_target(void)
     kg_destroy_world(w);
 }
 
-/* Two overlapping boxes joined by a hinge do not collide; with collide_connected they do. */
+/* Two overlapping boxes joined by a hinge do not collide; with collide_connected they do
+ * (on each backend). */
 static void test_collide_connected(void)
 {
-    for (int connected = 0; connected < 2; ++connected) {
-        kg_world* w = joint_world(1, 0);
+    for (int k = 0; k < 2 * backend_count(); ++k) {
+        int connected = k % 2;
+        kg_world* w = backend_world(kBackends[k / 2], 0);
         KG_CHECK_OK(kg_world_set_gravity(w, (kg_vec2){0.0f, 0.0f}));
         kg_body a = add_body(w, (kg_vec2){0.0f, 0.0f}, kg_box_shape(1.0f, 0.2f), 1.0f);
         kg_body b = add_body(w, (kg_vec2){0.8f, 0.0f}, kg_box_shape(1.0f, 0.2f), 1.0f);
@@ -482,48 +505,50 @@ static void test_collide_connected(void)
         hinge(w, a, b, (kg_vec2){0.4f, 0.0f}, &def);
         KG_CHECK_OK(kg_world_step(w, DT));
         int contacts = kg_world_contact_count(w);
-        measured("measured: collide_connected %d: %d contacts (a-c always, a-b only when connected)\n", connected,
-                 contacts);
+        measured("measured: %s, collide_connected %d: %d contacts (a-c always, a-b only when connected)\n",
+                 k / 2 ? "OpenCL" : "CPU", connected, contacts);
         KG_CHECK(contacts == 1 + connected);
         (void)c;
         kg_destroy_world(w);
     }
 }
 
-/* Bodies joined by a joint sleep as one island and wake as one. */
+/* Bodies joined by a joint sleep as one island and wake as one (on each backend). */
 static void test_joined_bodies_sleep_and_wake_together(void)
 {
-    kg_world* w = joint_world(1, 1);
-    kg_body ground = KG_NULL_BODY_INIT;
-    {
-        kg_body_def def = kg_default_body_def();
-        def.type = KG_BODY_STATIC;
-        def.shape = kg_box_shape(20.0f, 1.0f);
-        KG_CHECK_OK(kg_create_body(w, &def, &ground));
-    }
-    kg_body a = add_body(w, (kg_vec2){0.0f, 0.75f}, kg_box_shape(0.5f, 0.5f), 1.0f);
-    kg_body b = add_body(w, (kg_vec2){3.0f, 0.75f}, kg_box_shape(0.5f, 0.5f), 1.0f);
-    kg_distance_joint_def def = kg_default_distance_joint_def();
-    def.base.body_a = a;
-    def.base.body_b = b;
-    def.length = 3.0f;
-    kg_joint j = KG_NULL_JOINT_INIT;
-    KG_CHECK_OK(kg_create_distance_joint(w, &def, &j));
-    int asleep_at = -1;
-    for (int s = 0; s < 120 && asleep_at < 0; ++s) {
-        KG_CHECK_OK(kg_world_step(w, DT));
-        KG_CHECK(kg_body_is_awake(w, a) == kg_body_is_awake(w, b));
-        if (!kg_body_is_awake(w, a)) {
-            asleep_at = s;
+    for (int backend = 0; backend < backend_count(); ++backend) {
+        kg_world* w = backend_world(kBackends[backend], 1);
+        kg_body ground = KG_NULL_BODY_INIT;
+        {
+            kg_body_def def = kg_default_body_def();
+            def.type = KG_BODY_STATIC;
+            def.shape = kg_box_shape(20.0f, 1.0f);
+            KG_CHECK_OK(kg_create_body(w, &def, &ground));
         }
+        kg_body a = add_body(w, (kg_vec2){0.0f, 0.75f}, kg_box_shape(0.5f, 0.5f), 1.0f);
+        kg_body b = add_body(w, (kg_vec2){3.0f, 0.75f}, kg_box_shape(0.5f, 0.5f), 1.0f);
+        kg_distance_joint_def def = kg_default_distance_joint_def();
+        def.base.body_a = a;
+        def.base.body_b = b;
+        def.length = 3.0f;
+        kg_joint j = KG_NULL_JOINT_INIT;
+        KG_CHECK_OK(kg_create_distance_joint(w, &def, &j));
+        int asleep_at = -1;
+        for (int s = 0; s < 120 && asleep_at < 0; ++s) {
+            KG_CHECK_OK(kg_world_step(w, DT));
+            KG_CHECK(kg_body_is_awake(w, a) == kg_body_is_awake(w, b));
+            if (!kg_body_is_awake(w, a)) {
+                asleep_at = s;
+            }
+        }
+        KG_CHECK(asleep_at > 0);
+        KG_CHECK_OK(kg_body_set_velocity(w, a, (kg_vec2){1.0f, 0.0f}));
+        KG_CHECK_OK(kg_world_step(w, DT));
+        measured("measured: %s: joined boxes asleep together at step %d; after a's push: a awake %d, b awake %d\n",
+                 backend ? "OpenCL" : "CPU", asleep_at, kg_body_is_awake(w, a), kg_body_is_awake(w, b));
+        KG_CHECK(kg_body_is_awake(w, a) && kg_body_is_awake(w, b));
+        kg_destroy_world(w);
     }
-    KG_CHECK(asleep_at > 0);
-    KG_CHECK_OK(kg_body_set_velocity(w, a, (kg_vec2){1.0f, 0.0f}));
-    KG_CHECK_OK(kg_world_step(w, DT));
-    measured("measured: joined boxes asleep together at step %d; after a's push: a awake %d, b awake %d\n", asleep_at,
-             kg_body_is_awake(w, a), kg_body_is_awake(w, b));
-    KG_CHECK(kg_body_is_awake(w, a) && kg_body_is_awake(w, b));
-    kg_destroy_world(w);
 }
 
 /* A scene of every kind: a chain, a rope, welded planks, a motor, a mouse joint, boxes
@@ -607,17 +632,28 @@ static void joint_scene(kg_world* w)
     }
 }
 
-static void run_joint_scene(int threads, kg_body_state* out, int* count)
+static void run_joint_scene_on(kg_backend backend, int threads, int steps, kg_body_state* out, int* count)
 {
-    kg_world* w = joint_world(threads, 1);
+    kg_world_def def = kg_default_world_def();
+    def.backend = backend;
+    def.device_index = kg_test_opencl_device();
+    def.threads = threads;
+    kg_world* w = NULL;
+    KG_CHECK_OK(kg_create_world(&def, &w));
+    KG_CHECK(kg_world_backend(w) == backend);
     joint_scene(w);
-    for (int s = 0; s < 240; ++s) {
+    for (int s = 0; s < steps; ++s) {
         KG_CHECK_OK(kg_world_step(w, DT));
     }
     kg_body bodies[128];
     KG_CHECK_OK(kg_world_get_bodies(w, bodies, 128, count));
     KG_CHECK_OK(kg_world_get_body_states(w, bodies, *count, out));
     kg_destroy_world(w);
+}
+
+static void run_joint_scene(int threads, kg_body_state* out, int* count)
+{
+    run_joint_scene_on(KG_BACKEND_CPU, threads, 240, out, count);
 }
 
 static void test_bitwise_equal_on_1_and_4_threads(void)
@@ -637,21 +673,51 @@ static void test_bitwise_equal_on_1_and_4_threads(void)
     KG_CHECK(finite);
 }
 
-/* The OpenCL backend refuses joints with a clear error (it does not solve them yet). */
-static void test_opencl_refuses_joints(void)
+/* The OpenCL backend solves the same scene (sleeping on: the device's islands and wake
+ * with the joints' links; collide_connected on the device's pairs) to the same bits as
+ * the CPU on PoCL, step after step. */
+static void test_cpu_and_opencl_bitwise_equal(void)
 {
     int bitwise = 0;
     if (!kg_test_opencl_ready(&bitwise)) {
         return;
     }
-    kg_world* w = kg_test_world(KG_BACKEND_OPENCL, 1);
-    kg_body b = add_body(w, (kg_vec2){0.0f, 0.0f}, kg_circle_shape(0.5f), 1.0f);
-    kg_revolute_joint_def def = kg_default_revolute_joint_def();
-    def.base.body_b = b;
-    kg_joint j = KG_NULL_JOINT_INIT;
-    KG_CHECK(kg_create_revolute_joint(w, &def, &j) == KG_ERROR_UNSUPPORTED);
-    measured("measured: OpenCL world: %s\n", kg_last_error());
-    kg_destroy_world(w);
+    kg_body_state cpu[128], cl[128];
+    int n_cpu = 0, n_cl = 0, first_differing = -1, steps[] = {1, 30, 120, 240};
+    for (int k = 0; k < 4; ++k) {
+        run_joint_scene_on(KG_BACKEND_CPU, 1, steps[k], cpu, &n_cpu);
+        run_joint_scene_on(KG_BACKEND_OPENCL, 1, steps[k], cl, &n_cl);
+        int same = n_cpu == n_cl && memcmp(cpu, cl, (size_t)n_cpu * sizeof cpu[0]) == 0;
+        if (!same && first_differing < 0) {
+            first_differing = steps[k];
+        }
+    }
+    double worst = 0.0;
+    for (int i = 0; i < n_cpu && i < n_cl; ++i) {
+        worst = fmax(worst, fabs((double)cpu[i].position.x - cl[i].position.x));
+        worst = fmax(worst, fabs((double)cpu[i].position.y - cl[i].position.y));
+    }
+    measured("measured: joint scene of %d bodies, CPU against OpenCL (%s): %s after 1, 30, 120 and 240 steps "
+             "(largest position difference at 240: %.3g m)\n",
+             n_cpu, bitwise ? "bitwise expected" : "no correctly rounded divide: close expected",
+             first_differing < 0 ? "bitwise equal" : "DIFFER", worst);
+    KG_CHECK(n_cpu == n_cl);
+    if (bitwise) {
+        KG_CHECK(first_differing < 0);
+    } else {
+        KG_CHECK(worst < 0.01);
+    }
+    /* the islands and the colours in rounds over the whole device, as a GPU runs them */
+    setenv("KGYRO_CL_ISLAND_GROUP_MAX", "16", 1);
+    setenv("KGYRO_CL_COLOR_SERIAL_MAX", "16", 1);
+    run_joint_scene_on(KG_BACKEND_CPU, 1, 240, cpu, &n_cpu);
+    run_joint_scene_on(KG_BACKEND_OPENCL, 1, 240, cl, &n_cl);
+    unsetenv("KGYRO_CL_ISLAND_GROUP_MAX");
+    unsetenv("KGYRO_CL_COLOR_SERIAL_MAX");
+    int same = n_cpu == n_cl && memcmp(cpu, cl, (size_t)n_cpu * sizeof cpu[0]) == 0;
+    measured("measured: the same with the device's islands and colours in rounds: %s after 240 steps\n",
+             same ? "bitwise equal" : "DIFFER");
+    KG_CHECK(same || !bitwise);
 }
 
 /* Bad input is refused with a clear error and changes nothing. */
@@ -1014,6 +1080,6 @@ KG_TEST_MAIN(KG_TEST(test_revolute_pendulum_period_length_energy), KG_TEST(test_
              KG_TEST(test_distance_spring_frequency), KG_TEST(test_rope_never_overstretches),
              KG_TEST(test_weld_cantilever_and_soft_weld), KG_TEST(test_mouse_joint_drags_to_target),
              KG_TEST(test_collide_connected), KG_TEST(test_joined_bodies_sleep_and_wake_together),
-             KG_TEST(test_bitwise_equal_on_1_and_4_threads), KG_TEST(test_opencl_refuses_joints),
+             KG_TEST(test_bitwise_equal_on_1_and_4_threads), KG_TEST(test_cpu_and_opencl_bitwise_equal),
              KG_TEST(test_bad_input), KG_TEST(test_scene_joints), KG_TEST(test_debug_draw_joints), KG_TEST(test_prismatic_limits_and_motor),
              KG_TEST(test_wheel_suspension_and_motor), KG_TEST(test_motor_joint_drives_to_pose))

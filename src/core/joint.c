@@ -33,7 +33,9 @@ struct kg_joints {
     int count;
     kg_u32 tag;
     int derived_stale; /* the pairs and links below are made again when asked for */
-    kg_pair* apart;    /* the pairs of bodies that must not collide, sorted, unique */
+    kg_u32 version;    /* moves when they change (the OpenCL backend uploads them again) */
+    kg_u32* apart;     /* the pairs of bodies that must not collide (two slots each, the lower
+                        * first), sorted, unique */
     int apart_count;
     kg_u32* links;     /* two slots a link */
     int link_count;
@@ -97,7 +99,7 @@ static int kg_joints_grow(struct kg_joints* j)
     kg_joint_row* rows = kg_alloc_zeroed((size_t)capacity * sizeof *rows);
     kg_joint_info* info = kg_alloc_zeroed((size_t)capacity * sizeof *info);
     kg_u32* links = kg_alloc_zeroed((size_t)capacity * 2 * sizeof *links);
-    kg_pair* apart = kg_alloc_zeroed((size_t)capacity * sizeof *apart);
+    kg_u32* apart = kg_alloc_zeroed((size_t)capacity * 2 * sizeof *apart);
     if (!rows || !info || !links || !apart) {
         kg_free(rows);
         kg_free(info);
@@ -123,6 +125,7 @@ static int kg_joints_grow(struct kg_joints* j)
     j->apart = apart;
     j->capacity = capacity;
     j->derived_stale = 1;
+    j->version += 1;
     return 1;
 }
 
@@ -272,9 +275,6 @@ static kg_result kg_check_base(kg_world* world, const kg_joint_base_def* base, c
     if (kg_world_refuses(world, call, KG_LOCK_STEP)) {
         return KG_ERROR_LOCKED;
     }
-    if (kg_world_backend(world) == KG_BACKEND_OPENCL) {
-        return kg_fail(KG_ERROR_UNSUPPORTED, "%s: the OpenCL backend does not solve joints yet (docs/joints.md)", call);
-    }
     int b = kg_world_resolve(world, base->body_b);
     if (b < 0) {
         return kg_fail(KG_ERROR_INVALID_HANDLE, "%s: body_b is not a live body of this world", call);
@@ -328,6 +328,7 @@ static kg_result kg_add_joint(kg_world* world, const kg_joint_row* row, const kg
     j->high_water = slot + 1 > j->high_water ? slot + 1 : j->high_water;
     j->count += 1;
     j->derived_stale = 1;
+    j->version += 1;
     kg_wake_joint_bodies(world, row);
     if (out) {
         out->index = (uint32_t)slot;
@@ -604,8 +605,10 @@ static void kg_release_joint(struct kg_joints* j, int i)
         j->info[i].generation = kg_generation_first(j->tag);
     }
     memset(&j->rows[i], 0, sizeof j->rows[i]);
+    j->rows[i].a = j->rows[i].b = KG_NULL_INDEX; /* no bodies: never active (the device runs every slot) */
     j->count -= 1;
     j->derived_stale = 1;
+    j->version += 1;
     while (j->high_water > 0 && !j->info[j->high_water - 1].alive) {
         j->high_water -= 1;
     }
@@ -692,14 +695,15 @@ kg_joint_events kg_world_get_joint_events(const kg_world* world)
 
 /* ---- what the other stages ask ------------------------------------------------------ */
 
+/* Two pairs of slots (two kg_u32 each) in (a, b) order. */
 static int kg_compare_pairs(const void* pa, const void* pb)
 {
-    const kg_pair* a = pa;
-    const kg_pair* b = pb;
-    if (a->a != b->a) {
-        return a->a < b->a ? -1 : 1;
+    const kg_u32* a = pa;
+    const kg_u32* b = pb;
+    if (a[0] != b[0]) {
+        return a[0] < b[0] ? -1 : 1;
     }
-    return a->b < b->b ? -1 : (a->b > b->b ? 1 : 0);
+    return a[1] < b[1] ? -1 : (a[1] > b[1] ? 1 : 0);
 }
 
 /* The pairs kept apart and the islands' links, made again after a joint changed. */
@@ -718,17 +722,18 @@ static void kg_joints_derive(struct kg_joints* j)
         j->links[2 * links + 1] = r->b;
         links += 1;
         if (!j->info[i].collide_connected) {
-            kg_pair p;
-            p.a = r->a < r->b ? r->a : r->b;
-            p.b = r->a < r->b ? r->b : r->a;
-            j->apart[apart++] = p;
+            j->apart[2 * apart] = r->a < r->b ? r->a : r->b;
+            j->apart[2 * apart + 1] = r->a < r->b ? r->b : r->a;
+            apart += 1;
         }
     }
-    qsort(j->apart, (size_t)apart, sizeof *j->apart, kg_compare_pairs);
+    qsort(j->apart, (size_t)apart, 2 * sizeof *j->apart, kg_compare_pairs);
     int unique = 0;
     for (int k = 0; k < apart; ++k) {
-        if (unique == 0 || kg_compare_pairs(&j->apart[unique - 1], &j->apart[k]) != 0) {
-            j->apart[unique++] = j->apart[k];
+        if (unique == 0 || kg_compare_pairs(&j->apart[2 * (unique - 1)], &j->apart[2 * k]) != 0) {
+            j->apart[2 * unique] = j->apart[2 * k];
+            j->apart[2 * unique + 1] = j->apart[2 * k + 1];
+            unique += 1;
         }
     }
     j->apart_count = unique;
@@ -746,19 +751,36 @@ int kg_joints_filter_pairs(kg_world* world, kg_pair* pairs, int count)
     if (j->apart_count == 0) {
         return count;
     }
-    int kept = 0, at = 0;
+    int kept = 0;
     for (int k = 0; k < count; ++k) {
         kg_pair p = pairs[k];
-        while (at < j->apart_count && kg_compare_pairs(&j->apart[at], &p) < 0) {
-            ++at;
+        if (!kg_pair_is_joined(j->apart, j->apart_count, p.a, p.b)) {
+            pairs[kept++] = p;
         }
-        if (at < j->apart_count && kg_compare_pairs(&j->apart[at], &p) == 0) {
-            continue;
-        }
-        pairs[kept++] = p;
     }
     return kept;
 }
+
+const kg_u32* kg_joints_apart(kg_world* world, int* count)
+{
+    struct kg_joints* j = world->joints;
+    *count = 0;
+    if (!j || j->count == 0) {
+        return NULL;
+    }
+    kg_joints_derive(j);
+    *count = j->apart_count;
+    return j->apart;
+}
+
+kg_joint_row* kg_joints_rows(kg_world* world, int* slots)
+{
+    struct kg_joints* j = world->joints;
+    *slots = j && j->count > 0 ? j->high_water : 0;
+    return j ? j->rows : NULL;
+}
+
+kg_u32 kg_joints_version(const kg_world* world) { return world->joints ? world->joints->version : 0u; }
 
 const kg_u32* kg_joints_links(kg_world* world, int* count)
 {
@@ -918,6 +940,7 @@ kg_result kg_joint_set_collide_connected(kg_world* world, kg_joint joint, int co
     }
     world->joints->info[joint.index].collide_connected = collide != 0;
     world->joints->derived_stale = 1;
+    world->joints->version += 1;
     return KG_OK;
 }
 

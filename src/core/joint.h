@@ -7,7 +7,7 @@
 
 #include "core/world.h"
 #include "kgyro/joint.h"
-#include "solve/contact_solver.h"
+#include "solve/joint_row.h"
 
 struct kg_joints;
 struct kg_pair;
@@ -30,6 +30,13 @@ int kg_joints_filter_pairs(kg_world* world, struct kg_pair* pairs, int count);
 /* The islands' links: body slot pairs (2 a link) of the joints between two bodies, and
  * their number in *count. */
 const kg_u32* kg_joints_links(kg_world* world, int* count);
+
+/* The sorted pairs kept apart (two slots each, kg_pair_is_joined's list) and their
+ * number; the rows of slots [0, *slots) (a free slot's row has no bodies, so it is never
+ * active); a count that moves whenever the links or pairs change. For the OpenCL backend. */
+const kg_u32* kg_joints_apart(kg_world* world, int* count);
+kg_joint_row* kg_joints_rows(kg_world* world, int* slots);
+kg_u32 kg_joints_version(const kg_world* world);
 
 /* Body slot `slot` (handle body) is being destroyed: its joints go with it, each listed
  * for kg_world_get_joint_events, the other bodies woken. */

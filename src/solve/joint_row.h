@@ -638,6 +638,25 @@ KG_FN void kg_joint_pass(KG_GLOBAL kg_joint_row* rows, int j, KG_GLOBAL kg_solve
     rows[j] = r;
 }
 
+/* Whether the pair of body slots (a, b), a < b, is in apart (count pairs of two slots,
+ * sorted by (a, b), unique): two bodies joined by a joint that does not
+ * collide_connected, whose pair makes no contact. A binary search; the CPU's collide
+ * stage and the device's kernel ask it of every pair. */
+KG_FN int kg_pair_is_joined(KG_GLOBAL const kg_u32* apart, int count, kg_u32 a, kg_u32 b)
+{
+    int lo = 0, hi = count;
+    while (lo < hi) {
+        int mid = (lo + hi) >> 1;
+        kg_u32 ma = apart[2 * mid], mb = apart[2 * mid + 1];
+        if (ma < a || (ma == a && mb < b)) {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo < count && apart[2 * lo] == a && apart[2 * lo + 1] == b;
+}
+
 /* What the joint did to body b in the last sub-step (inv_h: one over its length): the
  * force and the torque about b's centre beyond the force's own. */
 KG_FN void kg_joint_reaction(const kg_joint_row* r, float inv_h, kg_vec2* force, float* torque)

@@ -1,11 +1,12 @@
-/* The joints' kernels (solve/joint_row.h): each maps its work-item to a joint and calls
- * the function the CPU's loop calls (core/joint.c), so both backends would compute the
- * same bits. Not yet launched: the host side (uploading the rows when joints change,
- * checkpointing them, the passes in the sub-step loop, joint links in the device's
- * islands and the collide_connected filter on the device's pairs) is docs/joints.md's
- * "What is left"; until then an OpenCL world refuses joints (KG_ERROR_UNSUPPORTED).
- * Built with the program, so the shared rows are checked as OpenCL C on every build. */
+/* The joints' kernels: each maps its work-item to a joint, a pair or a link and calls the
+ * function the CPU's loops call (solve/joint_row.h, solve/island.h; core/joint.c and
+ * solve/sleep.c on the CPU), so both backends compute the same bits
+ * (test_joints compares them on PoCL). Launched by cl_step.c, cl_collide.c and cl_sleep.c
+ * while the world has joints. */
+#include "collide/pair_contact.h"
+#include "solve/island.h"
 #include "solve/joint_row.h"
+#include "kg_collide_shared.h"
 
 /* Joint j's row prepared for the step (rows are independent: a work-item each). */
 __kernel void kg_prepare_joints(int count, __global const kg_solver_params* params, __global kg_joint_row* rows,
@@ -31,5 +32,70 @@ __kernel void kg_solve_joints(int count, int iterations, int pass, __global cons
         for (int j = 0; j < count; ++j) {
             kg_joint_pass(rows, j, bodies, *params, pass);
         }
+    }
+}
+
+/* Pair k of bodies joined by a joint that does not collide_connected makes no contact:
+ * its touching flag cleared before the prefix sum (the CPU drops the pair). */
+__kernel void kg_drop_joined_pairs(int count, __global const uint2* pairs, __global const kg_u32* apart,
+                                   int apart_count, __global uint* touching)
+{
+    int k = (int)get_global_id(0);
+    if (k < count && kg_pair_is_joined(apart, apart_count, pairs[k].x, pairs[k].y)) {
+        touching[k] = 0u;
+    }
+}
+
+/* The same over the pairs of shapes (while a body has several). */
+__kernel void kg_drop_joined_shape_pairs(int count, __global const kg_shape_pair* items, __global const kg_u32* apart,
+                                         int apart_count, __global uint* touching)
+{
+    int k = (int)get_global_id(0);
+    if (k < count && kg_pair_is_joined(apart, apart_count, items[k].a, items[k].b)) {
+        touching[k] = 0u;
+    }
+}
+
+/* Joint link k marks the island of its sleeping body when the other stirs. */
+__kernel void kg_wake_joined(int count, __global const kg_u32* links, __global const kg_u32* flags,
+                             __global const kg_vec2* velocity, __global const float* omega,
+                             __global const kg_u32* island, __global uint* wake_marks)
+{
+    int k = (int)get_global_id(0);
+    if (k < count) {
+        kg_mark_woken(links[2 * k], links[2 * k + 1], flags, velocity, omega, island, wake_marks);
+    }
+}
+
+/* kg_find_islands with the joints' links (one work-group). */
+__kernel void kg_find_joined_islands(int bodies, int count, __global const kg_contact* contacts, int joints,
+                                     __global const kg_u32* links, __global const kg_u32* flags,
+                                     __global const kg_vec2* velocity, __global const float* omega,
+                                     __global const float* sleep_time, __global kg_u32* parent, __global float* least)
+{
+    __local int hooked;
+    kg_find_joined_islands_in_group((int)get_local_id(0), (int)get_local_size(0), &hooked, bodies, count, contacts,
+                                    joints, links, flags, velocity, omega, sleep_time, parent, least);
+}
+
+/* In the rounds over the whole device: the joints' hooks of a round, after the
+ * contacts' (kg_hook_round, which cleared the next round's counter). */
+__kernel void kg_hook_joint_round(int joints, int round, __global const kg_u32* links, __global const kg_u32* flags,
+                                  __global kg_u32* parent, __global uint* counts)
+{
+    int k = (int)get_global_id(0);
+    if (k < joints && kg_hook_link(links[2 * k], links[2 * k + 1], flags, parent)) {
+        atomic_inc(&counts[KG_CC_HOOKED + (round & 1)]);
+    }
+}
+
+/* And after kg_island_stirs: a moving kinematic body keeps what it drives awake. */
+__kernel void kg_joint_stirs(int joints, __global const kg_u32* links, __global const kg_u32* flags,
+                             __global const kg_vec2* velocity, __global const float* omega,
+                             __global const kg_u32* parent, __global float* least)
+{
+    int k = (int)get_global_id(0);
+    if (k < joints) {
+        kg_link_stirs(links[2 * k], links[2 * k + 1], flags, velocity, omega, parent, least);
     }
 }
