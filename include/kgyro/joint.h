@@ -12,9 +12,8 @@
  * or in world coordinates through kg_joint_local_point. body_a may be KG_NULL_BODY: the
  * joint then holds body_b to the world (its anchor_a is a world point). A joint between a
  * body and itself, a NaN anchor or option, or a stale body is refused
- * (KG_ERROR_INVALID_ARGUMENT / KG_ERROR_INVALID_HANDLE). The OpenCL backend does not solve
- * joints yet: creating one in an OpenCL world fails with KG_ERROR_UNSUPPORTED.
- * (The setters' names follow the kind: kg_revolute_joint_set_motor on a weld joint is
+ * (KG_ERROR_INVALID_ARGUMENT / KG_ERROR_INVALID_HANDLE). Both backends solve them, to the
+ * same bits. (The setters' names follow the kind: kg_revolute_joint_set_motor on a weld joint is
  * refused with KG_ERROR_INVALID_ARGUMENT.) */
 #ifndef KGYRO_JOINT_H
 #define KGYRO_JOINT_H
