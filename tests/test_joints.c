@@ -1104,6 +1104,51 @@ static void test_motor_joint_drives_to_pose(void)
     kg_destroy_world(w);
 }
 
+/* A breakable hinge holding a 10 kg disc to the world: a threshold below its weight
+ * breaks it at the end of the first step (an event with the force that broke it), one
+ * above holds; the threshold set later breaks it then. On each backend. */
+static void test_breakable_joint(void)
+{
+    for (int backend = 0; backend < backend_count(); ++backend) {
+        kg_world* w = backend_world(kBackends[backend], 0);
+        kg_body_def bd = kg_default_body_def();
+        bd.position = (kg_vec2){0.0f, 5.0f};
+        bd.shape = kg_circle_shape(0.2f);
+        bd.mass = 10.0f;
+        kg_body heavy = KG_NULL_BODY_INIT, light = KG_NULL_BODY_INIT;
+        KG_CHECK_OK(kg_create_body(w, &bd, &heavy));
+        bd.position = (kg_vec2){3.0f, 5.0f};
+        KG_CHECK_OK(kg_create_body(w, &bd, &light));
+        kg_revolute_joint_def def = kg_default_revolute_joint_def();
+        def.base.break_force = 50.0f; /* the weight is 100 N */
+        kg_joint weak = hinge(w, null_body(), heavy, (kg_vec2){0.0f, 5.0f}, &def);
+        def.base.break_force = 150.0f;
+        kg_joint strong = hinge(w, null_body(), light, (kg_vec2){3.0f, 5.0f}, &def);
+        KG_CHECK_OK(kg_world_step(w, DT));
+        kg_joint_events ev = kg_world_get_joint_events(w);
+        measured("measured: %s: after one step %d joint(s) left, %d event(s): kind %d, force %.3f N (threshold 50)\n",
+                 backend ? "OpenCL" : "CPU", kg_world_joint_count(w), ev.count, ev.count ? (int)ev.events[0].kind : -1,
+                 ev.count ? (double)sqrtf(ev.events[0].force.x * ev.events[0].force.x +
+                                          ev.events[0].force.y * ev.events[0].force.y)
+                          : 0.0);
+        KG_CHECK(!kg_joint_is_valid(w, weak) && kg_joint_is_valid(w, strong));
+        KG_CHECK(ev.count == 1 && ev.events[0].kind == KG_JOINT_EVENT_BROKEN && ev.events[0].joint.index == weak.index);
+        for (int s = 0; s < 30; ++s) {
+            KG_CHECK_OK(kg_world_step(w, DT));
+        }
+        KG_CHECK(kg_joint_is_valid(w, strong));
+        KG_CHECK(position_of(w, heavy).y < 4.0f); /* fell */
+        KG_CHECK_OK(kg_joint_set_break_thresholds(w, strong, 0.0f, 0.0f));
+        KG_CHECK_OK(kg_world_step(w, DT));
+        KG_CHECK(kg_joint_is_valid(w, strong));
+        KG_CHECK_OK(kg_joint_set_break_thresholds(w, strong, 99.0f, 0.0f));
+        KG_CHECK_OK(kg_world_step(w, DT));
+        KG_CHECK(!kg_joint_is_valid(w, strong) && kg_world_get_joint_events(w).count == 1);
+        KG_CHECK(kg_joint_set_break_thresholds(w, strong, 1.0f, 0.0f) == KG_ERROR_INVALID_HANDLE);
+        kg_destroy_world(w);
+    }
+}
+
 KG_TEST_MAIN(KG_TEST(test_revolute_pendulum_period_length_energy), KG_TEST(test_hanging_chain_with_heavy_load),
              KG_TEST(test_revolute_motor_speed_and_stall), KG_TEST(test_revolute_door_limit_under_load),
              KG_TEST(test_distance_spring_frequency), KG_TEST(test_rope_never_overstretches),
@@ -1111,4 +1156,4 @@ KG_TEST_MAIN(KG_TEST(test_revolute_pendulum_period_length_energy), KG_TEST(test_
              KG_TEST(test_collide_connected), KG_TEST(test_joined_bodies_sleep_and_wake_together),
              KG_TEST(test_bitwise_equal_on_1_and_4_threads), KG_TEST(test_cpu_and_opencl_bitwise_equal),
              KG_TEST(test_bad_input), KG_TEST(test_scene_joints), KG_TEST(test_debug_draw_joints), KG_TEST(test_prismatic_limits_and_motor),
-             KG_TEST(test_wheel_suspension_and_motor), KG_TEST(test_motor_joint_drives_to_pose))
+             KG_TEST(test_wheel_suspension_and_motor), KG_TEST(test_motor_joint_drives_to_pose), KG_TEST(test_breakable_joint))

@@ -55,6 +55,11 @@ typedef struct kg_joint_base_def {
      * sub-steps make joints stiffer. */
     float constraint_hertz;
     float constraint_damping_ratio;
+    /* Breakable joints: 0 (the default) never breaks; else the joint breaks (is destroyed,
+     * KG_JOINT_EVENT_BROKEN) at the end of a step whose reaction force on body_b exceeds
+     * break_force (N) or whose torque exceeds break_torque (N m). */
+    float break_force;
+    float break_torque;
     void* user_data;
 } kg_joint_base_def;
 
@@ -193,6 +198,9 @@ KG_API kg_result kg_joint_get_reaction(const kg_world* world, kg_joint joint, kg
 KG_API void* kg_joint_get_user_data(const kg_world* world, kg_joint joint);
 KG_API kg_result kg_joint_set_user_data(kg_world* world, kg_joint joint, void* user_data);
 KG_API kg_result kg_joint_set_collide_connected(kg_world* world, kg_joint joint, int collide);
+/* The break thresholds (kg_joint_base_def.break_force and break_torque; 0: never). */
+KG_API kg_result kg_joint_set_break_thresholds(kg_world* world, kg_joint joint, float break_force,
+                                               float break_torque);
 /* Wakes the joint's bodies. */
 KG_API kg_result kg_joint_wake(kg_world* world, kg_joint joint);
 
@@ -244,14 +252,17 @@ KG_API kg_result kg_motor_joint_set_max(kg_world* world, kg_joint joint, float m
 
 /* Why a joint ended without kg_destroy_joint. */
 typedef enum kg_joint_event_kind {
-    KG_JOINT_EVENT_BODY_DESTROYED = 0 /* one of its bodies was destroyed: the joint went with it */
+    KG_JOINT_EVENT_BODY_DESTROYED = 0, /* one of its bodies was destroyed: the joint went with it */
+    KG_JOINT_EVENT_BROKEN = 1          /* its reaction passed a break threshold in the last step */
 } kg_joint_event_kind;
 
 typedef struct kg_joint_event {
     kg_joint joint;      /* stale by now: for matching with handles the game kept */
     kg_joint_event_kind kind;
-    kg_body body;        /* the destroyed body */
+    kg_body body;        /* the destroyed body (BODY_DESTROYED); KG_NULL_BODY for BROKEN */
     void* user_data;     /* the joint's */
+    kg_vec2 force;       /* BROKEN: the reaction force and torque that broke it */
+    float torque;
 } kg_joint_event;
 
 typedef struct kg_joint_events {
@@ -261,7 +272,8 @@ typedef struct kg_joint_events {
 
 /* The joints destroyed with their bodies between the previous step and the last one
  * (handed out after the step that follows the destruction, as contact end events of a
- * destroyed body are). Valid until the next step. */
+ * destroyed body are), then those the last step broke, in slot order. Valid until the
+ * next step. */
 KG_API kg_joint_events kg_world_get_joint_events(const kg_world* world);
 
 #ifdef __cplusplus

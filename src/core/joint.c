@@ -17,6 +17,7 @@ typedef struct kg_joint_info {
     kg_i32 alive;
     kg_i32 collide_connected;
     kg_u32 generation_a, generation_b; /* of the bodies, for handing their handles out */
+    float break_force, break_torque;   /* 0: never breaks */
     void* user_data;
 } kg_joint_info;
 
@@ -40,7 +41,8 @@ struct kg_joints {
     kg_u32* links;     /* two slots a link */
     int link_count;
     kg_joint_event_list pending; /* destroyed since the last step began */
-    kg_joint_event_list events;  /* handed out: destroyed before the last step */
+    kg_joint_event_list events;  /* handed out: destroyed before the last step, broken by it */
+    int breakable;               /* joints ever given a break threshold: the step looks at them */
 };
 
 #define KG_JOINTS_FIRST_CAPACITY 16
@@ -293,6 +295,9 @@ static kg_result kg_check_base(kg_world* world, const kg_joint_base_def* base, c
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: constraint_hertz and constraint_damping_ratio must be finite "
                        "and >= 0", call);
     }
+    if (!kg_nonneg(base->break_force) || !kg_nonneg(base->break_torque)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: break_force and break_torque must be finite and >= 0", call);
+    }
     memset(row, 0, sizeof *row);
     memset(info, 0, sizeof *info);
     row->a = a < 0 ? KG_NULL_INDEX : (kg_u32)a;
@@ -300,6 +305,8 @@ static kg_result kg_check_base(kg_world* world, const kg_joint_base_def* base, c
     row->constraint_hertz = base->constraint_hertz;
     row->constraint_damping_ratio = base->constraint_damping_ratio;
     info->collide_connected = base->collide_connected != 0;
+    info->break_force = base->break_force;
+    info->break_torque = base->break_torque;
     info->user_data = base->user_data;
     info->generation_a = a < 0 ? 0u : world->bodies.generation[a];
     info->generation_b = world->bodies.generation[b];
@@ -325,6 +332,7 @@ static kg_result kg_add_joint(kg_world* world, const kg_joint_row* row, const kg
     j->info[slot] = *info;
     j->info[slot].generation = generation;
     j->info[slot].alive = 1;
+    j->breakable |= info->break_force > 0.0f || info->break_torque > 0.0f;
     j->high_water = slot + 1 > j->high_water ? slot + 1 : j->high_water;
     j->count += 1;
     j->derived_stale = 1;
@@ -658,12 +666,55 @@ void kg_joints_body_destroyed(kg_world* world, kg_u32 slot, kg_body body)
             continue;
         }
         kg_joint_event e;
+        memset(&e, 0, sizeof e);
         e.joint.index = (uint32_t)i;
         e.joint.generation = j->info[i].generation;
         e.kind = KG_JOINT_EVENT_BODY_DESTROYED;
         e.body = body;
         e.user_data = j->info[i].user_data;
         if (kg_push_event(&j->pending, &e) != KG_OK) {
+            kg_warn_once("joint-events", "out of memory for joint events: an event was lost");
+        }
+        kg_wake_joint_bodies(world, &j->rows[i]);
+        kg_release_joint(j, i);
+    }
+}
+
+/* The reaction of row r over the last step's sub-step (zero before any step). */
+static void kg_reaction_of(const kg_world* world, const kg_joint_row* r, kg_vec2* force, float* torque)
+{
+    float inv_h = world->last_dt > 0.0f ? (float)world->def.substeps / world->last_dt : 0.0f;
+    kg_joint_reaction(r, inv_h, force, torque);
+}
+
+void kg_joints_after_step(kg_world* world)
+{
+    struct kg_joints* j = world->joints;
+    if (!j || j->breakable == 0) {
+        return;
+    }
+    for (int i = 0; i < j->high_water; ++i) {
+        const kg_joint_info* info = &j->info[i];
+        if (!info->alive || (info->break_force == 0.0f && info->break_torque == 0.0f)) {
+            continue;
+        }
+        kg_vec2 force;
+        float torque;
+        kg_reaction_of(world, &j->rows[i], &force, &torque);
+        int broken = (info->break_force > 0.0f && kg_length(force) > info->break_force) ||
+                     (info->break_torque > 0.0f && fabsf(torque) > info->break_torque);
+        if (!broken) {
+            continue;
+        }
+        kg_joint_event e;
+        memset(&e, 0, sizeof e);
+        e.joint.index = (uint32_t)i;
+        e.joint.generation = info->generation;
+        e.kind = KG_JOINT_EVENT_BROKEN;
+        e.user_data = info->user_data;
+        e.force = force;
+        e.torque = torque;
+        if (kg_push_event(&j->events, &e) != KG_OK) {
             kg_warn_once("joint-events", "out of memory for joint events: an event was lost");
         }
         kg_wake_joint_bodies(world, &j->rows[i]);
@@ -912,8 +963,7 @@ kg_result kg_joint_get_reaction(const kg_world* world, kg_joint joint, kg_vec2* 
     if (!r) {
         return kg_last_result();
     }
-    float inv_h = world->last_dt > 0.0f ? (float)world->def.substeps / world->last_dt : 0.0f;
-    kg_joint_reaction(r, inv_h, force, torque);
+    kg_reaction_of(world, r, force, torque);
     return KG_OK;
 }
 
@@ -941,6 +991,22 @@ kg_result kg_joint_set_collide_connected(kg_world* world, kg_joint joint, int co
     world->joints->info[joint.index].collide_connected = collide != 0;
     world->joints->derived_stale = 1;
     world->joints->version += 1;
+    return KG_OK;
+}
+
+kg_result kg_joint_set_break_thresholds(kg_world* world, kg_joint joint, float break_force, float break_torque)
+{
+    const char* call = "kg_joint_set_break_thresholds";
+    if (!kg_nonneg(break_force) || !kg_nonneg(break_torque)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: thresholds must be finite and >= 0", call);
+    }
+    if (!kg_write_joint(world, joint, -1, call)) {
+        return kg_last_result();
+    }
+    kg_joint_info* info = &world->joints->info[joint.index];
+    info->break_force = break_force;
+    info->break_torque = break_torque;
+    world->joints->breakable |= break_force > 0.0f || break_torque > 0.0f;
     return KG_OK;
 }
 

@@ -47,6 +47,11 @@ void kg_joints_body_destroyed(kg_world* world, kg_u32 slot, kg_body body);
 int kg_joints_slots(const kg_world* world);
 kg_joint kg_joint_of_slot(const kg_world* world, uint32_t i);
 
+/* A step ended (its stages done): the joints whose reaction passed a break threshold are
+ * destroyed, each listed as KG_JOINT_EVENT_BROKEN. Serial, in slot order, on the host
+ * (either backend leaves the rows there). */
+void kg_joints_after_step(kg_world* world);
+
 /* A step begins: the joints destroyed since the last one become its events. */
 void kg_joints_begin_step(kg_world* world);
 

@@ -76,6 +76,7 @@ kg_result kg_world_step(kg_world* world, float dt)
     }
     world->lock = 0;
     if (r == KG_OK) {
+        kg_joints_after_step(world); /* breakable joints past their thresholds */
         kg_shape_pool_free_held(&world->shapes); /* the new contacts name no shape destroyed before the step */
         r = world->sensor_shapes_made ? kg_sensors_after_step(world) : KG_OK;
     }

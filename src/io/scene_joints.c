@@ -9,7 +9,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#define KG_JOINT_COMMON "type", "a", "b", "collide_connected", "constraint_hertz", "constraint_damping_ratio"
+#define KG_JOINT_COMMON                                                                                      \
+    "type", "a", "b", "collide_connected", "constraint_hertz", "constraint_damping_ratio", "break_force", "break_torque"
 
 static const char* const kRevoluteFields[] = {KG_JOINT_COMMON, "anchor", "reference_angle", "enable_limit",
                                               "lower_angle", "upper_angle", "enable_motor", "motor_speed",
@@ -76,6 +77,8 @@ static kg_result kg_read_base(const kg_json_reader* reader, const cJSON* item, c
 {
     KG_TRY(kg_json_bool(reader, item, path, "collide_connected", &base->collide_connected));
     KG_TRY(kg_json_float(reader, item, path, "constraint_hertz", KG_JSON_NON_NEGATIVE, &base->constraint_hertz));
+    KG_TRY(kg_json_float(reader, item, path, "break_force", KG_JSON_NON_NEGATIVE, &base->break_force));
+    KG_TRY(kg_json_float(reader, item, path, "break_torque", KG_JSON_NON_NEGATIVE, &base->break_torque));
     return kg_json_float(reader, item, path, "constraint_damping_ratio", KG_JSON_NON_NEGATIVE,
                          &base->constraint_damping_ratio);
 }

@@ -1,7 +1,8 @@
 /* The joint constraints: one row per joint, prepared once a step and then warm started,
  * solved (with the soft bias) and relaxed (without) in every sub-step, as the contacts
  * are (contact_row.h, docs/joints.md). Written once as KG_FN functions over one lane (a
- * float): the CPU calls them joint by joint, a kernel would call them for its work-item.
+ * float): the CPU calls them joint by joint (core/joint.c), the kernels of
+ * kernels/kg_joint.cl for their work-item, to the same bits.
  * Box2D v3's joint solvers are the reference design (soft constraints, sub-stepped,
  * anchors and separations from the bodies' motion within the step, dp and dq).
  *
