@@ -626,6 +626,19 @@ static void joint_scene(kg_world* w)
     mo.max_force = 40.0f;
     mo.max_torque = 5.0f;
     KG_CHECK_OK(kg_create_motor_joint(w, &mo, NULL));
+    /* a hanging net of 16 x 16 balls, each hinged to its upper and left neighbours (the
+     * top row to the world): colours of some 120 joints, split across threads */
+    kg_body net[16][16];
+    for (int r = 0; r < 16; ++r) {
+        for (int c = 0; c < 16; ++c) {
+            kg_vec2 at = {20.0f + 0.5f * (float)c, 12.0f - 0.5f * (float)r};
+            net[r][c] = add_body(w, at, kg_circle_shape(0.15f), 1.0f);
+            hinge(w, r > 0 ? net[r - 1][c] : null_body(), net[r][c], (kg_vec2){at.x, at.y + 0.25f}, NULL);
+            if (c > 0) {
+                hinge(w, net[r][c - 1], net[r][c], (kg_vec2){at.x - 0.25f, at.y}, NULL);
+            }
+        }
+    }
     for (int i = 0; i < 30; ++i) {
         add_body(w, (kg_vec2){-6.0f + 0.7f * (float)(i % 20), 11.0f + 0.8f * (float)(i / 20)}, kg_box_shape(0.4f, 0.4f),
                  1.0f);
@@ -645,8 +658,8 @@ static void run_joint_scene_on(kg_backend backend, int threads, int steps, kg_bo
     for (int s = 0; s < steps; ++s) {
         KG_CHECK_OK(kg_world_step(w, DT));
     }
-    kg_body bodies[128];
-    KG_CHECK_OK(kg_world_get_bodies(w, bodies, 128, count));
+    kg_body bodies[512];
+    KG_CHECK_OK(kg_world_get_bodies(w, bodies, 512, count));
     KG_CHECK_OK(kg_world_get_body_states(w, bodies, *count, out));
     kg_destroy_world(w);
 }
@@ -658,7 +671,7 @@ static void run_joint_scene(int threads, kg_body_state* out, int* count)
 
 static void test_bitwise_equal_on_1_and_4_threads(void)
 {
-    kg_body_state one[128], four[128];
+    kg_body_state one[512], four[512];
     int n1 = 0, n4 = 0;
     run_joint_scene(1, one, &n1);
     run_joint_scene(4, four, &n4);
@@ -682,7 +695,7 @@ static void test_cpu_and_opencl_bitwise_equal(void)
     if (!kg_test_opencl_ready(&bitwise)) {
         return;
     }
-    kg_body_state cpu[128], cl[128];
+    kg_body_state cpu[512], cl[512];
     int n_cpu = 0, n_cl = 0, first_differing = -1, steps[] = {1, 30, 120, 240};
     for (int k = 0; k < 4; ++k) {
         run_joint_scene_on(KG_BACKEND_CPU, 1, steps[k], cpu, &n_cpu);
@@ -738,8 +751,8 @@ static void test_cpu_and_opencl_bitwise_equal(void)
                 fell_at = s;
             }
         }
-        kg_body bodies[128];
-        KG_CHECK_OK(kg_world_get_bodies(w, bodies, 128, &n_cl));
+        kg_body bodies[512];
+        KG_CHECK_OK(kg_world_get_bodies(w, bodies, 512, &n_cl));
         KG_CHECK_OK(kg_world_get_body_states(w, bodies, n_cl, cl));
         kg_destroy_world(w);
         same = n_cpu == n_cl && memcmp(cpu, cl, (size_t)n_cpu * sizeof cpu[0]) == 0;

@@ -3,6 +3,7 @@
 #include "collide/broadphase_grid.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "core/parallel.h"
 #include "core/generation.h"
 #include "solve/joint_row.h"
 #include "solve/sleep.h"
@@ -40,6 +41,12 @@ struct kg_joints {
     int apart_count;
     kg_u32* links;     /* two slots a link */
     int link_count;
+    /* the joints' colours: order lists the live joints colour by colour (slot order within
+     * one), colour c's at [color_start[c], color_start[c + 1]), the overflow's last */
+    kg_i32* order;
+    int color_start[KG_JOINT_COLORS + 2];
+    kg_u32* body_colors; /* scratch of the colouring: per body slot, the colours its joints took */
+    int body_color_capacity;
     kg_joint_event_list pending; /* destroyed since the last step began */
     kg_joint_event_list events;  /* handed out: destroyed before the last step, broken by it */
     int breakable;               /* joints ever given a break threshold: the step looks at them */
@@ -57,6 +64,8 @@ void kg_joints_destroy(kg_world* world)
     kg_free(j->info);
     kg_free(j->apart);
     kg_free(j->links);
+    kg_free(j->order);
+    kg_free(j->body_colors);
     kg_free(j->pending.items);
     kg_free(j->events.items);
     kg_free(j);
@@ -102,11 +111,13 @@ static int kg_joints_grow(struct kg_joints* j)
     kg_joint_info* info = kg_alloc_zeroed((size_t)capacity * sizeof *info);
     kg_u32* links = kg_alloc_zeroed((size_t)capacity * 2 * sizeof *links);
     kg_u32* apart = kg_alloc_zeroed((size_t)capacity * 2 * sizeof *apart);
-    if (!rows || !info || !links || !apart) {
+    kg_i32* order = kg_alloc_zeroed((size_t)capacity * sizeof *order);
+    if (!rows || !info || !links || !apart || !order) {
         kg_free(rows);
         kg_free(info);
         kg_free(links);
         kg_free(apart);
+        kg_free(order);
         kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot grow the joint pool to %d joints", capacity);
         return 0;
     }
@@ -121,6 +132,8 @@ static int kg_joints_grow(struct kg_joints* j)
     kg_free(j->info);
     kg_free(j->links);
     kg_free(j->apart);
+    kg_free(j->order);
+    j->order = order;
     j->rows = rows;
     j->info = info;
     j->links = links;
@@ -757,12 +770,88 @@ static int kg_compare_pairs(const void* pa, const void* pb)
     return a[1] < b[1] ? -1 : (a[1] > b[1] ? 1 : 0);
 }
 
-/* The pairs kept apart and the islands' links, made again after a joint changed. */
-static void kg_joints_derive(struct kg_joints* j)
+/* The joints' colours (greedy, in slot order): each takes the lowest colour that no joint
+ * before it on either of its bodies took, static bodies counted too (so that a body made
+ * dynamic later needs no new colouring); past KG_JOINT_COLORS, the overflow. Then the
+ * order, colour by colour. Without memory for the scratch every joint is the overflow's. */
+static void kg_joints_color(struct kg_joints* j, int max_bodies)
+{
+    if (j->body_color_capacity < max_bodies) {
+        kg_free(j->body_colors);
+        j->body_colors = kg_alloc_zeroed((size_t)max_bodies * sizeof *j->body_colors);
+        j->body_color_capacity = j->body_colors ? max_bodies : 0;
+    }
+    int counts[KG_JOINT_COLORS + 1] = {0};
+    kg_u32* used = j->body_colors;
+    for (int i = 0; used && i < j->high_water; ++i) {
+        const kg_joint_row* r = &j->rows[i];
+        if (r->a != KG_NULL_INDEX) {
+            used[r->a] = 0u;
+        }
+        if (r->b != KG_NULL_INDEX) {
+            used[r->b] = 0u;
+        }
+    }
+    for (int i = 0; i < j->high_water; ++i) {
+        if (!j->info[i].alive) {
+            continue;
+        }
+        const kg_joint_row* r = &j->rows[i];
+        kg_u32 taken = used ? (r->a != KG_NULL_INDEX ? used[r->a] : 0u) | (r->b != KG_NULL_INDEX ? used[r->b] : 0u)
+                            : ~0u;
+        int c = 0;
+        while (c < KG_JOINT_COLORS && (taken & (1u << c))) {
+            ++c;
+        }
+        if (c < KG_JOINT_COLORS) {
+            if (r->a != KG_NULL_INDEX) {
+                used[r->a] |= 1u << c;
+            }
+            if (r->b != KG_NULL_INDEX) {
+                used[r->b] |= 1u << c;
+            }
+        }
+        j->order[i] = c; /* the colour for now: the order is made below */
+        counts[c] += 1;
+    }
+    int next[KG_JOINT_COLORS + 1];
+    j->color_start[0] = 0;
+    for (int c = 0; c <= KG_JOINT_COLORS; ++c) {
+        next[c] = j->color_start[c];
+        j->color_start[c + 1] = j->color_start[c] + counts[c];
+    }
+    /* the colours copied out, then the joints placed colour by colour in slot order */
+    kg_i32* colors = kg_alloc_zeroed((size_t)(j->high_water > 0 ? j->high_water : 1) * sizeof *colors);
+    if (!colors) { /* no scratch: every joint serially, in slot order */
+        int n = 0;
+        for (int i = 0; i < j->high_water; ++i) {
+            if (j->info[i].alive) {
+                j->order[n++] = i;
+            }
+        }
+        for (int c = 0; c <= KG_JOINT_COLORS; ++c) {
+            j->color_start[c] = 0;
+        }
+        j->color_start[KG_JOINT_COLORS + 1] = n;
+        return;
+    }
+    memcpy(colors, j->order, (size_t)j->high_water * sizeof *colors);
+    for (int i = 0; i < j->high_water; ++i) {
+        if (j->info[i].alive) {
+            j->order[next[colors[i]]++] = i;
+        }
+    }
+    kg_free(colors);
+}
+
+/* The pairs kept apart, the islands' links and the colours, made again after a joint
+ * changed. */
+static void kg_joints_derive(struct kg_joints* j, int max_bodies)
 {
     if (!j->derived_stale) {
         return;
     }
+    kg_joints_color(j, max_bodies);
     int apart = 0, links = 0;
     for (int i = 0; i < j->high_water; ++i) {
         const kg_joint_row* r = &j->rows[i];
@@ -798,7 +887,7 @@ int kg_joints_filter_pairs(kg_world* world, kg_pair* pairs, int count)
     if (!j || j->count == 0) {
         return count;
     }
-    kg_joints_derive(j);
+    kg_joints_derive(j, world->def.max_bodies);
     if (j->apart_count == 0) {
         return count;
     }
@@ -819,7 +908,7 @@ const kg_u32* kg_joints_apart(kg_world* world, int* count)
     if (!j || j->count == 0) {
         return NULL;
     }
-    kg_joints_derive(j);
+    kg_joints_derive(j, world->def.max_bodies);
     *count = j->apart_count;
     return j->apart;
 }
@@ -840,7 +929,7 @@ const kg_u32* kg_joints_links(kg_world* world, int* count)
     if (!j || j->count == 0) {
         return NULL;
     }
-    kg_joints_derive(j);
+    kg_joints_derive(j, world->def.max_bodies);
     *count = j->link_count;
     return j->links;
 }
@@ -859,20 +948,58 @@ void kg_joints_prepare(kg_world* world, const kg_solver_body* bodies, kg_solver_
     }
 }
 
+/* A colour's joints [begin, end) of the order: they share no body, so any split of them
+ * across threads computes the same bits. */
+typedef struct kg_joint_job {
+    const kg_i32* order;
+    kg_joint_row* rows;
+    kg_solver_body* bodies;
+    kg_solver_params prm;
+    int pass;
+} kg_joint_job;
+
+static void kg_joint_range(void* context, int begin, int end)
+{
+    const kg_joint_job* job = context;
+    for (int k = begin; k < end; ++k) {
+        kg_joint_pass(job->rows, job->order[k], job->bodies, job->prm, job->pass);
+    }
+}
+
+/* Joints a thread takes at a time within a colour. */
+#define KG_JOINT_GRAIN 32
+
 void kg_joints_pass(kg_world* world, kg_solver_body* bodies, kg_solver_params prm, int pass)
 {
     struct kg_joints* j = world->joints;
     if (!j || j->count == 0) {
         return;
     }
+    kg_joints_derive(j, world->def.max_bodies);
     int iterations = pass == KG_PASS_WARM_START ? 1 : KG_JOINT_ITERATIONS;
     for (int it = 0; it < iterations; ++it) {
-        for (int i = 0; i < j->high_water; ++i) {
-            if (j->info[i].alive) {
-                kg_joint_pass(j->rows, i, bodies, prm, pass);
+        for (int c = 0; c < KG_JOINT_COLORS; ++c) {
+            kg_joint_job job = {j->order + j->color_start[c], j->rows, bodies, prm, pass};
+            int n = j->color_start[c + 1] - j->color_start[c];
+            if (n > 0) {
+                kg_parallel_for(world->threads, n, KG_JOINT_GRAIN, kg_joint_range, &job);
             }
         }
+        kg_joint_job overflow = {j->order, j->rows, bodies, prm, pass}; /* serially, in order */
+        kg_joint_range(&overflow, j->color_start[KG_JOINT_COLORS], j->color_start[KG_JOINT_COLORS + 1]);
     }
+}
+
+const kg_i32* kg_joints_order(kg_world* world, int* count)
+{
+    struct kg_joints* j = world->joints;
+    *count = 0;
+    if (!j || j->count == 0) {
+        return NULL;
+    }
+    kg_joints_derive(j, world->def.max_bodies);
+    *count = j->color_start[KG_JOINT_COLORS + 1];
+    return j->order;
 }
 
 /* ---- getters and setters ------------------------------------------------------------ */

@@ -10,6 +10,10 @@
 #include "solve/joint_row.h"
 
 struct kg_joints;
+
+/* Joints take up to this many colours (no two joints of one share a body, static bodies
+ * included), each solved in parallel; the rest are the overflow, solved serially after. */
+#define KG_JOINT_COLORS 12
 struct kg_pair;
 
 void kg_joints_destroy(kg_world* world);
@@ -17,7 +21,8 @@ void kg_joints_destroy(kg_world* world);
 int kg_joints_live(const kg_world* world);
 
 /* The solve stage's share: rows prepared once a step (after the bodies are loaded), then
- * one pass over every joint, serially in slot order (warm start, solve, relax). */
+ * one pass over every joint (warm start, solve, relax): colour by colour, each colour's
+ * joints in parallel, then the overflow serially. */
 void kg_joints_prepare(kg_world* world, const kg_solver_body* bodies, kg_solver_params prm);
 void kg_joints_pass(kg_world* world, kg_solver_body* bodies, kg_solver_params prm, int pass);
 
@@ -37,6 +42,9 @@ const kg_u32* kg_joints_links(kg_world* world, int* count);
 const kg_u32* kg_joints_apart(kg_world* world, int* count);
 kg_joint_row* kg_joints_rows(kg_world* world, int* slots);
 kg_u32 kg_joints_version(const kg_world* world);
+/* The live joints colour by colour, the overflow's last (the order the passes take them
+ * in: within a colour any order gives the same bits), and their number. */
+const kg_i32* kg_joints_order(kg_world* world, int* count);
 
 /* Body slot `slot` (handle body) is being destroyed: its joints go with it, each listed
  * for kg_world_get_joint_events, the other bodies woken. */

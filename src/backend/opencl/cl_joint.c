@@ -41,11 +41,16 @@ static kg_result kg_cl_joint_lists(kg_world* world, kg_cl_backend* b)
     if (b->joint_lists_sent && b->joint_version == kg_joints_version(world)) {
         return KG_OK;
     }
-    int links = 0, apart = 0;
+    int links = 0, apart = 0, ordered = 0;
     const kg_u32* link_list = kg_joints_links(world, &links);
     const kg_u32* apart_list = kg_joints_apart(world, &apart);
+    const kg_i32* order = kg_joints_order(world, &ordered);
     KG_TRY(kg_cl_fit(b, &b->joint_links, &b->joint_link_capacity, links, 2 * sizeof(kg_u32)));
     KG_TRY(kg_cl_fit(b, &b->joint_apart, &b->joint_apart_capacity, apart, 2 * sizeof(kg_u32)));
+    KG_TRY(kg_cl_fit(b, &b->joint_order, &b->joint_order_capacity, ordered, sizeof(kg_i32)));
+    if (ordered > 0) {
+        KG_TRY(kg_cl_write(b, b->joint_order, 0, (size_t)ordered * sizeof(kg_i32), order, 1));
+    }
     if (links > 0) {
         KG_TRY(kg_cl_write(b, b->joint_links, 0, (size_t)links * 2 * sizeof(kg_u32), link_list, 1));
     }
@@ -54,6 +59,7 @@ static kg_result kg_cl_joint_lists(kg_world* world, kg_cl_backend* b)
     }
     b->joint_link_count = links;
     b->joint_apart_count = apart;
+    b->joint_order_count = ordered;
     b->joint_version = kg_joints_version(world);
     b->joint_lists_sent = 1;
     return KG_OK;
@@ -109,6 +115,7 @@ kg_result kg_cl_prepare_joints(kg_world* world, kg_cl_backend* b)
     if (slots == 0) {
         return KG_OK;
     }
+    KG_TRY(kg_cl_joint_lists(world, b)); /* the order */
     KG_TRY(kg_cl_fit(b, &b->joint_rows, &b->joint_row_capacity, slots, sizeof(kg_joint_row)));
     KG_TRY(kg_cl_write(b, b->joint_rows, 0, (size_t)slots * sizeof(kg_joint_row), rows, 1));
     KG_LAUNCH(b, PREPARE_JOINTS, slots, kLabel, KG_INT(slots), KG_MEM(b->solver_params), KG_MEM(b->joint_rows),
@@ -124,8 +131,8 @@ kg_result kg_cl_solve_joints(kg_cl_backend* b, int pass)
         return KG_OK;
     }
     int iterations = pass == KG_PASS_WARM_START ? 1 : KG_JOINT_ITERATIONS;
-    KG_LAUNCH(b, SOLVE_JOINTS, 1, kLabel, KG_INT(slots), KG_INT(iterations), KG_INT(pass), KG_MEM(b->solver_params),
-              KG_MEM(b->joint_rows), KG_MEM(b->solver_bodies));
+    KG_LAUNCH(b, SOLVE_JOINTS, 1, kLabel, KG_INT(b->joint_order_count), KG_INT(iterations), KG_INT(pass),
+              KG_MEM(b->solver_params), KG_MEM(b->joint_order), KG_MEM(b->joint_rows), KG_MEM(b->solver_bodies));
     return KG_OK;
 }
 
@@ -144,7 +151,8 @@ void kg_cl_release_joints(kg_cl_backend* b)
     kg_cl_release(b, &b->joint_rows);
     kg_cl_release(b, &b->joint_links);
     kg_cl_release(b, &b->joint_apart);
-    b->joint_row_capacity = b->joint_link_capacity = b->joint_apart_capacity = 0;
+    kg_cl_release(b, &b->joint_order);
+    b->joint_row_capacity = b->joint_link_capacity = b->joint_apart_capacity = b->joint_order_capacity = 0;
     b->joint_lists_sent = 0;
     b->joint_slots = 0;
 }

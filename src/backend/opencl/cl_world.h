@@ -74,7 +74,7 @@ typedef enum kg_cl_array {
     X(ISLAND_STIRS, kg_island_stirs, 7) X(FALL_ASLEEP, kg_fall_asleep, 14)                                    \
     X(COUNT_SHAPE_PAIRS, kg_count_shape_pairs, 16) X(WRITE_SHAPE_PAIRS, kg_write_shape_pairs, 18)             \
     X(NARROWPHASE_SHAPES, kg_narrowphase_shapes, 20) X(BUILD_SHAPE_CONTACTS, kg_build_shape_contacts, 11)     \
-    X(PREPARE_JOINTS, kg_prepare_joints, 9) X(SOLVE_JOINTS, kg_solve_joints, 6)                               \
+    X(PREPARE_JOINTS, kg_prepare_joints, 9) X(SOLVE_JOINTS, kg_solve_joints, 7)                               \
     X(DROP_JOINED_PAIRS, kg_drop_joined_pairs, 5) X(DROP_JOINED_SHAPE_PAIRS, kg_drop_joined_shape_pairs, 5)   \
     X(WAKE_JOINED, kg_wake_joined, 7) X(FIND_JOINED_ISLANDS, kg_find_joined_islands, 11)                      \
     X(HOOK_JOINT_ROUND, kg_hook_joint_round, 6) X(JOINT_STIRS, kg_joint_stirs, 7)
@@ -235,10 +235,10 @@ typedef struct kg_cl_backend {
     int step_body_count;
     /* joints (cl_joint.c): the rows during a step, the islands' links and the pairs kept
      * apart as of joint_version */
-    cl_mem joint_rows, joint_links, joint_apart;
-    int joint_row_capacity, joint_link_capacity, joint_apart_capacity;
+    cl_mem joint_rows, joint_links, joint_apart, joint_order;
+    int joint_row_capacity, joint_link_capacity, joint_apart_capacity, joint_order_capacity;
     int joint_slots;      /* rows solved this step (0: none) */
-    int joint_link_count, joint_apart_count;
+    int joint_link_count, joint_apart_count, joint_order_count;
     kg_u32 joint_version;
     int joint_lists_sent;
 } kg_cl_backend;

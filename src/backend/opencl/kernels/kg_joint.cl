@@ -20,17 +20,18 @@ __kernel void kg_prepare_joints(int count, __global const kg_solver_params* para
     }
 }
 
-/* One pass over every joint, serially in slot order, iterations times, by work-item 0:
- * the CPU's order (joints are not coloured yet). */
+/* One pass over the joints of order (colour by colour, then the overflow: the CPU's
+ * order), iterations times, serially by work-item 0: within a colour the joints share no
+ * body, so the CPU's threads over a colour compute these bits. */
 __kernel void kg_solve_joints(int count, int iterations, int pass, __global const kg_solver_params* params,
-                              __global kg_joint_row* rows, __global kg_solver_body* bodies)
+                              __global const int* order, __global kg_joint_row* rows, __global kg_solver_body* bodies)
 {
     if (get_global_id(0) != 0) {
         return;
     }
     for (int it = 0; it < iterations; ++it) {
-        for (int j = 0; j < count; ++j) {
-            kg_joint_pass(rows, j, bodies, *params, pass);
+        for (int k = 0; k < count; ++k) {
+            kg_joint_pass(rows, order[k], bodies, *params, pass);
         }
     }
 }
