@@ -493,8 +493,8 @@ void kg_stage_solve(kg_world* world, float dt)
     if (blocks > 0) { /* else there are no contacts, or no rows to put them in */
         kg_parallel_for(world->threads, s->chunks, 1, kg_prepare_chunks, &cjob);
     }
-    /* Joints (core/joint.h): prepared once, then each pass serially in slot order before
-     * the contacts' colours, as Box2D's overflow constraints go first. */
+    /* Joints (core/joint.h): prepared once, then each pass colour by colour before the
+     * contacts' colours, as Box2D's overflow constraints go first. */
     kg_joints_prepare(world, s->bodies, cjob.prm);
     for (int step = 0; step < n; ++step) {
         kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_integrate_velocities, &bjob);
