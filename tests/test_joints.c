@@ -172,7 +172,8 @@ static kg_world* substep_world(int substeps, int sleep)
 /* 40 links of 0.5 m hung from the world carry a load of `load` times a link's mass:
  * the chain's stretch once at rest and at worst on the way (it starts unstretched, the
  * load let go), and when it fell asleep (-1: not in 10 s). */
-static void run_chain(float load, int substeps, double* final_stretch, double* worst, double* asleep_s)
+static void run_chain(float load, int substeps, double* final_stretch, double* worst, double* asleep_s,
+                      double* fastest)
 {
     kg_world* w = substep_world(substeps, 1);
     const int links = 40;
@@ -207,28 +208,34 @@ static void run_chain(float load, int substeps, double* final_stretch, double* w
     }
     KG_CHECK_OK(kg_joint_get_world_anchors(w, last, &a, &b));
     *final_stretch = (top.y - b.y - links * link) / (links * link);
+    *fastest = 0.0;
+    for (int i = 0; i <= links; ++i) {
+        kg_vec2 v;
+        KG_CHECK_OK(kg_body_get_velocity(w, body[i], &v));
+        *fastest = fmax(*fastest, sqrt((double)v.x * v.x + (double)v.y * v.y));
+    }
     kg_destroy_world(w);
 }
 
 /* 40 links of 0.5 m hung from the world carry a load of 100 times a link's mass (4
- * sub-steps): the chain stretches less than 1% and comes to rest (falls asleep). */
+ * sub-steps): the chain stretches less than 1% and comes to rest (falls asleep). With
+ * 1,000 times at 8 sub-steps it stretches less than 1% but does not come to rest yet (its
+ * links still jitter at some 0.2 m/s after 10 s: printed, not asserted, docs/joints.md). */
 static void test_hanging_chain_with_heavy_load(void)
 {
-    double final_stretch, worst, asleep;
-    run_chain(100.0f, 4, &final_stretch, &worst, &asleep);
+    double final_stretch, worst, asleep, fastest;
+    run_chain(100.0f, 4, &final_stretch, &worst, &asleep, &fastest);
     measured("measured: chain of 40 links, load 100x, 4 sub-steps: stretch at rest %.4f%%, at worst %.4f%% (the "
              "load let go), asleep at %.2f s\n",
              100.0 * final_stretch, 100.0 * worst, asleep);
     KG_CHECK(final_stretch < 0.01);
     KG_CHECK(asleep > 0.0);
-    /* The issue's harder case, 1,000 times at 8 sub-steps, is not met yet (about 2.3% at
-     * rest, still creeping at 10 s): measured and printed, not asserted (docs/joints.md,
-     * "What is left"). It must stay finite and hanging. */
-    run_chain(1000.0f, 8, &final_stretch, &worst, &asleep);
-    measured("measured: chain of 40 links, load 1000x, 8 sub-steps (not yet asserted): stretch at rest %.4f%%, at "
-             "worst %.4f%%, asleep at %.2f s\n",
-             100.0 * final_stretch, 100.0 * worst, asleep);
-    KG_CHECK(isfinite(final_stretch) && final_stretch < 0.1 && final_stretch > -0.01);
+    run_chain(1000.0f, 8, &final_stretch, &worst, &asleep, &fastest);
+    measured("measured: chain of 40 links, load 1000x, 8 sub-steps: stretch at 10 s %.4f%%, at worst %.4f%%, "
+             "fastest body %.3g m/s at 10 s, asleep at %.2f s (-1: not yet)\n",
+             100.0 * final_stretch, 100.0 * worst, fastest, asleep);
+    KG_CHECK(final_stretch < 0.01);
+    KG_CHECK(fastest < 1.0); /* no explosion */
 }
 
 /* A wheel on a motor (2 rad/s, at most 10 N m) turns against a load of 5 N m at its
@@ -405,15 +412,15 @@ static float cantilever_drop(int substeps)
     return drop / (planks * plank);
 }
 
-/* The cantilever's tip drops less than 15% of its length at 4 sub-steps and 5% at 8 (the
- * issue's "within 10% of the rigid value", read as a drop under 10% of the length, is met
- * at 8 sub-steps only: docs/joints.md). Soft welds bend as their angular hertz says: one
- * plank on an angular spring of 4 Hz sags m g d / (I (2 pi f)^2) within 10%. */
+/* The cantilever's tip drops less than 10% of its length at 4 sub-steps (the issue's
+ * "within 10% of the rigid value", a rigid beam's drop being 0, read against its length)
+ * and 2% at 8. Soft welds bend as their angular hertz says: one plank on an angular spring
+ * of 4 Hz sags m g d / (I (2 pi f)^2) within 10%. */
 static void test_weld_cantilever_and_soft_weld(void)
 {
     float four = cantilever_drop(4), eight = cantilever_drop(8);
-    KG_CHECK(four < 0.15f);
-    KG_CHECK(eight < 0.05f);
+    KG_CHECK(four < 0.10f);
+    KG_CHECK(eight < 0.02f);
     kg_world* w = NULL;
     kg_body_state st;
 
@@ -790,6 +797,9 @@ static void test_bad_input(void)
     def.hertz = 0.0f;
     KG_CHECK(kg_create_revolute_joint(w, NULL, &j) == KG_ERROR_INVALID_ARGUMENT);
     KG_CHECK(kg_world_joint_count(w) == 0);
+    KG_CHECK(kg_world_set_joint_iterations(w, 0) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_world_set_joint_iterations(w, 65) == KG_ERROR_INVALID_ARGUMENT);
+    KG_CHECK(kg_world_get_joint_iterations(w) == 8);
     kg_distance_joint_def dd = kg_default_distance_joint_def();
     dd.base.body_b = b;
     dd.length = 0.0f;

@@ -50,6 +50,7 @@ struct kg_joints {
     kg_joint_event_list pending; /* destroyed since the last step began */
     kg_joint_event_list events;  /* handed out: destroyed before the last step, broken by it */
     int breakable;               /* joints ever given a break threshold: the step looks at them */
+    int iterations;              /* of each solve and relax pass (kg_world_set_joint_iterations) */
 };
 
 #define KG_JOINTS_FIRST_CAPACITY 16
@@ -76,6 +77,30 @@ int kg_joints_live(const kg_world* world) { return world && world->joints ? worl
 
 int kg_world_joint_count(const kg_world* world) { return kg_joints_live(world); }
 
+static struct kg_joints* kg_joints_of(kg_world* world);
+
+kg_result kg_world_set_joint_iterations(kg_world* world, int iterations)
+{
+    if (!world || iterations < 1 || iterations > 64) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_world_set_joint_iterations: iterations must be in [1, 64] (got %d)",
+                       iterations);
+    }
+    if (kg_world_refuses(world, "kg_world_set_joint_iterations", KG_LOCK_STEP)) {
+        return KG_ERROR_LOCKED;
+    }
+    struct kg_joints* j = kg_joints_of(world);
+    if (!j) {
+        return kg_last_result();
+    }
+    j->iterations = iterations;
+    return KG_OK;
+}
+
+int kg_world_get_joint_iterations(const kg_world* world)
+{
+    return world && world->joints ? world->joints->iterations : KG_JOINT_ITERATIONS;
+}
+
 int kg_joints_slots(const kg_world* world) { return world && world->joints ? world->joints->high_water : 0; }
 
 kg_joint kg_joint_of_slot(const kg_world* world, uint32_t i)
@@ -99,6 +124,7 @@ static struct kg_joints* kg_joints_of(kg_world* world)
             return NULL;
         }
         j->tag = world->shapes.tag;
+        j->iterations = KG_JOINT_ITERATIONS;
         world->joints = j;
     }
     return world->joints;
@@ -197,7 +223,7 @@ static kg_joint_base_def kg_default_base(void)
 {
     kg_joint_base_def d;
     memset(&d, 0, sizeof d);
-    d.constraint_hertz = 0.0f; /* as stiff as the sub-step allows: half its rate */
+    d.constraint_hertz = 0.0f; /* as stiff as the sub-step allows: KG_JOINT_HERTZ_CAP of its rate */
     d.constraint_damping_ratio = 5.0f;
     return d;
 }
@@ -976,7 +1002,7 @@ void kg_joints_pass(kg_world* world, kg_solver_body* bodies, kg_solver_params pr
         return;
     }
     kg_joints_derive(j, world->def.max_bodies);
-    int iterations = pass == KG_PASS_WARM_START ? 1 : KG_JOINT_ITERATIONS;
+    int iterations = pass == KG_PASS_WARM_START ? 1 : j->iterations;
     for (int it = 0; it < iterations; ++it) {
         for (int c = 0; c < KG_JOINT_COLORS; ++c) {
             kg_joint_job job = {j->order + j->color_start[c], j->rows, bodies, prm, pass};

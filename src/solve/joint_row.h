@@ -121,17 +121,19 @@ KG_FN kg_vec2 kg_solve22(float k11, float k12, float k22, kg_vec2 b)
 
 /* A joint's springs, its rigid parts' position correction included, are capped at this
  * fraction of the sub-step rate. Contacts stop at a quarter (stacks explode at half,
- * docs/design.md); a joint's rows, solved KG_JOINT_ITERATIONS times a pass, hold at half,
- * and a soft constraint under a load F settles F / (m (2 pi hertz)^2) away from its
- * target, so the higher cap is what lets a 40-link chain carry 100 times a link's mass
- * within 1% (a quarter: 3.3%; docs/joints.md has the measurements). */
-#define KG_JOINT_HERTZ_CAP 0.5f
+ * docs/design.md); a joint's rows, solved 8 times a pass (kg_world_set_joint_iterations),
+ * hold at three quarters, and a soft constraint under a load F settles F / (m (2 pi
+ * hertz)^2) away from its target, so the higher cap is what lets a 40-link chain carry
+ * 100 times a link's mass within 1% (a quarter: 3.3%) and a 10-plank cantilever droop 5%
+ * of its length instead of 42% (docs/joints.md has the measurements; a full sub-step rate
+ * made the chain oscillate). */
+#define KG_JOINT_HERTZ_CAP 0.75f
 
-/* Each solve and relax pass runs over the joints this many times (warm starting once):
- * Gauss-Seidel over a chain of very unequal masses converges slowly, and the soft
- * constraint's equilibrium is the same fixed point however many times it is iterated.
- * Joints are few and each pass is serial: 4 costs little (docs/joints.md). */
-#define KG_JOINT_ITERATIONS 4
+/* Each solve and relax pass runs over the joints this many times by default (warm
+ * starting once): Gauss-Seidel over a chain of very unequal masses converges slowly, and
+ * the soft constraint's equilibrium is the same fixed point however many times it is
+ * iterated (docs/joints.md). kg_world_set_joint_iterations changes it. */
+#define KG_JOINT_ITERATIONS 8
 
 /* The softness of a hertz capped at KG_JOINT_HERTZ_CAP of the sub-step rate. */
 KG_FN kg_softness kg_joint_softness(float hertz, float damping_ratio, kg_solver_params prm)

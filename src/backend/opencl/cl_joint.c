@@ -124,13 +124,13 @@ kg_result kg_cl_prepare_joints(kg_world* world, kg_cl_backend* b)
     return KG_OK;
 }
 
-kg_result kg_cl_solve_joints(kg_cl_backend* b, int pass)
+kg_result kg_cl_solve_joints(kg_world* world, kg_cl_backend* b, int pass)
 {
     int slots = b->joint_slots;
     if (slots == 0) {
         return KG_OK;
     }
-    int iterations = pass == KG_PASS_WARM_START ? 1 : KG_JOINT_ITERATIONS;
+    int iterations = pass == KG_PASS_WARM_START ? 1 : kg_world_get_joint_iterations(world);
     KG_LAUNCH(b, SOLVE_JOINTS, 1, kLabel, KG_INT(b->joint_order_count), KG_INT(iterations), KG_INT(pass),
               KG_MEM(b->solver_params), KG_MEM(b->joint_order), KG_MEM(b->joint_rows), KG_MEM(b->solver_bodies));
     return KG_OK;

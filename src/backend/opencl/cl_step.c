@@ -361,13 +361,13 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
     KG_TRY(kg_cl_prepare_joints(world, b)); /* the joints (cl_joint.c): each pass before the contacts', as on the CPU */
     for (int step = 0; step < n; ++step) {
         KG_TRY(kg_integrate_velocities(b, bodies, &ip));
-        KG_TRY(kg_cl_solve_joints(b, KG_PASS_WARM_START));
+        KG_TRY(kg_cl_solve_joints(world, b, KG_PASS_WARM_START));
         KG_TRY(kg_run_pass(b, KG_PASS_WARM_START));
-        KG_TRY(kg_cl_solve_joints(b, KG_PASS_SOLVE));
+        KG_TRY(kg_cl_solve_joints(world, b, KG_PASS_SOLVE));
         KG_TRY(kg_run_pass(b, KG_PASS_SOLVE));
         KG_LAUNCH(b, INTEGRATE_POSITIONS, bodies, NULL, KG_INT(bodies), KG_FLOAT(h), KG_MEM(KG_A(FLAGS)),
                   KG_MEM(b->solver_bodies));
-        KG_TRY(kg_cl_solve_joints(b, KG_PASS_RELAX));
+        KG_TRY(kg_cl_solve_joints(world, b, KG_PASS_RELAX));
         KG_TRY(kg_run_pass(b, KG_PASS_RELAX));
     }
     KG_TRY(kg_run_pass(b, KG_PASS_RESTITUTION));

@@ -267,7 +267,7 @@ kg_result kg_cl_drop_joined(kg_world* world, kg_cl_backend* b, cl_mem pairs, int
 kg_result kg_cl_wake_joined(kg_world* world, kg_cl_backend* b);
 int kg_cl_joint_links(kg_world* world, kg_cl_backend* b); /* their count, written to the device */
 kg_result kg_cl_prepare_joints(kg_world* world, kg_cl_backend* b);
-kg_result kg_cl_solve_joints(kg_cl_backend* b, int pass);
+kg_result kg_cl_solve_joints(kg_world* world, kg_cl_backend* b, int pass);
 kg_result kg_cl_joints_to_host(kg_world* world, kg_cl_backend* b);
 void kg_cl_release_joints(kg_cl_backend* b);
 
