@@ -911,9 +911,13 @@ static void test_scene_joints(void)
         "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"weld\", \"a\": \"x\", \"b\": \"x\", \"anchor\": [0, 0]}]}",
         "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"distance\", \"b\": \"x\", \"anchor_a\": [0, 0], \"anchor_b\": [0, 1], \"spring\": 1}]}",
         "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"prismatic\", \"b\": \"x\", \"anchor\": [0, 0], \"axis\": [0, 0]}]}",
+        "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"revolute\", \"b\": \"x\", \"anchor\": [0, 0], \"lower_angle\": -4}]}",
+        "{\"bodies\": [{\"name\": \"x\", \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"distance\", \"b\": \"x\", \"anchor_a\": [1, 0], \"anchor_b\": [1, 0]}]}",
+        "{\"bodies\": [{\"name\": \"x\", \"position\": [-3e38, 0], \"shape\": {\"type\": \"circle\", \"radius\": 1}}], \"joints\": [{\"type\": \"weld\", \"b\": \"x\", \"anchor\": [3e38, 0]}]}",
     };
     const char* paths[] = {"joints[0].type", "joints[0].b", "joints[0].anchor", "joints[0].hertz", "joints[0].b",
-                           "joints[0].spring", "joints[0].axis"};
+                           "joints[0].spring", "joints[0].axis", "joints[0]: angle limits", "joints[0].length",
+                           "joints[0]: an anchor is too far"};
     for (int i = 0; i < (int)(sizeof bad / sizeof bad[0]); ++i) {
         kg_scene* sc = NULL;
         kg_result r = kg_scene_parse(bad[i], strlen(bad[i]), "bad.json", &sc);

@@ -82,8 +82,8 @@ static struct kg_joints* kg_joints_of(kg_world* world);
 kg_result kg_world_set_joint_iterations(kg_world* world, int iterations)
 {
     if (!world || iterations < 1 || iterations > 64) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_world_set_joint_iterations: iterations must be in [1, 64] (got %d)",
-                       iterations);
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT,
+                       "kg_world_set_joint_iterations: iterations must be in [1, 64] (got %d)", iterations);
     }
     if (kg_world_refuses(world, "kg_world_set_joint_iterations", KG_LOCK_STEP)) {
         return KG_ERROR_LOCKED;
@@ -304,6 +304,18 @@ kg_motor_joint_def kg_default_motor_joint_def(void)
     return d;
 }
 
+kg_result kg_check_base_values(const kg_joint_base_def* base, const char* call)
+{
+    if (!kg_nonneg(base->constraint_hertz) || !kg_nonneg(base->constraint_damping_ratio)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: constraint_hertz and constraint_damping_ratio must be finite "
+                       "and >= 0", call);
+    }
+    if (!kg_nonneg(base->break_force) || !kg_nonneg(base->break_torque)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: break_force and break_torque must be finite and >= 0", call);
+    }
+    return KG_OK;
+}
+
 /* The checks every kind shares: the world takes joints now, body_b lives, body_a is the
  * world or another live body, the constraint's softness is sane. Fills the row's slots
  * and the bodies' generations. */
@@ -330,12 +342,9 @@ static kg_result kg_check_base(kg_world* world, const kg_joint_base_def* base, c
             return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: a joint between a body and itself", call);
         }
     }
-    if (!kg_nonneg(base->constraint_hertz) || !kg_nonneg(base->constraint_damping_ratio)) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: constraint_hertz and constraint_damping_ratio must be finite "
-                       "and >= 0", call);
-    }
-    if (!kg_nonneg(base->break_force) || !kg_nonneg(base->break_torque)) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: break_force and break_torque must be finite and >= 0", call);
+    kg_result values = kg_check_base_values(base, call);
+    if (values != KG_OK) {
+        return values;
     }
     memset(row, 0, sizeof *row);
     memset(info, 0, sizeof *info);
@@ -421,6 +430,19 @@ static kg_result kg_check_lengths(float min_length, float max_length, const char
 
 static kg_u32 kg_option(int enabled, kg_u32 bit) { return enabled ? bit : 0u; }
 
+kg_result kg_check_revolute_values(const kg_revolute_joint_def* def, const char* call)
+{
+    kg_result r;
+    if (!kg_finite2(def->local_anchor_a) || !kg_finite2(def->local_anchor_b) || !isfinite(def->reference_angle)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: anchors and reference angle must be finite", call);
+    }
+    if ((r = kg_check_angles(def->enable_limit, def->lower_angle, def->upper_angle, call)) != KG_OK ||
+        (r = kg_check_motor(def->motor_speed, def->max_motor_torque, call)) != KG_OK) {
+        return r;
+    }
+    return kg_check_spring(def->hertz, def->damping_ratio, call);
+}
+
 kg_result kg_create_revolute_joint(kg_world* world, const kg_revolute_joint_def* def, kg_joint* out)
 {
     const char* call = "kg_create_revolute_joint";
@@ -430,17 +452,12 @@ kg_result kg_create_revolute_joint(kg_world* world, const kg_revolute_joint_def*
     if (r != KG_OK) {
         return r;
     }
-    if (!kg_finite2(def->local_anchor_a) || !kg_finite2(def->local_anchor_b) || !isfinite(def->reference_angle)) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: anchors and reference angle must be finite", call);
-    }
-    if ((r = kg_check_angles(def->enable_limit, def->lower_angle, def->upper_angle, call)) != KG_OK ||
-        (r = kg_check_motor(def->motor_speed, def->max_motor_torque, call)) != KG_OK ||
-        (r = kg_check_spring(def->hertz, def->damping_ratio, call)) != KG_OK) {
+    if ((r = kg_check_revolute_values(def, call)) != KG_OK) {
         return r;
     }
     row.type = KG_JOINT_ROW_REVOLUTE;
-    row.options = kg_option(def->enable_limit, KG_JOINT_LIMIT) | kg_option(def->enable_motor, KG_JOINT_MOTOR) |
-                  kg_option(def->enable_spring, KG_JOINT_SPRING);
+    row.options = kg_option(def->enable_limit, KG_JOINT_OPT_LIMIT) | kg_option(def->enable_motor, KG_JOINT_OPT_MOTOR) |
+                  kg_option(def->enable_spring, KG_JOINT_OPT_SPRING);
     row.local_a = def->local_anchor_a;
     row.local_b = def->local_anchor_b;
     row.reference_angle = def->reference_angle;
@@ -453,6 +470,21 @@ kg_result kg_create_revolute_joint(kg_world* world, const kg_revolute_joint_def*
     return kg_add_joint(world, &row, &info, out);
 }
 
+kg_result kg_check_distance_values(const kg_distance_joint_def* def, const char* call)
+{
+    kg_result r;
+    if (!kg_finite2(def->local_anchor_a) || !kg_finite2(def->local_anchor_b)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: anchors must be finite", call);
+    }
+    if (!isfinite(def->length) || def->length <= 0.0f) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: length must be finite and > 0", call);
+    }
+    if ((r = kg_check_lengths(def->min_length, def->max_length, call)) != KG_OK) {
+        return r;
+    }
+    return kg_check_spring(def->hertz, def->damping_ratio, call);
+}
+
 kg_result kg_create_distance_joint(kg_world* world, const kg_distance_joint_def* def, kg_joint* out)
 {
     const char* call = "kg_create_distance_joint";
@@ -462,18 +494,11 @@ kg_result kg_create_distance_joint(kg_world* world, const kg_distance_joint_def*
     if (r != KG_OK) {
         return r;
     }
-    if (!kg_finite2(def->local_anchor_a) || !kg_finite2(def->local_anchor_b)) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: anchors must be finite", call);
-    }
-    if (!isfinite(def->length) || def->length <= 0.0f) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: length must be finite and > 0", call);
-    }
-    if ((r = kg_check_lengths(def->min_length, def->max_length, call)) != KG_OK ||
-        (r = kg_check_spring(def->hertz, def->damping_ratio, call)) != KG_OK) {
+    if ((r = kg_check_distance_values(def, call)) != KG_OK) {
         return r;
     }
     row.type = KG_JOINT_ROW_DISTANCE;
-    row.options = kg_option(def->enable_limit, KG_JOINT_LIMIT) | kg_option(def->enable_spring, KG_JOINT_SPRING);
+    row.options = kg_option(def->enable_limit, KG_JOINT_OPT_LIMIT) | kg_option(def->enable_spring, KG_JOINT_OPT_SPRING);
     row.local_a = def->local_anchor_a;
     row.local_b = def->local_anchor_b;
     row.length = def->length;
@@ -482,6 +507,18 @@ kg_result kg_create_distance_joint(kg_world* world, const kg_distance_joint_def*
     row.hertz = def->hertz;
     row.damping_ratio = def->damping_ratio;
     return kg_add_joint(world, &row, &info, out);
+}
+
+kg_result kg_check_weld_values(const kg_weld_joint_def* def, const char* call)
+{
+    kg_result r;
+    if (!kg_finite2(def->local_anchor_a) || !kg_finite2(def->local_anchor_b) || !isfinite(def->reference_angle)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: anchors and reference angle must be finite", call);
+    }
+    if ((r = kg_check_spring(def->linear_hertz, def->linear_damping_ratio, call)) != KG_OK) {
+        return r;
+    }
+    return kg_check_spring(def->angular_hertz, def->angular_damping_ratio, call);
 }
 
 kg_result kg_create_weld_joint(kg_world* world, const kg_weld_joint_def* def, kg_joint* out)
@@ -493,11 +530,7 @@ kg_result kg_create_weld_joint(kg_world* world, const kg_weld_joint_def* def, kg
     if (r != KG_OK) {
         return r;
     }
-    if (!kg_finite2(def->local_anchor_a) || !kg_finite2(def->local_anchor_b) || !isfinite(def->reference_angle)) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: anchors and reference angle must be finite", call);
-    }
-    if ((r = kg_check_spring(def->linear_hertz, def->linear_damping_ratio, call)) != KG_OK ||
-        (r = kg_check_spring(def->angular_hertz, def->angular_damping_ratio, call)) != KG_OK) {
+    if ((r = kg_check_weld_values(def, call)) != KG_OK) {
         return r;
     }
     row.type = KG_JOINT_ROW_WELD;
@@ -511,6 +544,17 @@ kg_result kg_create_weld_joint(kg_world* world, const kg_weld_joint_def* def, kg
     return kg_add_joint(world, &row, &info, out);
 }
 
+kg_result kg_check_mouse_values(const kg_mouse_joint_def* def, const char* call)
+{
+    if (!kg_finite2(def->target) || !kg_finite2(def->local_anchor_b)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: target and anchor must be finite", call);
+    }
+    if (!isfinite(def->hertz) || def->hertz <= 0.0f || !kg_nonneg(def->damping_ratio) || !kg_nonneg(def->max_force)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: hertz must be > 0, damping ratio and max_force >= 0", call);
+    }
+    return KG_OK;
+}
+
 kg_result kg_create_mouse_joint(kg_world* world, const kg_mouse_joint_def* def, kg_joint* out)
 {
     const char* call = "kg_create_mouse_joint";
@@ -520,11 +564,8 @@ kg_result kg_create_mouse_joint(kg_world* world, const kg_mouse_joint_def* def, 
     if (r != KG_OK) {
         return r;
     }
-    if (!kg_finite2(def->target) || !kg_finite2(def->local_anchor_b)) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: target and anchor must be finite", call);
-    }
-    if (!isfinite(def->hertz) || def->hertz <= 0.0f || !kg_nonneg(def->damping_ratio) || !kg_nonneg(def->max_force)) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: hertz must be > 0, damping ratio and max_force >= 0", call);
+    if ((r = kg_check_mouse_values(def, call)) != KG_OK) {
+        return r;
     }
     row.type = KG_JOINT_ROW_MOUSE;
     row.local_a = def->target;
@@ -554,6 +595,21 @@ static kg_result kg_check_axis(kg_vec2 axis, const char* call, kg_vec2* out)
     return KG_OK;
 }
 
+kg_result kg_check_prismatic_values(const kg_prismatic_joint_def* def, const char* call)
+{
+    kg_result r;
+    kg_vec2 axis;
+    if (!kg_finite2(def->local_anchor_a) || !kg_finite2(def->local_anchor_b) || !isfinite(def->reference_angle)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: anchors and reference angle must be finite", call);
+    }
+    if ((r = kg_check_axis(def->local_axis_a, call, &axis)) != KG_OK ||
+        (r = kg_check_translations(def->lower_translation, def->upper_translation, call)) != KG_OK ||
+        (r = kg_check_motor(def->motor_speed, def->max_motor_force, call)) != KG_OK) {
+        return r;
+    }
+    return kg_check_spring(def->hertz, def->damping_ratio, call);
+}
+
 kg_result kg_create_prismatic_joint(kg_world* world, const kg_prismatic_joint_def* def, kg_joint* out)
 {
     const char* call = "kg_create_prismatic_joint";
@@ -563,18 +619,13 @@ kg_result kg_create_prismatic_joint(kg_world* world, const kg_prismatic_joint_de
     if (r != KG_OK) {
         return r;
     }
-    if (!kg_finite2(def->local_anchor_a) || !kg_finite2(def->local_anchor_b) || !isfinite(def->reference_angle)) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: anchors and reference angle must be finite", call);
-    }
-    if ((r = kg_check_axis(def->local_axis_a, call, &row.local_axis)) != KG_OK ||
-        (r = kg_check_translations(def->lower_translation, def->upper_translation, call)) != KG_OK ||
-        (r = kg_check_motor(def->motor_speed, def->max_motor_force, call)) != KG_OK ||
-        (r = kg_check_spring(def->hertz, def->damping_ratio, call)) != KG_OK) {
+    if ((r = kg_check_prismatic_values(def, call)) != KG_OK ||
+        (r = kg_check_axis(def->local_axis_a, call, &row.local_axis)) != KG_OK) {
         return r;
     }
     row.type = KG_JOINT_ROW_PRISMATIC;
-    row.options = kg_option(def->enable_limit, KG_JOINT_LIMIT) | kg_option(def->enable_motor, KG_JOINT_MOTOR) |
-                  kg_option(def->enable_spring, KG_JOINT_SPRING);
+    row.options = kg_option(def->enable_limit, KG_JOINT_OPT_LIMIT) | kg_option(def->enable_motor, KG_JOINT_OPT_MOTOR) |
+                  kg_option(def->enable_spring, KG_JOINT_OPT_SPRING);
     row.local_a = def->local_anchor_a;
     row.local_b = def->local_anchor_b;
     row.reference_angle = def->reference_angle;
@@ -587,6 +638,21 @@ kg_result kg_create_prismatic_joint(kg_world* world, const kg_prismatic_joint_de
     return kg_add_joint(world, &row, &info, out);
 }
 
+kg_result kg_check_wheel_values(const kg_wheel_joint_def* def, const char* call)
+{
+    kg_result r;
+    kg_vec2 axis;
+    if (!kg_finite2(def->local_anchor_a) || !kg_finite2(def->local_anchor_b)) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: anchors must be finite", call);
+    }
+    if ((r = kg_check_axis(def->local_axis_a, call, &axis)) != KG_OK ||
+        (r = kg_check_translations(def->lower_translation, def->upper_translation, call)) != KG_OK ||
+        (r = kg_check_motor(def->motor_speed, def->max_motor_torque, call)) != KG_OK) {
+        return r;
+    }
+    return kg_check_spring(def->hertz, def->damping_ratio, call);
+}
+
 kg_result kg_create_wheel_joint(kg_world* world, const kg_wheel_joint_def* def, kg_joint* out)
 {
     const char* call = "kg_create_wheel_joint";
@@ -596,18 +662,13 @@ kg_result kg_create_wheel_joint(kg_world* world, const kg_wheel_joint_def* def, 
     if (r != KG_OK) {
         return r;
     }
-    if (!kg_finite2(def->local_anchor_a) || !kg_finite2(def->local_anchor_b)) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: anchors must be finite", call);
-    }
-    if ((r = kg_check_axis(def->local_axis_a, call, &row.local_axis)) != KG_OK ||
-        (r = kg_check_translations(def->lower_translation, def->upper_translation, call)) != KG_OK ||
-        (r = kg_check_motor(def->motor_speed, def->max_motor_torque, call)) != KG_OK ||
-        (r = kg_check_spring(def->hertz, def->damping_ratio, call)) != KG_OK) {
+    if ((r = kg_check_wheel_values(def, call)) != KG_OK ||
+        (r = kg_check_axis(def->local_axis_a, call, &row.local_axis)) != KG_OK) {
         return r;
     }
     row.type = KG_JOINT_ROW_WHEEL;
-    row.options = kg_option(def->enable_limit, KG_JOINT_LIMIT) | kg_option(def->enable_motor, KG_JOINT_MOTOR) |
-                  kg_option(def->enable_spring, KG_JOINT_SPRING);
+    row.options = kg_option(def->enable_limit, KG_JOINT_OPT_LIMIT) | kg_option(def->enable_motor, KG_JOINT_OPT_MOTOR) |
+                  kg_option(def->enable_spring, KG_JOINT_OPT_SPRING);
     row.local_a = def->local_anchor_a;
     row.local_b = def->local_anchor_b;
     row.lower = def->lower_translation;
@@ -619,6 +680,16 @@ kg_result kg_create_wheel_joint(kg_world* world, const kg_wheel_joint_def* def, 
     return kg_add_joint(world, &row, &info, out);
 }
 
+kg_result kg_check_motor_values(const kg_motor_joint_def* def, const char* call)
+{
+    if (!kg_finite2(def->linear_offset) || !isfinite(def->angular_offset) || !kg_nonneg(def->max_force) ||
+        !kg_nonneg(def->max_torque) || !kg_nonneg(def->correction_factor) || def->correction_factor > 1.0f) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: offsets must be finite, max_force and max_torque >= 0, "
+                       "correction_factor in [0, 1]", call);
+    }
+    return KG_OK;
+}
+
 kg_result kg_create_motor_joint(kg_world* world, const kg_motor_joint_def* def, kg_joint* out)
 {
     const char* call = "kg_create_motor_joint";
@@ -628,10 +699,8 @@ kg_result kg_create_motor_joint(kg_world* world, const kg_motor_joint_def* def, 
     if (r != KG_OK) {
         return r;
     }
-    if (!kg_finite2(def->linear_offset) || !isfinite(def->angular_offset) || !kg_nonneg(def->max_force) ||
-        !kg_nonneg(def->max_torque) || !kg_nonneg(def->correction_factor) || def->correction_factor > 1.0f) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: offsets must be finite, max_force and max_torque >= 0, "
-                       "correction_factor in [0, 1]", call);
+    if ((r = kg_check_motor_values(def, call)) != KG_OK) {
+        return r;
     }
     row.type = KG_JOINT_ROW_MOTOR;
     row.local_a = def->linear_offset;
@@ -1176,7 +1245,7 @@ kg_result kg_revolute_joint_set_limits(kg_world* world, kg_joint joint, int enab
     if (!r) {
         return kg_last_result();
     }
-    r->options = (r->options & ~KG_JOINT_LIMIT) | kg_option(enable, KG_JOINT_LIMIT);
+    r->options = (r->options & ~KG_JOINT_OPT_LIMIT) | kg_option(enable, KG_JOINT_OPT_LIMIT);
     r->lower = lower;
     r->upper = upper;
     if (!enable) {
@@ -1193,7 +1262,7 @@ kg_result kg_revolute_joint_set_motor(kg_world* world, kg_joint joint, int enabl
     if (!r) {
         return kg_last_result();
     }
-    r->options = (r->options & ~KG_JOINT_MOTOR) | kg_option(enable, KG_JOINT_MOTOR);
+    r->options = (r->options & ~KG_JOINT_OPT_MOTOR) | kg_option(enable, KG_JOINT_OPT_MOTOR);
     r->motor_speed = speed;
     r->max_motor_torque = max_torque;
     if (!enable) {
@@ -1210,7 +1279,7 @@ kg_result kg_revolute_joint_set_spring(kg_world* world, kg_joint joint, int enab
     if (!r) {
         return kg_last_result();
     }
-    r->options = (r->options & ~KG_JOINT_SPRING) | kg_option(enable, KG_JOINT_SPRING);
+    r->options = (r->options & ~KG_JOINT_OPT_SPRING) | kg_option(enable, KG_JOINT_OPT_SPRING);
     r->hertz = hertz;
     r->damping_ratio = damping_ratio;
     if (!enable) {
@@ -1257,7 +1326,7 @@ kg_result kg_distance_joint_set_limits(kg_world* world, kg_joint joint, int enab
     if (!r) {
         return kg_last_result();
     }
-    r->options = (r->options & ~KG_JOINT_LIMIT) | kg_option(enable, KG_JOINT_LIMIT);
+    r->options = (r->options & ~KG_JOINT_OPT_LIMIT) | kg_option(enable, KG_JOINT_OPT_LIMIT);
     r->lower = min_length;
     r->upper = max_length;
     return KG_OK;
@@ -1271,7 +1340,7 @@ kg_result kg_distance_joint_set_spring(kg_world* world, kg_joint joint, int enab
     if (!r) {
         return kg_last_result();
     }
-    r->options = (r->options & ~KG_JOINT_SPRING) | kg_option(enable, KG_JOINT_SPRING);
+    r->options = (r->options & ~KG_JOINT_OPT_SPRING) | kg_option(enable, KG_JOINT_OPT_SPRING);
     r->hertz = hertz;
     r->damping_ratio = damping_ratio;
     return KG_OK;
@@ -1305,7 +1374,7 @@ static kg_result kg_axis_set_limits(kg_world* world, kg_joint joint, kg_i32 type
     if (!r) {
         return kg_last_result();
     }
-    r->options = (r->options & ~KG_JOINT_LIMIT) | kg_option(enable, KG_JOINT_LIMIT);
+    r->options = (r->options & ~KG_JOINT_OPT_LIMIT) | kg_option(enable, KG_JOINT_OPT_LIMIT);
     r->lower = lower;
     r->upper = upper;
     if (!enable) {
@@ -1322,7 +1391,7 @@ static kg_result kg_axis_set_motor(kg_world* world, kg_joint joint, kg_i32 type,
     if (!r) {
         return kg_last_result();
     }
-    r->options = (r->options & ~KG_JOINT_MOTOR) | kg_option(enable, KG_JOINT_MOTOR);
+    r->options = (r->options & ~KG_JOINT_OPT_MOTOR) | kg_option(enable, KG_JOINT_OPT_MOTOR);
     r->motor_speed = speed;
     r->max_motor_torque = most;
     if (!enable) {
@@ -1339,7 +1408,7 @@ static kg_result kg_axis_set_spring(kg_world* world, kg_joint joint, kg_i32 type
     if (!r) {
         return kg_last_result();
     }
-    r->options = (r->options & ~KG_JOINT_SPRING) | kg_option(enable, KG_JOINT_SPRING);
+    r->options = (r->options & ~KG_JOINT_OPT_SPRING) | kg_option(enable, KG_JOINT_OPT_SPRING);
     r->hertz = hertz;
     r->damping_ratio = damping_ratio;
     if (!enable) {

@@ -20,6 +20,18 @@ void kg_joints_destroy(kg_world* world);
 /* How many live joints (0 without a pool). */
 int kg_joints_live(const kg_world* world);
 
+/* The checks of a definition's values that kg_create_*_joint makes (all but the bodies
+ * and the world): the scene loader asks them too, so that a scene it accepts
+ * instantiates. call names the caller in the message. */
+kg_result kg_check_base_values(const kg_joint_base_def* base, const char* call);
+kg_result kg_check_revolute_values(const kg_revolute_joint_def* def, const char* call);
+kg_result kg_check_distance_values(const kg_distance_joint_def* def, const char* call);
+kg_result kg_check_weld_values(const kg_weld_joint_def* def, const char* call);
+kg_result kg_check_mouse_values(const kg_mouse_joint_def* def, const char* call);
+kg_result kg_check_prismatic_values(const kg_prismatic_joint_def* def, const char* call);
+kg_result kg_check_wheel_values(const kg_wheel_joint_def* def, const char* call);
+kg_result kg_check_motor_values(const kg_motor_joint_def* def, const char* call);
+
 /* The solve stage's share: rows prepared once a step (after the bodies are loaded), then
  * one pass over every joint (warm start, solve, relax): colour by colour, each colour's
  * joints in parallel, then the overflow serially. */

@@ -4,6 +4,7 @@
 #include "io/scene_joints.h"
 
 #include "core/error.h"
+#include "core/joint.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -255,6 +256,83 @@ static kg_result kg_read_motor(const kg_json_reader* reader, const cJSON* item, 
     return kg_json_float(reader, item, path, "correction_factor", KG_JSON_UNIT, &d->correction_factor);
 }
 
+/* Whether world point p stays a finite float in body index's frame at the scene's start
+ * (the world's: itself): anchors far out of float range of their body are refused here,
+ * so that an accepted scene instantiates. */
+static int kg_local_fits(const kg_scene* scene, int index, kg_vec2 p)
+{
+    double x = p.x, y = p.y;
+    if (index >= 0) {
+        const kg_body_def* d = kg_scene_body_def(scene, index);
+        x -= d->position.x;
+        y -= d->position.y;
+    }
+    return fabs(x) < 1e37 && fabs(y) < 1e37;
+}
+
+/* The engine's own checks of the joint's values (core/joint.h), and the loader's of what
+ * instantiating makes of its anchors and axis: a scene accepted here instantiates. */
+static kg_result kg_check_scene_joint(const kg_json_reader* reader, const kg_json_path* path, const kg_scene* scene,
+                                      const kg_scene_joint* j)
+{
+    if (!kg_local_fits(scene, j->body_a, j->anchor_a) || !kg_local_fits(scene, j->body_b, j->anchor_b)) {
+        return kg_json_fail(reader, path, "an anchor is too far from its body (over 1e37 m)");
+    }
+    if (j->type == KG_JOINT_PRISMATIC || j->type == KG_JOINT_WHEEL) {
+        double ax = j->axis.x, ay = j->axis.y;
+        if (!(fabs(ax) < 1e18 && fabs(ay) < 1e18) || !(sqrt(ax * ax + ay * ay) > 1e-3)) {
+            kg_json_path at = kg_json_path_key(path, "axis");
+            return kg_json_fail(reader, &at, "must be longer than 0.001 and shorter than 1e18");
+        }
+    }
+    const char* call = "joint";
+    kg_result r = KG_OK;
+    switch (j->type) {
+    case KG_JOINT_REVOLUTE:
+        r = kg_check_base_values(&j->revolute.base, call);
+        r = r == KG_OK ? kg_check_revolute_values(&j->revolute, call) : r;
+        break;
+    case KG_JOINT_DISTANCE:
+        r = kg_check_base_values(&j->distance.base, call);
+        r = r == KG_OK ? kg_check_distance_values(&j->distance, call) : r;
+        break;
+    case KG_JOINT_WELD:
+        r = kg_check_base_values(&j->weld.base, call);
+        r = r == KG_OK ? kg_check_weld_values(&j->weld, call) : r;
+        break;
+    case KG_JOINT_MOUSE:
+        r = kg_check_base_values(&j->mouse.base, call);
+        r = r == KG_OK ? kg_check_mouse_values(&j->mouse, call) : r;
+        break;
+    case KG_JOINT_PRISMATIC: {
+        kg_prismatic_joint_def d = j->prismatic;
+        d.local_axis_a = j->axis;
+        r = kg_check_base_values(&d.base, call);
+        r = r == KG_OK ? kg_check_prismatic_values(&d, call) : r;
+        break;
+    }
+    case KG_JOINT_WHEEL: {
+        kg_wheel_joint_def d = j->wheel;
+        d.local_axis_a = j->axis;
+        r = kg_check_base_values(&d.base, call);
+        r = r == KG_OK ? kg_check_wheel_values(&d, call) : r;
+        break;
+    }
+    default:
+        r = kg_check_base_values(&j->motor.base, call);
+        r = r == KG_OK ? kg_check_motor_values(&j->motor, call) : r;
+        break;
+    }
+    if (r != KG_OK) {
+        char why[256];
+        const char* message = kg_last_error();
+        size_t skip = strncmp(message, "joint: ", 7) == 0 ? 7 : 0;
+        snprintf(why, sizeof why, "%s", message + skip);
+        return kg_json_fail(reader, path, "%s", why);
+    }
+    return KG_OK;
+}
+
 static kg_result kg_read_joint(const kg_json_reader* reader, kg_scene* scene, const cJSON* item,
                                const kg_json_path* path)
 {
@@ -298,6 +376,7 @@ static kg_result kg_read_joint(const kg_json_reader* reader, kg_scene* scene, co
     case KG_JOINT_WHEEL: KG_TRY(kg_read_wheel(reader, item, path, &j)); break;
     default: KG_TRY(kg_read_motor(reader, item, path, scene, &j)); break;
     }
+    KG_TRY(kg_check_scene_joint(reader, path, scene, &j));
     if (kg_scene_add_joint(scene, &j) != KG_OK) {
         return kg_json_fail(reader, path, "%s", kg_last_error());
     }
@@ -331,7 +410,8 @@ static kg_body kg_handle_or_world(const kg_body* handles, int index)
 static kg_vec2 kg_local_axis(const kg_world* world, kg_body body, kg_vec2 axis)
 {
     kg_vec2 origin = {0.0f, 0.0f}, o, p;
-    if (kg_joint_local_point(world, body, origin, &o) != KG_OK || kg_joint_local_point(world, body, axis, &p) != KG_OK) {
+    if (kg_joint_local_point(world, body, origin, &o) != KG_OK ||
+        kg_joint_local_point(world, body, axis, &p) != KG_OK) {
         return axis;
     }
     kg_vec2 d = {p.x - o.x, p.y - o.y};

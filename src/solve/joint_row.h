@@ -23,15 +23,15 @@
 #define KG_JOINT_ROW_MOTOR 6
 
 /* kg_joint_row.options */
-#define KG_JOINT_LIMIT 1u
-#define KG_JOINT_MOTOR 2u
-#define KG_JOINT_SPRING 4u
+#define KG_JOINT_OPT_LIMIT 1u
+#define KG_JOINT_OPT_MOTOR 2u
+#define KG_JOINT_OPT_SPRING 4u
 
 typedef struct kg_joint_row {
     /* the joint's definition, set by the API */
     kg_u32 a, b;        /* body slots; KG_NULL_INDEX: the world */
     kg_i32 type;        /* KG_JOINT_ROW_* */
-    kg_u32 options;     /* KG_JOINT_LIMIT | KG_JOINT_MOTOR | KG_JOINT_SPRING */
+    kg_u32 options;     /* KG_JOINT_OPT_LIMIT | KG_JOINT_OPT_MOTOR | KG_JOINT_OPT_SPRING */
     kg_vec2 local_a;    /* anchor in a's origin frame (the world: a world point; mouse: the target) */
     kg_vec2 local_b;    /* anchor in b's origin frame */
     kg_vec2 local_axis; /* prismatic, wheel: the axis in a's frame (unit) */
@@ -295,7 +295,7 @@ KG_FN float kg_joint_one_sided(float c, float cdot, float mass, float* acc, kg_s
 KG_FN void kg_revolute_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, int use_bias)
 {
     float ia = r->inv_i_a, ib = r->inv_i_b;
-    if ((r->options & KG_JOINT_SPRING) && r->hertz > 0.0f) {
+    if ((r->options & KG_JOINT_OPT_SPRING) && r->hertz > 0.0f) {
         float c = kg_joint_angle_now(r, s);
         float cdot = s->b.w - s->a.w;
         float impulse = -r->spring.mass_scale * r->axial_mass * (cdot + r->spring.bias_rate * c) -
@@ -304,7 +304,7 @@ KG_FN void kg_revolute_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params
         s->a.w -= ia * impulse;
         s->b.w += ib * impulse;
     }
-    if (r->options & KG_JOINT_MOTOR) {
+    if (r->options & KG_JOINT_OPT_MOTOR) {
         float cdot = s->b.w - s->a.w - r->motor_speed;
         float impulse = -r->axial_mass * cdot;
         float old = r->motor_impulse, most = prm.h * r->max_motor_torque;
@@ -313,7 +313,7 @@ KG_FN void kg_revolute_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params
         s->a.w -= ia * impulse;
         s->b.w += ib * impulse;
     }
-    if (r->options & KG_JOINT_LIMIT) {
+    if (r->options & KG_JOINT_OPT_LIMIT) {
         float angle = kg_joint_angle_now(r, s);
         float lower = kg_joint_one_sided(angle - r->lower, s->b.w - s->a.w, r->axial_mass, &r->lower_impulse, r->soft,
                                          use_bias, prm);
@@ -333,8 +333,8 @@ KG_FN void kg_distance_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params
     float length = kg_length(d);
     kg_vec2 axis = kg_normalize(d);
     r->axis = axis;
-    int limited = (r->options & KG_JOINT_LIMIT) != 0u;
-    int soft = (r->options & KG_JOINT_SPRING) && (r->lower < r->upper || !limited);
+    int limited = (r->options & KG_JOINT_OPT_LIMIT) != 0u;
+    int soft = (r->options & KG_JOINT_OPT_SPRING) && (r->lower < r->upper || !limited);
     if (soft) {
         if (r->hertz > 0.0f) {
             float cdot = kg_dot(axis, kg_joint_relative_velocity(s));
@@ -461,14 +461,14 @@ KG_FN float kg_axis_speed(const kg_joint_pair* s, const kg_axis_frame* f)
 KG_FN void kg_axis_spring_and_limits(kg_joint_row* r, kg_joint_pair* s, const kg_axis_frame* f, kg_solver_params prm,
                                      int use_bias)
 {
-    if ((r->options & KG_JOINT_SPRING) && r->hertz > 0.0f) {
+    if ((r->options & KG_JOINT_OPT_SPRING) && r->hertz > 0.0f) {
         float cdot = kg_axis_speed(s, f);
         float impulse = -r->spring.mass_scale * r->axial_mass * (cdot + r->spring.bias_rate * f->translation) -
                         r->spring.impulse_scale * r->spring_impulse;
         r->spring_impulse += impulse;
         kg_axis_apply(r, s, f, impulse, 0.0f, 0.0f);
     }
-    if (r->options & KG_JOINT_LIMIT) {
+    if (r->options & KG_JOINT_OPT_LIMIT) {
         float lower = kg_joint_one_sided(f->translation - r->lower, kg_axis_speed(s, f), r->axial_mass,
                                          &r->lower_impulse, r->soft, use_bias, prm);
         kg_axis_apply(r, s, f, lower, 0.0f, 0.0f);
@@ -483,7 +483,7 @@ KG_FN void kg_axis_spring_and_limits(kg_joint_row* r, kg_joint_pair* s, const kg
 KG_FN void kg_prismatic_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, int use_bias)
 {
     kg_axis_frame f = kg_axis_frame_of(r, s);
-    if (r->options & KG_JOINT_MOTOR) {
+    if (r->options & KG_JOINT_OPT_MOTOR) {
         float impulse = r->axial_mass * (r->motor_speed - kg_axis_speed(s, &f));
         float old = r->motor_impulse, most = prm.h * r->max_motor_torque;
         r->motor_impulse = kg_clampf(old + impulse, -most, most);
@@ -514,7 +514,7 @@ KG_FN void kg_prismatic_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_param
  * to turn, driven by a motor on the rotation. */
 KG_FN void kg_wheel_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, int use_bias)
 {
-    if (r->options & KG_JOINT_MOTOR) {
+    if (r->options & KG_JOINT_OPT_MOTOR) {
         float impulse = -r->angular_mass * (s->b.w - s->a.w - r->motor_speed);
         float old = r->motor_impulse, most = prm.h * r->max_motor_torque;
         r->motor_impulse = kg_clampf(old + impulse, -most, most);
