@@ -46,6 +46,7 @@ typedef uint32_t kg_color;
 #define KG_DEBUG_COLOR_AABB 0xE6E64Du
 #define KG_DEBUG_COLOR_CONTACT_POINT 0xFF5050u
 #define KG_DEBUG_COLOR_CONTACT_NORMAL 0x50E6FFu
+#define KG_DEBUG_COLOR_JOINT 0x50C8A0u          /* a joint: its anchors, joined */
 
 /* A rigid transform: a position and a rotation as (cos, sin) of its angle. A point p of
  * its frame is at (position.x + c p.x - s p.y, position.y + s p.x + c p.y). */
@@ -61,7 +62,9 @@ typedef enum kg_debug_draw_flags {
     KG_DEBUG_DRAW_AABBS = 1 << 2,           /* each body's bounding box (kg_body_get_aabb) */
     KG_DEBUG_DRAW_CONTACT_POINTS = 1 << 3,  /* the points of last step's contacts */
     KG_DEBUG_DRAW_CONTACT_NORMALS = 1 << 4, /* their normals, from each point, normal_length long */
-    KG_DEBUG_DRAW_MASS = 1 << 5             /* each moving body's centre of mass, as a transform */
+    KG_DEBUG_DRAW_MASS = 1 << 5,            /* each moving body's centre of mass, as a transform */
+    KG_DEBUG_DRAW_JOINTS = 1 << 6           /* each joint: a segment from its anchor on a to its anchor
+                                             * on b (a mouse joint: from its target), and a point at each */
 } kg_debug_draw_flags;
 
 /* Point sizes, in pixels across: a renderer draws them the same at every zoom. */
@@ -104,12 +107,12 @@ typedef struct kg_debug_draw {
     void* context;       /* handed to every callback */
 } kg_debug_draw;
 
-/* No callbacks, flags SHAPES | TILES, no bounds, normals 0.3 m long, no context. */
+/* No callbacks, flags SHAPES | TILES | JOINTS, no bounds, normals 0.3 m long, no context. */
 KG_API kg_debug_draw kg_default_debug_draw(void);
 
 /* Draws the world through draw's callbacks, in layers: tiles, then each body's shapes
  * (bodies in slot order, a body's shapes in kg_body_get_shapes order), bounding boxes,
- * centres of mass, contacts. Fails with KG_ERROR_INVALID_ARGUMENT for a NULL world or
+ * centres of mass, joints (in slot order), contacts. Fails with KG_ERROR_INVALID_ARGUMENT for a NULL world or
  * draw, non-finite bounds, or a negative normal_length. */
 KG_API kg_result kg_world_draw(const kg_world* world, const kg_debug_draw* draw);
 

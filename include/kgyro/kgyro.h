@@ -17,6 +17,7 @@
 #include "world.h"
 #include "body.h"
 #include "shape.h"
+#include "joint.h"
 #include "force.h"
 #include "collision.h"
 #include "events.h"

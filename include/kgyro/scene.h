@@ -10,6 +10,7 @@
 #include "body.h"
 #include "shape.h"
 #include "tilemap.h"
+#include "joint.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -229,7 +230,34 @@ KG_API int kg_scene_find_marker(const kg_scene* scene, const char* name);
 KG_API int kg_scene_note_count(const kg_scene* scene);
 KG_API const char* kg_scene_get_note(const kg_scene* scene, int index);
 
-/* Creates a world holding the scene, its bodies, forces and tile maps (in scene order, so
+/* Joints (kgyro/joint.h, the scene file's "joints"). A scene joint names its bodies by
+ * scene index (body_a -1: held to the world) and places its anchors in world
+ * coordinates at the scene's start: anchor_a is the anchor of a revolute, weld,
+ * prismatic or wheel joint, and distance's end on body_a; anchor_b distance's end on
+ * body_b, and the point of body_b a mouse joint drags (to mouse.target); axis the world
+ * direction of a prismatic or wheel joint's axis. The definition of its type gives every
+ * other option; its bodies, local anchors and local axis are ignored (kg_scene_instantiate
+ * makes them).
+ * Checked when instantiated (the kind's kg_create_*_joint), but for the body indices. */
+typedef struct kg_scene_joint {
+    kg_joint_type type;
+    int body_a, body_b;
+    kg_vec2 anchor_a, anchor_b;
+    kg_vec2 axis;
+    kg_revolute_joint_def revolute;
+    kg_distance_joint_def distance;
+    kg_weld_joint_def weld;
+    kg_mouse_joint_def mouse;
+    kg_prismatic_joint_def prismatic;
+    kg_wheel_joint_def wheel;
+    kg_motor_joint_def motor;
+} kg_scene_joint;
+
+KG_API kg_result kg_scene_add_joint(kg_scene* scene, const kg_scene_joint* joint);
+KG_API int kg_scene_joint_count(const kg_scene* scene);
+KG_API const kg_scene_joint* kg_scene_get_joint(const kg_scene* scene, int index);
+
+/* Creates a world holding the scene, its bodies, forces, tile maps and joints (in scene order, so
  * kg_world_get_tilemaps lists them in that order). The world is made from
  * override_def when given (the scene's gravity and substeps are then not used), else
  * from the scene's own def; either way max_bodies, max_contacts and max_applicators are

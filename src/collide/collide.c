@@ -15,6 +15,7 @@
 #include "kgyro/events.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "core/joint.h"
 
 #include <limits.h>
 #include <stdatomic.h>
@@ -551,6 +552,9 @@ kg_result kg_stage_collide(kg_world* world)
     kg_result r = kg_reserve_tile_room(world);
     if (r == KG_OK) {
         r = kg_find_pairs(world, &pair_count);
+    }
+    if (r == KG_OK) { /* bodies joined by a joint that does not collide_connected: no contact */
+        pair_count = kg_joints_filter_pairs(world, c->pairs, pair_count);
     }
     int compound = world->shapes.compound_bodies > 0;
     if (r == KG_OK && compound) {

@@ -5,6 +5,7 @@
 #include "collide/shape.h"
 #include "core/body_shapes.h"
 #include "core/error.h"
+#include "core/joint.h"
 #include "core/world.h"
 #include "solve/sleep.h"
 
@@ -240,6 +241,7 @@ kg_result kg_destroy_body(kg_world* world, kg_body body)
         return kg_last_result();
     }
     kg_events_body_destroyed(world, (kg_u32)i);
+    kg_joints_body_destroyed(world, (kg_u32)i, body); /* its joints go with it */
     kg_body_pool* p = kg_world_write_pool(world);
     kg_wake_touching(p, p->aabb[i], world->def.speculative_distance); /* what rested on it */
     kg_note_static_edit(world, p, i);

@@ -4,6 +4,7 @@
  * the tile pass collides with, so what is drawn is what collides. */
 #include "collide/tilemap.h"
 #include "core/error.h"
+#include "core/joint.h"
 #include "core/world.h"
 #include "kgyro/collision.h"
 #include "kgyro/debug_draw.h"
@@ -13,7 +14,7 @@
 kg_debug_draw kg_default_debug_draw(void)
 {
     kg_debug_draw draw = {0};
-    draw.flags = KG_DEBUG_DRAW_SHAPES | KG_DEBUG_DRAW_TILES;
+    draw.flags = KG_DEBUG_DRAW_SHAPES | KG_DEBUG_DRAW_TILES | KG_DEBUG_DRAW_JOINTS;
     draw.normal_length = 0.3f;
     return draw;
 }
@@ -225,6 +226,32 @@ static void kg_draw_tilemaps(const kg_debug_draw* d, const kg_world* world)
     }
 }
 
+/* ---- joints ---- */
+
+/* Through the public getters: a segment between the anchors, a dot at each. */
+static void kg_draw_joints(const kg_debug_draw* d, const kg_world* world)
+{
+    int n = kg_world_joint_count(world);
+    for (uint32_t i = 0; n > 0 && world->joints && i < (uint32_t)kg_joints_slots(world); ++i) {
+        kg_joint j = kg_joint_of_slot(world, i);
+        kg_vec2 a, b;
+        if (j.generation == 0u || kg_joint_get_world_anchors(world, j, &a, &b) != KG_OK) {
+            continue;
+        }
+        kg_aabb box = {kg_vmin(a, b), kg_vmax(a, b)};
+        if (!kg_in_bounds(d, box)) {
+            continue;
+        }
+        if (d->draw_segment) {
+            d->draw_segment(a, b, KG_DEBUG_COLOR_JOINT, d->context);
+        }
+        if (d->draw_point) {
+            d->draw_point(a, KG_DEBUG_CONTACT_SIZE, KG_DEBUG_COLOR_JOINT, d->context);
+            d->draw_point(b, KG_DEBUG_CONTACT_SIZE, KG_DEBUG_COLOR_JOINT, d->context);
+        }
+    }
+}
+
 /* ---- contacts ---- */
 
 /* Through the public getter, which reads the OpenCL backend's contacts back. */
@@ -284,6 +311,9 @@ kg_result kg_world_draw(const kg_world* world, const kg_debug_draw* draw)
     }
     if ((draw->flags & KG_DEBUG_DRAW_MASS) && draw->draw_transform) {
         kg_draw_bodies(draw, world, KG_DEBUG_DRAW_MASS);
+    }
+    if (draw->flags & KG_DEBUG_DRAW_JOINTS) {
+        kg_draw_joints(draw, world);
     }
     kg_draw_contacts(draw, world);
     return KG_OK;

@@ -6,6 +6,7 @@
 #include "backend/backend.h"
 #include "collide/events.h"
 #include "core/error.h"
+#include "core/joint.h"
 #include "core/step.h"
 #include "core/world.h"
 
@@ -66,6 +67,7 @@ kg_result kg_world_step(kg_world* world, float dt)
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "time step must be finite and > 0 (got %g)", (double)dt);
     }
     world->last_dt = dt;
+    kg_joints_begin_step(world);
     world->lock = KG_LOCK_STEP;
     int redo = 0;
     kg_result r = kg_run_stages(world, dt, &redo);
@@ -74,6 +76,7 @@ kg_result kg_world_step(kg_world* world, float dt)
     }
     world->lock = 0;
     if (r == KG_OK) {
+        kg_joints_after_step(world); /* breakable joints past their thresholds */
         kg_shape_pool_free_held(&world->shapes); /* the new contacts name no shape destroyed before the step */
         r = world->sensor_shapes_made ? kg_sensors_after_step(world) : KG_OK;
     }

@@ -8,6 +8,7 @@
 #include "collide/events.h"
 #include "collide/query_index.h"
 #include "collide/tilemap.h"
+#include "core/joint.h"
 #include "solve/sleep.h"
 #include "solve/solver.h"
 
@@ -163,6 +164,7 @@ void kg_destroy_world(kg_world* world)
         world->backend->destroy(world);
     }
     kg_solver_destroy(world);
+    kg_joints_destroy(world);
     kg_sleep_destroy(world);
     kg_tilemaps_destroy(world);
     kg_collision_destroy(world);

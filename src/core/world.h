@@ -36,6 +36,7 @@ struct kg_sleep;
 struct kg_events;
 struct kg_sensors;
 struct kg_query_index;
+struct kg_joints;
 
 struct kg_world {
     kg_world_def def;
@@ -64,6 +65,7 @@ struct kg_world {
     kg_u32 pool_writes; /* bumped by every write to the body pool through the API (and a step
                          * moves step_index): the query index is made again when either moved */
     struct kg_query_index* query_index; /* NULL until the first query (collide/query_index.h) */
+    struct kg_joints* joints;           /* NULL until the first joint (core/joint.h) */
 };
 
 /* What a callback inside a step may not do: change what the step is iterating over

@@ -7,6 +7,7 @@
 #include "collide/shape.h"
 #include "core/error.h"
 #include "io/json_util.h"
+#include "io/scene_joints.h"
 #include "io/scene_limits.h"
 #include "io/scene_props.h"
 
@@ -79,6 +80,8 @@ struct kg_scene {
     kg_scene_tilemap* tilemaps;
 
     kg_scene_level* level; /* Tiled levels' properties and markers (scene_props.c), or NULL */
+    int joint_count, joint_capacity; /* io/scene_joints.c makes them in a world */
+    kg_scene_joint* joints;
 };
 
 /* Grows *items to hold at least needed elements, doubling. */
@@ -134,6 +137,7 @@ void kg_scene_destroy(kg_scene* scene)
         free((void*)scene->forces[i].body_indices);
     }
     free(scene->forces);
+    free(scene->joints);
     free(scene->pivots);
     for (int i = 0; i < scene->tilemap_count; ++i) {
         free(scene->tilemaps[i].shapes);
@@ -755,7 +759,32 @@ static kg_result kg_fill_world(const kg_scene* scene, kg_world* world, kg_body* 
     for (int i = 0; i < scene->force_count; ++i) {
         KG_TRY(kg_add_scene_force(&scene->forces[i], world, handles));
     }
-    return kg_create_scene_tilemaps(scene, world);
+    KG_TRY(kg_create_scene_tilemaps(scene, world));
+    return kg_create_scene_joints(scene, world, handles);
+}
+
+kg_result kg_scene_add_joint(kg_scene* scene, const kg_scene_joint* joint)
+{
+    if (!scene || !joint) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_add_joint: NULL argument");
+    }
+    if (joint->body_b < 0 || joint->body_b >= scene->body_count || joint->body_a < -1 ||
+        joint->body_a >= scene->body_count) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_add_joint: body index out of range (a %d, b %d, %d bodies)",
+                       joint->body_a, joint->body_b, scene->body_count);
+    }
+    if (!kg_grow((void**)&scene->joints, &scene->joint_capacity, scene->joint_count + 1, sizeof *scene->joints)) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_add_joint: out of memory");
+    }
+    scene->joints[scene->joint_count++] = *joint;
+    return KG_OK;
+}
+
+int kg_scene_joint_count(const kg_scene* scene) { return scene ? scene->joint_count : 0; }
+
+const kg_scene_joint* kg_scene_get_joint(const kg_scene* scene, int index)
+{
+    return scene && index >= 0 && index < scene->joint_count ? &scene->joints[index] : NULL;
 }
 
 kg_result kg_scene_instantiate(const kg_scene* scene, const kg_world_def* override_def, kg_world** out_world,

@@ -8,6 +8,7 @@
 #include "core/kg_math.h"
 #include "io/json_util.h"
 #include "io/scene_generate.h"
+#include "io/scene_joints.h"
 #include "io/scene_limits.h"
 #include "io/tiled.h"
 
@@ -22,7 +23,7 @@ typedef struct kg_loader {
 } kg_loader;
 
 static const char* const kSceneFields[] = {"description", "gravity", "dt", "steps", "substeps", "sleep",
-                                           "continuous", "bodies", "forces", "generators", "tilemap", NULL};
+                                           "continuous", "bodies", "forces", "generators", "tilemap", "joints", NULL};
 static const char* const kBodyFields[] = {"name", "type", "position", "angle", "velocity", "angular_velocity",
                                           "shape", "shapes", "density", "mass", "friction", "restitution",
                                           "linear_damping", "angular_damping", "category", "mask",
@@ -1317,8 +1318,8 @@ static kg_result kg_read_settings(kg_loader* loader, const cJSON* root)
 }
 
 /* Bodies first, then generators, so an explicit body's scene index is its place in
- * "bodies"; then the tile maps (a Tiled map's objects are bodies too); forces last, so
- * they can name any body. A Tiled map document is read as a map. */
+ * "bodies"; then the tile maps (a Tiled map's objects are bodies too); forces and joints
+ * last, so they can name any body. A Tiled map document is read as a map. */
 static kg_result kg_read_scene(kg_loader* loader, const cJSON* root)
 {
     if (kg_tiled_is_map(root)) {
@@ -1330,7 +1331,8 @@ static kg_result kg_read_scene(kg_loader* loader, const cJSON* root)
     KG_TRY(kg_read_list(loader, root, "bodies", kg_read_body_item));
     KG_TRY(kg_read_list(loader, root, "generators", kg_read_generator));
     KG_TRY(kg_read_tilemaps(loader, root));
-    return kg_read_list(loader, root, "forces", kg_read_force_item);
+    KG_TRY(kg_read_list(loader, root, "forces", kg_read_force_item));
+    return kg_read_scene_joints(&loader->reader, loader->scene, root); /* last: they name any body */
 }
 
 /* Reads root into a new scene under limits, which the scene keeps only while it is read. */

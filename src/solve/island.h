@@ -99,13 +99,12 @@ KG_FN void kg_island_reset(kg_u32 i, KG_GLOBAL kg_u32* parent, KG_GLOBAL float* 
     least[i] = KG_FLT_MAX;
 }
 
-/* Contact k, once every islander's parent is its island's root: a moving kinematic body
- * keeps the island it touches awake (its least rest time zero) without joining it. */
-KG_FN void kg_kinematic_stirs(int k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
-                              KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
-                              KG_GLOBAL const kg_u32* parent, KG_GLOBAL float* least)
+/* A link between a and b (a contact's or a joint's), once every islander's parent is its
+ * island's root: a moving kinematic body keeps the island it touches awake (its least
+ * rest time zero) without joining it. */
+KG_FN void kg_link_stirs(kg_u32 a, kg_u32 b, KG_GLOBAL const kg_u32* flags, KG_GLOBAL const kg_vec2* velocity,
+                         KG_GLOBAL const float* omega, KG_GLOBAL const kg_u32* parent, KG_GLOBAL float* least)
 {
-    kg_u32 a = contacts[k].a, b = contacts[k].b;
     if (kg_stirring_kinematic(flags, velocity, omega, a) && kg_islander(flags, b)) {
         least[parent[b]] = 0.0f;
     } else if (kg_stirring_kinematic(flags, velocity, omega, b) && kg_islander(flags, a)) {
@@ -113,19 +112,34 @@ KG_FN void kg_kinematic_stirs(int k, KG_GLOBAL const kg_contact* contacts, KG_GL
     }
 }
 
+/* Contact k's kg_link_stirs. */
+KG_FN void kg_kinematic_stirs(int k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                              KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
+                              KG_GLOBAL const kg_u32* parent, KG_GLOBAL float* least)
+{
+    kg_link_stirs(contacts[k].a, contacts[k].b, flags, velocity, omega, parent, least);
+}
+
 /* The islands of a step's contacts, serially, in contact and slot order: every colliding
  * body's parent becomes its island's root (the lowest slot), and least[root] the
  * shortest rest time of the island's bodies; a moving kinematic body keeps what it
  * touches awake without joining islands. */
-KG_FN void kg_link_islands(int bodies, int count, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
-                           KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
-                           KG_GLOBAL const float* sleep_time, KG_GLOBAL kg_u32* parent, KG_GLOBAL float* least)
+KG_FN void kg_link_joined_islands(int bodies, int count, KG_GLOBAL const kg_contact* contacts, int joints,
+                                  KG_GLOBAL const kg_u32* joined, KG_GLOBAL const kg_u32* flags,
+                                  KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
+                                  KG_GLOBAL const float* sleep_time, KG_GLOBAL kg_u32* parent, KG_GLOBAL float* least)
 {
     for (int i = 0; i < bodies; ++i) {
         kg_island_reset((kg_u32)i, parent, least);
     }
     for (int k = 0; k < count; ++k) {
         kg_u32 a = contacts[k].a, b = contacts[k].b;
+        if (kg_islander(flags, a) && kg_islander(flags, b)) {
+            kg_island_link(parent, a, b);
+        }
+    }
+    for (int k = 0; k < joints; ++k) { /* a joint links its two bodies as a contact does */
+        kg_u32 a = joined[2 * k], b = joined[2 * k + 1];
         if (kg_islander(flags, a) && kg_islander(flags, b)) {
             kg_island_link(parent, a, b);
         }
@@ -140,6 +154,18 @@ KG_FN void kg_link_islands(int bodies, int count, KG_GLOBAL const kg_contact* co
     for (int k = 0; k < count; ++k) {
         kg_kinematic_stirs(k, contacts, flags, velocity, omega, parent, least);
     }
+    for (int k = 0; k < joints; ++k) { /* a moving kinematic body keeps what it drives awake */
+        kg_link_stirs(joined[2 * k], joined[2 * k + 1], flags, velocity, omega, parent, least);
+    }
+}
+
+/* The islands of the contacts alone (kg_link_joined_islands without joints). */
+KG_FN void kg_link_islands(int bodies, int count, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                           KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
+                           KG_GLOBAL const float* sleep_time, KG_GLOBAL kg_u32* parent, KG_GLOBAL float* least)
+{
+    kg_link_joined_islands(bodies, count, contacts, 0, (KG_GLOBAL const kg_u32*)0,
+                           flags, velocity, omega, sleep_time, parent, least);
 }
 
 /* The root above slot i, read only (on the device hooks may be moving it meanwhile:
@@ -152,13 +178,12 @@ KG_FN kg_u32 kg_island_top(KG_GLOBAL const kg_u32* parent, kg_u32 i)
     return i;
 }
 
-/* Contact k between two islanders hooks their islands, the higher root under the lower
- * (an atomic min): roots only move down, so no cycle forms, and an island's root ends as
- * its lowest slot whatever the order. Returns whether it hooked. */
-KG_FN int kg_hook_islands(int k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
-                          KG_GLOBAL kg_u32* parent)
+/* A link (a contact's, kg_hook_islands, or a joint's) between two islanders hooks their
+ * islands, the higher root under the lower (an atomic min): roots only move down, so no
+ * cycle forms, and an island's root ends as its lowest slot whatever the order. Returns
+ * whether it hooked. */
+KG_FN int kg_hook_link(kg_u32 a, kg_u32 b, KG_GLOBAL const kg_u32* flags, KG_GLOBAL kg_u32* parent)
 {
-    kg_u32 a = contacts[k].a, b = contacts[k].b;
     if (!kg_islander(flags, a) || !kg_islander(flags, b)) {
         return 0;
     }
@@ -167,6 +192,12 @@ KG_FN int kg_hook_islands(int k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL
         kg_atomic_min_u32(&parent[ra > rb ? ra : rb], ra < rb ? ra : rb);
     }
     return ra != rb;
+}
+
+KG_FN int kg_hook_islands(int k, KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                          KG_GLOBAL kg_u32* parent)
+{
+    return kg_hook_link(contacts[k].a, contacts[k].b, flags, parent);
 }
 
 /* Body i's path shortened to its island's root, between rounds of hooks. */
@@ -181,15 +212,17 @@ KG_FN void kg_island_least_of(kg_u32 i, KG_GLOBAL const kg_u32* flags, KG_GLOBAL
     }
 }
 
-/* kg_link_islands' results by one work-group (work-item `item` of `items`; hooked: the
- * group's shared flag): rounds of hooks, each followed by every path shortened to its
- * root, until a round hooks nothing; then each island's least rest time by atomic
- * minima, and zero where a moving kinematic body touches the island. */
-KG_FN void kg_find_islands_in_group(int item, int items, KG_LOCAL int* hooked, int bodies, int count,
-                                    KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
-                                    KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
-                                    KG_GLOBAL const float* sleep_time, KG_GLOBAL kg_u32* parent,
-                                    KG_GLOBAL float* least)
+/* kg_link_joined_islands' results by one work-group (work-item `item` of `items`; hooked:
+ * the group's shared flag): rounds of hooks over the contacts and the joints' links (two
+ * slots a link), each followed by every path shortened to its root, until a round hooks
+ * nothing; then each island's least rest time by atomic minima, and zero where a moving
+ * kinematic body touches or drives the island. */
+KG_FN void kg_find_joined_islands_in_group(int item, int items, KG_LOCAL int* hooked, int bodies, int count,
+                                           KG_GLOBAL const kg_contact* contacts, int joints,
+                                           KG_GLOBAL const kg_u32* joined, KG_GLOBAL const kg_u32* flags,
+                                           KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
+                                           KG_GLOBAL const float* sleep_time, KG_GLOBAL kg_u32* parent,
+                                           KG_GLOBAL float* least)
 {
     for (int i = item; i < bodies; i += items) {
         kg_island_reset((kg_u32)i, parent, least);
@@ -201,6 +234,9 @@ KG_FN void kg_find_islands_in_group(int item, int items, KG_LOCAL int* hooked, i
         int mine = 0;
         for (int k = item; k < count; k += items) {
             mine |= kg_hook_islands(k, contacts, flags, parent);
+        }
+        for (int k = item; k < joints; k += items) {
+            mine |= kg_hook_link(joined[2 * k], joined[2 * k + 1], flags, parent);
         }
         if (mine) {
             *hooked = 1;
@@ -218,6 +254,21 @@ KG_FN void kg_find_islands_in_group(int item, int items, KG_LOCAL int* hooked, i
     for (int k = item; k < count; k += items) {
         kg_kinematic_stirs(k, contacts, flags, velocity, omega, parent, least);
     }
+    for (int k = item; k < joints; k += items) {
+        kg_link_stirs(joined[2 * k], joined[2 * k + 1], flags, velocity, omega, parent, least);
+    }
+}
+
+/* kg_link_islands' results by one work-group: kg_find_joined_islands_in_group without
+ * joints. */
+KG_FN void kg_find_islands_in_group(int item, int items, KG_LOCAL int* hooked, int bodies, int count,
+                                    KG_GLOBAL const kg_contact* contacts, KG_GLOBAL const kg_u32* flags,
+                                    KG_GLOBAL const kg_vec2* velocity, KG_GLOBAL const float* omega,
+                                    KG_GLOBAL const float* sleep_time, KG_GLOBAL kg_u32* parent,
+                                    KG_GLOBAL float* least)
+{
+    kg_find_joined_islands_in_group(item, items, hooked, bodies, count, contacts, 0, (KG_GLOBAL const kg_u32*)0, flags,
+                                    velocity, omega, sleep_time, parent, least);
 }
 
 /* Body i wakes: awake, its rest timer restarted. */

@@ -16,6 +16,7 @@
 #include "solve/island.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "core/joint.h"
 
 struct kg_sleep {
     kg_u32* parent; /* union-find of this step's islands */
@@ -84,6 +85,11 @@ void kg_stage_wake(kg_world* world)
     for (int k = 0; k < count; ++k) {
         kg_mark_woken(contacts[k].a, contacts[k].b, p->flags, p->velocity, p->omega, p->island, s->wake);
     }
+    int links = 0;
+    const kg_u32* joined = kg_joints_links(world, &links);
+    for (int k = 0; k < links; ++k) { /* a joint wakes its sleeping body's island like a contact */
+        kg_mark_woken(joined[2 * k], joined[2 * k + 1], p->flags, p->velocity, p->omega, p->island, s->wake);
+    }
     for (int i = 0; i < p->high_water; ++i) {
         kg_wake_if_marked((kg_u32)i, p->flags, p->island, s->wake, p->sleep_time);
     }
@@ -101,8 +107,10 @@ void kg_stage_sleep(kg_world* world)
     kg_body_pool* p = &world->bodies;
     int count = 0;
     const kg_contact* contacts = kg_collision_contacts(world, &count);
-    kg_link_islands(p->high_water, count, contacts, p->flags, p->velocity, p->omega, p->sleep_time, s->parent,
-                    s->least);
+    int links = 0;
+    const kg_u32* joined = kg_joints_links(world, &links);
+    kg_link_joined_islands(p->high_water, count, contacts, links, joined, p->flags, p->velocity, p->omega,
+                           p->sleep_time, s->parent, s->least);
     for (int i = 0; i < p->high_water; ++i) {
         kg_fall_asleep_if_rested((kg_u32)i, world->def.time_to_sleep, s->parent, s->least, p->flags, p->island,
                                  p->velocity, p->omega, p->center, p->rot, p->local_center, p->shape, p->xf, p->aabb);

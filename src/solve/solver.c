@@ -18,6 +18,7 @@
 #include "collide/tilemap.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "core/joint.h"
 #include "solve/body_step.h"
 #include "solve/contact_wide.h"
 #include "solve/graph_color.h"
@@ -492,11 +493,17 @@ void kg_stage_solve(kg_world* world, float dt)
     if (blocks > 0) { /* else there are no contacts, or no rows to put them in */
         kg_parallel_for(world->threads, s->chunks, 1, kg_prepare_chunks, &cjob);
     }
+    /* Joints (core/joint.h): prepared once, then each pass colour by colour before the
+     * contacts' colours, as Box2D's overflow constraints go first. */
+    kg_joints_prepare(world, s->bodies, cjob.prm);
     for (int step = 0; step < n; ++step) {
         kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_integrate_velocities, &bjob);
+        kg_joints_pass(world, s->bodies, cjob.prm, KG_PASS_WARM_START);
         kg_constraint_pass_run(world, &cjob, KG_PASS_WARM_START);
+        kg_joints_pass(world, s->bodies, cjob.prm, KG_PASS_SOLVE);
         kg_constraint_pass_run(world, &cjob, KG_PASS_SOLVE);
         kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_integrate_positions, &bjob);
+        kg_joints_pass(world, s->bodies, cjob.prm, KG_PASS_RELAX);
         kg_constraint_pass_run(world, &cjob, KG_PASS_RELAX);
     }
     if (atomic_load(&bounces)) { /* else the pass, a loop per colour, would change nothing */

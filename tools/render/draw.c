@@ -307,7 +307,7 @@ static kg_debug_draw kg_raster_draw(kg_raster* raster, const kg_draw_options* op
     draw.draw_segment = kg_raster_segment;
     draw.draw_point = kg_raster_point_mark;
     draw.body_color = kg_raster_body_color;
-    draw.flags = KG_DEBUG_DRAW_SHAPES | (options->tiles ? KG_DEBUG_DRAW_TILES : 0u) |
+    draw.flags = KG_DEBUG_DRAW_SHAPES | KG_DEBUG_DRAW_JOINTS | (options->tiles ? KG_DEBUG_DRAW_TILES : 0u) |
                  (options->aabbs ? KG_DEBUG_DRAW_AABBS : 0u) |
                  (options->contacts ? KG_DEBUG_DRAW_CONTACT_POINTS | KG_DEBUG_DRAW_CONTACT_NORMALS : 0u);
     draw.use_bounds = 1;

@@ -72,6 +72,7 @@ static kg_result kg_build_contacts(kg_world* world, kg_cl_backend* b, int pairs)
               KG_FLOAT(world->last_dt), KG_MEM(c->pairs), KG_MEM(KG_A(SHAPE)), KG_MEM(KG_A(XF)), KG_MEM(KG_A(VELOCITY)),
               KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)), KG_MEM(KG_A(FIRST_SHAPE)),
               KG_MEM(c->manifolds), KG_MEM(c->bases), KG_MEM(c->touching));
+    KG_TRY(kg_cl_drop_joined(world, b, c->pairs, pairs, 0, c->touching)); /* joined bodies: no contact */
     KG_TRY(kg_cl_scan(b, c->touching, c->touching, pairs, KG_CC_CONTACTS, label));
     KG_LAUNCH(b, BUILD_CONTACTS, pairs, label, KG_INT(pairs), KG_MEM(c->pairs), KG_MEM(c->manifolds),
               KG_MEM(c->bases), KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count),
@@ -114,6 +115,7 @@ static kg_result kg_build_shape_contacts(kg_world* world, kg_cl_backend* b, int 
               KG_FLOAT(world->last_dt), KG_MEM(c->shape_items), KG_SHAPE_ARGS(b), KG_MEM(KG_A(XF)),
               KG_MEM(KG_A(VELOCITY)), KG_MEM(previous), KG_INT(b->body_contact_count), KG_MEM(KG_A(GENERATION)),
               KG_MEM(c->manifolds), KG_MEM(c->bases), KG_MEM(c->touching));
+    KG_TRY(kg_cl_drop_joined(world, b, c->shape_items, items, 1, c->touching)); /* joined bodies: no contact */
     KG_TRY(kg_cl_scan(b, c->touching, c->touching, items, KG_CC_CONTACTS, label));
     KG_LAUNCH(b, BUILD_SHAPE_CONTACTS, items, label, KG_INT(items), KG_MEM(c->shape_items), KG_MEM(c->manifolds),
               KG_MEM(c->bases), KG_MEM(c->touching), KG_MEM(previous), KG_INT(b->body_contact_count),

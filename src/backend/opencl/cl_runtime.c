@@ -56,14 +56,15 @@ static kg_result kg_cl_build(kg_cl_runtime* rt, const char** lines, int count, c
     return KG_OK;
 }
 
-/* The step program: kg_step.cl, then the collision stage's files and the sleeping
- * stages' kg_sleep.cl, which use its helpers (their shared headers, inlined in each, are
- * kept once by their include guards). */
+/* The step program: kg_step.cl, then the collision stage's files, the sleeping stages'
+ * kg_sleep.cl and the joints' kg_joint.cl, which use its helpers (their shared headers,
+ * inlined in each, are kept once by their include guards). */
 static kg_result kg_cl_build_step_program(kg_cl_runtime* rt)
 {
     const kg_cl_source* parts[] = {kg_cl_find_source("kg_step"),      kg_cl_find_source("kg_scan"),
                                    kg_cl_find_source("kg_broadphase"), kg_cl_find_source("kg_collide"),
-                                   kg_cl_find_source("kg_color"),     kg_cl_find_source("kg_sleep")};
+                                   kg_cl_find_source("kg_color"),     kg_cl_find_source("kg_sleep"),
+                                   kg_cl_find_source("kg_joint")};
     int part_count = (int)(sizeof parts / sizeof parts[0]), count = 0;
     for (int k = 0; k < part_count; ++k) {
         count += parts[k]->line_count;

@@ -358,12 +358,16 @@ static kg_result kg_stage_solve_on_device(kg_world* world, kg_cl_backend* b, flo
               KG_MEM(KG_A(XF)), KG_MEM(KG_A(CENTER)));
     KG_LAUNCH(b, GATHER_COLORED, count, NULL, KG_INT(count), KG_MEM(b->order), KG_MEM(b->constraints),
               KG_MEM(b->colored));
+    KG_TRY(kg_cl_prepare_joints(world, b)); /* the joints (cl_joint.c): each pass before the contacts', as on the CPU */
     for (int step = 0; step < n; ++step) {
         KG_TRY(kg_integrate_velocities(b, bodies, &ip));
+        KG_TRY(kg_cl_solve_joints(world, b, KG_PASS_WARM_START));
         KG_TRY(kg_run_pass(b, KG_PASS_WARM_START));
+        KG_TRY(kg_cl_solve_joints(world, b, KG_PASS_SOLVE));
         KG_TRY(kg_run_pass(b, KG_PASS_SOLVE));
         KG_LAUNCH(b, INTEGRATE_POSITIONS, bodies, NULL, KG_INT(bodies), KG_FLOAT(h), KG_MEM(KG_A(FLAGS)),
                   KG_MEM(b->solver_bodies));
+        KG_TRY(kg_cl_solve_joints(world, b, KG_PASS_RELAX));
         KG_TRY(kg_run_pass(b, KG_PASS_RELAX));
     }
     KG_TRY(kg_run_pass(b, KG_PASS_RESTITUTION));
@@ -453,6 +457,7 @@ kg_result kg_cl_begin_step(kg_world* world, kg_cl_backend* b)
     b->checkpoint_valid = 0;
     b->step_on_device = 1;
     b->step_pairs = b->step_count = b->step_body_count = 0;
+    b->joint_slots = 0;
     world->times.warm_starts_carried = -1; /* contacts are built on the device, uncounted */
     world->times.warm_starts_missed = -1;
     b->profiling = ((kg_backend_state*)world->backend_state)->profiling;
@@ -495,6 +500,7 @@ kg_result kg_cl_end_step(kg_world* world, kg_cl_backend* b)
     KG_TRY(kg_drain_step(b));
     kg_time_bracket(world, "finish", t);
     KG_TRY(kg_check_fallback(b)); /* only callbacks request one; checked before the commit all the same */
+    KG_TRY(kg_cl_joints_to_host(world, b)); /* the joints' impulses, for the next step and the getters */
     kg_commit_contacts(world, b);
     if (b->profiling) {
         kg_add_kernel_times(world, b);

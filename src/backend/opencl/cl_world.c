@@ -705,6 +705,7 @@ void kg_cl_close_device(kg_cl_backend* b)
     kg_cl_release(b, &b->wake_marks);
     kg_cl_release(b, &b->island_parent);
     kg_cl_release(b, &b->island_least);
+    kg_cl_release_joints(b);
     kg_cl_release_contact_buffers(b);
     kg_cl_release_shapes(b);
     kg_cl_collide_buffers* c = &b->collide;

@@ -73,7 +73,11 @@ typedef enum kg_cl_array {
     X(SHORTEN_ISLANDS, kg_shorten_islands, 2) X(ISLAND_LEAST, kg_island_least, 5)                             \
     X(ISLAND_STIRS, kg_island_stirs, 7) X(FALL_ASLEEP, kg_fall_asleep, 14)                                    \
     X(COUNT_SHAPE_PAIRS, kg_count_shape_pairs, 16) X(WRITE_SHAPE_PAIRS, kg_write_shape_pairs, 18)             \
-    X(NARROWPHASE_SHAPES, kg_narrowphase_shapes, 20) X(BUILD_SHAPE_CONTACTS, kg_build_shape_contacts, 11)
+    X(NARROWPHASE_SHAPES, kg_narrowphase_shapes, 20) X(BUILD_SHAPE_CONTACTS, kg_build_shape_contacts, 11)     \
+    X(PREPARE_JOINTS, kg_prepare_joints, 9) X(SOLVE_JOINTS, kg_solve_joints, 7)                               \
+    X(DROP_JOINED_PAIRS, kg_drop_joined_pairs, 5) X(DROP_JOINED_SHAPE_PAIRS, kg_drop_joined_shape_pairs, 5)   \
+    X(WAKE_JOINED, kg_wake_joined, 7) X(FIND_JOINED_ISLANDS, kg_find_joined_islands, 11)                      \
+    X(HOOK_JOINT_ROUND, kg_hook_joint_round, 6) X(JOINT_STIRS, kg_joint_stirs, 7)
 
 typedef enum kg_cl_kernel_id {
 #define KG_CL_KERNEL_ENUM(id, name, args) KG_CL_K_##id,
@@ -229,6 +233,14 @@ typedef struct kg_cl_backend {
     int step_pairs;
     int step_count;
     int step_body_count;
+    /* joints (cl_joint.c): the rows during a step, the islands' links and the pairs kept
+     * apart as of joint_version */
+    cl_mem joint_rows, joint_links, joint_apart, joint_order;
+    int joint_row_capacity, joint_link_capacity, joint_apart_capacity, joint_order_capacity;
+    int joint_slots;      /* rows solved this step (0: none) */
+    int joint_link_count, joint_apart_count, joint_order_count;
+    kg_u32 joint_version;
+    int joint_lists_sent;
 } kg_cl_backend;
 
 #define KG_CL_MAX_EVENTS 4096
@@ -248,6 +260,16 @@ void kg_cl_close_device(kg_cl_backend* b);
 /* The work-group size to launch kernel with: what the device allows for that kernel and
  * prefers as a multiple, aiming at KG_CL_GROUP_TARGET. */
 size_t kg_cl_pick_group_size(kg_cl_backend* b, cl_kernel kernel);
+
+/* Joints (cl_joint.c). */
+kg_result kg_cl_drop_joined(kg_world* world, kg_cl_backend* b, cl_mem pairs, int count, int shape_pairs,
+                            cl_mem touching);
+kg_result kg_cl_wake_joined(kg_world* world, kg_cl_backend* b);
+int kg_cl_joint_links(kg_world* world, kg_cl_backend* b); /* their count, written to the device */
+kg_result kg_cl_prepare_joints(kg_world* world, kg_cl_backend* b);
+kg_result kg_cl_solve_joints(kg_world* world, kg_cl_backend* b, int pass);
+kg_result kg_cl_joints_to_host(kg_world* world, kg_cl_backend* b);
+void kg_cl_release_joints(kg_cl_backend* b);
 
 /* A buffer of size bytes (KGYRO_CL_FAIL=alloc counts here). */
 kg_result kg_cl_buffer(kg_cl_backend* b, size_t size, cl_mem* out);

@@ -1,0 +1,15 @@
+/* The scene's joints: the "joints" array of a scene file (docs/scene-format.md) and
+ * their creation in a world. */
+#ifndef KG_SCENE_JOINTS_H
+#define KG_SCENE_JOINTS_H
+
+#include "io/json_util.h"
+#include "kgyro/scene.h"
+
+/* Reads root's "joints" (if any) into scene, whose bodies are all read. */
+kg_result kg_read_scene_joints(const kg_json_reader* reader, kg_scene* scene, const cJSON* root);
+
+/* Creates the scene's joints in world, whose scene bodies are handles. */
+kg_result kg_create_scene_joints(const kg_scene* scene, kg_world* world, const kg_body* handles);
+
+#endif
