@@ -19,6 +19,9 @@ scenes=(
   "demo_pyramid|samples/demo_pyramid.json|--view -15,-1.5,25,28.5 --every 3"
   "demo_rain|samples/demo_rain.json|--view -20,-1.5,20,28.5 --every 4"
   "demo_chain|samples/chain_terrain.json|--view -22,-1,22,12 --size 800x240 --steps 300 --every 2"
+  "demo_bridge|samples/joint_bridge.json|--view -16,-1,16,13 --size 640x320 --steps 360 --every 3"
+  "demo_ragdoll|samples/joint_ragdoll.json|--view -8,-0.5,10,8.5 --size 640x320 --every 2"
+  "demo_windmill|samples/joint_windmill.json|--view -13,-1,13,17 --size 520x480 --steps 480 --every 3"
 )
 # The tile-map platform level (the Tiled level samples/platformer.tmj with slopes, one-way
 # platforms, bodies, particles and a wind applicator), wide to fit the level.

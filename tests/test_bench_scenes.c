@@ -19,7 +19,8 @@
 #define MASS_RELATIVE_TOLERANCE 1e-4
 
 static const char* const kScenes[] = {
-    "large_pyramid", "many_pyramids", "smash", "tumbler", "rain_500", "particles_500", "pyramid_10",
+    "large_pyramid", "many_pyramids", "smash", "tumbler", "rain_500", "particles_500", "pyramid_10", "joint_grid",
+    "ragdoll_rain",
 };
 
 typedef struct scene_totals {
@@ -270,6 +271,60 @@ static void test_peers_build_compound_bodies(void)
     kg_scene_destroy(scene);
 }
 
+/* Two rods hinged to the world by an end, level at the start: a free one, and one whose
+ * hinge stops it at -0.3 rad. After a second every engine has the free rod's centre 0.5 m
+ * from its pivot (within 1 cm) and the limited one resting near its limit, as kgyro has
+ * them: the peers got the joints, their anchors and their limits. */
+static void test_peers_hinge_like_kgyro(void)
+{
+    const char* json = "{\"bodies\": ["
+                       "{\"name\": \"free\", \"position\": [0.5, 0],"
+                       " \"shape\": {\"type\": \"box\", \"width\": 1, \"height\": 0.1}},"
+                       "{\"name\": \"limited\", \"position\": [0.5, 5],"
+                       " \"shape\": {\"type\": \"box\", \"width\": 1, \"height\": 0.1}}],"
+                       " \"joints\": ["
+                       "{\"type\": \"revolute\", \"b\": \"free\", \"anchor\": [0, 0]},"
+                       "{\"type\": \"revolute\", \"b\": \"limited\", \"anchor\": [0, 5], \"enable_limit\": true,"
+                       " \"lower_angle\": -0.3, \"upper_angle\": 0.3}]}";
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_parse(json, strlen(json), "hinges.json", &scene));
+    for (int e = -1; scene && e < KG_PEER_ENGINE_COUNT; ++e) {
+        kg_body_state states[2];
+        const char* name = e < 0 ? "kgyro" : kg_peer_name((kg_peer_engine)e);
+        if (e < 0) {
+            kg_world_def def = kg_default_world_def();
+            def.backend = KG_BACKEND_CPU;
+            kg_world* world = NULL;
+            kg_body bodies[2];
+            KG_CHECK_OK(kg_scene_instantiate(scene, &def, &world, bodies));
+            for (int k = 0; world && k < 60; ++k) {
+                KG_CHECK_OK(kg_world_step(world, 1.0f / 60.0f));
+            }
+            KG_CHECK_OK(kg_world_get_body_states(world, bodies, 2, states));
+            kg_destroy_world(world);
+        } else {
+            kg_peer_world* world = NULL;
+            if (!kg_peer_available((kg_peer_engine)e)) {
+                continue;
+            }
+            KG_CHECK_OK(kg_peer_create((kg_peer_engine)e, scene, 1, &world));
+            for (int k = 0; world && k < 60; ++k) {
+                kg_peer_step(world, 1.0f / 60.0f);
+            }
+            if (world) {
+                kg_peer_get_states(world, states);
+            }
+            kg_peer_destroy(world);
+        }
+        double arm = hypot(states[0].position.x, states[0].position.y);
+        printf("     %s: free rod's centre %.4f m from its pivot (0.5), limited rod at %.3f rad (-0.3)\n", name, arm,
+               (double)states[1].angle);
+        KG_CHECK_NEAR(arm, 0.5, 0.01);
+        KG_CHECK_NEAR(states[1].angle, -0.3, 0.03);
+    }
+    kg_scene_destroy(scene);
+}
+
 static void test_peers_refuse_scene_forces(void)
 {
     kg_scene* scene = generate("pyramid_3");
@@ -286,7 +341,8 @@ static void test_peers_refuse_scene_forces(void)
 
 KG_TEST_MAIN(KG_TEST(test_kgyro_builds_the_described_scenes), KG_TEST(test_peers_build_the_described_scenes),
              KG_TEST(test_peers_turn_the_tumbler_walls), KG_TEST(test_peers_say_what_they_are),
-             KG_TEST(test_peers_refuse_scene_forces), KG_TEST(test_peers_build_compound_bodies))
+             KG_TEST(test_peers_refuse_scene_forces), KG_TEST(test_peers_build_compound_bodies),
+             KG_TEST(test_peers_hinge_like_kgyro))
 
 #else
 

@@ -66,9 +66,15 @@ typedef struct bench_check {
     double top_settle; /* m: how far the highest dynamic body moved in the first quarter of
                           the run, as the contacts settled; pyramids only, else NAN */
     double top_drift;  /* m: how far it moved in the rest of the run */
-    int below_ground; /* dynamic bodies whose centre ended below the lowest ground; -1: no ground */
+    int below_ground; /* dynamic bodies that started above the lowest ground and whose centre
+                         ended below it; -1: no ground */
     int non_finite;   /* bodies whose final state is not finite */
+    double joint_gap; /* m: the widest a hinge (revolute or weld joint) ended open, its two
+                         anchors apart; NAN without hinges */
 } bench_check;
+
+/* Nothing checked yet. */
+#define BENCH_NO_CHECK ((bench_check){NAN, NAN, -1, 0, NAN})
 
 typedef struct bench_result {
     bench_status status;

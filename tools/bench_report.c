@@ -11,10 +11,12 @@
 #include <unistd.h>
 
 #define BENCH_MAX_DRIFT 0.05 /* m: the pyramid stands when its top box moved less */
+#define BENCH_MAX_JOINT_GAP 0.5 /* m: a hinge opened wider has come apart */
 
 static int bench_check_passes(const bench_check* c)
 {
-    return !(c->top_drift > BENCH_MAX_DRIFT) && c->below_ground <= 0 && c->non_finite == 0;
+    return !(c->top_drift > BENCH_MAX_DRIFT) && c->below_ground <= 0 && c->non_finite == 0 &&
+           !(c->joint_gap > BENCH_MAX_JOINT_GAP);
 }
 
 static void bench_format_check(const bench_check* c, char* out, size_t size)
@@ -27,7 +29,11 @@ static void bench_format_check(const bench_check* c, char* out, size_t size)
     if (c->below_ground >= 0) {
         snprintf(ground, sizeof ground, "%d below ground", c->below_ground);
     }
-    snprintf(out, size, "%s%s, %d non-finite: %s", drift, ground, c->non_finite,
+    char gap[48] = "";
+    if (!isnan(c->joint_gap)) {
+        snprintf(gap, sizeof gap, ", joint gap %.1f mm", 1000.0 * c->joint_gap);
+    }
+    snprintf(out, size, "%s%s, %d non-finite%s: %s", drift, ground, c->non_finite, gap,
              bench_check_passes(c) ? "ok" : "WRONG");
 }
 
@@ -123,6 +129,10 @@ static void bench_csv_row(FILE* f, const bench_row* row, const bench_config* con
     fprintf(f, "%s,%s,%s,", ok ? (bench_check_passes(&r->check) ? "yes" : "no") : "",
             solver_in_place < 0 ? "" : solver_in_place ? "yes" : "no", bench_status_name(r->status));
     bench_csv_text(f, r->message);
+    fputc(',', f);
+    if (ok && isfinite(r->check.joint_gap)) {
+        fprintf(f, "%.5f", r->check.joint_gap);
+    }
     fputc('\n', f);
 }
 
@@ -136,7 +146,7 @@ int bench_write_csv(const char* path, const bench_row* rows, int count, const be
     }
     fprintf(f, "scene,family,size,bodies,dynamic_bodies,engine,backend,threads,steps,runs,median_ms,p95_ms,"
                "mean_ms,ratio_to_kgyro,peak_rss_mb,top_settle_m,top_drift_m,below_ground,non_finite,correct,"
-               "kgyro_solver_in_place,status,message\n");
+               "kgyro_solver_in_place,status,message,joint_gap_m\n");
     for (int i = 0; i < count; ++i) {
         bench_csv_row(f, &rows[i], config, solver_in_place);
     }

@@ -155,8 +155,21 @@ static int bench_shape_points(const kg_body_def* def, kg_vec2* out, float* radiu
     return count;
 }
 
+/* Whether body i is an end of a joint: then a body, not a ground, whatever its type. */
+static int bench_jointed(const kg_scene* scene, int i)
+{
+    for (int k = 0; k < kg_scene_joint_count(scene); ++k) {
+        const kg_scene_joint* j = kg_scene_get_joint(scene, k);
+        if (j->body_a == i || j->body_b == i) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* The lowest point a ground reaches: static bodies where they are, walls turning about a
- * pivot anywhere on their circle. NAN when the scene has no ground (smash). */
+ * pivot anywhere on their circle; a static body that holds joints is not a ground (the
+ * bodies hanging from it end below it). NAN when the scene has no ground (smash). */
 static double bench_ground_floor(const kg_scene* scene)
 {
     double floor = NAN;
@@ -164,7 +177,7 @@ static double bench_ground_floor(const kg_scene* scene)
         const kg_body_def* def = kg_scene_body_def(scene, i);
         kg_vec2 pivot, points[KG_MAX_POLYGON_VERTICES];
         int pivoted = def->type == KG_BODY_KINEMATIC && kg_scene_body_pivot(scene, i, &pivot);
-        if (def->type != KG_BODY_STATIC && !pivoted) {
+        if ((def->type != KG_BODY_STATIC && !pivoted) || bench_jointed(scene, i)) {
             continue;
         }
         float radius;
@@ -184,20 +197,51 @@ static int bench_state_finite(const kg_body_state* s)
            isfinite(s->velocity.y) && isfinite(s->angular_velocity);
 }
 
+/* Where a point fixed to body i at its start lies in its state now. */
+static kg_vec2 bench_carried_point(const kg_body_def* start, const kg_body_state* now, kg_vec2 point)
+{
+    float c0 = cosf(start->angle), s0 = sinf(start->angle), c = cosf(now->angle), s = sinf(now->angle);
+    kg_vec2 d = {point.x - start->position.x, point.y - start->position.y};
+    kg_vec2 local = {c0 * d.x + s0 * d.y, -s0 * d.x + c0 * d.y};
+    return (kg_vec2){now->position.x + c * local.x - s * local.y, now->position.y + s * local.x + c * local.y};
+}
+
+/* The widest a hinge's anchors ended apart: each carried by its body from the start (the
+ * world's stays put), as any engine's states give them. NAN without hinges. */
+static double bench_joint_gap(const kg_scene* scene, const kg_body_state* states)
+{
+    double gap = NAN;
+    for (int k = 0; k < kg_scene_joint_count(scene); ++k) {
+        const kg_scene_joint* j = kg_scene_get_joint(scene, k);
+        if (j->type != KG_JOINT_REVOLUTE && j->type != KG_JOINT_WELD) {
+            continue;
+        }
+        kg_vec2 a = j->body_a < 0 ? j->anchor_a
+                                  : bench_carried_point(kg_scene_body_def(scene, j->body_a), &states[j->body_a],
+                                                        j->anchor_a);
+        kg_vec2 b = bench_carried_point(kg_scene_body_def(scene, j->body_b), &states[j->body_b], j->anchor_a);
+        double open = hypot(b.x - a.x, b.y - a.y);
+        gap = isnan(gap) || open > gap ? open : gap;
+    }
+    return gap;
+}
+
 /* settled: where the top body was once the pyramid had settled (NAN when not a pyramid). */
 static bench_check bench_check_states(const kg_scene* scene, const bench_scene_info* info,
                                       const kg_body_state* states, kg_vec2 settled)
 {
-    bench_check check = {NAN, NAN, -1, 0};
+    bench_check check = BENCH_NO_CHECK;
     double floor = bench_ground_floor(scene);
     check.below_ground = isnan(floor) ? -1 : 0;
     for (int i = 0; i < info->body_count; ++i) {
+        const kg_body_def* def = kg_scene_body_def(scene, i);
         check.non_finite += !bench_state_finite(&states[i]);
-        if (check.below_ground >= 0 && bench_is_dynamic(kg_scene_body_def(scene, i)->type) &&
+        if (check.below_ground >= 0 && bench_is_dynamic(def->type) && def->position.y >= floor &&
             states[i].position.y < floor) {
             check.below_ground += 1;
         }
     }
+    check.joint_gap = bench_joint_gap(scene, states);
     int top = info->is_pyramid ? bench_top_body(scene) : -1;
     if (top >= 0) {
         kg_vec2 start = kg_scene_body_def(scene, top)->position;
@@ -381,7 +425,7 @@ static void bench_child(const bench_engine* engine, kg_scene* scene, const bench
     }
     bench_child_report report;
     memset(&report, 0, sizeof report);
-    report.check = (bench_check){NAN, NAN, -1, 0};
+    report.check = BENCH_NO_CHECK;
     /* the bench's own buffers are in place (and touched) before the baseline */
     double* step_ms = bench_alloc_touched(((size_t)info->steps + 1) * sizeof *step_ms);
     kg_body_state* states = bench_alloc_touched(((size_t)info->body_count + 1) * sizeof *states);
@@ -527,7 +571,7 @@ void bench_run(const bench_engine* engine, kg_scene* scene, const bench_scene_in
                const bench_config* config, bench_result* out)
 {
     memset(out, 0, sizeof *out);
-    out->check = (bench_check){NAN, NAN, -1, 0};
+    out->check = BENCH_NO_CHECK;
     size_t per_run = (size_t)info->steps;
     double* all_ms = malloc(((size_t)config->runs * per_run + 1) * sizeof *all_ms);
     if (!all_ms) {

@@ -16,6 +16,7 @@
 
 #include <box2d/box2d.h>
 
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -30,6 +31,7 @@ struct Box2DWorld {
     b2World* world;
     b2Body** bodies;
     int count;
+    b2Body* ground; // what joints to the world hold on to, made with the first
     float restitution_threshold;
 };
 
@@ -190,8 +192,15 @@ const char* AddShape(Box2DWorld* w, b2Body* body, const kg_body_shape_def* shape
     fd.filter.maskBits = static_cast<uint16>(shape->mask & 0xFFFFu);
     b2PolygonShape polygon;
     b2CircleShape circle;
+    b2EdgeShape edge;
     const kg_shape_def* geometry = &shape->geometry;
-    if (geometry->type == KG_SHAPE_POLYGON) {
+    if (geometry->type == KG_SHAPE_CAPSULE) {
+        return "Box2D 2.4 has no capsule shape";
+    }
+    if (geometry->type == KG_SHAPE_SEGMENT) {
+        edge.SetTwoSided(ToB2(geometry->vertices[0]), ToB2(geometry->vertices[1]));
+        fd.shape = &edge;
+    } else if (geometry->type == KG_SHAPE_POLYGON) {
         b2Vec2 points[b2_maxPolygonVertices];
         int count = geometry->count < b2_maxPolygonVertices ? geometry->count : b2_maxPolygonVertices;
         InsetPolygon(geometry, b2_polygonRadius, points, count);
@@ -267,6 +276,92 @@ const char* AddBody(void* world, const kg_peer_body* pb)
     return NULL;
 }
 
+// A joint's body: the scene's, or for -1 the world (a static body at the origin).
+b2Body* JointBody(Box2DWorld* w, int index)
+{
+    if (index >= 0) {
+        return w->bodies[index];
+    }
+    if (!w->ground) {
+        b2BodyDef bd;
+        w->ground = w->world->CreateBody(&bd);
+    }
+    return w->ground;
+}
+
+const char* AddRevolute(Box2DWorld* w, b2Body* a, b2Body* b, const kg_scene_joint* j)
+{
+    const kg_revolute_joint_def& d = j->revolute;
+    if (d.enable_spring) {
+        return "Box2D 2.4's revolute joint has no spring";
+    }
+    b2RevoluteJointDef jd;
+    jd.Initialize(a, b, ToB2(j->anchor_a));
+    jd.referenceAngle = d.reference_angle;
+    jd.enableLimit = d.enable_limit != 0;
+    jd.lowerAngle = d.lower_angle;
+    jd.upperAngle = d.upper_angle;
+    jd.enableMotor = d.enable_motor != 0;
+    jd.motorSpeed = d.motor_speed;
+    jd.maxMotorTorque = d.max_motor_torque;
+    jd.collideConnected = d.base.collide_connected != 0;
+    w->world->CreateJoint(&jd);
+    return NULL;
+}
+
+// Rigid (min = max = length), a spring about its length, or a rope (limits, no spring),
+// as Box2D 2.4.1's distance joint tells them apart.
+const char* AddDistance(Box2DWorld* w, b2Body* a, b2Body* b, const kg_scene_joint* j)
+{
+    const kg_distance_joint_def& d = j->distance;
+    b2DistanceJointDef jd;
+    jd.Initialize(a, b, ToB2(j->anchor_a), ToB2(j->anchor_b));
+    jd.length = d.length;
+    bool free_length = d.enable_spring || d.enable_limit;
+    jd.minLength = d.enable_limit ? d.min_length : (free_length ? 0.0f : d.length);
+    jd.maxLength = d.enable_limit ? d.max_length : (free_length ? FLT_MAX : d.length);
+    if (d.enable_spring && d.hertz > 0.0f) {
+        b2LinearStiffness(jd.stiffness, jd.damping, d.hertz, d.damping_ratio, a, b);
+    }
+    jd.collideConnected = d.base.collide_connected != 0;
+    w->world->CreateJoint(&jd);
+    return NULL;
+}
+
+const char* AddWeld(Box2DWorld* w, b2Body* a, b2Body* b, const kg_scene_joint* j)
+{
+    const kg_weld_joint_def& d = j->weld;
+    if (d.linear_hertz > 0.0f) {
+        return "Box2D 2.4's weld joint has no linear softness";
+    }
+    b2WeldJointDef jd;
+    jd.Initialize(a, b, ToB2(j->anchor_a));
+    jd.referenceAngle = d.reference_angle;
+    if (d.angular_hertz > 0.0f) {
+        b2AngularStiffness(jd.stiffness, jd.damping, d.angular_hertz, d.angular_damping_ratio, a, b);
+    }
+    jd.collideConnected = d.base.collide_connected != 0;
+    w->world->CreateJoint(&jd);
+    return NULL;
+}
+
+const char* AddJoint(void* world, const kg_scene_joint* j)
+{
+    Box2DWorld* w = static_cast<Box2DWorld*>(world);
+    b2Body* a = JointBody(w, j->body_a);
+    b2Body* b = JointBody(w, j->body_b);
+    switch (j->type) {
+    case KG_JOINT_REVOLUTE:
+        return AddRevolute(w, a, b, j);
+    case KG_JOINT_DISTANCE:
+        return AddDistance(w, a, b, j);
+    case KG_JOINT_WELD:
+        return AddWeld(w, a, b, j);
+    default:
+        return "this kind of joint is not mapped to Box2D 2.4";
+    }
+}
+
 void Step(void* world, float dt)
 {
     static_cast<Box2DWorld*>(world)->world->Step(dt, kVelocityIterations, kPositionIterations);
@@ -323,6 +418,12 @@ kg_aabb Bounds(const void* world, int index)
             Include(&box, b2Mul(xf, circle->m_p), circle->m_radius);
             continue;
         }
+        if (shape->GetType() == b2Shape::e_edge) {
+            const b2EdgeShape* edge = static_cast<const b2EdgeShape*>(shape);
+            Include(&box, b2Mul(xf, edge->m_vertex1), 0.0f);
+            Include(&box, b2Mul(xf, edge->m_vertex2), 0.0f);
+            continue;
+        }
         const b2PolygonShape* polygon = static_cast<const b2PolygonShape*>(shape);
         for (int32 i = 0; i < polygon->m_count; ++i) {
             Include(&box, b2Mul(xf, polygon->m_vertices[i]), polygon->m_radius);
@@ -334,5 +435,5 @@ kg_aabb Bounds(const void* world, int index)
 } // namespace
 
 extern "C" const kg_peer_adapter kg_box2d_adapter = {
-    "box2d", Describe, Create, Destroy, AddBody, Step, GetState, RotationCenter, SetVelocity, Mass, Bounds,
+    "box2d", Describe, Create, Destroy, AddBody, AddJoint, Step, GetState, RotationCenter, SetVelocity, Mass, Bounds,
 };

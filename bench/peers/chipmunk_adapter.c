@@ -45,6 +45,8 @@ typedef struct kg_cp_world {
     int hasty;
     int count;
     kg_cp_item* items; /* scene order; never reallocated, bodies point into it */
+    cpConstraint** constraints; /* the joints' (several a joint), freed with the world */
+    int constraint_count, constraint_capacity;
 } kg_cp_world;
 
 static int kg_cp_threads(int threads) { return threads > KG_CP_MAX_THREADS ? KG_CP_MAX_THREADS : threads; }
@@ -81,7 +83,7 @@ static void* kg_cp_create(const kg_peer_setup* setup)
     return w;
 }
 
-/* Chipmunk frees neither bodies nor shapes with the space. */
+/* Chipmunk frees neither bodies, shapes nor constraints with the space. */
 static void kg_cp_destroy(void* world)
 {
     kg_cp_world* w = world;
@@ -90,6 +92,10 @@ static void kg_cp_destroy(void* world)
     } else {
         cpSpaceFree(w->space);
     }
+    for (int i = 0; i < w->constraint_count; ++i) {
+        cpConstraintFree(w->constraints[i]);
+    }
+    free(w->constraints);
     for (int i = 0; i < w->count; ++i) {
         cpShapeFree(w->items[i].shape);
         for (int k = 0; k < w->items[i].more_count; ++k) {
@@ -135,6 +141,12 @@ static kg_cp_mass_props kg_cp_mass_of(const kg_peer_body* pb)
         m.mass = pb->density * cpAreaForCircle(0.0, shape->radius);
         m.cog = cpv(shape->center.x, shape->center.y);
         m.moment = cpMomentForCircle(m.mass, 0.0, shape->radius, cpvzero);
+    } else if (shape->type == KG_SHAPE_CAPSULE) { /* Chipmunk's segment moment is a box's: kgyro's */
+        kg_mass_data data = {0.0f, {0.0f, 0.0f}, 0.0f};
+        kg_shape_mass(shape, pb->density, &data);
+        m.mass = data.mass;
+        m.cog = cpv(data.center.x, data.center.y);
+        m.moment = data.inertia;
     }
     if (def->fixed_rotation || def->type == KG_BODY_PARTICLE) {
         m.moment = INFINITY;
@@ -194,6 +206,9 @@ static cpShape* kg_cp_new_shape(cpBody* body, const kg_body_shape_def* def)
         cpVect verts[KG_MAX_POLYGON_VERTICES];
         int n = kg_cp_polygon_vertices(shape, verts);
         s = cpPolyShapeNew(body, n, verts, cpTransformIdentity, 0.0);
+    } else if (shape->type == KG_SHAPE_CAPSULE || shape->type == KG_SHAPE_SEGMENT) { /* a segment's radius is 0 */
+        s = cpSegmentShapeNew(body, cpv(shape->vertices[0].x, shape->vertices[0].y),
+                              cpv(shape->vertices[1].x, shape->vertices[1].y), shape->radius);
     } else {
         s = cpCircleShapeNew(body, shape->radius, cpv(shape->center.x, shape->center.y));
     }
@@ -235,6 +250,83 @@ static const char* kg_cp_add_body(void* world, const kg_peer_body* pb)
         item->shape = cpSpaceAddShape(w->space, kg_cp_new_shape(item->body, pb->shapes ? &pb->shapes[0] : &first));
     }
     return pb->shapes ? kg_cp_add_more_shapes(w, item, pb) : NULL;
+}
+
+/* ---- joints ---- */
+
+/* A joint's body: the scene's, or for -1 the space's static body (the world). */
+static cpBody* kg_cp_joint_body(kg_cp_world* w, int index)
+{
+    return index >= 0 ? w->items[index].body : cpSpaceGetStaticBody(w->space);
+}
+
+/* Adds c to the space, colliding its bodies as the joint says, and keeps it to free. */
+static const char* kg_cp_add_constraint(kg_cp_world* w, cpConstraint* c, int collide_connected)
+{
+    if (w->constraint_count == w->constraint_capacity) {
+        int capacity = w->constraint_capacity ? 2 * w->constraint_capacity : 64;
+        cpConstraint** grown = realloc(w->constraints, (size_t)capacity * sizeof *grown);
+        if (!grown) {
+            cpConstraintFree(c);
+            return "out of memory";
+        }
+        w->constraints = grown;
+        w->constraint_capacity = capacity;
+    }
+    cpConstraintSetCollideBodies(c, collide_connected ? cpTrue : cpFalse);
+    w->constraints[w->constraint_count++] = cpSpaceAddConstraint(w->space, c);
+    return NULL;
+}
+
+/* A pivot, and a rotary limit, a motor and a rotary spring as the joint has them.
+ * Chipmunk's angles are b's minus a's, kgyro's joint angle that minus reference_angle;
+ * its simple motor drives a's spin minus b's to its rate. */
+static const char* kg_cp_add_revolute(kg_cp_world* w, cpBody* a, cpBody* b, const kg_scene_joint* j)
+{
+    const kg_revolute_joint_def* d = &j->revolute;
+    int collide = d->base.collide_connected;
+    const char* why = kg_cp_add_constraint(w, cpPivotJointNew(a, b, cpv(j->anchor_a.x, j->anchor_a.y)), collide);
+    if (!why && d->enable_limit) {
+        why = kg_cp_add_constraint(
+            w, cpRotaryLimitJointNew(a, b, d->lower_angle + d->reference_angle, d->upper_angle + d->reference_angle),
+            collide);
+    }
+    if (!why && d->enable_motor) {
+        cpConstraint* motor = cpSimpleMotorNew(a, b, -d->motor_speed);
+        cpConstraintSetMaxForce(motor, d->max_motor_torque);
+        why = kg_cp_add_constraint(w, motor, collide);
+    }
+    if (!why && d->enable_spring && d->hertz > 0.0f) {
+        return "kgyro's rotary spring (hertz) is not mapped to Chipmunk's (stiffness)";
+    }
+    return why;
+}
+
+/* A rod (pin), a rope (slide joint from 0) or limits; springs are not mapped. */
+static const char* kg_cp_add_distance(kg_cp_world* w, cpBody* a, cpBody* b, const kg_scene_joint* j)
+{
+    const kg_distance_joint_def* d = &j->distance;
+    if (d->enable_spring && d->hertz > 0.0f) {
+        return "kgyro's distance spring (hertz) is not mapped to Chipmunk's (stiffness)";
+    }
+    cpVect la = cpBodyWorldToLocal(a, cpv(j->anchor_a.x, j->anchor_a.y));
+    cpVect lb = cpBodyWorldToLocal(b, cpv(j->anchor_b.x, j->anchor_b.y));
+    int free_length = d->enable_spring || d->enable_limit;
+    cpFloat min = d->enable_limit ? d->min_length : (free_length ? 0.0 : d->length);
+    cpFloat max = d->enable_limit ? d->max_length : (free_length ? INFINITY : d->length);
+    return kg_cp_add_constraint(w, cpSlideJointNew(a, b, la, lb, min, max), d->base.collide_connected);
+}
+
+static const char* kg_cp_add_joint(void* world, const kg_scene_joint* j)
+{
+    kg_cp_world* w = world;
+    cpBody* a = kg_cp_joint_body(w, j->body_a);
+    cpBody* b = kg_cp_joint_body(w, j->body_b);
+    switch (j->type) {
+    case KG_JOINT_REVOLUTE: return kg_cp_add_revolute(w, a, b, j);
+    case KG_JOINT_DISTANCE: return kg_cp_add_distance(w, a, b, j);
+    default: return "this kind of joint is not mapped to Chipmunk";
+    }
 }
 
 static void kg_cp_step(void* world, float dt)
@@ -293,6 +385,9 @@ static void kg_cp_include_shape(kg_aabb* box, const cpBody* body, const cpShape*
         for (int i = 0; i < cpPolyShapeGetCount(shape); ++i) {
             kg_cp_include(box, cpBodyLocalToWorld(body, cpPolyShapeGetVert(shape, i)), 0.0);
         }
+    } else if (type == KG_SHAPE_CAPSULE || type == KG_SHAPE_SEGMENT) {
+        kg_cp_include(box, cpBodyLocalToWorld(body, cpSegmentShapeGetA(shape)), cpSegmentShapeGetRadius(shape));
+        kg_cp_include(box, cpBodyLocalToWorld(body, cpSegmentShapeGetB(shape)), cpSegmentShapeGetRadius(shape));
     } else {
         kg_cp_include(box, cpBodyLocalToWorld(body, cpCircleShapeGetOffset(shape)), cpCircleShapeGetRadius(shape));
     }
@@ -315,6 +410,6 @@ static kg_aabb kg_cp_bounds(const void* world, int index)
 }
 
 const kg_peer_adapter kg_chipmunk_adapter = {
-    "chipmunk", kg_cp_describe, kg_cp_create, kg_cp_destroy, kg_cp_add_body, kg_cp_step, kg_cp_get_state,
+    "chipmunk", kg_cp_describe, kg_cp_create, kg_cp_destroy, kg_cp_add_body, kg_cp_add_joint, kg_cp_step, kg_cp_get_state,
     kg_cp_rotation_center, kg_cp_set_velocity, kg_cp_mass, kg_cp_bounds,
 };

@@ -36,9 +36,11 @@ int kg_peer_available(kg_peer_engine engine);
  * else why it is missing. */
 const char* kg_peer_describe(kg_peer_engine engine, int threads);
 
-/* Builds the scene: gravity from its world def, every body in scene order. Scene force
- * applicators are not mapped (KG_ERROR_UNSUPPORTED); pivoted kinematic bodies are driven
- * round their pivots by kg_peer_step as kg_scene_step does. threads > 1 only matters to
+/* Builds the scene: gravity from its world def, every body in scene order, then its
+ * joints (the kinds and options each engine has; the first it lacks is
+ * KG_ERROR_UNSUPPORTED). Scene force applicators are not mapped (KG_ERROR_UNSUPPORTED);
+ * pivoted kinematic bodies are driven round their pivots by kg_peer_step as
+ * kg_scene_step does. threads > 1 only matters to
  * Chipmunk (its threaded solver, at most 2 threads); Box2D 2.4 is single-threaded.
  * On failure kg_peer_last_error() says why. */
 kg_result kg_peer_create(kg_peer_engine engine, const kg_scene* scene, int threads, kg_peer_world** out);

@@ -4,6 +4,7 @@
 #ifndef KG_PEER_ADAPTER_H
 #define KG_PEER_ADAPTER_H
 
+#include "kgyro/scene.h"
 #include "kgyro/shape.h"
 
 #ifdef __cplusplus
@@ -40,6 +41,10 @@ typedef struct kg_peer_adapter {
     /* Adds the next body (bodies are numbered in the order added). NULL on success, else
      * why the engine cannot take it. */
     const char* (*add_body)(void* world, const kg_peer_body* body);
+    /* Adds a scene joint between bodies already added (body_a -1: the world); anchors
+     * in world coordinates at the start. NULL on success, else why the engine cannot
+     * take it (a kind or option it lacks). */
+    const char* (*add_joint)(void* world, const kg_scene_joint* joint);
     void (*step)(void* world, float dt);
     void (*get_state)(const void* world, int index, kg_body_state* out);
     /* The world point the engine turns the body about (its centre of mass). */

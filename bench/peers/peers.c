@@ -172,6 +172,17 @@ static kg_result kg_peer_add_bodies(kg_peer_world* world, const kg_scene* scene)
     return KG_OK;
 }
 
+static kg_result kg_peer_add_joints(kg_peer_world* world, const kg_scene* scene)
+{
+    for (int i = 0; i < kg_scene_joint_count(scene); ++i) {
+        const char* why = world->adapter->add_joint(world->impl, kg_scene_get_joint(scene, i));
+        if (why) {
+            return kg_peer_fail(KG_ERROR_UNSUPPORTED, "%s: joint %d: %s", world->adapter->name, i, why);
+        }
+    }
+    return KG_OK;
+}
+
 static kg_result kg_peer_collect_pivots(kg_peer_world* world, const kg_scene* scene)
 {
     for (int i = 0; i < world->body_count; ++i) {
@@ -199,6 +210,7 @@ static kg_result kg_peer_fill(kg_peer_world* world, const kg_scene* scene, int t
         return kg_peer_fail(KG_ERROR_OUT_OF_MEMORY, "%s: cannot create the world", world->adapter->name);
     }
     kg_result r = kg_peer_add_bodies(world, scene);
+    r = r == KG_OK ? kg_peer_add_joints(world, scene) : r;
     return r == KG_OK ? kg_peer_collect_pivots(world, scene) : r;
 }
 

@@ -27,8 +27,7 @@ kg_gen_material kg_gen_default_material(void)
     return (kg_gen_material){def.density, def.friction, def.restitution};
 }
 
-static kg_body_def kg_gen_def(kg_body_type type, kg_shape_def shape, kg_vec2 position,
-                              const kg_gen_material* material)
+kg_body_def kg_gen_def(kg_body_type type, kg_shape_def shape, kg_vec2 position, const kg_gen_material* material)
 {
     kg_body_def def = kg_default_body_def();
     def.type = type;
@@ -40,8 +39,7 @@ static kg_body_def kg_gen_def(kg_body_type type, kg_shape_def shape, kg_vec2 pos
     return def;
 }
 
-/* Adds def named prefix + role + index (index < 0: no number). */
-static kg_result kg_gen_add(kg_scene* scene, const char* prefix, const char* role, int index, const kg_body_def* def)
+kg_result kg_gen_add(kg_scene* scene, const char* prefix, const char* role, int index, const kg_body_def* def)
 {
     /* longer than a scene name may be, so an over-long prefix is reported, not cut */
     char name[160];
@@ -370,6 +368,8 @@ static const kg_benchmark kBenchmarks[] = {
     {"many_pyramids", kg_gen_many_pyramids, 200, {0.0f, -10.0f}},
     {"smash", kg_gen_smash, 300, {0.0f, 0.0f}},
     {"tumbler", kg_gen_tumbler, 750, {0.0f, -10.0f}},
+    {"joint_grid", kg_gen_joint_grid, 300, {0.0f, -10.0f}},
+    {"ragdoll_rain", kg_gen_ragdoll_rain, 600, {0.0f, -10.0f}},
 };
 
 static const kg_benchmark* kg_find_benchmark(const char* name)
@@ -394,7 +394,8 @@ kg_result kg_gen_benchmark_bodies(kg_scene* scene, const char* prefix, const cha
 /* ---- scenes by name ---- */
 
 #define KG_GENERATOR_NAMES \
-    "pyramid_B, stack_N, rain_N, particles_N, large_pyramid, many_pyramids, smash, tumbler"
+    "pyramid_B, stack_N, rain_N, particles_N, large_pyramid, many_pyramids, smash, tumbler, joint_grid, " \
+    "ragdoll_rain"
 
 /* The N of "prefixN": digits only, in [1, max]; 0 when name does not have that form. */
 static int kg_sized_name(const char* name, const char* prefix, int max)

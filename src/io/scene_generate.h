@@ -79,8 +79,18 @@ int kg_gen_rain_capacity(const kg_gen_rain* params);
 int kg_gen_particles_capacity(const kg_gen_particles* params);
 
 /* The bodies of a benchmark scene ("large_pyramid", "many_pyramids", "smash",
- * "tumbler"), named prefix + their role ("ground", "box", "wall"...) + index. Only the
- * bodies: gravity and step count are the caller's. */
+ * "tumbler", "joint_grid", "ragdoll_rain"), named prefix + their role ("ground", "box",
+ * "wall"...) + index, and their joints. Only the bodies and joints: gravity and step
+ * count are the caller's. */
 kg_result kg_gen_benchmark_bodies(kg_scene* scene, const char* prefix, const char* name);
+
+/* The benchmark scenes with joints (scene_generate_joints.c), as above. */
+kg_result kg_gen_joint_grid(kg_scene* scene, const char* prefix);
+kg_result kg_gen_ragdoll_rain(kg_scene* scene, const char* prefix);
+
+/* A body def of the given type, shape, position and material, the rest default. */
+kg_body_def kg_gen_def(kg_body_type type, kg_shape_def shape, kg_vec2 position, const kg_gen_material* material);
+/* Adds def named prefix + role + index (index < 0: no number). */
+kg_result kg_gen_add(kg_scene* scene, const char* prefix, const char* role, int index, const kg_body_def* def);
 
 #endif

@@ -17,18 +17,18 @@
 #include <string.h>
 
 #define KG_ADD_ROOM 4096        /* bodies the user may add by clicking */
-#define KG_DRAG_HERTZ 4.0f      /* the mouse spring's natural frequency */
+#define KG_DRAG_HERTZ 4.0f      /* the mouse joint's natural frequency */
 #define KG_DRAG_DAMPING 0.7f    /* and damping ratio: firm, without overshoot */
+#define KG_DRAG_ACCELERATION 1000.0f /* m/s2: its largest pull, times the body's mass */
 #define KG_SPAWN_PIXELS 32.0f   /* a spawned body's size on screen */
 #define KG_FRAME_MS (1000.0 / 60.0)
 #define KG_MESSAGE_FRAMES 180   /* how long a message stays on screen */
 #define KG_TEXT_SCALE 2
 
+/* A body held by the mouse: a mouse joint from the grabbed point to the pointer. */
 typedef struct kg_drag {
     int active;
-    kg_body body;
-    kg_vec2 local;  /* the grabbed point, body frame */
-    kg_vec2 target; /* where the mouse is, world frame */
+    kg_joint joint;
 } kg_drag;
 
 typedef struct kg_script {
@@ -81,12 +81,6 @@ static kg_vec2 kg_to_body(const kg_body_state* s, kg_vec2 world)
 {
     float c = cosf(s->angle), sn = sinf(s->angle), dx = world.x - s->position.x, dy = world.y - s->position.y;
     return (kg_vec2){c * dx + sn * dy, -sn * dx + c * dy};
-}
-
-static kg_vec2 kg_to_world(const kg_body_state* s, kg_vec2 local)
-{
-    float c = cosf(s->angle), sn = sinf(s->angle);
-    return (kg_vec2){s->position.x + c * local.x - sn * local.y, s->position.y + sn * local.x + c * local.y};
 }
 
 /* Within radius of the core from c1 to c2: nearer the segment than radius. */
@@ -170,38 +164,47 @@ static void kg_spawn(kg_viewer* v, kg_vec2 at, int circle)
     v->added[v->sim.body_count - v->scene_bodies - 1] = def;
 }
 
+/* Grabs body at the world point at with a mouse joint that pulls with up to
+ * KG_DRAG_ACCELERATION times its mass: light and heavy bodies follow alike. */
+static void kg_grab(kg_viewer* v, kg_body body, kg_vec2 at)
+{
+    kg_body_state state;
+    kg_mass_data mass;
+    kg_mouse_joint_def def = kg_default_mouse_joint_def();
+    def.base.body_b = body;
+    def.target = at;
+    def.hertz = KG_DRAG_HERTZ;
+    def.damping_ratio = KG_DRAG_DAMPING;
+    if (kg_body_get_state(v->sim.world, body, &state) != KG_OK ||
+        kg_body_get_mass_data(v->sim.world, body, &mass) != KG_OK) {
+        return;
+    }
+    def.local_anchor_b = kg_to_body(&state, at);
+    def.max_force = KG_DRAG_ACCELERATION * mass.mass;
+    if (kg_create_mouse_joint(v->sim.world, &def, &v->drag.joint) != KG_OK) {
+        kg_show_message(v, kg_last_error());
+        return;
+    }
+    v->drag.active = 1;
+}
+
+static void kg_release(kg_viewer* v)
+{
+    if (v->drag.active) {
+        kg_destroy_joint(v->sim.world, v->drag.joint); /* gone already with its body: no matter */
+    }
+    v->drag.active = 0;
+}
+
 static void kg_press(kg_viewer* v, kg_point screen, int shift)
 {
     kg_vec2 at = kg_camera_to_world(&v->camera, screen);
     kg_body body;
     if (kg_pick_body(v, at, &body)) {
-        kg_body_state state;
-        kg_body_get_state(v->sim.world, body, &state);
-        v->drag = (kg_drag){1, body, kg_to_body(&state, at), at};
+        kg_grab(v, body, at);
     } else {
         kg_spawn(v, at, shift);
     }
-}
-
-/* A damped spring from the grabbed point to the mouse, scaled by the body's mass so
- * that light and heavy bodies follow alike. */
-static void kg_apply_drag(kg_viewer* v)
-{
-    kg_world* world = v->sim.world;
-    kg_body_state s;
-    kg_mass_data mass;
-    if (!v->drag.active || kg_body_get_state(world, v->drag.body, &s) != KG_OK ||
-        kg_body_get_mass_data(world, v->drag.body, &mass) != KG_OK) {
-        v->drag.active = 0;
-        return;
-    }
-    kg_vec2 anchor = kg_to_world(&s, v->drag.local), center = kg_to_world(&s, mass.center);
-    kg_vec2 r = {anchor.x - center.x, anchor.y - center.y};
-    kg_vec2 velocity = {s.velocity.x - s.angular_velocity * r.y, s.velocity.y + s.angular_velocity * r.x};
-    float omega = 2.0f * 3.14159265f * KG_DRAG_HERTZ;
-    float k = mass.mass * omega * omega, c = 2.0f * mass.mass * KG_DRAG_DAMPING * omega;
-    kg_vec2 force = {k * (v->drag.target.x - anchor.x) - c * velocity.x, k * (v->drag.target.y - anchor.y) - c * velocity.y};
-    kg_body_apply_force(world, v->drag.body, force, anchor);
 }
 
 /* ---- rebuilding the world: restart, and switching backend ---- */
@@ -327,7 +330,7 @@ static void kg_handle_button(kg_viewer* v, const SDL_MouseButtonEvent* e, int do
     } else if (e->button == SDL_BUTTON_LEFT && down) {
         kg_press(v, v->mouse, (SDL_GetModState() & KMOD_SHIFT) || v->script.shift);
     } else if (e->button == SDL_BUTTON_LEFT) {
-        v->drag.active = 0;
+        kg_release(v);
     }
 }
 
@@ -343,7 +346,10 @@ static void kg_handle_event(kg_viewer* v, const SDL_Event* e)
         if (v->panning) {
             kg_pan(v, (float)e->motion.xrel, (float)e->motion.yrel);
         }
-        v->drag.target = kg_camera_to_world(&v->camera, v->mouse);
+        if (v->drag.active &&
+            kg_mouse_joint_set_target(v->sim.world, v->drag.joint, kg_camera_to_world(&v->camera, v->mouse)) != KG_OK) {
+            v->drag.active = 0; /* its body was destroyed, and the joint with it */
+        }
         break;
     case SDL_MOUSEWHEEL: kg_camera_zoom_at(&v->camera, v->mouse, powf(1.15f, (float)e->wheel.y)); break;
     default: break;
@@ -502,7 +508,6 @@ static void kg_script_tick(kg_viewer* v)
 
 static void kg_step(kg_viewer* v)
 {
-    kg_apply_drag(v);
     Uint64 start = SDL_GetPerformanceCounter();
     if (kg_sim_step(&v->sim) != KG_OK) {
         kg_show_message(v, kg_last_error());
@@ -560,13 +565,6 @@ static void kg_format_stats(const kg_viewer* v, char* text, size_t size)
 
 static void kg_draw_overlay(kg_viewer* v)
 {
-    if (v->drag.active) {
-        kg_body_state s;
-        if (kg_body_get_state(v->sim.world, v->drag.body, &s) == KG_OK) {
-            kg_canvas_line(&v->canvas, kg_camera_to_screen(&v->camera, kg_to_world(&s, v->drag.local)),
-                           kg_camera_to_screen(&v->camera, v->drag.target), KG_COLOR_SELECTION);
-        }
-    }
     char stats[256];
     kg_format_stats(v, stats, sizeof stats);
     int line = 7 * KG_TEXT_SCALE;

@@ -90,6 +90,13 @@ cat "$log"
 grep -q "$((scene_bodies + 1)) bodies (1 added), $expected, running" "$log"
 "$probe" "$shot" at 187 322 body at 60 60 body at 20 200 background
 
+# Dragging: a box spawned at (-12, 18) is grabbed and held 2 m higher, at (-12, 20), by
+# the mouse joint while 30 frames pass: it hangs there instead of falling to the ground
+# (probed beside its centre, where the joint is drawn).
+"$kgyro" view "$scene" --backend cpu --size 480x360 --view -16,-2,16,22 --frames 36 \
+  --script "click 60 60; down 60 60; move 60 30; wait 30" --screenshot "$shot" >"$log" 2>&1 || { cat "$log"; exit 1; }
+"$probe" "$shot" at 72 40 body at 60 320 background
+
 # Tiles: 480x360 showing x in [0, 24], y in [0, 18], 20 px/m, pixel (20 x, 360 - 20 y);
 # at 70 330 the ground tile (3, 1), at 176 316 the lower right of the slope tile (8, 2).
 "$kgyro" view samples/platformer.tmj --backend cpu --size 480x360 --view 0,0,24,18 --frames 3 \
