@@ -115,7 +115,7 @@ kg_cli_run_test(bad_polygon error "run|bad_degenerate_polygon.json"
 kg_cli_run_test(bad_restitution error "run|bad_restitution.json"
                 "EXPECT=bad_restitution.json: bodies[0].restitution: must be in [0, 1]")
 kg_cli_run_test(bad_generator_name error "run|volcano_3"
-                "EXPECT=unknown scene 'volcano_3' (generators: pyramid_B, stack_N, rain_N, particles_N, large_pyramid, many_pyramids, smash, tumbler)")
+                "EXPECT=unknown scene 'volcano_3' (generators: pyramid_B, stack_N, rain_N, particles_N, large_pyramid, many_pyramids, smash, tumbler, joint_grid, ragdoll_rain)")
 
 # Bad options: exit 2 with a message.
 kg_cli_run_test(bad_threads error "run|pyramid_3|--threads|300"
