@@ -22,6 +22,7 @@ scenes=(
   "demo_bridge|samples/joint_bridge.json|--view -16,-1,16,13 --size 640x320 --steps 360 --every 3"
   "demo_ragdoll|samples/joint_ragdoll.json|--view -8,-0.5,10,8.5 --size 640x320 --every 2"
   "demo_windmill|samples/joint_windmill.json|--view -13,-1,13,17 --size 520x480 --steps 480 --every 3"
+  "demo_car|samples/joint_car.json|--view -10,-1,50,11 --size 900x200 --steps 780 --every 4"
 )
 # The tile-map platform level (the Tiled level samples/platformer.tmj with slopes, one-way
 # platforms, bodies, particles and a wind applicator), wide to fit the level.

@@ -1,4 +1,4 @@
-/* Issue 17's acceptance for the joint samples: the ragdoll, the bridge and the windmill
+/* Issue 17's acceptance for the joint samples: the ragdoll, the bridge, the windmill and the car
  * (samples/joint_*.json) run 60 s with nothing non-finite and no body faster than 50 m/s,
  * and end bitwise equal with 1 and 4 threads and on the OpenCL backend (PoCL). */
 #include "kg_test.h"
@@ -12,7 +12,7 @@
 #define SECONDS 60
 #define MAX_SPEED 50.0f
 
-static const char* const kSamples[] = {"joint_ragdoll.json", "joint_bridge.json", "joint_windmill.json"};
+static const char* const kSamples[] = {"joint_ragdoll.json", "joint_bridge.json", "joint_windmill.json", "joint_car.json"};
 
 typedef struct sample_run {
     int bodies;

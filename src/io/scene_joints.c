@@ -333,8 +333,8 @@ static kg_result kg_check_scene_joint(const kg_json_reader* reader, const kg_jso
     return KG_OK;
 }
 
-static kg_result kg_read_joint(const kg_json_reader* reader, kg_scene* scene, const cJSON* item,
-                               const kg_json_path* path)
+kg_result kg_read_scene_joint(const kg_json_reader* reader, kg_scene* scene, const cJSON* item,
+                              const kg_json_path* path)
 {
     if (!cJSON_IsObject(item)) {
         return kg_json_fail(reader, path, "must be an object");
@@ -395,7 +395,7 @@ kg_result kg_read_scene_joints(const kg_json_reader* reader, kg_scene* scene, co
     int i = 0;
     for (const cJSON* item = list->child; item; item = item->next, ++i) {
         kg_json_path item_path = kg_json_path_index(&list_path, i);
-        KG_TRY(kg_read_joint(reader, scene, item, &item_path));
+        KG_TRY(kg_read_scene_joint(reader, scene, item, &item_path));
     }
     return KG_OK;
 }

@@ -6,6 +6,12 @@
 #include "io/json_util.h"
 #include "kgyro/scene.h"
 
+/* Reads one joint entry (an object as the "joints" array holds them) into scene, whose
+ * bodies are all read; messages name path. The Tiled loader builds such entries from
+ * joint objects (tiled_joints.c). */
+kg_result kg_read_scene_joint(const kg_json_reader* reader, kg_scene* scene, const cJSON* item,
+                              const kg_json_path* path);
+
 /* Reads root's "joints" (if any) into scene, whose bodies are all read. */
 kg_result kg_read_scene_joints(const kg_json_reader* reader, kg_scene* scene, const cJSON* root);
 

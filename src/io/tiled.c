@@ -15,6 +15,7 @@
 #include "io/scene_limits.h"
 #include "io/scene_props.h"
 #include "io/tiled_decode.h"
+#include "io/tiled_joints.h"
 #include "io/tiled_level.h"
 
 #include <limits.h>
@@ -75,7 +76,27 @@ typedef struct kg_tiled {
     int group;              /* the group layer being read (its scene layer index), or -1 */
     int layer_index;        /* the object layer being read (its scene layer index) */
     int layer_physics;      /* whether its objects are bodies (property "physics", default true) */
+    kg_tiled_body* object_bodies; /* which object made which body, for joints to name them */
+    int object_body_count, object_body_capacity;
+    kg_tiled_joint* joints; /* the joint objects, made once every body is read */
+    int joint_count, joint_capacity;
 } kg_tiled;
+
+/* Room for one more of *count items of size bytes in *items; 0 when out of memory. */
+static int kg_room_for_one(void** items, int* count, int* capacity, size_t size)
+{
+    if (*count < *capacity) {
+        return 1;
+    }
+    int grown_capacity = *capacity ? 2 * *capacity : 16;
+    void* grown = realloc(*items, (size_t)grown_capacity * size);
+    if (!grown) {
+        return 0;
+    }
+    *items = grown;
+    *capacity = grown_capacity;
+    return 1;
+}
 
 static int kg_has(const cJSON* object, const char* key)
 {
@@ -1044,6 +1065,13 @@ static kg_result kg_add_object_body(kg_tiled* t, const cJSON* object, const kg_j
     const char* class_name = "";
     KG_TRY(kg_tiled_object_class(reader, object, path, &class_name));
     KG_TRY(kg_scene_set_body_origin(t->scene, index, class_name, t->layer_index));
+    int id = 0;
+    KG_TRY(kg_json_int(reader, object, path, "id", 0, INT_MAX, &id));
+    if (!kg_room_for_one((void**)&t->object_bodies, &t->object_body_count, &t->object_body_capacity,
+                         sizeof *t->object_bodies)) {
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+    }
+    t->object_bodies[t->object_body_count++] = (kg_tiled_body){id, index};
     return kg_tiled_keep_properties(t->scene, reader, object, path, KG_SCENE_BODY, index);
 }
 
@@ -1241,6 +1269,45 @@ static kg_result kg_add_object_marker(kg_tiled* t, const cJSON* object, const kg
     return kg_tiled_keep_properties(t->scene, reader, object, path, KG_SCENE_MARKER, index);
 }
 
+/* A joint object (class "joint"), kept for kg_add_joints: a point object's point is its
+ * anchor, a polyline's first two points its two ends (a distance joint's). */
+static kg_result kg_keep_joint_object(kg_tiled* t, const cJSON* object, const kg_json_path* path, kg_object_kind kind)
+{
+    const kg_json_reader* reader = &t->reader;
+    if (kind != KG_OBJECT_POINT && kind != KG_OBJECT_POLYLINE) {
+        return kg_json_fail(reader, path, "a joint object must be a point or a polyline of two points");
+    }
+    kg_object_frame frame;
+    KG_TRY(kg_read_layer_frame(t, object, path, &frame));
+    kg_vec2 ends[2] = {kg_object_point(&frame, 0.0, 0.0), kg_object_point(&frame, 0.0, 0.0)};
+    if (kind == KG_OBJECT_POLYLINE) {
+        const cJSON* points = cJSON_GetObjectItemCaseSensitive(object, "polyline");
+        kg_json_path points_path = kg_json_path_key(path, "polyline");
+        KG_TRY(kg_json_check_array(reader, points, &points_path));
+        if (cJSON_GetArraySize(points) != 2) {
+            return kg_json_fail(reader, &points_path, "a joint's polyline has two points (its ends)");
+        }
+        for (int i = 0; i < 2; ++i) {
+            kg_json_path at = kg_json_path_index(&points_path, i);
+            KG_TRY(kg_read_object_vertex(reader, cJSON_GetArrayItem(points, i), &at, &frame, &ends[i]));
+        }
+    }
+    if (!kg_room_for_one((void**)&t->joints, &t->joint_count, &t->joint_capacity, sizeof *t->joints)) {
+        return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
+    }
+    t->joints[t->joint_count++] = (kg_tiled_joint){object, *path, kg_world_point(t, ends[0]), kg_world_point(t, ends[1])};
+    return KG_OK;
+}
+
+/* The joints of the map's joint objects, now that every body is known. */
+static kg_result kg_add_joints(kg_tiled* t)
+{
+    for (int i = 0; i < t->joint_count; ++i) {
+        KG_TRY(kg_tiled_add_joint(&t->reader, t->scene, &t->joints[i], t->object_bodies, t->object_body_count));
+    }
+    return KG_OK;
+}
+
 static kg_result kg_read_object_body(kg_tiled* t, const cJSON* object, const kg_json_path* path,
                                      const kg_body_def* layer_def)
 {
@@ -1252,6 +1319,11 @@ static kg_result kg_read_object_body(kg_tiled* t, const cJSON* object, const kg_
         return kg_tiled_note(t->scene, reader, path, "a text object is ignored");
     }
     KG_TRY(kg_tiled_check_properties(reader, object, path));
+    const char* class_name = "";
+    KG_TRY(kg_tiled_object_class(reader, object, path, &class_name));
+    if (strcmp(class_name, KG_TILED_JOINT_CLASS) == 0) {
+        return kg_keep_joint_object(t, object, path, kind);
+    }
     KG_TRY(kg_bool_property(reader, object, path, "physics", &physics));
     if (kind == KG_OBJECT_POINT || !physics) {
         return kg_add_object_marker(t, object, path, kind);
@@ -1416,6 +1488,8 @@ static void kg_tiled_free(kg_tiled* t)
     free(t->raw_shapes);
     free(t->variants);
     free(t->tiles);
+    free(t->object_bodies);
+    free(t->joints);
 }
 
 kg_result kg_tiled_read(kg_scene* scene, const cJSON* root, const char* path)
@@ -1441,6 +1515,9 @@ kg_result kg_tiled_read(kg_scene* scene, const cJSON* root, const char* path)
     }
     if (r == KG_OK) {
         r = kg_read_layers(&t, root, &root_path, 0);
+    }
+    if (r == KG_OK) {
+        r = kg_add_joints(&t);
     }
     if (r == KG_OK) {
         r = kg_add_tilemap_to_scene(&t);
