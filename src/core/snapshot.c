@@ -277,16 +277,42 @@ static int kg_take_world(const kg_world* world, kg_snap_in* in, kg_staged* s)
     return 1;
 }
 
-/* Whether each live body's shape list stays inside the shape pool. */
+/* Whether live body i's shape list is what the step walks: shape_count live shapes of
+ * its own, in slot order (the shape pool's check makes each next link go up), with
+ * geometry of their own when they are several. */
+static int kg_body_list_sane(const kg_body_pool* p, const kg_shape_pool* sp, int i)
+{
+    kg_u32 n = 0;
+    for (kg_u32 s = p->first_shape[i]; s != KG_NULL_INDEX; s = sp->next[s]) {
+        if (s >= (kg_u32)sp->high_water || !kg_shape_alive(sp, (int)s) || sp->body[s] != (kg_u32)i) {
+            return 0;
+        }
+        if (p->shape_count[i] > 1u && (!sp->geometry || sp->geometry[s].count < 0 ||
+                                       sp->geometry[s].count > KG_MAX_VERTS)) {
+            return 0;
+        }
+        n += 1u;
+    }
+    return n == p->shape_count[i] && (n > 0u || p->shape[i].count >= 0);
+}
+
+/* Whether the bodies' shape lists and the shapes' owners agree, both ways. */
 static int kg_body_shapes_sane(const kg_body_pool* p, const kg_shape_pool* sp)
 {
+    int compound = 0;
     for (int i = 0; i < p->high_water; ++i) {
-        kg_u32 first = p->first_shape[i];
-        if (kg_pool_alive(p, i) && first != KG_NULL_INDEX && first >= (kg_u32)sp->high_water) {
+        if (kg_pool_alive(p, i) && !kg_body_list_sane(p, sp, i)) {
+            return 0;
+        }
+        compound += kg_pool_alive(p, i) && p->shape_count[i] > 1u;
+    }
+    for (int s = 0; s < sp->high_water; ++s) {
+        kg_u32 b = sp->body[s];
+        if (kg_shape_alive(sp, s) && (b >= (kg_u32)p->high_water || !kg_pool_alive(p, (int)b))) {
             return 0;
         }
     }
-    return 1;
+    return compound == sp->compound_bodies;
 }
 
 /* The applicators read: a slot holds a user applicator exactly where the world's does
