@@ -134,6 +134,27 @@ KG_API kg_result kg_scene_step(const kg_scene* scene, kg_world* world, const kg_
  * the layouts. */
 KG_API kg_result kg_scene_generate(const char* name, uint32_t seed, kg_scene** out);
 
+/* ---- Saved worlds (docs/scene-format.md, "Saved worlds") ----
+ *
+ * A world saved as a scene continues bitwise where it stopped: kg_scene_instantiate
+ * builds the scene's bodies and forces, then restores the world's snapshot that the scene
+ * holds ("state" in the file: include/kgyro/snapshot.h), which brings back everything
+ * else (contacts and their warm starts, sleep, tile maps with their edits, the step
+ * count), and finally applies to each body the position, angle and velocities the scene
+ * gives where they differ from the snapshot's (a level editor moved it). The scene's
+ * bodies are the world's live bodies in slot order, named body<i>. */
+
+/* Describes world as a scene: its settings and dt, each live body (type, position,
+ * angle, velocities, first shape, mass, material, filter), its gravity and wind
+ * applicators, and its snapshot. On the OpenCL backend the state is read back. */
+KG_API kg_result kg_scene_from_world(const kg_world* world, kg_scene** out);
+
+/* Writes scene as a JSON scene file that kg_scene_load_file reads back (floats as %.9g,
+ * which gives back the same float; a snapshot as base64). A scene without a state whose
+ * bodies have several shapes, chains or pivots, or with tile maps, is KG_ERROR_UNSUPPORTED
+ * (the writer does not write those yet); KG_ERROR_IO when the file cannot be written. */
+KG_API kg_result kg_scene_save_file(const kg_scene* scene, const char* path);
+
 #ifdef __cplusplus
 }
 #endif

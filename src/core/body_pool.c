@@ -118,7 +118,8 @@ static int kg_body_slot_sane(const kg_body_pool* p, int i)
     }
     kg_u32 type = kg_flags_type(p->flags[i]);
     int count = p->shape[i].count;
-    return type <= (kg_u32)KG_BODY_PARTICLE && count >= 0 && count <= KG_MAX_VERTS;
+    int island = !kg_pool_asleep(p, i) || p->island[i] < (kg_u32)p->capacity; /* sleeping: names a slot's island */
+    return type <= (kg_u32)KG_BODY_PARTICLE && count >= 0 && count <= KG_MAX_VERTS && island;
 }
 
 kg_result kg_body_pool_from_snapshot(kg_body_pool* pool, int capacity, kg_snap_in* in)

@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "io/json_util.h"
 #include "io/scene_limits.h"
+#include "io/scene_state.h"
 
 #include <limits.h>
 #include <math.h>
@@ -76,6 +77,9 @@ struct kg_scene {
 
     int tilemap_count, tilemap_capacity;
     kg_scene_tilemap* tilemaps;
+
+    unsigned char* state; /* a saved world's snapshot (io/scene_state.h), or NULL */
+    size_t state_size;
 };
 
 /* Grows *items to hold at least needed elements, doubling. */
@@ -129,6 +133,7 @@ void kg_scene_destroy(kg_scene* scene)
         free(scene->tilemaps[i].tiles);
     }
     free(scene->tilemaps);
+    free(scene->state);
     free(scene->name_table);
     free(scene->names);
     free(scene->name_offsets);
@@ -766,6 +771,9 @@ kg_result kg_scene_instantiate(const kg_scene* scene, const kg_world_def* overri
     if (r == KG_OK) {
         r = kg_fill_world(scene, world, handles);
     }
+    if (r == KG_OK) {
+        r = kg_scene_restore_state(scene, world, handles);
+    }
     if (handles != out_bodies) {
         free(handles);
     }
@@ -777,4 +785,27 @@ kg_result kg_scene_instantiate(const kg_scene* scene, const kg_world_def* overri
     }
     *out_world = world;
     return KG_OK;
+}
+
+/* ---- a saved world's state (io/scene_state.h) ---- */
+
+kg_result kg_scene_set_state(kg_scene* scene, const void* snapshot, size_t size)
+{
+    unsigned char* copy = size > 0 ? malloc(size) : NULL;
+    if (size > 0 && !copy) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot keep a snapshot of %zu bytes in the scene", size);
+    }
+    if (size > 0) {
+        memcpy(copy, snapshot, size);
+    }
+    free(scene->state);
+    scene->state = copy;
+    scene->state_size = size;
+    return KG_OK;
+}
+
+const void* kg_scene_get_state(const kg_scene* scene, size_t* size)
+{
+    *size = scene->state_size;
+    return scene->state;
 }
