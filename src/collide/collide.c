@@ -128,6 +128,7 @@ static kg_result kg_reserve(kg_world* world, int capacity)
 }
 
 static int kg_min_int(int a, int b) { return a < b ? a : b; }
+static int64_t kg_max_i64(int64_t a, int64_t b) { return a > b ? a : b; }
 
 kg_result kg_collision_create(kg_world* world)
 {
@@ -780,7 +781,10 @@ kg_result kg_collision_from_snapshot(const kg_world* world, kg_snap_in* in, int 
     kg_snap_take_array(in, w, sizeof w[0], KG_SNAP_WORDS, "contact list");
     kg_u32 shapes_version = kg_snap_take_u32(in, "contact list");
     int capacity = w[KG_SNAP_CAPACITY];
-    if (!in->failed && (capacity < 1 || capacity > (1 << 28) || w[KG_SNAP_COUNT] < 0 || w[KG_SNAP_COUNT] > capacity ||
+    /* capacity and budget are not backed by the buffer's bytes: held to the world's own
+     * budget or 64 contacts a body, whichever is more */
+    int64_t most = kg_max_i64((int64_t)world->collision->budget, 64 * (int64_t)world->def.max_bodies + 64);
+    if (!in->failed && (capacity < 1 || capacity > most || w[KG_SNAP_BUDGET] > most || w[KG_SNAP_COUNT] < 0 || w[KG_SNAP_COUNT] > capacity ||
                         w[KG_SNAP_BODY_COUNT] < 0 || w[KG_SNAP_BODY_COUNT] > w[KG_SNAP_COUNT] ||
                         w[KG_SNAP_BUDGET] < 1)) {
         kg_snap_reject(in, "contact counts");

@@ -785,7 +785,8 @@ static int kg_map_from_snapshot(kg_map* m, kg_snap_in* in)
     m->def.tiles = NULL;
     m->key_base = kg_snap_take_u32(in, "tile maps");
     m->cells_dirty = kg_snap_take_i32(in, "tile maps");
-    if (in->failed || m->def.shape_count < 1 || m->def.shape_count > KG_MAX_TILE_ID + 1) {
+    if (in->failed || m->def.shape_count < 1 || m->def.shape_count > KG_MAX_TILE_ID + 1 ||
+        !kg_snap_has(in, sizeof *m->templates, (uint64_t)m->def.shape_count)) {
         return kg_snap_reject(in, "a tile map's definition");
     }
     m->templates = kg_alloc_zeroed((size_t)m->def.shape_count * sizeof *m->templates);
@@ -841,7 +842,7 @@ static int kg_cells_from_snapshot(struct kg_tilemaps* t, kg_snap_in* in)
         protos += (size_t)t->maps[t->order[i]].def.shape_count;
     }
     uint64_t snap_cells = kg_snap_take_u64(in, "tile cells");
-    if (in->failed || snap_cells != (uint64_t)cells) {
+    if (in->failed || snap_cells != (uint64_t)cells || !kg_snap_has(in, sizeof(kg_u32), snap_cells)) {
         return kg_snap_reject(in, "tile cells");
     }
     kg_u32* cell_array = kg_alloc_zeroed((cells > 0 ? cells : 1) * sizeof *cell_array);
@@ -907,7 +908,7 @@ kg_result kg_tilemaps_from_snapshot(const kg_world* world, int high_water, kg_sn
     t->live_count = kg_snap_take_i32(in, "tile maps");
     t->layout_version = kg_snap_take_u32(in, "tile maps");
     if (!in->failed && (t->map_count < 0 || t->map_count > (1 << 20) || t->live_count < 0 ||
-                        t->live_count > t->map_count)) {
+                        t->live_count > t->map_count || !kg_snap_has(in, sizeof(kg_u32), (uint64_t)t->map_count))) {
         kg_snap_reject(in, "tile map counts");
     }
     if (in->failed || !kg_tilemaps_arrays_from_snapshot(t, world->def.max_bodies, high_water, in)) {

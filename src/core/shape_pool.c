@@ -222,8 +222,8 @@ kg_result kg_shape_pool_from_snapshot(kg_shape_pool* pool, int bodies, kg_snap_i
     kg_snap_take_array(in, c, sizeof c[0], 7, "shape pool");
     kg_u32 tag = kg_snap_take_u32(in, "shape pool");
     kg_u32 version = kg_snap_take_u32(in, "shape pool");
-    if (!in->failed && !kg_shape_counts_sane(c)) {
-        kg_snap_reject(in, "shape pool counts");
+    if (!in->failed && (!kg_shape_counts_sane(c) || !kg_snap_has(in, sizeof *pool->generation, (uint64_t)c[0]))) {
+        kg_snap_reject(in, "shape pool counts"); /* every slot's generation is written */
     }
     if (in->failed) {
         return KG_ERROR_INVALID_ARGUMENT;

@@ -334,7 +334,8 @@ static int kg_take_applicators(const kg_world* world, kg_snap_in* in, kg_staged*
         a->bodies = NULL;
         int listed = a->body_count > 0;
         if (!in->failed && ((int)a->kind < (int)KG_APPLICATOR_FREE || (int)a->kind > (int)KG_APPLICATOR_WIND || a->body_count < 0 ||
-                            a->body_count > world->def.max_bodies)) {
+                            a->body_count > world->def.max_bodies ||
+                            !kg_snap_has(in, sizeof *a->bodies, (uint64_t)a->body_count))) {
             return kg_snap_reject(in, "an applicator's kind or body count");
         }
         if (!in->failed && (a->kind == KG_APPLICATOR_USER) != (world->applicators[i].kind == KG_APPLICATOR_USER)) {

@@ -87,6 +87,13 @@ static inline uint64_t kg_snap_take_u64(kg_snap_in* in, const char* what)
     return v;
 }
 
+/* Whether count elements of size bytes are left to read: checked before allocating for
+ * them, so that a forged count cannot make a reader allocate more than the buffer holds. */
+static inline int kg_snap_has(const kg_snap_in* in, size_t size, uint64_t count)
+{
+    return !in->failed && size > 0 && count <= (uint64_t)(in->left / size);
+}
+
 /* Marks the reader failed for a value out of range (what says which); returns 0. */
 static inline int kg_snap_reject(kg_snap_in* in, const char* what)
 {
