@@ -278,7 +278,8 @@ static int kg_take_world(const kg_world* world, kg_snap_in* in, kg_staged* s)
     s->def.backend = world->def.backend;
     s->def.device_index = world->def.device_index;
     s->def.threads = world->def.threads;
-    return 1;
+    s->def.max_contacts = world->def.max_contacts; /* the contact list's own capacity follows */
+    return kg_world_def_check(&s->def) == KG_OK || kg_snap_reject(in, "world definition");
 }
 
 /* Whether live body i's shape list is what the step walks: shape_count live shapes of
