@@ -1,5 +1,6 @@
-# The OpenCL backend's tests (tests/test_opencl_*.c, and test_snapshot's OpenCL part): they exit 77 with a message when no
-# OpenCL device exists, which ctest reports as skipped. In CI, PoCL (installed by
+# The OpenCL backend's tests (tests/test_opencl_*.c; test_snapshot has an OpenCL part):
+# they exit 77 with a message when no OpenCL device exists, which ctest reports as
+# skipped. In CI, PoCL (installed by
 # scripts/install-deps.sh) is the device. KGYRO_BACKEND and KGYRO_CL_FAIL are cleared so
 # each test chooses its backends and faults itself. Under AddressSanitizer, what PoCL
 # keeps for the process stays reachable, but compiling a program that is not in PoCL's
