@@ -228,8 +228,8 @@ static void test_bad_state(void)
     kg_scene* scene = NULL;
     KG_CHECK_OK(kg_scene_parse(junk, strlen(junk), "s.json", &scene));
     kg_world* world = NULL;
-    KG_CHECK(kg_scene_instantiate(scene, NULL, &world, NULL) == KG_ERROR_INVALID_ARGUMENT && world == NULL);
-    KG_CHECK(strstr(kg_last_error(), "not a KineticGyro snapshot") != NULL);
+    KG_CHECK(kg_scene_instantiate(scene, NULL, &world, NULL) == KG_ERROR_PARSE && world == NULL);
+    KG_CHECK(strstr(kg_last_error(), "state.snapshot: not a KineticGyro snapshot") != NULL);
     kg_scene_destroy(scene);
 }
 

@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "kgyro/snapshot.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -152,10 +153,14 @@ kg_result kg_scene_restore_state(const kg_scene* scene, kg_world* world, kg_body
     if (!snapshot) {
         return KG_OK;
     }
-    KG_TRY(kg_world_restore(world, snapshot, size));
+    if (kg_world_restore(world, snapshot, size) != KG_OK) {
+        char reason[384];
+        snprintf(reason, sizeof reason, "%s", kg_last_error());
+        return kg_fail(KG_ERROR_PARSE, "state.snapshot: %s", reason);
+    }
     int count = kg_scene_body_count(scene), live = 0;
     if (kg_world_body_count(world) != count) {
-        return kg_fail(KG_ERROR_PARSE, "state: the snapshot holds %d bodies, the scene %d", kg_world_body_count(world),
+        return kg_fail(KG_ERROR_PARSE, "state.snapshot: it holds %d bodies, the scene %d", kg_world_body_count(world),
                        count);
     }
     KG_TRY(kg_world_get_bodies(world, handles, count, &live));
