@@ -233,6 +233,32 @@ static void test_bad_state(void)
     kg_scene_destroy(scene);
 }
 
+/* Names come from the scene the world was made from; a body it did not have gets
+ * body<i>, made unique against the scene's names. */
+static void test_names_kept(void)
+{
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_create(&scene));
+    kg_body_def def = kg_default_body_def();
+    def.shape = kg_circle_shape(0.5f);
+    KG_CHECK_OK(kg_scene_add_body(scene, "body2", &def));
+    def.position.x = 3.0f;
+    KG_CHECK_OK(kg_scene_add_body(scene, "x", &def));
+    kg_world* world = NULL;
+    kg_body handles[2];
+    KG_CHECK_OK(kg_scene_instantiate(scene, NULL, &world, handles));
+    kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){6.0f, 0.0f}, 0.0f, kg_circle_shape(0.5f));
+    kg_scene* saved = NULL;
+    KG_CHECK_OK(kg_scene_from_world_named(world, scene, handles, &saved));
+    KG_CHECK(saved && kg_scene_body_count(saved) == 3);
+    KG_CHECK(saved && strcmp(kg_scene_body_name(saved, 0), "body2") == 0);
+    KG_CHECK(saved && strcmp(kg_scene_body_name(saved, 1), "x") == 0);
+    KG_CHECK(saved && strcmp(kg_scene_body_name(saved, 2), "body2_1") == 0);
+    kg_scene_destroy(saved);
+    kg_destroy_world(world);
+    kg_scene_destroy(scene);
+}
+
 static void test_save_errors(void)
 {
     kg_world* world = kg_pile();
@@ -267,7 +293,7 @@ int main(void)
     }
     static const kg_test_case tests[] = {
         KG_TEST(test_floats_round_trip), KG_TEST(test_loaded_world_continues), KG_TEST(test_editor_move_applies),
-        KG_TEST(test_bad_state),         KG_TEST(test_save_errors),
+        KG_TEST(test_bad_state),         KG_TEST(test_names_kept),             KG_TEST(test_save_errors),
     };
     int code = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
     const char* names[] = {"floats.json", "pile.json", "edited.json"};

@@ -67,7 +67,7 @@ static void kg_run_usage(FILE* out)
             "  --max-bodies N    refuse a scene file (or a Tiled map) asking for more than N bodies,\n"
             "                    before they are allocated: for levels from untrusted sources\n"
             "  --save FILE       at the end, save the world as a scene file that `kgyro run FILE`\n"
-            "                    continues bitwise (bodies named body<i>; docs/scene-format.md)\n"
+            "                    continues bitwise (docs/scene-format.md)\n"
             "  -h, --help        show this help\n"
             "\n"
             "On a terminal, a progress line on stderr (percentage, steps a second, time left) while\n"
@@ -536,7 +536,7 @@ static void kg_report(const kg_run* run, const kg_run_options* o, int steps, flo
 static int kg_save_world(const kg_run* run, const char* path)
 {
     kg_scene* saved = NULL;
-    kg_result r = kg_scene_from_world(run->world, &saved);
+    kg_result r = kg_scene_from_world_named(run->world, run->scene, run->bodies, &saved);
     if (r == KG_OK) {
         r = kg_scene_save_file(saved, path);
     }

@@ -142,7 +142,7 @@ KG_API kg_result kg_scene_generate(const char* name, uint32_t seed, kg_scene** o
  * else (contacts and their warm starts, sleep, tile maps with their edits, the step
  * count), and finally applies to each body the position, angle and velocities the scene
  * gives where they differ from the snapshot's (a level editor moved it). The scene's
- * bodies are the world's live bodies in slot order, named body<i>. A snapshot that cannot
+ * bodies are the world's live bodies in slot order. A snapshot that cannot
  * be restored (corrupted, or of a world the scene does not describe) fails
  * kg_scene_instantiate with KG_ERROR_PARSE and "state.snapshot: why". */
 
@@ -150,6 +150,11 @@ KG_API kg_result kg_scene_generate(const char* name, uint32_t seed, kg_scene** o
  * angle, velocities, first shape, mass, material, filter), its gravity and wind
  * applicators, and its snapshot. On the OpenCL backend the state is read back. */
 KG_API kg_result kg_scene_from_world(const kg_world* world, kg_scene** out);
+/* The same, the bodies named as in the scene the world was made from: bodies are the
+ * handles kg_scene_instantiate gave for names_from's bodies; a live body that is one of
+ * them keeps its name, any other is body<i> (made unique). */
+KG_API kg_result kg_scene_from_world_named(const kg_world* world, const kg_scene* names_from, const kg_body* bodies,
+                                           kg_scene** out);
 
 /* Writes scene as a JSON scene file that kg_scene_load_file reads back (floats as %.9g,
  * which gives back the same float; a snapshot as base64). A scene without a state whose

@@ -108,7 +108,33 @@ static kg_result kg_add_world_state(kg_world* world, kg_scene* scene)
     return r;
 }
 
-static kg_result kg_fill_scene(kg_world* world, kg_scene* scene)
+/* Whether a body of the original scene is called name (names: per slot, slots of them). */
+static int kg_name_taken(const char* const* names, int slots, const char* name)
+{
+    for (int i = 0; i < slots; ++i) {
+        if (names[i] && strcmp(names[i], name) == 0) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Body k's name: the original scene's (names: per slot, NULL where none), else body<k>,
+ * made unique with a suffix when the original scene already uses it. */
+static void kg_name_of(const kg_scene* scene, const char* const* names, kg_body body, int k, char* out, size_t size)
+{
+    if (names && names[body.index]) {
+        snprintf(out, size, "%s", names[body.index]);
+        return;
+    }
+    snprintf(out, size, "body%d", k);
+    int slots = kg_scene_world_def((kg_scene*)scene)->max_bodies;
+    for (int n = 1; kg_scene_find_body(scene, out) >= 0 || (names && kg_name_taken(names, slots, out)); ++n) {
+        snprintf(out, size, "body%d_%d", k, n);
+    }
+}
+
+static kg_result kg_fill_scene(kg_world* world, kg_scene* scene, const char* const* names)
 {
     *kg_scene_world_def(scene) = *kg_world_get_def(world);
     if (world->last_dt > 0.0f) {
@@ -123,7 +149,9 @@ static kg_result kg_fill_scene(kg_world* world, kg_scene* scene)
     const kg_body_pool* p = kg_world_read_pool(world);
     for (int k = 0; r == KG_OK && k < count; ++k) {
         kg_body_def def = kg_def_of(world, p, bodies[k]);
-        r = kg_scene_add_body(scene, NULL, &def);
+        char name[80];
+        kg_name_of(scene, names, bodies[k], k, name, sizeof name);
+        r = kg_scene_add_body(scene, name, &def);
     }
     if (r == KG_OK) {
         r = kg_add_world_forces(world, bodies, count, scene);
@@ -132,24 +160,51 @@ static kg_result kg_fill_scene(kg_world* world, kg_scene* scene)
     return r == KG_OK ? kg_add_world_state(world, scene) : r;
 }
 
-kg_result kg_scene_from_world(const kg_world* world, kg_scene** out)
+/* The scene made from world, its bodies named from names (per slot, or NULL). */
+static kg_result kg_scene_of_world(const kg_world* world, const char* const* names, kg_scene** out)
 {
-    if (!world || !out) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_from_world: NULL argument");
-    }
     *out = NULL;
     if (kg_world_refuses(world, "kg_scene_from_world", KG_LOCK_STEP)) {
         return KG_ERROR_LOCKED;
     }
     kg_scene* scene = NULL;
     KG_TRY(kg_scene_create(&scene));
-    kg_result r = kg_fill_scene((kg_world*)world, scene);
+    kg_result r = kg_fill_scene((kg_world*)world, scene, names);
     if (r != KG_OK) {
         kg_scene_destroy(scene);
         return r;
     }
     *out = scene;
     return KG_OK;
+}
+
+kg_result kg_scene_from_world(const kg_world* world, kg_scene** out)
+{
+    if (!world || !out) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_from_world: NULL argument");
+    }
+    return kg_scene_of_world(world, NULL, out);
+}
+
+kg_result kg_scene_from_world_named(const kg_world* world, const kg_scene* names_from, const kg_body* bodies,
+                                    kg_scene** out)
+{
+    if (!world || !names_from || !bodies || !out) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_from_world_named: NULL argument");
+    }
+    int slots = kg_world_get_def(world)->max_bodies;
+    const char** names = calloc((size_t)slots, sizeof *names);
+    if (!names) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world_named: out of memory");
+    }
+    for (int i = 0; i < kg_scene_body_count(names_from); ++i) {
+        if (kg_body_is_valid(world, bodies[i])) {
+            names[bodies[i].index] = kg_scene_body_name(names_from, i);
+        }
+    }
+    kg_result r = kg_scene_of_world(world, names, out);
+    free(names);
+    return r;
 }
 
 /* ---- writing JSON ---- */
