@@ -1,7 +1,8 @@
 /* Worlds saved as scenes (include/kgyro/scene.h, "Saved worlds"; docs/scene-format.md):
  * floats written and read back bit for bit, a saved world continuing bitwise after a
  * load (through the library; the CLI's run in tests/cases/cli_save.cmake), an editor's
- * move of one body applied while the others continue untouched, and the errors: a bad
+ * move of one body applied while the others continue untouched, the names of the scene
+ * the world was made from kept (kg_scene_from_world_named), and the errors: a bad
  * "state" (version, base64, a snapshot of another world), an unwritable path, what the
  * writer cannot write yet. Files go to a fresh directory under /tmp. */
 #define _POSIX_C_SOURCE 200809L
