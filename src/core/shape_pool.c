@@ -196,7 +196,8 @@ static int kg_shape_counts_sane(const int* c)
 {
     int capacity = c[0], high_water = c[1], count = c[2], first_free = c[3], held = c[4];
     return capacity > 0 && capacity <= (1 << 28) && high_water >= 0 && high_water <= capacity && count >= 0 &&
-           held >= 0 && (int64_t)count + held <= high_water && first_free >= 0 && first_free <= high_water + 1 && c[5] >= 0;
+           held >= 0 && (int64_t)count + held <= high_water && first_free >= 0 && first_free <= high_water + 1 &&
+           c[5] >= 0;
 }
 
 /* Whether the shape lists and flags of pool can be walked safely (bodies: their pool's capacity). */
