@@ -103,8 +103,9 @@ int main(int argc, char** argv)
     qsort(taken, SNAPSHOTS, sizeof taken[0], compare_doubles);
     qsort(restored, RESTORES, sizeof restored[0], compare_doubles);
     printf("bodies %d, contacts %d, backend %s: snapshot %.2f MB, snapshot median %.3f ms (fastest %.3f), "
-           "restore median %.3f ms\n", count, kg_world_contact_count(world), backend == KG_BACKEND_CPU ? "cpu" : "opencl",
-           (double)written / 1.0e6, taken[SNAPSHOTS / 2], taken[0], restored[RESTORES / 2]);
+           "restore median %.3f ms\n", count, kg_world_contact_count(world),
+           backend == KG_BACKEND_CPU ? "cpu" : "opencl", (double)written / 1.0e6, taken[SNAPSHOTS / 2], taken[0],
+           restored[RESTORES / 2]);
     free(buffer);
     kg_destroy_world(world);
     return 0;

@@ -129,6 +129,7 @@ static kg_result kg_reserve(kg_world* world, int capacity)
 
 static int kg_min_int(int a, int b) { return a < b ? a : b; }
 static int64_t kg_max_i64(int64_t a, int64_t b) { return a > b ? a : b; }
+static int64_t kg_clamp_i64(int64_t v, int64_t lo, int64_t hi) { return v < lo ? lo : v > hi ? hi : v; }
 
 kg_result kg_collision_create(kg_world* world)
 {
@@ -780,18 +781,21 @@ kg_result kg_collision_from_snapshot(const kg_world* world, kg_snap_in* in, int 
     int w[KG_SNAP_WORDS] = {0};
     kg_snap_take_array(in, w, sizeof w[0], KG_SNAP_WORDS, "contact list");
     kg_u32 shapes_version = kg_snap_take_u32(in, "contact list");
-    int capacity = w[KG_SNAP_CAPACITY];
-    /* capacity and budget are not backed by the buffer's bytes: held to the world's own
-     * budget or 64 contacts a body, whichever is more */
-    int64_t most = kg_max_i64((int64_t)world->collision->budget, 64 * (int64_t)world->def.max_bodies + 64);
-    if (!in->failed && (capacity < 1 || capacity > most || w[KG_SNAP_BUDGET] > most || w[KG_SNAP_COUNT] < 0 || w[KG_SNAP_COUNT] > capacity ||
-                        w[KG_SNAP_BODY_COUNT] < 0 || w[KG_SNAP_BODY_COUNT] > w[KG_SNAP_COUNT] ||
-                        w[KG_SNAP_BUDGET] < 1)) {
+    int count = w[KG_SNAP_COUNT], body_count = w[KG_SNAP_BODY_COUNT];
+    if (!in->failed && (count < 0 || body_count < 0 || body_count > count ||
+                        !kg_snap_has(in, sizeof(kg_contact), (uint64_t)count))) {
         kg_snap_reject(in, "contact counts");
     }
     if (in->failed) {
         return KG_ERROR_INVALID_ARGUMENT;
     }
+    /* The pool's capacity and budget (which the buffer's bytes do not back) are held to
+     * the world's own budget or 8 contacts a body, whichever is more: they only say how
+     * far the pool grows before it grows again, not what a step computes. */
+    int64_t most = kg_max_i64(kg_max_i64((int64_t)world->collision->budget, 8 * (int64_t)world->def.max_bodies + 64),
+                              (int64_t)count);
+    int capacity = (int)kg_clamp_i64(w[KG_SNAP_CAPACITY], kg_max_i64(count, 1), most);
+    w[KG_SNAP_BUDGET] = (int)kg_clamp_i64(w[KG_SNAP_BUDGET], 1, most);
     struct kg_collision* c = kg_alloc_zeroed(sizeof *c);
     if (!c) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the collision state");
@@ -805,8 +809,8 @@ kg_result kg_collision_from_snapshot(const kg_world* world, kg_snap_in* in, int 
         kg_collision_discard(c);
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate room for %d contacts", capacity);
     }
-    c->count = w[KG_SNAP_COUNT];
-    c->body_count = w[KG_SNAP_BODY_COUNT];
+    c->count = count;
+    c->body_count = body_count;
     c->by_shapes = w[KG_SNAP_BY_SHAPES] != 0;
     c->shapes_known = w[KG_SNAP_SHAPES_KNOWN] != 0;
     c->capacity = capacity;

@@ -209,8 +209,8 @@ static int kg_shape_links_sane(const kg_shape_pool* pool, int bodies)
         alive += (f & KG_SHAPE_ALIVE) != 0u;
         held += f == KG_SHAPE_HELD;
         kg_u32 next = pool->next[i];
-        if ((f & KG_SHAPE_ALIVE) && ((int64_t)pool->body[i] >= bodies ||
-                                     (next != KG_NULL_INDEX && (next <= (kg_u32)i || next >= (kg_u32)pool->high_water)))) {
+        int next_bad = next != KG_NULL_INDEX && (next <= (kg_u32)i || next >= (kg_u32)pool->high_water);
+        if ((f & KG_SHAPE_ALIVE) && ((int64_t)pool->body[i] >= bodies || next_bad)) {
             return 0;
         }
     }

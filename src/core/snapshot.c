@@ -154,8 +154,8 @@ kg_result kg_world_snapshot(kg_world* world, void* buffer, size_t capacity, size
     }
     KG_TRY(kg_world_snapshot_size(world, written));
     if (capacity < *written) {
-        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_world_snapshot: the buffer holds %zu bytes, the snapshot needs %zu",
-                       capacity, *written);
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT,
+                       "kg_world_snapshot: the buffer holds %zu bytes, the snapshot needs %zu", capacity, *written);
     }
     unsigned char* bytes = buffer;
     kg_snap_out out = {bytes + sizeof(kg_snapshot_header), sizeof(kg_snapshot_header)};
@@ -334,7 +334,8 @@ static int kg_take_applicators(const kg_world* world, kg_snap_in* in, kg_staged*
         kg_snap_take_array(in, a, sizeof *a, 1, "applicators");
         a->bodies = NULL;
         int listed = a->body_count > 0;
-        if (!in->failed && ((int)a->kind < (int)KG_APPLICATOR_FREE || (int)a->kind > (int)KG_APPLICATOR_WIND || a->body_count < 0 ||
+        int kind = (int)a->kind;
+        if (!in->failed && (kind < (int)KG_APPLICATOR_FREE || kind > (int)KG_APPLICATOR_WIND || a->body_count < 0 ||
                             a->body_count > world->def.max_bodies ||
                             !kg_snap_has(in, sizeof *a->bodies, (uint64_t)a->body_count))) {
             return kg_snap_reject(in, "an applicator's kind or body count");

@@ -36,8 +36,8 @@ static kg_body_def kg_def_of(const kg_world* world, const kg_body_pool* p, kg_bo
         memset(&def.shape, 0, sizeof def.shape);
     }
     kg_mass_data md;
-    if ((def.type == KG_BODY_DYNAMIC || def.type == KG_BODY_PARTICLE) && kg_body_get_mass_data(world, body, &md) == KG_OK &&
-        md.mass > 0.0f) {
+    int massive = def.type == KG_BODY_DYNAMIC || def.type == KG_BODY_PARTICLE;
+    if (massive && kg_body_get_mass_data(world, body, &md) == KG_OK && md.mass > 0.0f) {
         def.mass = md.mass;
     }
     def.friction = p->friction[i];
@@ -233,8 +233,15 @@ static int kg_json_add(cJSON* object, const char* key, cJSON* item)
     return item && cJSON_AddItemToObject(object, key, item);
 }
 
-static int kg_json_add_float(cJSON* object, const char* key, float v) { return kg_json_add(object, key, kg_float_json(v)); }
-static int kg_json_add_vec2(cJSON* object, const char* key, kg_vec2 v) { return kg_json_add(object, key, kg_vec2_json(v)); }
+static int kg_json_add_float(cJSON* object, const char* key, float v)
+{
+    return kg_json_add(object, key, kg_float_json(v));
+}
+
+static int kg_json_add_vec2(cJSON* object, const char* key, kg_vec2 v)
+{
+    return kg_json_add(object, key, kg_vec2_json(v));
+}
 
 static cJSON* kg_shape_json(const kg_shape_def* s)
 {
