@@ -280,6 +280,20 @@ static void test_save_errors(void)
     KG_CHECK_OK(kg_scene_add_tilemap(scene, &map));
     char path[128];
     kg_path(path, sizeof path, "map.json");
+    KG_CHECK_OK(kg_scene_save_file(scene, path)); /* a map is written... */
+    kg_scene* loaded = NULL;
+    KG_CHECK_OK(kg_scene_load_file(path, &loaded));
+    KG_CHECK(loaded && kg_scene_tilemap_count(loaded) == 1);
+    kg_scene_destroy(loaded);
+    kg_scene_destroy(scene);
+    remove(path);
+    KG_CHECK_OK(kg_scene_create(&scene)); /* ...but not a body of two shapes, without a state */
+    kg_body_def def = kg_default_body_def();
+    def.shape = kg_circle_shape(0.5f);
+    KG_CHECK_OK(kg_scene_add_body(scene, NULL, &def));
+    kg_body_shape_def extra = kg_default_body_shape_def();
+    extra.geometry = kg_box_shape(1.0f, 1.0f);
+    KG_CHECK_OK(kg_scene_add_body_shape(scene, 0, &extra));
     KG_CHECK(kg_scene_save_file(scene, path) == KG_ERROR_UNSUPPORTED);
     kg_scene_destroy(scene);
     kg_destroy_world(world);

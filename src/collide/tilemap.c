@@ -932,3 +932,28 @@ void kg_tilemaps_discard(struct kg_tilemaps* staged)
         kg_tilemaps_free(staged);
     }
 }
+
+kg_result kg_tilemap_get_shape(const kg_world* world, kg_tilemap map, int id, kg_tile_shape* out)
+{
+    const kg_map* m = kg_resolve_map(world, map);
+    if (!m) {
+        return KG_ERROR_INVALID_HANDLE;
+    }
+    if (id < 0 || id >= m->def.shape_count) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "tile id %d: the map has %d shapes", id, m->def.shape_count);
+    }
+    const kg_tile_template* t = &m->templates[id];
+    const kg_shape* s = &t->proto.shape;
+    memset(out, 0, sizeof *out);
+    if (s->count == 1) {
+        out->type = KG_TILE_SHAPE_CIRCLE;
+        out->center = kg_scale(1.0f / m->def.tile_size.x, s->vertices[0]);
+        out->radius = s->radius / m->def.tile_size.x;
+    } else if (s->count >= 3) {
+        out->type = KG_TILE_SHAPE_POLYGON;
+        out->count = s->count;
+        memcpy(out->vertices, t->unit, (size_t)s->count * sizeof *out->vertices);
+        out->one_way = (t->proto.flags & KG_TILE_FLAG_ONE_WAY) != 0u;
+    }
+    return KG_OK;
+}

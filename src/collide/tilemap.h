@@ -68,6 +68,10 @@ int kg_tilemaps_take_dirty(kg_world* world, int live_index);
 kg_vec2* kg_tilemaps_last_origin(kg_world* world);
 kg_u32* kg_tilemaps_last_generation(kg_world* world);
 
+/* The shape of tile id as a kg_tile_shape (a polygon's vertices as the map keeps them, the
+ * hull of the given ones; a circle's in tile units again): what a saved scene writes. */
+kg_result kg_tilemap_get_shape(const kg_world* world, kg_tilemap map, int id, kg_tile_shape* out);
+
 /* ---- snapshots (core/snapshot.c) ---- */
 
 struct kg_snap_out;

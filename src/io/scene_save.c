@@ -11,6 +11,7 @@
 #include "core/body_pool.h"
 #include "core/error.h"
 #include "core/world.h"
+#include "collide/tilemap.h"
 #include "io/json_util.h"
 #include "io/scene_state.h"
 
@@ -92,6 +93,48 @@ static kg_result kg_add_world_forces(const kg_world* world, const kg_body* bodie
     return r;
 }
 
+/* Map's shapes and tiles (cells as they are now, edits included) into the scene. */
+static kg_result kg_add_world_map(const kg_world* world, kg_tilemap map, kg_scene* scene)
+{
+    kg_tilemap_def def;
+    KG_TRY(kg_tilemap_get_def(world, map, &def));
+    size_t cells = (size_t)def.width * (size_t)def.height * (size_t)def.layer_count;
+    kg_tile_shape* shapes = calloc((size_t)def.shape_count, sizeof *shapes);
+    uint16_t* tiles = calloc(cells, sizeof *tiles);
+    kg_result r = shapes && tiles ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world: out of memory");
+    for (int id = 0; r == KG_OK && id < def.shape_count; ++id) {
+        r = kg_tilemap_get_shape(world, map, id, &shapes[id]);
+    }
+    for (size_t k = 0; r == KG_OK && k < cells; ++k) {
+        int x = (int)(k % (size_t)def.width), y = (int)(k / (size_t)def.width % (size_t)def.height);
+        int layer = (int)(k / ((size_t)def.width * (size_t)def.height)), id = 0;
+        r = kg_tilemap_get_tile(world, map, layer, x, y, &id);
+        tiles[k] = (uint16_t)id;
+    }
+    def.shapes = shapes;
+    def.tiles = tiles;
+    def.user_data = NULL;
+    if (r == KG_OK) {
+        r = kg_scene_add_tilemap(scene, &def);
+    }
+    free(shapes);
+    free(tiles);
+    return r;
+}
+
+static kg_result kg_add_world_maps(const kg_world* world, kg_scene* scene)
+{
+    int count = kg_world_tilemap_count(world);
+    kg_tilemap* maps = malloc((size_t)(count > 0 ? count : 1) * sizeof *maps);
+    kg_result r = maps ? kg_world_get_tilemaps(world, maps, count, &count)
+                       : kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world: out of memory");
+    for (int i = 0; r == KG_OK && i < count; ++i) {
+        r = kg_add_world_map(world, maps[i], scene);
+    }
+    free(maps);
+    return r;
+}
+
 static kg_result kg_add_world_state(kg_world* world, kg_scene* scene)
 {
     size_t size = 0, written = 0;
@@ -155,6 +198,9 @@ static kg_result kg_fill_scene(kg_world* world, kg_scene* scene, const char* con
     }
     if (r == KG_OK) {
         r = kg_add_world_forces(world, bodies, count, scene);
+    }
+    if (r == KG_OK) {
+        r = kg_add_world_maps(world, scene);
     }
     free(bodies);
     return r == KG_OK ? kg_add_world_state(world, scene) : r;
@@ -320,6 +366,125 @@ static cJSON* kg_force_json(const kg_scene* scene, const kg_scene_force* f)
     return o;
 }
 
+/* The legend's characters, one per tile id from 1 (docs/scene-format.md: any but ' ' and
+ * '.'; '"' and '\\' left out to keep the rows readable). */
+static const char kLegend[] = "#ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789!$%&'()*+,-/:;<=>?@[]^_`{|}~";
+#define KG_LEGEND_SIZE ((int)sizeof kLegend - 1)
+
+/* The legend character of each tile id (' ' for an empty shape: the file's rows have no
+ * other empty character, so empty ids past 0 become 0), into chars (shape_count); 0 when
+ * the map has more solid shapes than the legend has characters. */
+static int kg_legend_of(const kg_tilemap_def* map, char* chars)
+{
+    int next = 0;
+    for (int id = 0; id < map->shape_count; ++id) {
+        int empty = id == 0 || map->shapes[id].type == KG_TILE_SHAPE_EMPTY;
+        if (!empty && next == KG_LEGEND_SIZE) {
+            return 0;
+        }
+        chars[id] = empty ? ' ' : kLegend[next++];
+    }
+    return 1;
+}
+
+/* Whether the file's legend can name map's tile shapes. */
+static int kg_map_writable(const kg_tilemap_def* map)
+{
+    char* chars = malloc((size_t)map->shape_count);
+    int ok = chars && kg_legend_of(map, chars);
+    free(chars);
+    return ok;
+}
+
+static cJSON* kg_tile_shape_json(const kg_tile_shape* t)
+{
+    cJSON* o = cJSON_CreateObject();
+    int ok = o != NULL;
+    if (t->type == KG_TILE_SHAPE_CIRCLE) {
+        cJSON* circle = cJSON_CreateObject();
+        ok = ok && kg_json_add(o, "circle", circle) && kg_json_add_vec2(circle, "center", t->center) &&
+             kg_json_add_float(circle, "radius", t->radius);
+    } else {
+        cJSON* list = cJSON_CreateArray();
+        ok = ok && kg_json_add(o, "polygon", list) && cJSON_AddBoolToObject(o, "one_way", t->one_way != 0);
+        for (int k = 0; ok && k < t->count; ++k) {
+            ok = cJSON_AddItemToArray(list, kg_vec2_json(t->vertices[k]));
+        }
+    }
+    if (!ok) {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+/* One layer's rows, top row first, a legend character per cell (' ' for id 0). */
+static cJSON* kg_layer_json(const kg_tilemap_def* map, const char* chars, int layer)
+{
+    cJSON* rows = cJSON_CreateArray();
+    char* row = malloc((size_t)map->width + 1);
+    int ok = rows && row;
+    for (int y = map->height - 1; ok && y >= 0; --y) {
+        for (int x = 0; x < map->width; ++x) {
+            size_t cell = ((size_t)layer * (size_t)map->height + (size_t)y) * (size_t)map->width + (size_t)x;
+            row[x] = map->tiles ? chars[map->tiles[cell]] : ' ';
+        }
+        row[map->width] = '\0';
+        ok = cJSON_AddItemToArray(rows, cJSON_CreateString(row));
+    }
+    free(row);
+    if (!ok) {
+        cJSON_Delete(rows);
+        return NULL;
+    }
+    return rows;
+}
+
+/* The legend: each solid tile shape under its character. */
+static int kg_add_legend(cJSON* legend, const kg_tilemap_def* map, const char* chars)
+{
+    int ok = 1;
+    for (int id = 1; ok && id < map->shape_count; ++id) {
+        char key[2] = {chars[id], '\0'};
+        ok = chars[id] == ' ' || kg_json_add(legend, key, kg_tile_shape_json(&map->shapes[id]));
+    }
+    return ok;
+}
+
+static cJSON* kg_tilemap_json(const kg_tilemap_def* map)
+{
+    char* chars = malloc((size_t)map->shape_count);
+    cJSON* o = chars && kg_legend_of(map, chars) ? cJSON_CreateObject() : NULL;
+    int ok = o && kg_json_add(o, "origin", kg_vec2_json(map->origin)) &&
+             kg_json_add(o, "tile_size", kg_vec2_json(map->tile_size)) &&
+             kg_json_add_float(o, "friction", map->friction) && kg_json_add_float(o, "restitution", map->restitution);
+    cJSON* legend = ok ? cJSON_CreateObject() : NULL;
+    ok = ok && kg_json_add(o, "tiles", legend) && kg_add_legend(legend, map, chars);
+    cJSON* layers = ok ? cJSON_CreateArray() : NULL;
+    ok = ok && kg_json_add(o, "layers", layers);
+    for (int layer = 0; ok && layer < map->layer_count; ++layer) {
+        ok = cJSON_AddItemToArray(layers, kg_layer_json(map, chars, layer));
+    }
+    free(chars);
+    if (!ok) {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+/* The scene's tile maps the legend can name (with a state, the others come back from it). */
+static int kg_add_tilemaps(cJSON* root, const kg_scene* scene)
+{
+    cJSON* maps = cJSON_CreateArray();
+    int ok = kg_json_add(root, "tilemap", maps);
+    for (int i = 0; ok && i < kg_scene_tilemap_count(scene); ++i) {
+        const kg_tilemap_def* map = kg_scene_get_tilemap(scene, i);
+        ok = !kg_map_writable(map) || cJSON_AddItemToArray(maps, kg_tilemap_json(map));
+    }
+    return ok;
+}
+
 static int kg_add_settings(cJSON* root, kg_scene* scene)
 {
     const kg_world_def* def = kg_scene_world_def(scene);
@@ -345,6 +510,9 @@ static cJSON* kg_scene_json(const kg_scene* scene)
     }
     for (int i = 0; ok && i < kg_scene_force_count(scene); ++i) {
         ok = cJSON_AddItemToArray(forces, kg_force_json(scene, kg_scene_get_force(scene, i)));
+    }
+    if (ok && kg_scene_tilemap_count(scene) > 0) {
+        ok = kg_add_tilemaps(root, scene);
     }
     size_t state_size = 0;
     if (ok && kg_scene_get_state(scene, &state_size)) {
@@ -372,9 +540,11 @@ static kg_result kg_check_writable(const kg_scene* scene)
                            "a pivot, which the writer does not write yet", i, kg_scene_body_name(scene, i));
         }
     }
-    if (kg_scene_tilemap_count(scene) > 0) {
-        return kg_fail(KG_ERROR_UNSUPPORTED, "kg_scene_save_file: the writer does not write tile maps yet (a scene "
-                       "from kg_scene_from_world carries them in its state)");
+    for (int i = 0; i < kg_scene_tilemap_count(scene); ++i) {
+        if (!kg_map_writable(kg_scene_get_tilemap(scene, i))) {
+            return kg_fail(KG_ERROR_UNSUPPORTED, "kg_scene_save_file: tile map %d has more than %d solid tile shapes, "
+                           "which a scene file's legend cannot name", i, KG_LEGEND_SIZE);
+        }
     }
     return KG_OK;
 }
