@@ -148,7 +148,8 @@ KG_API kg_result kg_scene_generate(const char* name, uint32_t seed, kg_scene** o
 
 /* Describes world as a scene: its settings and dt, each live body (type, position,
  * angle, velocities, first shape, mass, material, filter), its gravity and wind
- * applicators, and its snapshot. On the OpenCL backend the state is read back. */
+ * applicators, its tile maps (cells as they are now), and its snapshot. On the OpenCL
+ * backend the state is read back. */
 KG_API kg_result kg_scene_from_world(const kg_world* world, kg_scene** out);
 /* The same, the bodies named as in the scene the world was made from: bodies are the
  * handles kg_scene_instantiate gave for names_from's bodies; a live body that is one of
@@ -157,9 +158,10 @@ KG_API kg_result kg_scene_from_world_named(const kg_world* world, const kg_scene
                                            kg_scene** out);
 
 /* Writes scene as a JSON scene file that kg_scene_load_file reads back (floats as %.9g,
- * which gives back the same float; a snapshot as base64). A scene without a state whose
- * bodies have several shapes, chains or pivots, or with tile maps, is KG_ERROR_UNSUPPORTED
- * (the writer does not write those yet); KG_ERROR_IO when the file cannot be written. */
+ * which gives back the same float; tile maps as inline grids; a snapshot as base64). A
+ * scene without a state whose bodies have several shapes, chains or pivots, or a tile map
+ * of more than 91 solid tile shapes, is KG_ERROR_UNSUPPORTED (the writer does not write
+ * those yet); KG_ERROR_IO when the file cannot be written. */
 KG_API kg_result kg_scene_save_file(const kg_scene* scene, const char* path);
 
 #ifdef __cplusplus
