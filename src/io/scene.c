@@ -678,6 +678,10 @@ static int kg_max_int(int a, int b) { return a > b ? a : b; }
 static kg_world_def kg_fitted_world_def(const kg_scene* scene, const kg_world_def* override_def)
 {
     kg_world_def def = override_def ? *override_def : scene->world_def;
+    if (scene->state) { /* the capacities of the saved world, which its snapshot needs */
+        def.max_bodies = scene->world_def.max_bodies;
+        def.max_applicators = scene->world_def.max_applicators;
+    }
     def.max_bodies = kg_max_int(def.max_bodies, scene->body_count);
     def.max_contacts = kg_max_int(def.max_contacts, 6 * scene->body_count + 64);
     def.max_applicators = kg_max_int(def.max_applicators, scene->force_count);

@@ -73,6 +73,34 @@ static int kg_base64_decode(const char* text, unsigned char** out, size_t* size)
 
 /* ---- reading ---- */
 
+/* Whether the snapshot restores into a world of the scene's definition and holds the
+ * scene's bodies: tried on a world of the CPU backend, so that a scene the loader
+ * accepts instantiates (the fuzz targets' contract). */
+static kg_result kg_check_state_fits(const kg_scene* scene, const void* bytes, size_t size,
+                                     const kg_json_reader* reader, const kg_json_path* at)
+{
+    kg_world_def def = *kg_scene_world_def((kg_scene*)scene);
+    def.backend = KG_BACKEND_CPU;
+    def.threads = 1;
+    kg_world* world = NULL;
+    kg_result r = kg_create_world(&def, &world);
+    if (r == KG_OK) {
+        r = kg_world_restore(world, bytes, size);
+    }
+    char reason[384];
+    snprintf(reason, sizeof reason, "%s", kg_last_error());
+    int bodies = r == KG_OK ? kg_world_body_count(world) : 0;
+    kg_destroy_world(world);
+    if (r == KG_OK && bodies != kg_scene_body_count(scene)) {
+        return kg_json_fail(reader, at, "the snapshot holds %d bodies, the scene %d", bodies,
+                            kg_scene_body_count(scene));
+    }
+    if (r == KG_ERROR_OUT_OF_MEMORY) {
+        return kg_json_fail_message(r, "%s: %s", reader->source, reason);
+    }
+    return r == KG_OK ? KG_OK : kg_json_fail(reader, at, "%s", reason);
+}
+
 kg_result kg_read_scene_state(kg_scene* scene, const cJSON* root, const kg_json_reader* reader)
 {
     const cJSON* state = cJSON_GetObjectItemCaseSensitive(root, "state");
@@ -102,7 +130,10 @@ kg_result kg_read_scene_state(kg_scene* scene, const cJSON* root, const kg_json_
     if (!cJSON_IsString(text) || !kg_base64_decode(text->valuestring, &bytes, &size)) {
         return kg_json_fail(reader, &at, "must be a string of base64 (a snapshot written by kg_scene_save_file)");
     }
-    kg_result r = kg_scene_set_state(scene, bytes, size);
+    kg_result r = kg_check_state_fits(scene, bytes, size, reader, &at);
+    if (r == KG_OK) {
+        r = kg_scene_set_state(scene, bytes, size);
+    }
     free(bytes);
     return r;
 }
