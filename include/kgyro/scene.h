@@ -142,9 +142,9 @@ KG_API kg_result kg_scene_generate(const char* name, uint32_t seed, kg_scene** o
  * else (contacts and their warm starts, sleep, tile maps with their edits, the step
  * count), and finally applies to each body the position, angle and velocities the scene
  * gives where they differ from the snapshot's (a level editor moved it). The scene's
- * bodies are the world's live bodies in slot order. A snapshot that cannot
- * be restored (corrupted, or of a world the scene does not describe) fails
- * kg_scene_instantiate with KG_ERROR_PARSE and "state.snapshot: why". */
+ * bodies are the world's live bodies in slot order. A snapshot that cannot be restored
+ * (corrupted, or of a world the scene does not describe) is refused by the loader, which
+ * tries it: KG_ERROR_PARSE and "FILE: state.snapshot: why". */
 
 /* Describes world as a scene: its settings and dt, each live body (type, position,
  * angle, velocities, first shape, mass, material, filter), its gravity and wind
