@@ -29,6 +29,7 @@ typedef struct kg_run_options {
     uint32_t seed;
     int no_continuous;    /* --no-continuous: kg_world_def.enable_continuous off */
     int max_bodies;       /* --max-bodies: the most a scene file may ask for; -1: no limit */
+    const char* save;     /* --save: the scene file the world is saved as at the end; NULL: none */
 } kg_run_options;
 
 #define KG_RUN_DEFAULT_STEPS 60
@@ -66,6 +67,8 @@ static void kg_run_usage(FILE* out)
             "  --seed S          seed of the random generators, rain_N and particles_N (default 1)\n"
             "  --max-bodies N    refuse a scene file, a Tiled map or a generator name asking for more\n"
             "                    than N bodies, before they are allocated: for untrusted levels\n"
+            "  --save FILE       at the end, save the world as a scene file that `kgyro run FILE`\n"
+            "                    continues bitwise (docs/scene-format.md)\n"
             "  -h, --help        show this help\n"
             "\n"
             "On a terminal, a progress line on stderr (percentage, steps a second, time left) while\n"
@@ -152,6 +155,8 @@ static int kg_apply_option(kg_run_options* o, const char* name, const char* valu
         o->contacts = value;
     } else if (strcmp(name, "--events") == 0) {
         o->events = value;
+    } else if (strcmp(name, "--save") == 0) {
+        o->save = value;
     } else {
         fprintf(stderr, "kgyro run: unknown option '%s' (see kgyro run --help)\n", name);
         return 2;
@@ -162,7 +167,7 @@ static int kg_apply_option(kg_run_options* o, const char* name, const char* valu
 static int kg_is_option_with_value(const char* arg)
 {
     static const char* const names[] = {"--steps", "--dt", "--csv", "--every", "--contacts", "--events",
-                                        "--backend", "--threads", "--seed", "--max-bodies"};
+                                        "--backend", "--threads", "--seed", "--max-bodies", "--save"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
         if (strcmp(arg, names[i]) == 0) {
             return 1;
@@ -175,7 +180,7 @@ static int kg_is_option_with_value(const char* arg)
  * "--opt=value". */
 static int kg_parse_run_options(int argc, char** argv, kg_run_options* o)
 {
-    *o = (kg_run_options){NULL, -1, 0.0f, NULL, 1, NULL, NULL, -1, -1, 1u, 0, -1};
+    *o = (kg_run_options){NULL, -1, 0.0f, NULL, 1, NULL, NULL, -1, -1, 1u, 0, -1, NULL};
     for (int i = 1; i < argc; ++i) {
         const char* arg = argv[i];
         if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
@@ -494,6 +499,22 @@ static void kg_report(const kg_run* run, const kg_run_options* o, int steps, flo
     }
 }
 
+/* --save: the world as it ends, as a scene file. */
+static int kg_save_world(const kg_run* run, const char* path)
+{
+    kg_scene* saved = NULL;
+    kg_result r = kg_scene_from_world_named(run->world, run->scene, run->bodies, &saved);
+    if (r == KG_OK) {
+        r = kg_scene_save_file(saved, path);
+    }
+    kg_scene_destroy(saved);
+    if (r != KG_OK) {
+        fprintf(stderr, "kgyro run: --save %s: %s\n", path, kg_last_error());
+        return 0;
+    }
+    return 1;
+}
+
 static int kg_run_scene(kg_run* run, const kg_run_options* o, kg_scene* scene)
 {
     int steps = o->steps >= 0 ? o->steps : kg_scene_steps(scene) > 0 ? kg_scene_steps(scene) : KG_RUN_DEFAULT_STEPS;
@@ -517,7 +538,7 @@ static int kg_run_scene(kg_run* run, const kg_run_options* o, kg_scene* scene)
     double seconds = kg_step_all(run, steps, dt, o->every, &progress);
     kg_progress_end(&progress);
     int written = kg_csv_close(&run->states_csv) & kg_csv_close(&run->contacts_csv) & kg_csv_close(&run->events_csv);
-    if (seconds < 0.0 || !written) {
+    if (seconds < 0.0 || !written || (o->save && !kg_save_world(run, o->save))) {
         return 1;
     }
     kg_report(run, o, steps, dt, seconds);

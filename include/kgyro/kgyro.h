@@ -24,6 +24,7 @@
 #include "tilemap.h"
 #include "debug_draw.h"
 #include "query.h"
+#include "snapshot.h"
 
 #define KGYRO_VERSION_MAJOR 0
 #define KGYRO_VERSION_MINOR 1

@@ -283,6 +283,36 @@ KG_API kg_result kg_scene_generate(const char* name, uint32_t seed, kg_scene** o
 KG_API kg_result kg_scene_generate_limited(const char* name, uint32_t seed, const kg_scene_limits* limits,
                                            kg_scene** out);
 
+/* ---- Saved worlds (docs/scene-format.md, "Saved worlds") ----
+ *
+ * A world saved as a scene continues bitwise where it stopped: kg_scene_instantiate
+ * builds the scene's bodies and forces, then restores the world's snapshot that the scene
+ * holds ("state" in the file: include/kgyro/snapshot.h), which brings back everything
+ * else (contacts and their warm starts, sleep, tile maps with their edits, the step
+ * count), and finally applies to each body the position, angle and velocities the scene
+ * gives where they differ from the snapshot's (a level editor moved it). The scene's
+ * bodies are the world's live bodies in slot order. A snapshot that cannot be restored
+ * (corrupted, or of a world the scene does not describe) is refused by the loader, which
+ * tries it: KG_ERROR_PARSE and "FILE: state.snapshot: why". */
+
+/* Describes world as a scene: its settings and dt, each live body (type, position,
+ * angle, velocities, first shape, mass, material, filter), its gravity and wind
+ * applicators, its tile maps (cells as they are now), and its snapshot. On the OpenCL
+ * backend the state is read back. */
+KG_API kg_result kg_scene_from_world(const kg_world* world, kg_scene** out);
+/* The same, the bodies named as in the scene the world was made from: bodies are the
+ * handles kg_scene_instantiate gave for names_from's bodies; a live body that is one of
+ * them keeps its name, any other is body<i> (made unique). */
+KG_API kg_result kg_scene_from_world_named(const kg_world* world, const kg_scene* names_from, const kg_body* bodies,
+                                           kg_scene** out);
+
+/* Writes scene as a JSON scene file that kg_scene_load_file reads back (floats as %.9g,
+ * which gives back the same float; tile maps as inline grids; a snapshot as base64). A
+ * scene without a state whose bodies have several shapes, chains or pivots, or a tile map
+ * of more than 91 solid tile shapes, is KG_ERROR_UNSUPPORTED (the writer does not write
+ * those yet); KG_ERROR_IO when the file cannot be written. */
+KG_API kg_result kg_scene_save_file(const kg_scene* scene, const char* path);
+
 #ifdef __cplusplus
 }
 #endif

@@ -28,6 +28,12 @@ typedef struct kg_backend_ops {
     /* The same for the step before's list, which the device keeps until the next step
      * (NULL when contacts are built on the host). */
     void (*sync_previous_contacts)(kg_world* world);
+    /* Brings to the host all a snapshot reads: the pools' state, the contacts and the tile
+     * maps' one-way state (NULL when the host has it all). */
+    void (*sync_for_snapshot)(kg_world* world);
+    /* The host's state was replaced whole (a snapshot restored): what the backend holds
+     * of it is stale, and is sent again before the next step (NULL: nothing held). */
+    void (*restored)(kg_world* world);
 } kg_backend_ops;
 
 extern const kg_backend_ops kg_cpu_backend;

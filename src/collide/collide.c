@@ -16,6 +16,7 @@
 #include "core/alloc.h"
 #include "core/error.h"
 #include "core/joint.h"
+#include "core/snapshot_io.h"
 
 #include <limits.h>
 #include <stdatomic.h>
@@ -128,6 +129,8 @@ static kg_result kg_reserve(kg_world* world, int capacity)
 }
 
 static int kg_min_int(int a, int b) { return a < b ? a : b; }
+static int64_t kg_max_i64(int64_t a, int64_t b) { return a > b ? a : b; }
+static int64_t kg_clamp_i64(int64_t v, int64_t lo, int64_t hi) { return v < lo ? lo : v > hi ? hi : v; }
 
 kg_result kg_collision_create(kg_world* world)
 {
@@ -646,6 +649,8 @@ kg_contact* kg_collision_begin_step(kg_world* world, kg_contact** previous, int*
     return c->contacts;
 }
 
+int kg_collision_body_count(const kg_world* world) { return world->collision->body_count; }
+
 void kg_collision_set_count(kg_world* world, int count, int body_count)
 {
     world->collision->count = count;
@@ -738,4 +743,108 @@ kg_result kg_body_get_contacts(const kg_world* world, kg_body body, kg_contact_i
         *count += mine;
     }
     return KG_OK;
+}
+
+/* ---- snapshots (core/snapshot.c) ---------------------------------------------------- */
+
+/* The contact list's counts and flags, in the order a snapshot holds them. */
+enum { KG_SNAP_COUNT, KG_SNAP_BODY_COUNT, KG_SNAP_BY_SHAPES, KG_SNAP_SHAPES_KNOWN, KG_SNAP_CAPACITY, KG_SNAP_BUDGET,
+       KG_SNAP_WORDS };
+
+void kg_collision_snapshot(const kg_world* world, kg_snap_out* out)
+{
+    const struct kg_collision* c = world->collision;
+    int words[KG_SNAP_WORDS] = {c->count, c->body_count, c->by_shapes, c->shapes_known, c->capacity, c->budget};
+    kg_snap_put(out, words, sizeof words);
+    kg_snap_put_u32(out, c->shapes_version);
+    kg_snap_put(out, c->contacts, (size_t)c->count * sizeof *c->contacts);
+}
+
+/* Whether contact c names bodies and shapes inside the pools' capacities and holds at most two points. */
+static int kg_contact_sane(const kg_contact* c, kg_u32 bodies, kg_u32 shapes, int tile)
+{
+    int points = c->manifold.point_count >= 0 && c->manifold.point_count <= 2;
+    if (tile) {
+        return points && c->a < bodies && c->b == KG_NULL_INDEX;
+    }
+    return points && c->a < bodies && c->b < bodies && c->a < c->b && c->shape_a < shapes && c->shape_b < shapes;
+}
+
+void kg_collision_discard(struct kg_collision* staged)
+{
+    if (staged) {
+        kg_free_buffers(staged);
+        kg_free(staged);
+    }
+}
+
+kg_result kg_collision_from_snapshot(const kg_world* world, kg_snap_in* in, int shape_capacity,
+                                     struct kg_collision** out)
+{
+    *out = NULL;
+    int w[KG_SNAP_WORDS] = {0};
+    kg_snap_take_array(in, w, sizeof w[0], KG_SNAP_WORDS, "contact list");
+    kg_u32 shapes_version = kg_snap_take_u32(in, "contact list");
+    int count = w[KG_SNAP_COUNT], body_count = w[KG_SNAP_BODY_COUNT];
+    if (!in->failed && (count < 0 || body_count < 0 || body_count > count ||
+                        !kg_snap_has(in, sizeof(kg_contact), (uint64_t)count))) {
+        kg_snap_reject(in, "contact counts");
+    }
+    if (in->failed) {
+        return KG_ERROR_INVALID_ARGUMENT;
+    }
+    /* The pool's capacity and budget (which the buffer's bytes do not back) are held to
+     * the world's own budget or 8 contacts a body, whichever is more: they only say how
+     * far the pool grows before it grows again, not what a step computes. */
+    int64_t most = kg_max_i64(kg_max_i64((int64_t)world->collision->budget, 8 * (int64_t)world->def.max_bodies + 64),
+                              (int64_t)count);
+    int capacity = (int)kg_clamp_i64(w[KG_SNAP_CAPACITY], kg_max_i64(count, 1), most);
+    w[KG_SNAP_BUDGET] = (int)kg_clamp_i64(w[KG_SNAP_BUDGET], 1, most);
+    struct kg_collision* c = kg_alloc_zeroed(sizeof *c);
+    if (!c) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the collision state");
+    }
+    size_t n = (size_t)capacity;
+    c->pairs = kg_alloc_zeroed(n * sizeof *c->pairs);
+    c->block_touching = kg_alloc_zeroed(kg_block_count(n) * sizeof *c->block_touching);
+    c->contacts = kg_alloc_zeroed(n * sizeof *c->contacts);
+    c->previous = kg_alloc_zeroed(n * sizeof *c->previous);
+    if (!c->pairs || !c->block_touching || !c->contacts || !c->previous) {
+        kg_collision_discard(c);
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate room for %d contacts", capacity);
+    }
+    c->count = count;
+    c->body_count = body_count;
+    c->by_shapes = w[KG_SNAP_BY_SHAPES] != 0;
+    c->shapes_known = w[KG_SNAP_SHAPES_KNOWN] != 0;
+    c->capacity = capacity;
+    c->budget = w[KG_SNAP_BUDGET];
+    c->shapes_version = shapes_version;
+    c->found_count = -1;
+    kg_snap_take_array(in, c->contacts, sizeof *c->contacts, (size_t)c->count, "contacts");
+    for (int k = 0; !in->failed && k < c->count; ++k) {
+        if (!kg_contact_sane(&c->contacts[k], (kg_u32)world->def.max_bodies, (kg_u32)shape_capacity,
+                             k >= c->body_count)) {
+            kg_snap_reject(in, "a contact's bodies, shapes or points");
+        }
+    }
+    if (in->failed) {
+        kg_collision_discard(c);
+        return KG_ERROR_INVALID_ARGUMENT;
+    }
+    *out = c;
+    return KG_OK;
+}
+
+void kg_collision_adopt(kg_world* world, struct kg_collision* staged)
+{
+    struct kg_collision* old = world->collision;
+    staged->broadphase = old->broadphase; /* its arrays are per body slot; what it saw is searched again */
+    staged->shape_index = old->shape_index;
+    old->broadphase = NULL;
+    old->shape_index = NULL;
+    kg_shape_index_forget(staged->shape_index);
+    kg_collision_discard(old);
+    world->collision = staged;
+    world->def.max_contacts = staged->capacity;
 }

@@ -72,4 +72,19 @@ const kg_contact* kg_collision_synced_contacts(const kg_world* world, int* count
 kg_contact* kg_collision_previous(kg_world* world, int* count);
 const kg_contact* kg_collision_synced_previous(const kg_world* world, int* count);
 
+/* How many of the current contacts are body pairs (the tile contacts follow). */
+int kg_collision_body_count(const kg_world* world);
+
+/* Snapshots (core/snapshot.c): the contact list written; read into a new collision state
+ * (no broadphase yet: it is the world's, adopted with the caches forgotten), checked
+ * against the world's body capacity and shape_capacity; discarded, or adopted by the
+ * world in place of its own. */
+struct kg_snap_out;
+struct kg_snap_in;
+void kg_collision_snapshot(const kg_world* world, struct kg_snap_out* out);
+kg_result kg_collision_from_snapshot(const kg_world* world, struct kg_snap_in* in, int shape_capacity,
+                                     struct kg_collision** out);
+void kg_collision_discard(struct kg_collision* staged);
+void kg_collision_adopt(kg_world* world, struct kg_collision* staged);
+
 #endif

@@ -144,6 +144,13 @@ static kg_result kg_rebuild(kg_shape_index* index, const kg_world* world)
     return KG_OK;
 }
 
+void kg_shape_index_forget(kg_shape_index* index)
+{
+    if (index) {
+        index->built = 0;
+    }
+}
+
 kg_result kg_shape_index_update(kg_shape_index* index, const kg_world* world)
 {
     if (!index->built || index->version != world->shapes.version || index->of_body_room < world->bodies.high_water) {

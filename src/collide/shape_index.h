@@ -30,6 +30,9 @@ kg_shape_index* kg_shape_index_create(void);
 void kg_shape_index_destroy(kg_shape_index* index);
 
 /* Brings the index up to date with the world's shapes and the indexed bodies' poses. */
+/* Forgets what the index was made from: the next update makes it again (a restored
+ * snapshot's shape pool may carry the version it was made at, with other shapes). */
+void kg_shape_index_forget(kg_shape_index* index);
 kg_result kg_shape_index_update(kg_shape_index* index, const kg_world* world);
 
 /* kg_expand_pair for bodies a and b of world, through the index where one of them is

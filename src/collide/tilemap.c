@@ -6,6 +6,7 @@
 #include "collide/tile_shape.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "core/snapshot_io.h"
 
 #include <math.h>
 #include <string.h>
@@ -715,3 +716,244 @@ int kg_tilemaps_take_dirty(kg_world* world, int live_index)
 
 kg_vec2* kg_tilemaps_last_origin(kg_world* world) { return world->tilemaps->last_origin; }
 kg_u32* kg_tilemaps_last_generation(kg_world* world) { return world->tilemaps->last_generation; }
+
+/* ---- snapshots (core/snapshot.c) ---- */
+
+uint64_t kg_tilemaps_layout(uint64_t h)
+{
+    h = kg_snap_fold(h, sizeof(kg_tilemap_def));
+    h = kg_snap_fold(h, sizeof(kg_tile_template));
+    return kg_snap_fold(h, sizeof(kg_tile_proto));
+}
+
+void kg_tilemaps_snapshot(const kg_world* world, kg_snap_out* out)
+{
+    const struct kg_tilemaps* t = world->tilemaps;
+    kg_snap_put_i32(out, t != NULL);
+    if (!t) {
+        return;
+    }
+    kg_snap_put_i32(out, t->map_count);
+    kg_snap_put_i32(out, t->live_count);
+    kg_snap_put_u32(out, t->layout_version);
+    for (int i = 0; i < t->map_count; ++i) {
+        const kg_map* m = &t->maps[i];
+        kg_snap_put_u32(out, m->generation);
+        if (kg_map_alive(m)) {
+            kg_snap_put(out, &m->def, sizeof m->def);
+            kg_snap_put_u32(out, m->key_base);
+            kg_snap_put_i32(out, m->cells_dirty);
+            kg_snap_put(out, m->templates, (size_t)m->def.shape_count * sizeof *m->templates);
+        }
+    }
+    kg_snap_put(out, t->order, (size_t)t->live_count * sizeof *t->order);
+    kg_snap_put_u64(out, (uint64_t)t->cell_count);
+    kg_snap_put(out, t->cells, t->cell_count * sizeof *t->cells);
+    size_t bodies = (size_t)world->bodies.high_water;
+    kg_snap_put(out, t->last_origin, bodies * sizeof *t->last_origin);
+    kg_snap_put(out, t->last_generation, bodies * sizeof *t->last_generation);
+}
+
+/* Whether a snapshot's live map can be collided with: a definition the API accepts (its
+ * shapes aside) and templates of at most KG_MAX_VERTS vertices. */
+static int kg_snapshot_map_sane(const kg_map* m)
+{
+    kg_tilemap_def d = m->def;
+    kg_tile_shape empty = {0};
+    d.shapes = &empty; /* the shapes are checked through their templates below */
+    if (kg_validate_tilemap_def(&d) != KG_OK) {
+        return 0;
+    }
+    for (int id = 0; id < m->def.shape_count; ++id) {
+        int count = m->templates[id].proto.shape.count;
+        if (count < 0 || count > KG_MAX_VERTS) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* Reads map slot i of a snapshot into t->maps[i] (templates allocated, cells not yet). */
+static int kg_map_from_snapshot(kg_map* m, kg_snap_in* in)
+{
+    m->generation = kg_snap_take_u32(in, "tile maps");
+    if (!kg_map_alive(m)) {
+        return !in->failed;
+    }
+    kg_snap_take_array(in, &m->def, sizeof m->def, 1, "tile maps");
+    m->def.shapes = NULL;
+    m->def.tiles = NULL;
+    m->key_base = kg_snap_take_u32(in, "tile maps");
+    m->cells_dirty = kg_snap_take_i32(in, "tile maps");
+    if (in->failed || m->def.shape_count < 1 || m->def.shape_count > KG_MAX_TILE_ID + 1 ||
+        !kg_snap_has(in, sizeof *m->templates, (uint64_t)m->def.shape_count)) {
+        return kg_snap_reject(in, "a tile map's definition");
+    }
+    m->templates = kg_alloc_zeroed((size_t)m->def.shape_count * sizeof *m->templates);
+    if (!m->templates) {
+        return kg_snap_reject(in, "a tile map's shapes (out of memory)");
+    }
+    kg_snap_take_array(in, m->templates, sizeof *m->templates, (size_t)m->def.shape_count, "tile map shapes");
+    if (!in->failed && !kg_snapshot_map_sane(m)) {
+        return kg_snap_reject(in, "a tile map's definition");
+    }
+    m->key_count = (kg_u32)(m->def.width * m->def.height * m->def.layer_count);
+    return !in->failed;
+}
+
+/* Whether the live order names each live map once, in ascending key ranges. */
+static int kg_order_sane(const struct kg_tilemaps* t)
+{
+    int live = 0;
+    for (int i = 0; i < t->map_count; ++i) {
+        live += kg_map_alive(&t->maps[i]);
+    }
+    unsigned long long next = 0;
+    for (int i = 0; i < t->live_count; ++i) {
+        int slot = t->order[i];
+        if (slot < 0 || slot >= t->map_count || !kg_map_alive(&t->maps[slot]) || t->maps[slot].key_base < next) {
+            return 0;
+        }
+        next = (unsigned long long)t->maps[slot].key_base + t->maps[slot].key_count;
+    }
+    return live == t->live_count && next <= KG_KEY_SPACE;
+}
+
+/* Whether every cell names a tile id of its map. */
+static int kg_cells_sane(const struct kg_tilemaps* t)
+{
+    for (int i = 0; i < t->live_count; ++i) {
+        const kg_map* m = &t->maps[t->order[i]];
+        for (kg_u32 k = 0; k < m->key_count; ++k) {
+            if (kg_cell_id(m->cells[k]) >= (kg_u32)m->def.shape_count) {
+                return 0;
+            }
+        }
+    }
+    return 1;
+}
+
+/* The live maps laid out (kg_place_maps) and their cells read. */
+static int kg_cells_from_snapshot(struct kg_tilemaps* t, kg_snap_in* in)
+{
+    size_t cells = 0, protos = 0;
+    for (int i = 0; i < t->live_count; ++i) {
+        cells += t->maps[t->order[i]].key_count;
+        protos += (size_t)t->maps[t->order[i]].def.shape_count;
+    }
+    uint64_t snap_cells = kg_snap_take_u64(in, "tile cells");
+    if (in->failed || snap_cells != (uint64_t)cells || !kg_snap_has(in, sizeof(kg_u32), snap_cells)) {
+        return kg_snap_reject(in, "tile cells");
+    }
+    kg_u32* cell_array = kg_alloc_zeroed((cells > 0 ? cells : 1) * sizeof *cell_array);
+    kg_tile_proto* proto_array = kg_alloc_zeroed((protos > 0 ? protos : 1) * sizeof *proto_array);
+    if (!cell_array || !proto_array) {
+        kg_free(cell_array);
+        kg_free(proto_array);
+        return kg_snap_reject(in, "tile cells (out of memory)");
+    }
+    kg_place_maps(t, cell_array, proto_array);
+    kg_snap_take_array(in, t->cells, sizeof *t->cells, cells, "tile cells");
+    return !in->failed && (kg_cells_sane(t) || kg_snap_reject(in, "a tile cell's id"));
+}
+
+static void kg_tilemaps_free(struct kg_tilemaps* t)
+{
+    kg_world none;
+    memset(&none, 0, sizeof none);
+    none.tilemaps = t;
+    kg_tilemaps_destroy(&none);
+}
+
+/* The arrays of a snapshot's maps, map_count slots, live of them live, read. */
+static int kg_tilemaps_arrays_from_snapshot(struct kg_tilemaps* t, int bodies, int high_water, kg_snap_in* in)
+{
+    int n = t->map_count > 0 ? t->map_count : 1;
+    t->maps = kg_alloc_zeroed((size_t)n * sizeof *t->maps);
+    t->order = kg_alloc_zeroed((size_t)n * sizeof *t->order);
+    t->infos = kg_alloc_zeroed((size_t)n * sizeof *t->infos);
+    t->last_origin = kg_alloc_zeroed((size_t)bodies * sizeof *t->last_origin);
+    t->last_generation = kg_alloc_zeroed((size_t)bodies * sizeof *t->last_generation);
+    if (!t->maps || !t->order || !t->infos || !t->last_origin || !t->last_generation) {
+        return kg_snap_reject(in, "tile maps (out of memory)");
+    }
+    t->map_capacity = n;
+    for (int i = 0; i < t->map_count && kg_map_from_snapshot(&t->maps[i], in); ++i) {
+    }
+    kg_snap_take_array(in, t->order, sizeof *t->order, (size_t)t->live_count, "tile map order");
+    if (in->failed || !kg_order_sane(t)) {
+        return kg_snap_reject(in, "tile map order");
+    }
+    if (!kg_cells_from_snapshot(t, in)) {
+        return 0;
+    }
+    kg_snap_take_array(in, t->last_origin, sizeof *t->last_origin, (size_t)high_water, "one-way platform state");
+    kg_snap_take_array(in, t->last_generation, sizeof *t->last_generation, (size_t)high_water,
+                       "one-way platform state");
+    return !in->failed;
+}
+
+kg_result kg_tilemaps_from_snapshot(const kg_world* world, int high_water, kg_snap_in* in, struct kg_tilemaps** out)
+{
+    *out = NULL;
+    int present = kg_snap_take_i32(in, "tile maps");
+    if (in->failed || !present) {
+        return in->failed ? KG_ERROR_INVALID_ARGUMENT : KG_OK;
+    }
+    struct kg_tilemaps* t = kg_alloc_zeroed(sizeof *t);
+    if (!t) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the tile maps");
+    }
+    t->map_count = kg_snap_take_i32(in, "tile maps");
+    t->live_count = kg_snap_take_i32(in, "tile maps");
+    t->layout_version = kg_snap_take_u32(in, "tile maps");
+    if (!in->failed && (t->map_count < 0 || t->map_count > (1 << 20) || t->live_count < 0 ||
+                        t->live_count > t->map_count || !kg_snap_has(in, sizeof(kg_u32), (uint64_t)t->map_count))) {
+        kg_snap_reject(in, "tile map counts");
+    }
+    if (in->failed || !kg_tilemaps_arrays_from_snapshot(t, world->def.max_bodies, high_water, in)) {
+        t->map_count = t->map_count < 0 || !t->maps ? 0 : t->map_count;
+        kg_tilemaps_free(t);
+        return KG_ERROR_INVALID_ARGUMENT;
+    }
+    *out = t;
+    return KG_OK;
+}
+
+void kg_tilemaps_adopt(kg_world* world, struct kg_tilemaps* staged)
+{
+    kg_tilemaps_destroy(world);
+    world->tilemaps = staged;
+}
+
+void kg_tilemaps_discard(struct kg_tilemaps* staged)
+{
+    if (staged) {
+        kg_tilemaps_free(staged);
+    }
+}
+
+kg_result kg_tilemap_get_shape(const kg_world* world, kg_tilemap map, int id, kg_tile_shape* out)
+{
+    const kg_map* m = kg_resolve_map(world, map);
+    if (!m) {
+        return KG_ERROR_INVALID_HANDLE;
+    }
+    if (id < 0 || id >= m->def.shape_count) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "tile id %d: the map has %d shapes", id, m->def.shape_count);
+    }
+    const kg_tile_template* t = &m->templates[id];
+    const kg_shape* s = &t->proto.shape;
+    memset(out, 0, sizeof *out);
+    if (s->count == 1) {
+        out->type = KG_TILE_SHAPE_CIRCLE;
+        out->center = kg_scale(1.0f / m->def.tile_size.x, s->vertices[0]);
+        out->radius = s->radius / m->def.tile_size.x;
+    } else if (s->count >= 3) {
+        out->type = KG_TILE_SHAPE_POLYGON;
+        out->count = s->count;
+        memcpy(out->vertices, t->unit, (size_t)s->count * sizeof *out->vertices);
+        out->one_way = (t->proto.flags & KG_TILE_FLAG_ONE_WAY) != 0u;
+    }
+    return KG_OK;
+}

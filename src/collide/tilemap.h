@@ -68,4 +68,24 @@ int kg_tilemaps_take_dirty(kg_world* world, int live_index);
 kg_vec2* kg_tilemaps_last_origin(kg_world* world);
 kg_u32* kg_tilemaps_last_generation(kg_world* world);
 
+/* The shape of tile id as a kg_tile_shape (a polygon's vertices as the map keeps them, the
+ * hull of the given ones; a circle's in tile units again): what a saved scene writes. */
+kg_result kg_tilemap_get_shape(const kg_world* world, kg_tilemap map, int id, kg_tile_shape* out);
+
+/* ---- snapshots (core/snapshot.c) ---- */
+
+struct kg_snap_out;
+struct kg_snap_in;
+/* The sizes of the structs a snapshot of the maps holds, folded into h. */
+uint64_t kg_tilemaps_layout(uint64_t h);
+/* The maps (none: a word saying so), their edited cells and the one-way state of the
+ * body slots [0, high_water). */
+void kg_tilemaps_snapshot(const kg_world* world, struct kg_snap_out* out);
+/* Reads them into new maps (*out NULL when the snapshot has none), checked; the world is
+ * not touched. Then discarded, or adopted by the world in place of its own. */
+kg_result kg_tilemaps_from_snapshot(const kg_world* world, int high_water, struct kg_snap_in* in,
+                                    struct kg_tilemaps** out);
+void kg_tilemaps_discard(struct kg_tilemaps* staged);
+void kg_tilemaps_adopt(kg_world* world, struct kg_tilemaps* staged);
+
 #endif

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/generation.h"
 #include "collide/shape.h"
+#include "core/snapshot_io.h"
 
 #include <string.h>
 
@@ -82,4 +83,86 @@ void kg_body_update_transform(kg_body_pool* pool, int i)
     xf.p = kg_sub(pool->center[i], kg_rotate(xf.q, pool->local_center[i]));
     pool->xf[i] = xf;
     pool->aabb[i] = kg_shape_aabb(&pool->shape[i], xf);
+}
+
+/* ---- snapshots (core/snapshot.c) ---- */
+
+uint64_t kg_body_pool_layout(uint64_t h)
+{
+    const kg_body_pool* none = NULL;
+#define KG_FOLD_SIZE(name) h = kg_snap_fold(h, sizeof *none->name);
+    KG_POOL_ARRAYS(KG_FOLD_SIZE)
+#undef KG_FOLD_SIZE
+    return h;
+}
+
+void kg_body_pool_snapshot(const kg_body_pool* pool, kg_snap_out* out)
+{
+    kg_snap_put_i32(out, pool->capacity);
+    kg_snap_put_i32(out, pool->high_water);
+    kg_snap_put_i32(out, pool->count);
+    kg_snap_put_i32(out, pool->first_free);
+    size_t n = (size_t)pool->high_water;
+#define KG_PUT_ARRAY(name) kg_snap_put(out, pool->name, n * sizeof *pool->name);
+    KG_POOL_ARRAYS(KG_PUT_ARRAY)
+#undef KG_PUT_ARRAY
+    /* a slot past high_water keeps the generation its last body left it */
+    kg_snap_put(out, pool->generation + n, (size_t)(pool->capacity - pool->high_water) * sizeof *pool->generation);
+}
+
+/* Whether slot i's values can be stepped without reading out of bounds. */
+static int kg_body_slot_sane(const kg_body_pool* p, int i)
+{
+    if (!kg_pool_alive(p, i)) {
+        return 1;
+    }
+    kg_u32 type = kg_flags_type(p->flags[i]);
+    int count = p->shape[i].count;
+    int island = !kg_pool_asleep(p, i) || p->island[i] < (kg_u32)p->capacity; /* sleeping: names a slot's island */
+    return type <= (kg_u32)KG_BODY_PARTICLE && count >= 0 && count <= KG_MAX_VERTS && island;
+}
+
+kg_result kg_body_pool_from_snapshot(kg_body_pool* pool, int capacity, kg_snap_in* in)
+{
+    int snap_capacity = kg_snap_take_i32(in, "body pool");
+    int high_water = kg_snap_take_i32(in, "body pool");
+    int count = kg_snap_take_i32(in, "body pool");
+    int first_free = kg_snap_take_i32(in, "body pool");
+    if (in->failed) {
+        return KG_ERROR_INVALID_ARGUMENT;
+    }
+    if (snap_capacity != capacity) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "snapshot of a world of max_bodies %d cannot be restored into one "
+                       "of max_bodies %d", snap_capacity, capacity);
+    }
+    if (high_water < 0 || high_water > capacity || count < 0 || count > high_water || first_free < 0 ||
+        first_free > high_water + 1) {
+        kg_snap_reject(in, "body pool counts");
+        return KG_ERROR_INVALID_ARGUMENT;
+    }
+    KG_TRY(kg_body_pool_init(pool, capacity));
+    pool->high_water = high_water;
+    pool->count = count;
+    pool->first_free = first_free;
+    size_t n = (size_t)high_water;
+#define KG_TAKE_ARRAY(name) kg_snap_take_array(in, pool->name, sizeof *pool->name, n, "body pool arrays");
+    KG_POOL_ARRAYS(KG_TAKE_ARRAY)
+#undef KG_TAKE_ARRAY
+    kg_snap_take_array(in, pool->generation + n, sizeof *pool->generation, (size_t)(capacity - high_water),
+                       "body pool generations");
+    int alive = 0;
+    for (int i = 0; !in->failed && i < high_water; ++i) {
+        alive += kg_pool_alive(pool, i);
+        if (!kg_body_slot_sane(pool, i)) {
+            kg_snap_reject(in, "a body's type or shape");
+        }
+    }
+    if (!in->failed && alive != count) {
+        kg_snap_reject(in, "body count");
+    }
+    if (in->failed) {
+        kg_body_pool_free(pool);
+        return KG_ERROR_INVALID_ARGUMENT;
+    }
+    return KG_OK;
 }

@@ -69,4 +69,14 @@ int kg_body_pool_resolve(const kg_body_pool* pool, kg_body handle);
 /* Recomputes the origin transform and bounds of slot i from its centre and rotation. */
 void kg_body_update_transform(kg_body_pool* pool, int i);
 
+/* Snapshots (core/snapshot.c, core/snapshot_io.h): the element sizes of the pool's arrays
+ * folded into h; the pool written (slots [0, high_water), and every slot's generation);
+ * and read back into pool, initialised here at capacity, which must be the snapshot's
+ * (else, or for values that do not fit together, an error and pool left unallocated). */
+struct kg_snap_out;
+struct kg_snap_in;
+uint64_t kg_body_pool_layout(uint64_t h);
+void kg_body_pool_snapshot(const kg_body_pool* pool, struct kg_snap_out* out);
+kg_result kg_body_pool_from_snapshot(kg_body_pool* pool, int capacity, struct kg_snap_in* in);
+
 #endif

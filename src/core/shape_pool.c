@@ -2,6 +2,7 @@
 #include "core/alloc.h"
 #include "core/error.h"
 #include "core/generation.h"
+#include "core/snapshot_io.h"
 
 #include <string.h>
 
@@ -160,4 +161,101 @@ void kg_shape_list_remove(kg_shape_pool* pool, kg_u32* first, kg_u32 slot)
         link = &pool->next[*link];
     }
     *link = pool->next[slot];
+}
+
+/* ---- snapshots (core/snapshot.c) ---- */
+
+uint64_t kg_shape_pool_layout(uint64_t h)
+{
+    const kg_shape_pool* none = NULL;
+#define KG_FOLD_SIZE(name) h = kg_snap_fold(h, sizeof *none->name);
+    KG_SHAPE_POOL_ARRAYS(KG_FOLD_SIZE)
+#undef KG_FOLD_SIZE
+    return kg_snap_fold(h, sizeof *none->geometry);
+}
+
+void kg_shape_pool_snapshot(const kg_shape_pool* pool, kg_snap_out* out)
+{
+    int counts[] = {pool->capacity, pool->high_water, pool->count, pool->first_free, pool->held,
+                    pool->compound_bodies, pool->geometry != NULL};
+    kg_snap_put(out, counts, sizeof counts);
+    kg_snap_put_u32(out, pool->tag);
+    kg_snap_put_u32(out, pool->version);
+    size_t n = (size_t)pool->high_water;
+#define KG_PUT_ARRAY(name) kg_snap_put(out, pool->name, n * sizeof *pool->name);
+    KG_SHAPE_POOL_ARRAYS(KG_PUT_ARRAY)
+#undef KG_PUT_ARRAY
+    kg_snap_put(out, pool->generation + n, (size_t)(pool->capacity - pool->high_water) * sizeof *pool->generation);
+    if (pool->geometry) {
+        kg_snap_put(out, pool->geometry, n * sizeof *pool->geometry);
+    }
+}
+
+/* Whether the counts of a snapshot's pool fit together (they size what is read). */
+static int kg_shape_counts_sane(const int* c)
+{
+    int capacity = c[0], high_water = c[1], count = c[2], first_free = c[3], held = c[4];
+    return capacity > 0 && capacity <= (1 << 28) && high_water >= 0 && high_water <= capacity && count >= 0 &&
+           held >= 0 && (int64_t)count + held <= high_water && first_free >= 0 && first_free <= high_water + 1 &&
+           c[5] >= 0;
+}
+
+/* Whether the shape lists and flags of pool can be walked safely (bodies: their pool's capacity). */
+static int kg_shape_links_sane(const kg_shape_pool* pool, int bodies)
+{
+    int alive = 0, held = 0;
+    for (int i = 0; i < pool->high_water; ++i) {
+        kg_u32 f = pool->flags[i];
+        alive += (f & KG_SHAPE_ALIVE) != 0u;
+        held += f == KG_SHAPE_HELD;
+        kg_u32 next = pool->next[i];
+        int next_bad = next != KG_NULL_INDEX && (next <= (kg_u32)i || next >= (kg_u32)pool->high_water);
+        if ((f & KG_SHAPE_ALIVE) && ((int64_t)pool->body[i] >= bodies || next_bad)) {
+            return 0;
+        }
+    }
+    return alive == pool->count && held == pool->held;
+}
+
+kg_result kg_shape_pool_from_snapshot(kg_shape_pool* pool, int bodies, kg_snap_in* in)
+{
+    int c[7] = {0};
+    kg_snap_take_array(in, c, sizeof c[0], 7, "shape pool");
+    kg_u32 tag = kg_snap_take_u32(in, "shape pool");
+    kg_u32 version = kg_snap_take_u32(in, "shape pool");
+    if (!in->failed && (!kg_shape_counts_sane(c) || !kg_snap_has(in, sizeof *pool->generation, (uint64_t)c[0]))) {
+        kg_snap_reject(in, "shape pool counts"); /* every slot's generation is written */
+    }
+    if (in->failed) {
+        return KG_ERROR_INVALID_ARGUMENT;
+    }
+    KG_TRY(kg_shape_pool_init(pool, c[0]));
+    pool->high_water = c[1];
+    pool->count = c[2];
+    pool->first_free = c[3];
+    pool->held = c[4];
+    pool->compound_bodies = c[5];
+    pool->tag = tag;
+    pool->version = version;
+    size_t n = (size_t)pool->high_water;
+#define KG_TAKE_ARRAY(name) kg_snap_take_array(in, pool->name, sizeof *pool->name, n, "shape pool arrays");
+    KG_SHAPE_POOL_ARRAYS(KG_TAKE_ARRAY)
+#undef KG_TAKE_ARRAY
+    kg_snap_take_array(in, pool->generation + n, sizeof *pool->generation, (size_t)(pool->capacity - pool->high_water),
+                       "shape pool generations");
+    if (c[6] && !in->failed && kg_shape_pool_reserve_geometry(pool) != KG_OK) {
+        kg_shape_pool_free(pool);
+        return KG_ERROR_OUT_OF_MEMORY;
+    }
+    if (c[6]) {
+        kg_snap_take_array(in, pool->geometry, sizeof *pool->geometry, n, "shape geometry");
+    }
+    if (!in->failed && !kg_shape_links_sane(pool, bodies)) {
+        kg_snap_reject(in, "shape lists");
+    }
+    if (in->failed) {
+        kg_shape_pool_free(pool);
+        return KG_ERROR_INVALID_ARGUMENT;
+    }
+    return KG_OK;
 }

@@ -73,6 +73,12 @@ static inline const kg_shape* kg_shape_geometry(const kg_body_pool* p, const kg_
     return p->shape_count[i] > 1u ? &sp->geometry[s] : &p->shape[i];
 }
 
+/* Snapshots (core/snapshot.c), as the body pool's (core/body_pool.h): the pool is read
+ * at the snapshot's capacity; its shapes' bodies must be slots below bodies. */
+uint64_t kg_shape_pool_layout(uint64_t h);
+void kg_shape_pool_snapshot(const kg_shape_pool* pool, struct kg_snap_out* out);
+kg_result kg_shape_pool_from_snapshot(kg_shape_pool* pool, int bodies, struct kg_snap_in* in);
+
 /* Inserts shape slot into the list starting at *first, keeping it in slot order. */
 void kg_shape_list_insert(kg_shape_pool* pool, kg_u32* first, kg_u32 slot);
 /* Takes shape slot out of the list starting at *first. */

@@ -95,6 +95,8 @@ static kg_result kg_validate_world_def(const kg_world_def* d)
     return KG_OK;
 }
 
+kg_result kg_world_def_check(const kg_world_def* def) { return kg_validate_world_def(def); }
+
 kg_result kg_create_world(const kg_world_def* def, kg_world** out_world)
 {
     if (!def || !out_world) {

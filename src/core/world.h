@@ -88,6 +88,9 @@ void kg_world_wake_all(kg_world* world);
 /* Wakes the sleeping bodies near box: for changes of the static world there (tiles). */
 void kg_world_wake_region(kg_world* world, kg_aabb box);
 
+/* KG_OK when kg_create_world would accept def, else why not (a restored snapshot's). */
+kg_result kg_world_def_check(const kg_world_def* def);
+
 /* The slot of a live body handle, or -1 with the error set. */
 int kg_world_resolve(const kg_world* world, kg_body body);
 

@@ -10,6 +10,7 @@
 #include "io/scene_joints.h"
 #include "io/scene_limits.h"
 #include "io/scene_props.h"
+#include "io/scene_state.h"
 
 #include <limits.h>
 #include <math.h>
@@ -82,6 +83,8 @@ struct kg_scene {
     kg_scene_level* level; /* Tiled levels' properties and markers (scene_props.c), or NULL */
     int joint_count, joint_capacity; /* io/scene_joints.c makes them in a world */
     kg_scene_joint* joints;
+    unsigned char* state; /* a saved world's snapshot (io/scene_state.h), or NULL */
+    size_t state_size;
 };
 
 /* Grows *items to hold at least needed elements, doubling. */
@@ -144,6 +147,7 @@ void kg_scene_destroy(kg_scene* scene)
         free(scene->tilemaps[i].tiles);
     }
     free(scene->tilemaps);
+    free(scene->state);
     free(scene->name_table);
     free(scene->names);
     free(scene->name_offsets);
@@ -689,6 +693,10 @@ static int kg_max_int(int a, int b) { return a > b ? a : b; }
 static kg_world_def kg_fitted_world_def(const kg_scene* scene, const kg_world_def* override_def)
 {
     kg_world_def def = override_def ? *override_def : scene->world_def;
+    if (scene->state) { /* the capacities of the saved world, which its snapshot needs */
+        def.max_bodies = scene->world_def.max_bodies;
+        def.max_applicators = scene->world_def.max_applicators;
+    }
     def.max_bodies = kg_max_int(def.max_bodies, scene->body_count);
     def.max_contacts = kg_max_int(def.max_contacts, 6 * scene->body_count + 64);
     def.max_applicators = kg_max_int(def.max_applicators, scene->force_count);
@@ -807,6 +815,9 @@ kg_result kg_scene_instantiate(const kg_scene* scene, const kg_world_def* overri
     if (r == KG_OK) {
         r = kg_fill_world(scene, world, handles);
     }
+    if (r == KG_OK) {
+        r = kg_scene_restore_state(scene, world, handles);
+    }
     if (handles != out_bodies) {
         free(handles);
     }
@@ -818,4 +829,27 @@ kg_result kg_scene_instantiate(const kg_scene* scene, const kg_world_def* overri
     }
     *out_world = world;
     return KG_OK;
+}
+
+/* ---- a saved world's state (io/scene_state.h) ---- */
+
+kg_result kg_scene_set_state(kg_scene* scene, const void* snapshot, size_t size)
+{
+    unsigned char* copy = size > 0 ? malloc(size) : NULL;
+    if (size > 0 && !copy) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot keep a snapshot of %zu bytes in the scene", size);
+    }
+    if (size > 0) {
+        memcpy(copy, snapshot, size);
+    }
+    free(scene->state);
+    scene->state = copy;
+    scene->state_size = size;
+    return KG_OK;
+}
+
+const void* kg_scene_get_state(const kg_scene* scene, size_t* size)
+{
+    *size = scene->state_size;
+    return scene->state;
 }

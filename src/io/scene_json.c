@@ -10,6 +10,7 @@
 #include "io/scene_generate.h"
 #include "io/scene_joints.h"
 #include "io/scene_limits.h"
+#include "io/scene_state.h"
 #include "io/tiled.h"
 
 #include <math.h>
@@ -23,7 +24,8 @@ typedef struct kg_loader {
 } kg_loader;
 
 static const char* const kSceneFields[] = {"description", "gravity", "dt", "steps", "substeps", "sleep",
-                                           "continuous", "bodies", "forces", "generators", "tilemap", "joints", NULL};
+                                           "continuous", "bodies", "forces", "generators", "tilemap", "joints",
+                                           "state", NULL};
 static const char* const kBodyFields[] = {"name", "type", "position", "angle", "velocity", "angular_velocity",
                                           "shape", "shapes", "density", "mass", "friction", "restitution",
                                           "linear_damping", "angular_damping", "category", "mask",
@@ -1332,7 +1334,8 @@ static kg_result kg_read_scene(kg_loader* loader, const cJSON* root)
     KG_TRY(kg_read_list(loader, root, "generators", kg_read_generator));
     KG_TRY(kg_read_tilemaps(loader, root));
     KG_TRY(kg_read_list(loader, root, "forces", kg_read_force_item));
-    return kg_read_scene_joints(&loader->reader, loader->scene, root); /* last: they name any body */
+    KG_TRY(kg_read_scene_joints(&loader->reader, loader->scene, root)); /* they name any body */
+    return kg_read_scene_state(loader->scene, root, &loader->reader);
 }
 
 /* Reads root into a new scene under limits, which the scene keeps only while it is read. */

@@ -122,6 +122,13 @@ kg_result kg_solver_create(kg_world* world)
     return kg_solver_reserve(s, world->def.max_bodies, world->def.max_contacts);
 }
 
+void kg_solver_forget(kg_world* world)
+{
+    struct kg_solver* s = world->solver;
+    s->statics_listed = 0;
+    memset(s->extents, 0, (size_t)world->def.max_bodies * sizeof *s->extents); /* generation 0: none */
+}
+
 void kg_solver_destroy(kg_world* world)
 {
     struct kg_solver* s = world->solver;

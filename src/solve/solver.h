@@ -9,6 +9,10 @@
 
 kg_result kg_solver_create(kg_world* world);
 void kg_solver_destroy(kg_world* world);
+/* Forgets what the solver keeps from step to step for speed (continuous collision's list
+ * of the static bodies, the bodies' extents): a restored snapshot may carry the edit
+ * counts and versions they were made at, with other bodies. */
+void kg_solver_forget(kg_world* world);
 void kg_stage_solve(kg_world* world, float dt);
 
 /* The solver's parameters for sub-steps of length h: both backends use this one. */

@@ -314,6 +314,73 @@ static void kg_opencl_host_changed(kg_world* world)
     b->device_stale = KG_CL_ALL_ARRAYS;
 }
 
+/* A snapshot reads the state arrays a step changed, the contacts and the one-way state:
+ * nothing else is newer on the device. A failed read falls back, as for a getter (the
+ * fallback reads them itself). */
+static void kg_opencl_sync_for_snapshot(kg_world* world)
+{
+    kg_opencl_sync_to_host(world);
+    if (world->backend == &kg_opencl_backend) {
+        kg_opencl_sync_contacts(world);
+    }
+    if (world->backend == &kg_opencl_backend) {
+        kg_cl_backend* b = kg_state(world)->cl;
+        if (kg_cl_tile_state_to_host(world, b) != KG_OK) {
+            kg_device_call_failed(world, b);
+        }
+    }
+}
+
+static int kg_frozen_count(const kg_body_pool* p)
+{
+    int frozen = 0;
+    for (int i = 0; i < p->high_water; ++i) {
+        frozen += kg_pool_alive(p, i) && (p->flags[i] & KG_FLAG_FROZEN) != 0u;
+    }
+    return frozen;
+}
+
+/* The contacts of the restored host list as the device's last step's. */
+static kg_result kg_upload_restored_contacts(kg_world* world, kg_cl_backend* b)
+{
+    int count = 0;
+    const kg_contact* contacts = kg_collision_contacts(world, &count);
+    KG_TRY(kg_cl_reserve_contacts(b, world->def.max_contacts > count ? world->def.max_contacts : count));
+    if (count > 0) {
+        KG_TRY(kg_cl_write(b, b->contacts[b->current], 0, (size_t)count * sizeof *contacts, contacts, 1));
+    }
+    b->body_contact_count = kg_collision_body_count(world);
+    return KG_OK;
+}
+
+/* The host holds the whole state now: every body array, the shapes, tile maps, static
+ * list and one-way state are sent again before the next step, and the contacts now. A
+ * failure hands the world to the CPU, which goes on from the host's (restored) state. */
+static void kg_opencl_restored(kg_world* world)
+{
+    kg_cl_backend* b = kg_state(world)->cl;
+    b->host_stale = 0;
+    b->device_stale = KG_CL_ALL_ARRAYS;
+    b->forces_cleared = 0;
+    b->checkpoint_valid = 0;
+    b->steps_since_snapshot = 0;
+    b->shape_version = world->shapes.version - 1u;
+    b->collide.tiles_built = 0;
+    b->collide.statics_sent = 0;
+    b->tile_state_on_device = 0;
+    b->contacts_stale = 0;
+    b->previous_contacts_stale = 0;
+    b->frozen_count = kg_frozen_count(&world->bodies);
+    if (kg_upload_restored_contacts(world, b) != KG_OK) {
+        char reason[512];
+        snprintf(reason, sizeof reason, "%s", kg_last_error());
+        kg_cl_backend_stop(world);
+        kg_backend_use_cpu(world);
+        kg_warn_once("opencl-restore", "OpenCL backend failed while restoring a snapshot (%s); continuing on the "
+                     "CPU backend from the restored state", reason);
+    }
+}
+
 static void kg_opencl_destroy(kg_world* world)
 {
     kg_cl_backend_stop(world);
@@ -330,7 +397,9 @@ const kg_backend_ops kg_opencl_backend = {.kind = KG_BACKEND_OPENCL,
                                           .host_changed = kg_opencl_host_changed,
                                           .destroy = kg_opencl_destroy,
                                           .sync_contacts = kg_opencl_sync_contacts,
-                                          .sync_previous_contacts = kg_opencl_sync_previous_contacts};
+                                          .sync_previous_contacts = kg_opencl_sync_previous_contacts,
+                                          .sync_for_snapshot = kg_opencl_sync_for_snapshot,
+                                          .restored = kg_opencl_restored};
 
 /* ---- start ------------------------------------------------------------------------ */
 
