@@ -76,7 +76,8 @@ int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 
 #ifdef FUZZ_SNAPSHOT_WRITE_SEEDS
 /* Writes the seeds into the directory named: snapshots of a small scene after 0, 20 and
- * 60 steps (a tile map, each shape kind, a wind), each behind a mode byte of 1. */
+ * 60 steps (a tile map, each shape kind, a wind, a hinge and a rod), each behind a mode
+ * byte of 1. */
 int main(int argc, char** argv)
 {
     if (argc < 2) {
@@ -108,6 +109,17 @@ int main(int argc, char** argv)
     kg_applicator wind;
     FUZZ_REQUIRE(kg_add_wind_applicator(world, (kg_vec2){1.0f, 0.0f}, 1.0f, 0.1f, bodies, 4, &wind) == KG_OK,
                  "the wind is added");
+    kg_revolute_joint_def hinge = kg_default_revolute_joint_def();
+    hinge.base.body_a = bodies[0];
+    hinge.base.body_b = bodies[1];
+    hinge.local_anchor_a = (kg_vec2){0.225f, 0.0f};
+    hinge.local_anchor_b = (kg_vec2){-0.225f, -0.2f};
+    FUZZ_REQUIRE(kg_create_revolute_joint(world, &hinge, NULL) == KG_OK, "a hinge is made");
+    kg_distance_joint_def rope = kg_default_distance_joint_def();
+    rope.base.body_b = bodies[5];
+    rope.local_anchor_a = (kg_vec2){0.0f, 3.0f};
+    rope.length = 2.5f;
+    FUZZ_REQUIRE(kg_create_distance_joint(world, &rope, NULL) == KG_OK, "a rope is made");
     int steps[3] = {0, 20, 60};
     for (int k = 0, done = 0; k < 3; ++k) {
         for (; done < steps[k]; ++done) {

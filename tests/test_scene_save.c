@@ -217,16 +217,23 @@ static void kg_check_parse_fails(const char* text, const char* needle)
     }
 }
 
+/* A "state" object of this build's snapshot version and the fields after it. */
+static void kg_check_state_fails(const char* fields, const char* needle)
+{
+    char text[256];
+    snprintf(text, sizeof text, "{\"state\": {\"version\": %u%s}}", (unsigned)KG_SNAPSHOT_VERSION, fields);
+    kg_check_parse_fails(text, needle);
+}
+
 static void test_bad_state(void)
 {
     kg_check_parse_fails("{\"state\": {\"version\": 99, \"max_bodies\": 8, \"snapshot\": \"\"}}", "state.version");
-    kg_check_parse_fails("{\"state\": {\"version\": 1, \"max_bodies\": 8, \"snapshot\": \"abc\"}}", "state.snapshot");
-    kg_check_parse_fails("{\"state\": {\"version\": 1, \"max_bodies\": 8, \"snapshot\": \"ab=c\"}}", "state.snapshot");
-    kg_check_parse_fails("{\"state\": {\"version\": 1, \"snapshot\": \"\"}}", "max_bodies");
-    kg_check_parse_fails("{\"state\": {\"version\": 1, \"max_bodies\": 8, \"snapshot\": \"\", \"x\": 1}}", "state");
+    kg_check_state_fails(", \"max_bodies\": 8, \"snapshot\": \"abc\"", "state.snapshot");
+    kg_check_state_fails(", \"max_bodies\": 8, \"snapshot\": \"ab=c\"", "state.snapshot");
+    kg_check_state_fails(", \"snapshot\": \"\"", "max_bodies");
+    kg_check_state_fails(", \"max_bodies\": 8, \"snapshot\": \"\", \"x\": 1", "state");
     /* base64 of bytes that are no snapshot: the loader tries it, as the instantiation would */
-    kg_check_parse_fails("{\"state\": {\"version\": 1, \"max_bodies\": 8, \"snapshot\": \"AAAAAAAA\"}}",
-                         "state.snapshot: not a KineticGyro snapshot");
+    kg_check_state_fails(", \"max_bodies\": 8, \"snapshot\": \"AAAAAAAA\"", "state.snapshot: not a KineticGyro snapshot");
 }
 
 /* A saved world's state in a scene of other bodies, or read into other capacities: refused

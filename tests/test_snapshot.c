@@ -112,6 +112,38 @@ static kg_shape_def kg_rain_shape(int i, float size)
     }
 }
 
+/* Joints among the rain (issue 17): bodies 200 to 399 hinged in pairs at their midpoint,
+ * and bodies 400 to 419 each on a 3 m rope from the world point above where it starts. */
+static void kg_add_rain_joints(kg_world* world)
+{
+    kg_body bodies[420];
+    int count = 0;
+    KG_CHECK_OK(kg_world_get_bodies(world, bodies, 420, &count));
+    kg_body_state a, b;
+    for (int i = 200; i + 1 < 400 && i + 1 < count; i += 2) {
+        KG_CHECK_OK(kg_body_get_state(world, bodies[i], &a));
+        KG_CHECK_OK(kg_body_get_state(world, bodies[i + 1], &b));
+        kg_vec2 middle = {0.5f * (a.position.x + b.position.x), 0.5f * (a.position.y + b.position.y)};
+        kg_revolute_joint_def def = kg_default_revolute_joint_def();
+        def.base.body_a = bodies[i];
+        def.base.body_b = bodies[i + 1];
+        KG_CHECK_OK(kg_joint_local_point(world, bodies[i], middle, &def.local_anchor_a));
+        KG_CHECK_OK(kg_joint_local_point(world, bodies[i + 1], middle, &def.local_anchor_b));
+        KG_CHECK_OK(kg_create_revolute_joint(world, &def, NULL));
+    }
+    for (int i = 400; i < 420 && i < count; ++i) {
+        KG_CHECK_OK(kg_body_get_state(world, bodies[i], &a));
+        kg_distance_joint_def rope = kg_default_distance_joint_def();
+        rope.base.body_b = bodies[i];
+        rope.local_anchor_a = (kg_vec2){a.position.x, a.position.y + 3.0f};
+        rope.length = 3.0f;
+        rope.enable_spring = 1;
+        rope.enable_limit = 1;
+        rope.max_length = 3.0f;
+        KG_CHECK_OK(kg_create_distance_joint(world, &rope, NULL));
+    }
+}
+
 static kg_scene_world kg_rain_world(kg_backend backend, int threads)
 {
     kg_scene_world s = {kg_empty_world(backend, threads), {0, 0}};
@@ -129,6 +161,7 @@ static kg_scene_world kg_rain_world(kg_backend backend, int threads)
     kg_register_callbacks(s.world, first, 20);
     kg_applicator wind;
     KG_CHECK_OK(kg_add_wind_applicator(s.world, (kg_vec2){-1.0f, 0.0f}, 2.0f, 0.1f, first + 20, 40, &wind));
+    kg_add_rain_joints(s.world);
     return s;
 }
 
@@ -142,7 +175,7 @@ static void kg_step_to(kg_world* world, int* step, int last)
 /* ---- what is compared ---- */
 
 typedef struct kg_record {
-    int body_count, contact_count, awake;
+    int body_count, contact_count, awake, joint_count;
     kg_body* bodies;
     kg_body_state* states;
     int* awake_flags;
@@ -162,6 +195,7 @@ static kg_record kg_take_record(const kg_world* world)
         r.awake_flags[i] = kg_body_is_awake(world, r.bodies[i]);
         r.awake += r.awake_flags[i];
     }
+    r.joint_count = kg_world_joint_count(world);
     r.contact_count = kg_world_contact_count(world);
     r.contacts = calloc((size_t)r.contact_count + 1, sizeof *r.contacts);
     for (int k = 0; k < r.contact_count; ++k) {
@@ -182,6 +216,7 @@ static void kg_free_record(kg_record* r)
 static int kg_same_record(const kg_record* a, const kg_record* b, const char* what)
 {
     int same = a->body_count == b->body_count && a->contact_count == b->contact_count &&
+               a->joint_count == b->joint_count &&
                memcmp(a->bodies, b->bodies, (size_t)a->body_count * sizeof *a->bodies) == 0 &&
                memcmp(a->states, b->states, (size_t)a->body_count * sizeof *a->states) == 0 &&
                memcmp(a->awake_flags, b->awake_flags, (size_t)a->body_count * sizeof *a->awake_flags) == 0 &&
@@ -214,7 +249,8 @@ static void* kg_take_snapshot(kg_world* world, size_t* size)
     return buffer;
 }
 
-/* Changes a restore must undo: a tile, a body destroyed, a body created. */
+/* Changes a restore must undo: a tile, a body destroyed, a jointed body destroyed (its
+ * joint with it), a body created. */
 static void kg_disturb(kg_scene_world* s)
 {
     KG_CHECK_OK(kg_tilemap_set_tile(s->world, s->map, 0, 20, 3, 0));
@@ -222,6 +258,9 @@ static void kg_disturb(kg_scene_world* s)
     int count = 0;
     KG_CHECK_OK(kg_world_get_bodies(s->world, bodies, 8, &count));
     KG_CHECK_OK(kg_destroy_body(s->world, bodies[5]));
+    kg_body jointed[202];
+    KG_CHECK_OK(kg_world_get_bodies(s->world, jointed, 202, &count));
+    KG_CHECK_OK(kg_destroy_body(s->world, jointed[201])); /* and its joint with it */
     kg_test_add(s->world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 30.0f}, 0.0f, kg_box_shape(1.0f, 1.0f));
 }
 
@@ -239,6 +278,7 @@ static void kg_rollback(kg_backend backend, int threads, kg_record* reference, i
     kg_step_to(s.world, &step, g_last_step);
     kg_record first = kg_take_record(s.world);
     KG_CHECK(first.awake < first.body_count && first.contact_count > 0); /* sleeping and touching */
+    KG_CHECK(first.joint_count == 120);
 
     kg_disturb(&s);
     KG_CHECK_OK(kg_world_restore(s.world, snap, size));
@@ -269,8 +309,8 @@ static void kg_rollback(kg_backend backend, int threads, kg_record* reference, i
     } else {
         kg_free_record(&first);
     }
-    printf("  backend %d, %d threads: %d bodies (%d awake), %d contacts, snapshot %zu bytes\n", (int)backend, threads,
-           again.body_count, again.awake, again.contact_count, size);
+    printf("  backend %d, %d threads: %d bodies (%d awake), %d contacts, %d joints, snapshot %zu bytes\n",
+           (int)backend, threads, again.body_count, again.awake, again.contact_count, again.joint_count, size);
     kg_free_record(&again);
     kg_free_record(&moved);
     free(snap);

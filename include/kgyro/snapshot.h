@@ -13,7 +13,8 @@
  *
  * What a snapshot holds: bodies and shapes (state, properties, sleep timers and islands),
  * the contacts with their warm-start impulses and colours, tile maps with their edits and
- * the one-way platform state, the built-in force applicators (gravity, wind) with their
+ * the one-way platform state, the joints (their rows with the warm-start impulses, and
+ * every slot's generation), the built-in force applicators (gravity, wind) with their
  * body lists, the step counter, gravity and the other simulation settings of
  * kg_world_def, and every handle generation and free slot (handles of the world the
  * snapshot was taken of are valid in the restored world; see below). Caches the step
@@ -63,7 +64,7 @@ extern "C" {
 #endif
 
 /* The format version this build writes and reads. */
-#define KG_SNAPSHOT_VERSION 1u
+#define KG_SNAPSHOT_VERSION 2u
 
 /* The bytes kg_world_snapshot would write now (they change as the world does). */
 KG_API kg_result kg_world_snapshot_size(const kg_world* world, size_t* bytes);

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "core/generation.h"
+#include "core/snapshot_io.h"
 #include "solve/joint_row.h"
 #include "solve/sleep.h"
 
@@ -1525,3 +1526,129 @@ kg_result kg_mouse_joint_set_max_force(kg_world* world, kg_joint joint, float ma
     r->max_force = max_force;
     return KG_OK;
 }
+
+/* ---- snapshots (core/snapshot_io.h) ---------------------------------------------------- */
+
+/* Whether the pool has any joint slot (a world without joints writes a 0 and no more). */
+static int kg_joints_present(const struct kg_joints* j) { return j && j->capacity > 0; }
+
+void kg_joints_snapshot(const kg_world* world, kg_snap_out* out)
+{
+    const struct kg_joints* j = world->joints;
+    kg_snap_put_i32(out, kg_joints_present(j) ? j->capacity : 0);
+    if (!kg_joints_present(j)) {
+        return;
+    }
+    kg_snap_put_i32(out, j->high_water);
+    kg_snap_put_i32(out, j->count);
+    kg_snap_put_u32(out, j->tag);
+    kg_snap_put_i32(out, j->breakable);
+    kg_snap_put_i32(out, j->iterations);
+    kg_snap_put(out, j->info, (size_t)j->capacity * sizeof *j->info); /* every slot's generation */
+    kg_snap_put(out, j->rows, (size_t)j->high_water * sizeof *j->rows);
+}
+
+void kg_joints_discard(struct kg_joints* j)
+{
+    if (j) {
+        kg_free(j->rows);
+        kg_free(j->info);
+        kg_free(j->links);
+        kg_free(j->apart);
+        kg_free(j->order);
+        kg_free(j);
+    }
+}
+
+/* Whether slot i of a read pool is what the step can use: a live joint of a known kind
+ * between two different bodies that are live slots of bodies (a may be the world), or a
+ * free slot with no bodies. */
+static int kg_joint_slot_sane(const struct kg_joints* j, const kg_body_pool* bodies, int i)
+{
+    const kg_joint_row* r = &j->rows[i];
+    if (!j->info[i].alive) {
+        return j->info[i].alive == 0 && r->a == KG_NULL_INDEX && r->b == KG_NULL_INDEX;
+    }
+    int a_ok = r->a == KG_NULL_INDEX || (r->a < (kg_u32)bodies->high_water && kg_pool_alive(bodies, (int)r->a));
+    int b_ok = r->b < (kg_u32)bodies->high_water && kg_pool_alive(bodies, (int)r->b);
+    return j->info[i].alive == 1 && a_ok && b_ok && r->a != r->b && r->type >= KG_JOINT_ROW_REVOLUTE &&
+           r->type <= KG_JOINT_ROW_MOTOR;
+}
+
+/* The pool's arrays for capacity slots (rows and info read into them), or 0. */
+static int kg_joints_arrays(struct kg_joints* j, int capacity)
+{
+    j->capacity = capacity;
+    j->rows = kg_alloc_zeroed((size_t)capacity * sizeof *j->rows);
+    j->info = kg_alloc_zeroed((size_t)capacity * sizeof *j->info);
+    j->links = kg_alloc_zeroed((size_t)capacity * 2 * sizeof *j->links);
+    j->apart = kg_alloc_zeroed((size_t)capacity * 2 * sizeof *j->apart);
+    j->order = kg_alloc_zeroed((size_t)capacity * sizeof *j->order);
+    return j->rows && j->info && j->links && j->apart && j->order;
+}
+
+/* Whether the read slots fit together: each sane, the live ones counted, none past
+ * high_water. */
+static int kg_joints_sane(const struct kg_joints* j, const kg_body_pool* bodies)
+{
+    int live = 0;
+    for (int i = 0; i < j->capacity; ++i) {
+        if (i < j->high_water ? !kg_joint_slot_sane(j, bodies, i) : j->info[i].alive != 0) {
+            return 0;
+        }
+        live += i < j->high_water && j->info[i].alive;
+    }
+    return live == j->count;
+}
+
+kg_result kg_joints_from_snapshot(const kg_body_pool* bodies, kg_snap_in* in, struct kg_joints** out)
+{
+    *out = NULL;
+    int capacity = kg_snap_take_i32(in, "joints");
+    if (in->failed || capacity == 0) {
+        return in->failed ? KG_ERROR_INVALID_ARGUMENT : KG_OK;
+    }
+    struct kg_joints* j = kg_alloc_zeroed(sizeof *j);
+    if (!j) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate the joint pool");
+    }
+    j->high_water = kg_snap_take_i32(in, "joints");
+    j->count = kg_snap_take_i32(in, "joints");
+    j->tag = kg_snap_take_u32(in, "joints");
+    j->breakable = kg_snap_take_i32(in, "joints");
+    j->iterations = kg_snap_take_i32(in, "joints");
+    if (!in->failed && (capacity < 0 || j->high_water < 0 || j->high_water > capacity || j->iterations < 1 ||
+                        j->iterations > 64 || !kg_snap_has(in, sizeof(kg_joint_info), (uint64_t)capacity))) {
+        kg_snap_reject(in, "joint counts");
+    }
+    if (!in->failed && !kg_joints_arrays(j, capacity)) {
+        kg_snap_reject(in, "joints (out of memory)");
+    }
+    kg_snap_take_array(in, j->info, sizeof *j->info, (size_t)capacity, "joints");
+    kg_snap_take_array(in, j->rows, sizeof *j->rows, (size_t)j->high_water, "joints");
+    if (!in->failed && !kg_joints_sane(j, bodies)) {
+        kg_snap_reject(in, "joints");
+    }
+    if (in->failed) {
+        kg_joints_discard(j);
+        return KG_ERROR_INVALID_ARGUMENT;
+    }
+    for (int i = j->high_water; i < capacity; ++i) { /* as a destroyed joint leaves its slot */
+        j->rows[i].a = j->rows[i].b = KG_NULL_INDEX;
+    }
+    j->derived_stale = 1;
+    *out = j;
+    return KG_OK;
+}
+
+void kg_joints_adopt(kg_world* world, struct kg_joints* restored)
+{
+    kg_u32 version = world->joints ? world->joints->version : 0u;
+    kg_joints_destroy(world);
+    world->joints = restored;
+    if (restored) {
+        restored->version = version + 1u; /* the device's lists are sent again */
+    }
+}
+
+uint64_t kg_joints_layout(uint64_t h) { return kg_snap_fold(kg_snap_fold(h, sizeof(kg_joint_row)), sizeof(kg_joint_info)); }

@@ -75,4 +75,18 @@ void kg_joints_after_step(kg_world* world);
 /* A step begins: the joints destroyed since the last one become its events. */
 void kg_joints_begin_step(kg_world* world);
 
+/* Snapshots (core/snapshot.c): the pool's slots, rows and generations are written; read
+ * back into a pool of their own, checked against the snapshot's bodies (a forged one is
+ * rejected on the reader), adopted by the world when the whole snapshot was read. Joint
+ * events of the step before are not kept, nor the colours and lists made from the rows
+ * (made again to the same bits). */
+struct kg_snap_out;
+struct kg_snap_in;
+void kg_joints_snapshot(const kg_world* world, struct kg_snap_out* out);
+kg_result kg_joints_from_snapshot(const kg_body_pool* bodies, struct kg_snap_in* in, struct kg_joints** out);
+void kg_joints_adopt(kg_world* world, struct kg_joints* restored);
+void kg_joints_discard(struct kg_joints* j);
+/* The pool's element sizes folded into h, for the snapshot's layout fingerprint. */
+uint64_t kg_joints_layout(uint64_t h);
+
 #endif

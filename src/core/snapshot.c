@@ -1,7 +1,7 @@
 /* Snapshots of a world (include/kgyro/snapshot.h): a header, then each part of the state
  * written by the module that owns it (core/snapshot_io.h), in this order: the world's
  * counters and definition, the body pool, the shape pool, the applicators, the contacts,
- * the tile maps. Restoring reads every part into new storage first, checking it, and only
+ * the tile maps, the joints. Restoring reads every part into new storage first, checking it, and only
  * when all of it was read does the world take it (and free what it had): a bad snapshot
  * leaves the world untouched. docs/design.md, "Snapshots", tells what is kept and why. */
 #include "kgyro/snapshot.h"
@@ -12,6 +12,7 @@
 #include "collide/tilemap.h"
 #include "core/alloc.h"
 #include "core/error.h"
+#include "core/joint.h"
 #include "core/snapshot_io.h"
 #include "core/world.h"
 #include "solve/solver.h"
@@ -60,7 +61,7 @@ static void kg_layout_of(kg_snapshot_header* h)
     h->layout[KG_LAYOUT_CONTACT] = (kg_u32)sizeof(kg_contact);
     h->layout[KG_LAYOUT_WORLD_DEF] = (kg_u32)sizeof(kg_world_def);
     h->layout[KG_LAYOUT_APPLICATOR] = (kg_u32)sizeof(kg_applicator_slot);
-    h->pool_layout = kg_tilemaps_layout(kg_shape_pool_layout(kg_body_pool_layout(0x4B47u)));
+    h->pool_layout = kg_joints_layout(kg_tilemaps_layout(kg_shape_pool_layout(kg_body_pool_layout(0x4B47u))));
 }
 
 /* A 64-bit checksum, eight lanes of 8 bytes at a time (a multiply's latency each, so the
@@ -128,6 +129,7 @@ static void kg_put_state(const kg_world* world, kg_snap_out* out)
     kg_put_applicators(world, out);
     kg_collision_snapshot(world, out);
     kg_tilemaps_snapshot(world, out);
+    kg_joints_snapshot(world, out);
 }
 
 kg_result kg_world_snapshot_size(const kg_world* world, size_t* bytes)
@@ -239,6 +241,7 @@ typedef struct kg_staged {
     kg_applicator_slot* applicators;
     struct kg_collision* collision;
     struct kg_tilemaps* tilemaps;
+    struct kg_joints* joints;
     int have_bodies, have_shapes;
 } kg_staged;
 
@@ -256,6 +259,7 @@ static void kg_staged_free(kg_staged* s, int applicator_count)
     kg_free(s->applicators);
     kg_collision_discard(s->collision);
     kg_tilemaps_discard(s->tilemaps);
+    kg_joints_discard(s->joints);
 }
 
 static int kg_take_world(const kg_world* world, kg_snap_in* in, kg_staged* s)
@@ -383,6 +387,9 @@ static int kg_take_state(const kg_world* world, kg_snap_in* in, kg_staged* s)
     if (kg_tilemaps_from_snapshot(world, s->bodies.high_water, in, &s->tilemaps) != KG_OK) {
         return 0;
     }
+    if (kg_joints_from_snapshot(&s->bodies, in, &s->joints) != KG_OK) {
+        return 0;
+    }
     return in->left == 0 || kg_snap_reject(in, "the end (bytes left over)");
 }
 
@@ -406,6 +413,7 @@ static void kg_adopt(kg_world* world, kg_staged* s)
     world->applicators = s->applicators;
     kg_collision_adopt(world, s->collision);
     kg_tilemaps_adopt(world, s->tilemaps);
+    kg_joints_adopt(world, s->joints);
     memset(s, 0, sizeof *s);
 }
 

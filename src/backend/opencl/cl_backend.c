@@ -370,6 +370,7 @@ static void kg_opencl_restored(kg_world* world)
     b->tile_state_on_device = 0;
     b->contacts_stale = 0;
     b->previous_contacts_stale = 0;
+    b->joint_lists_sent = 0;
     b->frozen_count = kg_frozen_count(&world->bodies);
     if (kg_upload_restored_contacts(world, b) != KG_OK) {
         char reason[512];
