@@ -114,6 +114,8 @@ static kg_shape_def kg_rain_shape(int i, float size)
 
 /* Joints among the rain (issue 17): bodies 200 to 399 hinged in pairs at their midpoint,
  * and bodies 400 to 419 each on a 3 m rope from the world point above where it starts. */
+static int g_joints; /* how many kg_add_rain_joints made (fewer under the sanitizers' smaller rain) */
+
 static void kg_add_rain_joints(kg_world* world)
 {
     kg_body bodies[420];
@@ -142,6 +144,7 @@ static void kg_add_rain_joints(kg_world* world)
         rope.max_length = 3.0f;
         KG_CHECK_OK(kg_create_distance_joint(world, &rope, NULL));
     }
+    g_joints = kg_world_joint_count(world);
 }
 
 static kg_scene_world kg_rain_world(kg_backend backend, int threads)
@@ -278,7 +281,7 @@ static void kg_rollback(kg_backend backend, int threads, kg_record* reference, i
     kg_step_to(s.world, &step, g_last_step);
     kg_record first = kg_take_record(s.world);
     KG_CHECK(first.awake < first.body_count && first.contact_count > 0); /* sleeping and touching */
-    KG_CHECK(first.joint_count == 120);
+    KG_CHECK(first.joint_count == g_joints && g_joints > 0);
 
     kg_disturb(&s);
     KG_CHECK_OK(kg_world_restore(s.world, snap, size));
