@@ -116,6 +116,14 @@ static kg_vec2 kg_box_center(kg_aabb b) { return kg_scale(0.5f, kg_add(b.lower, 
 
 static float kg_quantum(float lo, float hi) { return hi > lo ? 65535.0f / (hi - lo) : 0.0f; }
 
+/* A coordinate's cell in [0, 65535]; 0 for what is not in it (a frozen body's non-finite
+ * box: NaN fails both tests), whose leaf then sorts first and overlaps no query. */
+static kg_u32 kg_cell_of(float offset, float quantum)
+{
+    float cell = offset * quantum;
+    return cell >= 0.0f && cell <= 65535.0f ? (kg_u32)cell : 0u;
+}
+
 /* keys[k]: the Morton code of leaf k's centre over the centres' extent; items[k] its
  * index among the gathered leaves. */
 static void kg_morton_keys(kg_query_index* q, int n)
@@ -130,7 +138,7 @@ static void kg_morton_keys(kg_query_index* q, int n)
     float sx = kg_quantum(extent.lower.x, extent.upper.x), sy = kg_quantum(extent.lower.y, extent.upper.y);
     for (int k = 0; k < n; ++k) {
         kg_vec2 c = kg_box_center(q->leaf_box[k]);
-        kg_u32 x = (kg_u32)((c.x - extent.lower.x) * sx), y = (kg_u32)((c.y - extent.lower.y) * sy);
+        kg_u32 x = kg_cell_of(c.x - extent.lower.x, sx), y = kg_cell_of(c.y - extent.lower.y, sy);
         q->keys[k] = kg_spread_bits(x) | (kg_spread_bits(y) << 1);
         q->leaf[k] = q->items[k]; /* the slots, until the sort orders them */
         q->items[k] = (kg_u32)k;
