@@ -69,15 +69,21 @@ static kg_world* kg_pile(void)
     return world;
 }
 
+/* Saves world as a scene file at path. */
+static void kg_save_world(const kg_world* world, const char* path)
+{
+    kg_scene* saved = NULL;
+    KG_CHECK_OK(kg_scene_from_world(world, &saved));
+    KG_CHECK_OK(kg_scene_save_file(saved, path));
+    kg_scene_destroy(saved);
+}
+
 /* Saves world to name; returns the loaded scene (NULL on failure). */
 static kg_scene* kg_save_and_load(const kg_world* world, const char* name)
 {
     char path[128];
     kg_path(path, sizeof path, name);
-    kg_scene* saved = NULL;
-    KG_CHECK_OK(kg_scene_from_world(world, &saved));
-    KG_CHECK_OK(kg_scene_save_file(saved, path));
-    kg_scene_destroy(saved);
+    kg_save_world(world, path);
     kg_scene* loaded = NULL;
     KG_CHECK_OK(kg_scene_load_file(path, &loaded));
     return loaded;
@@ -173,10 +179,7 @@ static void test_editor_move_applies(void)
     kg_world* world = kg_pile();
     char path[128];
     kg_path(path, sizeof path, "edited.json");
-    kg_scene* saved = NULL;
-    KG_CHECK_OK(kg_scene_from_world(world, &saved));
-    KG_CHECK_OK(kg_scene_save_file(saved, path));
-    kg_scene_destroy(saved);
+    kg_save_world(world, path);
     char* text = kg_read_text(path);
     KG_CHECK(text != NULL);
     if (!text) {
@@ -243,10 +246,7 @@ static void test_state_must_fit(void)
     kg_world* world = kg_pile();
     char path[128];
     kg_path(path, sizeof path, "fit.json");
-    kg_scene* saved = NULL;
-    KG_CHECK_OK(kg_scene_from_world(world, &saved));
-    KG_CHECK_OK(kg_scene_save_file(saved, path));
-    kg_scene_destroy(saved);
+    kg_save_world(world, path);
     char* text = kg_read_text(path);
     char* at = text ? strstr(text, "\"max_bodies\":") : NULL;
     KG_CHECK(at != NULL);

@@ -82,21 +82,6 @@ typedef struct kg_tiled {
     int joint_count, joint_capacity;
 } kg_tiled;
 
-/* Room for one more of *count items of size bytes in *items; 0 when out of memory. */
-static int kg_room_for_one(void** items, int* count, int* capacity, size_t size)
-{
-    if (*count < *capacity) {
-        return 1;
-    }
-    int grown_capacity = *capacity ? 2 * *capacity : 16;
-    void* grown = realloc(*items, (size_t)grown_capacity * size);
-    if (!grown) {
-        return 0;
-    }
-    *items = grown;
-    *capacity = grown_capacity;
-    return 1;
-}
 
 static int kg_has(const cJSON* object, const char* key)
 {
@@ -1067,8 +1052,8 @@ static kg_result kg_add_object_body(kg_tiled* t, const cJSON* object, const kg_j
     KG_TRY(kg_scene_set_body_origin(t->scene, index, class_name, t->layer_index));
     int id = 0;
     KG_TRY(kg_json_int(reader, object, path, "id", 0, INT_MAX, &id));
-    if (!kg_room_for_one((void**)&t->object_bodies, &t->object_body_count, &t->object_body_capacity,
-                         sizeof *t->object_bodies)) {
+    if (!kg_scene_grow((void**)&t->object_bodies, &t->object_body_capacity, t->object_body_count + 1,
+                       sizeof *t->object_bodies)) {
         return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
     }
     t->object_bodies[t->object_body_count++] = (kg_tiled_body){id, index};
@@ -1292,7 +1277,7 @@ static kg_result kg_keep_joint_object(kg_tiled* t, const cJSON* object, const kg
             KG_TRY(kg_read_object_vertex(reader, cJSON_GetArrayItem(points, i), &at, &frame, &ends[i]));
         }
     }
-    if (!kg_room_for_one((void**)&t->joints, &t->joint_count, &t->joint_capacity, sizeof *t->joints)) {
+    if (!kg_scene_grow((void**)&t->joints, &t->joint_capacity, t->joint_count + 1, sizeof *t->joints)) {
         return kg_json_fail_message(KG_ERROR_OUT_OF_MEMORY, "%s: out of memory", reader->source);
     }
     t->joints[t->joint_count++] = (kg_tiled_joint){object, *path, kg_world_point(t, ends[0]), kg_world_point(t, ends[1])};

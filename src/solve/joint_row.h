@@ -246,6 +246,18 @@ KG_FN float kg_joint_angle_now(const kg_joint_row* r, const kg_joint_pair* s)
     return kg_unwind_angle(r->delta_angle + kg_relative_angle(s->b.dq, s->a.dq));
 }
 
+/* The impulse x with K x = rhs, K the 2x2 mass of keeping b's anchor on a's (the
+ * point-to-point part, and the mouse joint's pull). */
+KG_FN kg_vec2 kg_solve_point_mass(const kg_joint_row* r, const kg_joint_pair* s, kg_vec2 rhs)
+{
+    float ma = r->inv_mass_a, mb = r->inv_mass_b, ia = r->inv_i_a, ib = r->inv_i_b;
+    kg_vec2 ra = s->ra, rb = s->rb;
+    float k11 = ma + mb + ra.y * ra.y * ia + rb.y * rb.y * ib;
+    float k12 = -ra.y * ra.x * ia - rb.y * rb.x * ib;
+    float k22 = ma + mb + ra.x * ra.x * ia + rb.x * rb.x * ib;
+    return kg_solve22(k11, k12, k22, rhs);
+}
+
 /* The point-to-point part (revolute, weld): b's anchor on a's, soft with the joint's
  * softness where use_soft, rigid (no bias) otherwise. */
 KG_FN void kg_joint_solve_point(kg_joint_row* r, kg_joint_pair* s, int use_soft, kg_softness soft)
@@ -258,12 +270,7 @@ KG_FN void kg_joint_solve_point(kg_joint_row* r, kg_joint_pair* s, int use_soft,
         mass_scale = soft.mass_scale;
         impulse_scale = soft.impulse_scale;
     }
-    float ma = r->inv_mass_a, mb = r->inv_mass_b, ia = r->inv_i_a, ib = r->inv_i_b;
-    kg_vec2 ra = s->ra, rb = s->rb;
-    float k11 = ma + mb + ra.y * ra.y * ia + rb.y * rb.y * ib;
-    float k12 = -ra.y * ra.x * ia - rb.y * rb.x * ib;
-    float k22 = ma + mb + ra.x * ra.x * ia + rb.x * rb.x * ib;
-    kg_vec2 x = kg_solve22(k11, k12, k22, kg_add(cdot, bias));
+    kg_vec2 x = kg_solve_point_mass(r, s, kg_add(cdot, bias));
     kg_vec2 impulse = kg_v2(-mass_scale * x.x - impulse_scale * r->linear_impulse.x,
                             -mass_scale * x.y - impulse_scale * r->linear_impulse.y);
     r->linear_impulse = kg_add(r->linear_impulse, impulse);
@@ -555,12 +562,7 @@ KG_FN void kg_motor_joint_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_par
     }
     kg_vec2 cdot = kg_joint_relative_velocity(s);
     kg_vec2 bias = kg_scale(prm.inv_h * r->length, kg_joint_separation(r, s));
-    float ma = r->inv_mass_a, mb = r->inv_mass_b, ia = r->inv_i_a, ib = r->inv_i_b;
-    kg_vec2 ra = s->ra, rb = s->rb;
-    float k11 = ma + mb + ra.y * ra.y * ia + rb.y * rb.y * ib;
-    float k12 = -ra.y * ra.x * ia - rb.y * rb.x * ib;
-    float k22 = ma + mb + ra.x * ra.x * ia + rb.x * rb.x * ib;
-    kg_vec2 x = kg_solve22(k11, k12, k22, kg_add(cdot, bias));
+    kg_vec2 x = kg_solve_point_mass(r, s, kg_add(cdot, bias));
     kg_vec2 old = r->linear_impulse;
     kg_vec2 acc = kg_sub(old, x);
     float most = prm.h * r->max_force, mag = kg_length(acc);
