@@ -1,6 +1,6 @@
 /* Saving worlds as scenes (include/kgyro/scene.h, "Saved worlds"): kg_scene_from_world
- * describes a world's bodies and built-in forces as a scene and keeps the world's
- * snapshot in it; kg_scene_save_file writes a scene as a JSON file that kg_scene_load_file
+ * describes a world's bodies (every shape, chains), built-in forces, tile maps and joints
+ * as a scene and keeps the world's snapshot in it; kg_scene_save_file writes a scene as a JSON file that kg_scene_load_file
  * reads back, every float as "%.9g" (which gives back the same float: 9 significant
  * digits tell any two floats apart, and the parser's double rounds to the float it came
  * from), the snapshot as base64 in "state" (io/scene_state.c). */
