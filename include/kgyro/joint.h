@@ -198,6 +198,9 @@ KG_API kg_result kg_joint_get_bodies(const kg_world* world, kg_joint joint, kg_b
 /* The anchors in world coordinates now (for drawing). */
 KG_API kg_result kg_joint_get_world_anchors(const kg_world* world, kg_joint joint, kg_vec2* anchor_a,
                                             kg_vec2* anchor_b);
+/* Prismatic and wheel: the axis in world coordinates now (unit, body_a's frame turned as
+ * body_a is). */
+KG_API kg_result kg_joint_get_world_axis(const kg_world* world, kg_joint joint, kg_vec2* out);
 /* What the joint did to body_b in the last step's last sub-step: the force (N, world axes)
  * and the torque (N m) of its constraint, limits, motor and spring together. */
 KG_API kg_result kg_joint_get_reaction(const kg_world* world, kg_joint joint, kg_vec2* force, float* torque);
@@ -255,6 +258,19 @@ KG_API kg_result kg_joint_get_translation(const kg_world* world, kg_joint joint,
 KG_API kg_result kg_motor_joint_set_offsets(kg_world* world, kg_joint joint, kg_vec2 linear_offset,
                                             float angular_offset);
 KG_API kg_result kg_motor_joint_set_max(kg_world* world, kg_joint joint, float max_force, float max_torque);
+
+/* The joint's definition as it is now, the setters' changes included: its bodies (body_a
+ * KG_NULL_BODY for the world), anchors and axis in the bodies' frames (the axis unit),
+ * every option and its user data; creating a joint from it makes the same joint. Each
+ * kind's getter refuses a joint of another kind (KG_ERROR_INVALID_ARGUMENT). For saving
+ * a world (kg_scene_from_world) and editors. */
+KG_API kg_result kg_revolute_joint_get_def(const kg_world* world, kg_joint joint, kg_revolute_joint_def* out);
+KG_API kg_result kg_distance_joint_get_def(const kg_world* world, kg_joint joint, kg_distance_joint_def* out);
+KG_API kg_result kg_weld_joint_get_def(const kg_world* world, kg_joint joint, kg_weld_joint_def* out);
+KG_API kg_result kg_mouse_joint_get_def(const kg_world* world, kg_joint joint, kg_mouse_joint_def* out);
+KG_API kg_result kg_prismatic_joint_get_def(const kg_world* world, kg_joint joint, kg_prismatic_joint_def* out);
+KG_API kg_result kg_wheel_joint_get_def(const kg_world* world, kg_joint joint, kg_wheel_joint_def* out);
+KG_API kg_result kg_motor_joint_get_def(const kg_world* world, kg_joint joint, kg_motor_joint_def* out);
 
 /* Why a joint ended without kg_destroy_joint. */
 typedef enum kg_joint_event_kind {

@@ -232,9 +232,10 @@ KG_API const char* kg_scene_get_note(const kg_scene* scene, int index);
 
 /* Joints (kgyro/joint.h, the scene file's "joints"). A scene joint names its bodies by
  * scene index (body_a -1: held to the world) and places its anchors in world
- * coordinates at the scene's start: anchor_a is the anchor of a revolute, weld,
- * prismatic or wheel joint, and distance's end on body_a; anchor_b distance's end on
- * body_b, and the point of body_b a mouse joint drags (to mouse.target); axis the world
+ * coordinates at the scene's start: anchor_a is body_a's anchor (a revolute, weld,
+ * prismatic or wheel joint's "anchor", distance's end on body_a), anchor_b body_b's (the
+ * file's "anchor_b", anchor_a's when it has none; the point of body_b a mouse joint
+ * drags to mouse.target); axis the world
  * direction of a prismatic or wheel joint's axis. The definition of its type gives every
  * other option; its bodies, local anchors and local axis are ignored (kg_scene_instantiate
  * makes them).
@@ -296,21 +297,24 @@ KG_API kg_result kg_scene_generate_limited(const char* name, uint32_t seed, cons
  * tries it: KG_ERROR_PARSE and "FILE: state.snapshot: why". */
 
 /* Describes world as a scene: its settings and dt, each live body (type, position,
- * angle, velocities, first shape, mass, material, filter), its gravity and wind
- * applicators, its tile maps (cells as they are now), and its snapshot. On the OpenCL
- * backend the state is read back. */
+ * angle, velocities, every shape with its material, filter and sensor flag, chains
+ * rebuilt from their segments, the mass of a body of one shape), its gravity and wind
+ * applicators, its tile maps (cells as they are now), its live joints (anchors in world
+ * coordinates now, every option as it is now), and its snapshot. On the OpenCL backend
+ * the state is read back. */
 KG_API kg_result kg_scene_from_world(const kg_world* world, kg_scene** out);
 /* The same, the bodies named as in the scene the world was made from: bodies are the
  * handles kg_scene_instantiate gave for names_from's bodies; a live body that is one of
- * them keeps its name, any other is body<i> (made unique). */
+ * them keeps its name and its pivot, any other is body<i> (made unique). */
 KG_API kg_result kg_scene_from_world_named(const kg_world* world, const kg_scene* names_from, const kg_body* bodies,
                                            kg_scene** out);
 
 /* Writes scene as a JSON scene file that kg_scene_load_file reads back (floats as %.9g,
- * which gives back the same float; tile maps as inline grids; a snapshot as base64). A
- * scene without a state whose bodies have several shapes, chains or pivots, or a tile map
- * of more than 91 solid tile shapes, is KG_ERROR_UNSUPPORTED (the writer does not write
- * those yet); KG_ERROR_IO when the file cannot be written. */
+ * which gives back the same float; compound bodies and chains as "shapes", pivots, joints,
+ * tile maps as inline grids; a snapshot as base64). What the reader would refuse is
+ * KG_ERROR_UNSUPPORTED: a body of more than 64 shapes and chains, one of several shapes
+ * with a mass, and in a scene without a state a tile map of more than 91 solid tile
+ * shapes; KG_ERROR_IO when the file cannot be written. */
 KG_API kg_result kg_scene_save_file(const kg_scene* scene, const char* path);
 
 #ifdef __cplusplus

@@ -1452,6 +1452,12 @@ kg_result kg_wheel_joint_set_spring(kg_world* world, kg_joint joint, int enable,
                               damping_ratio);
 }
 
+/* A prismatic or wheel joint's axis in world axes now. */
+static kg_vec2 kg_world_axis(const kg_body_pool* p, const kg_joint_row* r)
+{
+    return kg_rotate(r->a == KG_NULL_INDEX ? kg_rot_identity() : p->rot[r->a], r->local_axis);
+}
+
 kg_result kg_joint_get_translation(const kg_world* world, kg_joint joint, float* out)
 {
     const kg_joint_row* r = kg_read_joint(world, joint, out);
@@ -1464,8 +1470,20 @@ kg_result kg_joint_get_translation(const kg_world* world, kg_joint joint, float*
     const kg_body_pool* p = kg_world_read_pool(world);
     kg_vec2 a = r->a == KG_NULL_INDEX ? r->local_a : kg_xf_point(p->xf[r->a], r->local_a);
     kg_vec2 b = kg_xf_point(p->xf[r->b], r->local_b);
-    kg_rot qa = r->a == KG_NULL_INDEX ? kg_rot_identity() : p->rot[r->a];
-    *out = kg_dot(kg_sub(b, a), kg_rotate(qa, r->local_axis));
+    *out = kg_dot(kg_sub(b, a), kg_world_axis(p, r));
+    return KG_OK;
+}
+
+kg_result kg_joint_get_world_axis(const kg_world* world, kg_joint joint, kg_vec2* out)
+{
+    const kg_joint_row* r = kg_read_joint(world, joint, out);
+    if (!r) {
+        return kg_last_result();
+    }
+    if (r->type != KG_JOINT_ROW_PRISMATIC && r->type != KG_JOINT_ROW_WHEEL) {
+        return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_joint_get_world_axis: not a prismatic or wheel joint");
+    }
+    *out = kg_world_axis(kg_world_read_pool(world), r);
     return KG_OK;
 }
 
@@ -1524,6 +1542,178 @@ kg_result kg_mouse_joint_set_max_force(kg_world* world, kg_joint joint, float ma
         return kg_last_result();
     }
     r->max_force = max_force;
+    return KG_OK;
+}
+
+/* ---- definitions as they are now (kg_*_joint_get_def) ----------------------------------- */
+
+/* The row of a live joint of type for reading its definition, or NULL (error set). */
+static const kg_joint_row* kg_read_def(const kg_world* world, kg_joint joint, kg_i32 type, const void* out,
+                                       const char* call)
+{
+    const kg_joint_row* r = kg_read_joint(world, joint, out);
+    if (r && r->type != type) {
+        kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: the joint is of another type", call);
+        return NULL;
+    }
+    return r;
+}
+
+/* What every kind's definition shares, from row r of joint. */
+static kg_joint_base_def kg_base_of(const kg_world* world, kg_joint joint, const kg_joint_row* r)
+{
+    const kg_joint_info* info = &world->joints->info[joint.index];
+    kg_joint_base_def base = kg_default_base();
+    base.body_a = kg_body_handle(world, r->a);
+    base.body_b = kg_body_handle(world, r->b);
+    base.collide_connected = info->collide_connected;
+    base.constraint_hertz = r->constraint_hertz;
+    base.constraint_damping_ratio = r->constraint_damping_ratio;
+    base.break_force = info->break_force;
+    base.break_torque = info->break_torque;
+    base.user_data = info->user_data;
+    return base;
+}
+
+static int kg_has_option(const kg_joint_row* r, kg_u32 bit) { return (r->options & bit) != 0u; }
+
+kg_result kg_revolute_joint_get_def(const kg_world* world, kg_joint joint, kg_revolute_joint_def* out)
+{
+    const kg_joint_row* r = kg_read_def(world, joint, KG_JOINT_ROW_REVOLUTE, out, "kg_revolute_joint_get_def");
+    if (!r) {
+        return kg_last_result();
+    }
+    *out = kg_default_revolute_joint_def();
+    out->base = kg_base_of(world, joint, r);
+    out->local_anchor_a = r->local_a;
+    out->local_anchor_b = r->local_b;
+    out->reference_angle = r->reference_angle;
+    out->enable_limit = kg_has_option(r, KG_JOINT_OPT_LIMIT);
+    out->lower_angle = r->lower;
+    out->upper_angle = r->upper;
+    out->enable_motor = kg_has_option(r, KG_JOINT_OPT_MOTOR);
+    out->motor_speed = r->motor_speed;
+    out->max_motor_torque = r->max_motor_torque;
+    out->enable_spring = kg_has_option(r, KG_JOINT_OPT_SPRING);
+    out->hertz = r->hertz;
+    out->damping_ratio = r->damping_ratio;
+    return KG_OK;
+}
+
+kg_result kg_distance_joint_get_def(const kg_world* world, kg_joint joint, kg_distance_joint_def* out)
+{
+    const kg_joint_row* r = kg_read_def(world, joint, KG_JOINT_ROW_DISTANCE, out, "kg_distance_joint_get_def");
+    if (!r) {
+        return kg_last_result();
+    }
+    *out = kg_default_distance_joint_def();
+    out->base = kg_base_of(world, joint, r);
+    out->local_anchor_a = r->local_a;
+    out->local_anchor_b = r->local_b;
+    out->length = r->length;
+    out->enable_spring = kg_has_option(r, KG_JOINT_OPT_SPRING);
+    out->hertz = r->hertz;
+    out->damping_ratio = r->damping_ratio;
+    out->enable_limit = kg_has_option(r, KG_JOINT_OPT_LIMIT);
+    out->min_length = r->lower;
+    out->max_length = r->upper;
+    return KG_OK;
+}
+
+kg_result kg_weld_joint_get_def(const kg_world* world, kg_joint joint, kg_weld_joint_def* out)
+{
+    const kg_joint_row* r = kg_read_def(world, joint, KG_JOINT_ROW_WELD, out, "kg_weld_joint_get_def");
+    if (!r) {
+        return kg_last_result();
+    }
+    *out = kg_default_weld_joint_def();
+    out->base = kg_base_of(world, joint, r);
+    out->local_anchor_a = r->local_a;
+    out->local_anchor_b = r->local_b;
+    out->reference_angle = r->reference_angle;
+    out->linear_hertz = r->hertz;
+    out->linear_damping_ratio = r->damping_ratio;
+    out->angular_hertz = r->hertz2;
+    out->angular_damping_ratio = r->damping_ratio2;
+    return KG_OK;
+}
+
+kg_result kg_mouse_joint_get_def(const kg_world* world, kg_joint joint, kg_mouse_joint_def* out)
+{
+    const kg_joint_row* r = kg_read_def(world, joint, KG_JOINT_ROW_MOUSE, out, "kg_mouse_joint_get_def");
+    if (!r) {
+        return kg_last_result();
+    }
+    *out = kg_default_mouse_joint_def();
+    out->base = kg_base_of(world, joint, r);
+    out->target = r->local_a;
+    out->local_anchor_b = r->local_b;
+    out->hertz = r->hertz;
+    out->damping_ratio = r->damping_ratio;
+    out->max_force = r->max_force;
+    return KG_OK;
+}
+
+kg_result kg_prismatic_joint_get_def(const kg_world* world, kg_joint joint, kg_prismatic_joint_def* out)
+{
+    const kg_joint_row* r = kg_read_def(world, joint, KG_JOINT_ROW_PRISMATIC, out, "kg_prismatic_joint_get_def");
+    if (!r) {
+        return kg_last_result();
+    }
+    *out = kg_default_prismatic_joint_def();
+    out->base = kg_base_of(world, joint, r);
+    out->local_anchor_a = r->local_a;
+    out->local_anchor_b = r->local_b;
+    out->local_axis_a = r->local_axis;
+    out->reference_angle = r->reference_angle;
+    out->enable_limit = kg_has_option(r, KG_JOINT_OPT_LIMIT);
+    out->lower_translation = r->lower;
+    out->upper_translation = r->upper;
+    out->enable_motor = kg_has_option(r, KG_JOINT_OPT_MOTOR);
+    out->motor_speed = r->motor_speed;
+    out->max_motor_force = r->max_motor_torque;
+    out->enable_spring = kg_has_option(r, KG_JOINT_OPT_SPRING);
+    out->hertz = r->hertz;
+    out->damping_ratio = r->damping_ratio;
+    return KG_OK;
+}
+
+kg_result kg_wheel_joint_get_def(const kg_world* world, kg_joint joint, kg_wheel_joint_def* out)
+{
+    const kg_joint_row* r = kg_read_def(world, joint, KG_JOINT_ROW_WHEEL, out, "kg_wheel_joint_get_def");
+    if (!r) {
+        return kg_last_result();
+    }
+    *out = kg_default_wheel_joint_def();
+    out->base = kg_base_of(world, joint, r);
+    out->local_anchor_a = r->local_a;
+    out->local_anchor_b = r->local_b;
+    out->local_axis_a = r->local_axis;
+    out->enable_limit = kg_has_option(r, KG_JOINT_OPT_LIMIT);
+    out->lower_translation = r->lower;
+    out->upper_translation = r->upper;
+    out->enable_motor = kg_has_option(r, KG_JOINT_OPT_MOTOR);
+    out->motor_speed = r->motor_speed;
+    out->max_motor_torque = r->max_motor_torque;
+    out->enable_spring = kg_has_option(r, KG_JOINT_OPT_SPRING);
+    out->hertz = r->hertz;
+    out->damping_ratio = r->damping_ratio;
+    return KG_OK;
+}
+
+kg_result kg_motor_joint_get_def(const kg_world* world, kg_joint joint, kg_motor_joint_def* out)
+{
+    const kg_joint_row* r = kg_read_def(world, joint, KG_JOINT_ROW_MOTOR, out, "kg_motor_joint_get_def");
+    if (!r) {
+        return kg_last_result();
+    }
+    *out = kg_default_motor_joint_def();
+    out->base = kg_base_of(world, joint, r);
+    out->linear_offset = r->local_a;
+    out->angular_offset = r->reference_angle;
+    out->max_force = r->max_force;
+    out->max_torque = r->max_motor_torque;
+    out->correction_factor = r->length;
     return KG_OK;
 }
 

@@ -374,3 +374,39 @@ kg_result kg_json_string(const kg_json_reader* reader, const cJSON* object, cons
     *out = value->valuestring;
     return KG_OK;
 }
+
+/* ---- writing ---- */
+
+/* A float as "%.9g" (NULL: out of memory). */
+cJSON* kg_float_json(float v)
+{
+    char text[32];
+    snprintf(text, sizeof text, "%.9g", (double)v);
+    return cJSON_CreateRaw(text);
+}
+
+cJSON* kg_vec2_json(kg_vec2 v)
+{
+    cJSON* a = cJSON_CreateArray();
+    if (a && (!cJSON_AddItemToArray(a, kg_float_json(v.x)) || !cJSON_AddItemToArray(a, kg_float_json(v.y)))) {
+        cJSON_Delete(a);
+        return NULL;
+    }
+    return a;
+}
+
+/* Adds key: item to object; 0 when item is NULL (out of memory). */
+int kg_json_add(cJSON* object, const char* key, cJSON* item)
+{
+    return item && cJSON_AddItemToObject(object, key, item);
+}
+
+int kg_json_add_float(cJSON* object, const char* key, float v)
+{
+    return kg_json_add(object, key, kg_float_json(v));
+}
+
+int kg_json_add_vec2(cJSON* object, const char* key, kg_vec2 v)
+{
+    return kg_json_add(object, key, kg_vec2_json(v));
+}

@@ -15,6 +15,9 @@
  * 100 km at one point a metre): larger is a broken or hostile file. */
 #define KG_MAX_CHAIN_POINTS 100000
 
+/* The most entries of a body's "shapes" in a scene file (read and written). */
+#define KG_SCENE_MAX_SHAPES 64
+
 /* A JSON path such as "bodies[3].shape.radius"; "" is the document itself. */
 typedef struct kg_json_path {
     char text[192];
@@ -85,5 +88,15 @@ kg_result kg_json_string(const kg_json_reader* reader, const cJSON* object, cons
 /* Reads an array element [x, y] (value itself, not a field). */
 kg_result kg_json_vec2_value(const kg_json_reader* reader, const cJSON* value, const kg_json_path* path,
                              kg_vec2* out);
+
+/* Writing (kg_scene_save_file): a float as "%.9g", which reads back as the same float
+ * (9 significant digits tell any two floats apart), and [x, y] of two; NULL when out of
+ * memory. */
+cJSON* kg_float_json(float v);
+cJSON* kg_vec2_json(kg_vec2 v);
+/* Adds key: item to object; 0 when item is NULL (out of memory) or it cannot. */
+int kg_json_add(cJSON* object, const char* key, cJSON* item);
+int kg_json_add_float(cJSON* object, const char* key, float v);
+int kg_json_add_vec2(cJSON* object, const char* key, kg_vec2 v);
 
 #endif

@@ -7,35 +7,158 @@
 #include "core/joint.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
-#define KG_JOINT_COMMON                                                                                      \
-    "type", "a", "b", "collide_connected", "constraint_hertz", "constraint_damping_ratio", "break_force", "break_torque"
+/* ---- the fields of an entry: one table a kind, read here and written by
+ * kg_scene_joint_json (the file's keys are the C fields' names) ---- */
 
-static const char* const kRevoluteFields[] = {KG_JOINT_COMMON, "anchor", "reference_angle", "enable_limit",
-                                              "lower_angle", "upper_angle", "enable_motor", "motor_speed",
-                                              "max_motor_torque", "enable_spring", "hertz", "damping_ratio", NULL};
-static const char* const kDistanceFields[] = {KG_JOINT_COMMON, "anchor_a", "anchor_b", "length", "enable_spring",
-                                              "hertz", "damping_ratio", "enable_limit", "min_length", "max_length",
-                                              NULL};
-static const char* const kWeldFields[] = {KG_JOINT_COMMON,         "anchor",       "reference_angle",
-                                          "linear_hertz",          "linear_damping_ratio", "angular_hertz",
-                                          "angular_damping_ratio", NULL};
-static const char* const kMouseFields[] = {KG_JOINT_COMMON, "target", "anchor", "hertz", "damping_ratio", "max_force",
-                                           NULL};
+typedef enum kg_joint_field_kind { KG_FIELD_FLOAT, KG_FIELD_BOOL, KG_FIELD_VEC2 } kg_joint_field_kind;
 
-static const char* const kPrismaticFields[] = {KG_JOINT_COMMON, "anchor", "axis", "reference_angle", "enable_limit",
-                                               "lower_translation", "upper_translation", "enable_motor",
-                                               "motor_speed", "max_motor_force", "enable_spring", "hertz",
-                                               "damping_ratio", NULL};
-static const char* const kWheelFields[] = {KG_JOINT_COMMON, "anchor", "axis", "enable_limit", "lower_translation",
-                                           "upper_translation", "enable_motor", "motor_speed", "max_motor_torque",
-                                           "enable_spring", "hertz", "damping_ratio", NULL};
-static const char* const kMotorFields[] = {KG_JOINT_COMMON, "linear_offset", "angular_offset", "max_force",
-                                           "max_torque", "correction_factor", NULL};
+/* An option: its key, what it holds (a float's rule) and where it lives in kg_scene_joint. */
+typedef struct kg_joint_field {
+    const char* key;
+    kg_joint_field_kind kind;
+    kg_json_rule rule;
+    size_t offset;
+} kg_joint_field;
 
-static const char* const kJointTypes[] = {"revolute", "distance", "weld", "mouse", "prismatic", "wheel", "motor", NULL};
+/* How an anchor key is given. */
+typedef enum kg_anchor_presence {
+    KG_ANCHOR_REQUIRED,
+    KG_ANCHOR_OPTIONAL, /* its default set before it is read */
+    KG_ANCHOR_SECOND    /* anchor_b where it may differ from "anchor": anchor_a's unless given,
+                         * written only where it differs (a solver's drift, a slider moved) */
+} kg_anchor_presence;
+
+/* An anchor (a world point or direction at the scene's start). */
+typedef struct kg_joint_anchor {
+    const char* key;
+    kg_anchor_presence presence;
+    size_t offset; /* of a kg_vec2 in kg_scene_joint */
+} kg_joint_anchor;
+
+typedef struct kg_joint_kind {
+    const char* name;
+    const kg_joint_anchor* anchors; /* key NULL ends them */
+    const kg_joint_field* options;  /* key NULL ends them */
+} kg_joint_kind;
+
+#define KG_AT(member) offsetof(kg_scene_joint, member)
+#define KG_F(def, field, rule) {#field, KG_FIELD_FLOAT, rule, KG_AT(def.field)}
+#define KG_B(def, field) {#field, KG_FIELD_BOOL, KG_JSON_ANY, KG_AT(def.field)}
+#define KG_V(def, field) {#field, KG_FIELD_VEC2, KG_JSON_ANY, KG_AT(def.field)}
+/* kg_joint_base_def's options, first in every kind. */
+#define KG_BASE(def)                                                                                        \
+    KG_B(def, base.collide_connected), {"constraint_hertz", KG_FIELD_FLOAT, KG_JSON_NON_NEGATIVE,            \
+                                        KG_AT(def.base.constraint_hertz)},                                  \
+        {"constraint_damping_ratio", KG_FIELD_FLOAT, KG_JSON_NON_NEGATIVE,                                  \
+         KG_AT(def.base.constraint_damping_ratio)},                                                         \
+        {"break_force", KG_FIELD_FLOAT, KG_JSON_NON_NEGATIVE, KG_AT(def.base.break_force)},                 \
+        {"break_torque", KG_FIELD_FLOAT, KG_JSON_NON_NEGATIVE, KG_AT(def.base.break_torque)}
+#define KG_END {NULL, KG_FIELD_FLOAT, KG_JSON_ANY, 0}
+
+static const kg_joint_field kRevoluteOptions[] = {
+    KG_BASE(revolute), KG_F(revolute, reference_angle, KG_JSON_ANY), KG_B(revolute, enable_limit),
+    KG_F(revolute, lower_angle, KG_JSON_ANY), KG_F(revolute, upper_angle, KG_JSON_ANY), KG_B(revolute, enable_motor),
+    KG_F(revolute, motor_speed, KG_JSON_ANY), KG_F(revolute, max_motor_torque, KG_JSON_NON_NEGATIVE),
+    KG_B(revolute, enable_spring), KG_F(revolute, hertz, KG_JSON_NON_NEGATIVE),
+    KG_F(revolute, damping_ratio, KG_JSON_NON_NEGATIVE), KG_END};
+static const kg_joint_field kDistanceOptions[] = {
+    KG_BASE(distance), KG_F(distance, length, KG_JSON_POSITIVE), KG_B(distance, enable_spring),
+    KG_F(distance, hertz, KG_JSON_NON_NEGATIVE), KG_F(distance, damping_ratio, KG_JSON_NON_NEGATIVE),
+    KG_B(distance, enable_limit), KG_F(distance, min_length, KG_JSON_NON_NEGATIVE),
+    KG_F(distance, max_length, KG_JSON_NON_NEGATIVE), KG_END};
+static const kg_joint_field kWeldOptions[] = {
+    KG_BASE(weld), KG_F(weld, reference_angle, KG_JSON_ANY), KG_F(weld, linear_hertz, KG_JSON_NON_NEGATIVE),
+    KG_F(weld, linear_damping_ratio, KG_JSON_NON_NEGATIVE), KG_F(weld, angular_hertz, KG_JSON_NON_NEGATIVE),
+    KG_F(weld, angular_damping_ratio, KG_JSON_NON_NEGATIVE), KG_END};
+static const kg_joint_field kMouseOptions[] = {KG_BASE(mouse), KG_F(mouse, hertz, KG_JSON_POSITIVE),
+                                               KG_F(mouse, damping_ratio, KG_JSON_NON_NEGATIVE),
+                                               KG_F(mouse, max_force, KG_JSON_NON_NEGATIVE), KG_END};
+static const kg_joint_field kPrismaticOptions[] = {
+    KG_BASE(prismatic), KG_F(prismatic, reference_angle, KG_JSON_ANY), KG_B(prismatic, enable_limit),
+    KG_F(prismatic, lower_translation, KG_JSON_ANY), KG_F(prismatic, upper_translation, KG_JSON_ANY),
+    KG_B(prismatic, enable_motor), KG_F(prismatic, motor_speed, KG_JSON_ANY),
+    KG_F(prismatic, max_motor_force, KG_JSON_NON_NEGATIVE), KG_B(prismatic, enable_spring),
+    KG_F(prismatic, hertz, KG_JSON_NON_NEGATIVE), KG_F(prismatic, damping_ratio, KG_JSON_NON_NEGATIVE), KG_END};
+static const kg_joint_field kWheelOptions[] = {
+    KG_BASE(wheel), KG_B(wheel, enable_limit), KG_F(wheel, lower_translation, KG_JSON_ANY),
+    KG_F(wheel, upper_translation, KG_JSON_ANY), KG_B(wheel, enable_motor), KG_F(wheel, motor_speed, KG_JSON_ANY),
+    KG_F(wheel, max_motor_torque, KG_JSON_NON_NEGATIVE), KG_B(wheel, enable_spring),
+    KG_F(wheel, hertz, KG_JSON_NON_NEGATIVE), KG_F(wheel, damping_ratio, KG_JSON_NON_NEGATIVE), KG_END};
+static const kg_joint_field kMotorOptions[] = {
+    KG_BASE(motor), KG_V(motor, linear_offset), KG_F(motor, angular_offset, KG_JSON_ANY),
+    KG_F(motor, max_force, KG_JSON_NON_NEGATIVE), KG_F(motor, max_torque, KG_JSON_NON_NEGATIVE),
+    KG_F(motor, correction_factor, KG_JSON_UNIT), KG_END};
+
+#define KG_ANCHOR_END {NULL, KG_ANCHOR_OPTIONAL, 0}
+static const kg_joint_anchor kPointAnchors[] = {{"anchor", KG_ANCHOR_REQUIRED, KG_AT(anchor_a)},
+                                                {"anchor_b", KG_ANCHOR_SECOND, KG_AT(anchor_b)}, KG_ANCHOR_END};
+static const kg_joint_anchor kDistanceAnchors[] = {{"anchor_a", KG_ANCHOR_REQUIRED, KG_AT(anchor_a)},
+                                                   {"anchor_b", KG_ANCHOR_REQUIRED, KG_AT(anchor_b)}, KG_ANCHOR_END};
+static const kg_joint_anchor kMouseAnchors[] = {{"target", KG_ANCHOR_REQUIRED, KG_AT(mouse.target)},
+                                                {"anchor", KG_ANCHOR_OPTIONAL, KG_AT(anchor_b)}, KG_ANCHOR_END};
+static const kg_joint_anchor kAxisAnchors[] = {{"anchor", KG_ANCHOR_REQUIRED, KG_AT(anchor_a)},
+                                               {"anchor_b", KG_ANCHOR_SECOND, KG_AT(anchor_b)},
+                                               {"axis", KG_ANCHOR_REQUIRED, KG_AT(axis)}, KG_ANCHOR_END};
+static const kg_joint_anchor kNoAnchors[] = {KG_ANCHOR_END};
+
+/* By kg_joint_type. */
+static const kg_joint_kind kJointKinds[] = {
+    {"revolute", kPointAnchors, kRevoluteOptions},   {"distance", kDistanceAnchors, kDistanceOptions},
+    {"weld", kPointAnchors, kWeldOptions},           {"mouse", kMouseAnchors, kMouseOptions},
+    {"prismatic", kAxisAnchors, kPrismaticOptions}, {"wheel", kAxisAnchors, kWheelOptions},
+    {"motor", kNoAnchors, kMotorOptions}};
+#define KG_JOINT_KIND_COUNT ((int)(sizeof kJointKinds / sizeof kJointKinds[0]))
+
+/* The keys an entry of kind may have, into keys (NULL-terminated; room for 32). */
+static void kg_joint_keys(const kg_joint_kind* kind, const char** keys)
+{
+    int n = 0;
+    keys[n++] = "type";
+    keys[n++] = "a";
+    keys[n++] = "b";
+    for (const kg_joint_anchor* a = kind->anchors; a->key; ++a) {
+        keys[n++] = a->key;
+    }
+    for (const kg_joint_field* f = kind->options; f->key; ++f) {
+        keys[n++] = f->key;
+    }
+    keys[n] = NULL;
+}
+
+static kg_vec2* kg_joint_vec2(kg_scene_joint* j, size_t offset) { return (kg_vec2*)((char*)j + offset); }
+
+static kg_result kg_read_anchors(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
+                                 const kg_joint_kind* kind, kg_scene_joint* j)
+{
+    for (const kg_joint_anchor* a = kind->anchors; a->key; ++a) {
+        if (a->presence == KG_ANCHOR_REQUIRED) {
+            KG_TRY(kg_json_require(reader, item, path, a->key));
+        }
+        if (a->presence == KG_ANCHOR_SECOND) {
+            j->anchor_b = j->anchor_a;
+        }
+        KG_TRY(kg_json_vec2(reader, item, path, a->key, kg_joint_vec2(j, a->offset)));
+    }
+    return KG_OK;
+}
+
+static kg_result kg_read_options(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
+                                 const kg_joint_kind* kind, kg_scene_joint* j)
+{
+    for (const kg_joint_field* f = kind->options; f->key; ++f) {
+        void* at = (char*)j + f->offset;
+        switch (f->kind) {
+        case KG_FIELD_FLOAT: KG_TRY(kg_json_float(reader, item, path, f->key, f->rule, (float*)at)); break;
+        case KG_FIELD_BOOL: KG_TRY(kg_json_bool(reader, item, path, f->key, (int*)at)); break;
+        default: KG_TRY(kg_json_vec2(reader, item, path, f->key, (kg_vec2*)at)); break;
+        }
+    }
+    return KG_OK;
+}
 
 /* The scene index of the body that object's key names: -1 when absent (the world) unless
  * required. */
@@ -73,187 +196,75 @@ static kg_vec2 kg_scene_position(const kg_scene* scene, int index)
     return index < 0 ? zero : kg_scene_body_def(scene, index)->position;
 }
 
-static kg_result kg_read_base(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
-                              kg_joint_base_def* base)
+/* The defaults that come from the scene's bodies: the reference angles (b's angle minus
+ * a's), the point a mouse joint drags (b's origin), a motor joint's offsets (b's pose in
+ * a's frame). */
+static void kg_joint_defaults(const kg_scene* scene, kg_scene_joint* j)
 {
-    KG_TRY(kg_json_bool(reader, item, path, "collide_connected", &base->collide_connected));
-    KG_TRY(kg_json_float(reader, item, path, "constraint_hertz", KG_JSON_NON_NEGATIVE, &base->constraint_hertz));
-    KG_TRY(kg_json_float(reader, item, path, "break_force", KG_JSON_NON_NEGATIVE, &base->break_force));
-    KG_TRY(kg_json_float(reader, item, path, "break_torque", KG_JSON_NON_NEGATIVE, &base->break_torque));
-    return kg_json_float(reader, item, path, "constraint_damping_ratio", KG_JSON_NON_NEGATIVE,
-                         &base->constraint_damping_ratio);
+    float angle_a = kg_scene_angle(scene, j->body_a), relative = kg_scene_angle(scene, j->body_b) - angle_a;
+    j->revolute.reference_angle = relative;
+    j->weld.reference_angle = relative;
+    j->prismatic.reference_angle = relative;
+    j->anchor_b = j->type == KG_JOINT_MOUSE ? kg_scene_position(scene, j->body_b) : j->anchor_b;
+    kg_vec2 pa = kg_scene_position(scene, j->body_a), pb = kg_scene_position(scene, j->body_b);
+    float c = cosf(angle_a), s = sinf(angle_a), dx = pb.x - pa.x, dy = pb.y - pa.y;
+    j->motor.linear_offset.x = c * dx + s * dy;
+    j->motor.linear_offset.y = -s * dx + c * dy;
+    j->motor.angular_offset = relative;
 }
 
-static kg_result kg_read_revolute(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
-                                  const kg_scene* scene, kg_scene_joint* j)
+/* What follows from the anchors: a distance joint's length (as placed), a mouse joint's
+ * world side (its target), an axis that is not zero. */
+static kg_result kg_after_anchors(const kg_json_reader* reader, const kg_json_path* path, kg_scene_joint* j)
 {
-    kg_revolute_joint_def* d = &j->revolute;
-    KG_TRY(kg_json_check_object(reader, item, path, kRevoluteFields));
-    KG_TRY(kg_read_base(reader, item, path, &d->base));
-    KG_TRY(kg_json_require(reader, item, path, "anchor"));
-    KG_TRY(kg_json_vec2(reader, item, path, "anchor", &j->anchor_a));
-    j->anchor_b = j->anchor_a;
-    d->reference_angle = kg_scene_angle(scene, j->body_b) - kg_scene_angle(scene, j->body_a);
-    KG_TRY(kg_json_float(reader, item, path, "reference_angle", KG_JSON_ANY, &d->reference_angle));
-    KG_TRY(kg_json_bool(reader, item, path, "enable_limit", &d->enable_limit));
-    KG_TRY(kg_json_float(reader, item, path, "lower_angle", KG_JSON_ANY, &d->lower_angle));
-    KG_TRY(kg_json_float(reader, item, path, "upper_angle", KG_JSON_ANY, &d->upper_angle));
-    KG_TRY(kg_json_bool(reader, item, path, "enable_motor", &d->enable_motor));
-    KG_TRY(kg_json_float(reader, item, path, "motor_speed", KG_JSON_ANY, &d->motor_speed));
-    KG_TRY(kg_json_float(reader, item, path, "max_motor_torque", KG_JSON_NON_NEGATIVE, &d->max_motor_torque));
-    KG_TRY(kg_json_bool(reader, item, path, "enable_spring", &d->enable_spring));
-    KG_TRY(kg_json_float(reader, item, path, "hertz", KG_JSON_NON_NEGATIVE, &d->hertz));
-    KG_TRY(kg_json_float(reader, item, path, "damping_ratio", KG_JSON_NON_NEGATIVE, &d->damping_ratio));
-    if (d->lower_angle > d->upper_angle) {
-        kg_json_path at = kg_json_path_key(path, "lower_angle");
-        return kg_json_fail(reader, &at, "must be <= upper_angle");
+    if (j->type == KG_JOINT_DISTANCE) {
+        float dx = j->anchor_b.x - j->anchor_a.x, dy = j->anchor_b.y - j->anchor_a.y;
+        j->distance.length = sqrtf(dx * dx + dy * dy);
     }
-    return KG_OK;
-}
-
-static kg_result kg_read_distance(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
-                                  kg_scene_joint* j)
-{
-    kg_distance_joint_def* d = &j->distance;
-    KG_TRY(kg_json_check_object(reader, item, path, kDistanceFields));
-    KG_TRY(kg_read_base(reader, item, path, &d->base));
-    KG_TRY(kg_json_require(reader, item, path, "anchor_a"));
-    KG_TRY(kg_json_require(reader, item, path, "anchor_b"));
-    KG_TRY(kg_json_vec2(reader, item, path, "anchor_a", &j->anchor_a));
-    KG_TRY(kg_json_vec2(reader, item, path, "anchor_b", &j->anchor_b));
-    float dx = j->anchor_b.x - j->anchor_a.x, dy = j->anchor_b.y - j->anchor_a.y;
-    d->length = sqrtf(dx * dx + dy * dy); /* default: as placed */
-    KG_TRY(kg_json_float(reader, item, path, "length", KG_JSON_POSITIVE, &d->length));
-    if (!(d->length > 0.0f)) {
-        kg_json_path at = kg_json_path_key(path, "length");
-        return kg_json_fail(reader, &at, "is required when the anchors coincide (must be > 0)");
+    if (j->type == KG_JOINT_MOUSE) {
+        j->anchor_a = j->mouse.target;
     }
-    KG_TRY(kg_json_bool(reader, item, path, "enable_spring", &d->enable_spring));
-    KG_TRY(kg_json_float(reader, item, path, "hertz", KG_JSON_NON_NEGATIVE, &d->hertz));
-    KG_TRY(kg_json_float(reader, item, path, "damping_ratio", KG_JSON_NON_NEGATIVE, &d->damping_ratio));
-    KG_TRY(kg_json_bool(reader, item, path, "enable_limit", &d->enable_limit));
-    KG_TRY(kg_json_float(reader, item, path, "min_length", KG_JSON_NON_NEGATIVE, &d->min_length));
-    KG_TRY(kg_json_float(reader, item, path, "max_length", KG_JSON_NON_NEGATIVE, &d->max_length));
-    if (d->min_length > d->max_length) {
-        kg_json_path at = kg_json_path_key(path, "min_length");
-        return kg_json_fail(reader, &at, "must be <= max_length");
-    }
-    return KG_OK;
-}
-
-static kg_result kg_read_weld(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
-                              const kg_scene* scene, kg_scene_joint* j)
-{
-    kg_weld_joint_def* d = &j->weld;
-    KG_TRY(kg_json_check_object(reader, item, path, kWeldFields));
-    KG_TRY(kg_read_base(reader, item, path, &d->base));
-    KG_TRY(kg_json_require(reader, item, path, "anchor"));
-    KG_TRY(kg_json_vec2(reader, item, path, "anchor", &j->anchor_a));
-    j->anchor_b = j->anchor_a;
-    d->reference_angle = kg_scene_angle(scene, j->body_b) - kg_scene_angle(scene, j->body_a);
-    KG_TRY(kg_json_float(reader, item, path, "reference_angle", KG_JSON_ANY, &d->reference_angle));
-    KG_TRY(kg_json_float(reader, item, path, "linear_hertz", KG_JSON_NON_NEGATIVE, &d->linear_hertz));
-    KG_TRY(kg_json_float(reader, item, path, "linear_damping_ratio", KG_JSON_NON_NEGATIVE, &d->linear_damping_ratio));
-    KG_TRY(kg_json_float(reader, item, path, "angular_hertz", KG_JSON_NON_NEGATIVE, &d->angular_hertz));
-    return kg_json_float(reader, item, path, "angular_damping_ratio", KG_JSON_NON_NEGATIVE,
-                         &d->angular_damping_ratio);
-}
-
-static kg_result kg_read_mouse(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
-                               const kg_scene* scene, kg_scene_joint* j)
-{
-    kg_mouse_joint_def* d = &j->mouse;
-    KG_TRY(kg_json_check_object(reader, item, path, kMouseFields));
-    KG_TRY(kg_read_base(reader, item, path, &d->base));
-    if (j->body_a >= 0) {
-        kg_json_path at = kg_json_path_key(path, "a");
-        return kg_json_fail(reader, &at, "a mouse joint drags \"b\" to its target: it has no \"a\"");
-    }
-    KG_TRY(kg_json_require(reader, item, path, "target"));
-    KG_TRY(kg_json_vec2(reader, item, path, "target", &d->target));
-    j->anchor_b = kg_scene_position(scene, j->body_b); /* default: the body's origin */
-    KG_TRY(kg_json_vec2(reader, item, path, "anchor", &j->anchor_b));
-    j->anchor_a = d->target;
-    KG_TRY(kg_json_float(reader, item, path, "hertz", KG_JSON_POSITIVE, &d->hertz));
-    KG_TRY(kg_json_float(reader, item, path, "damping_ratio", KG_JSON_NON_NEGATIVE, &d->damping_ratio));
-    return kg_json_float(reader, item, path, "max_force", KG_JSON_NON_NEGATIVE, &d->max_force);
-}
-
-/* The axis (required, not zero) and the translation limits of a prismatic or wheel joint. */
-static kg_result kg_read_axis_limits(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
-                                     kg_scene_joint* j, int* enable, float* lower, float* upper)
-{
-    KG_TRY(kg_json_require(reader, item, path, "anchor"));
-    KG_TRY(kg_json_vec2(reader, item, path, "anchor", &j->anchor_a));
-    j->anchor_b = j->anchor_a;
-    KG_TRY(kg_json_require(reader, item, path, "axis"));
-    KG_TRY(kg_json_vec2(reader, item, path, "axis", &j->axis));
-    if (j->axis.x * j->axis.x + j->axis.y * j->axis.y < 1e-12f) {
+    int axis = j->type == KG_JOINT_PRISMATIC || j->type == KG_JOINT_WHEEL;
+    if (axis && j->axis.x * j->axis.x + j->axis.y * j->axis.y < 1e-12f) {
         kg_json_path at = kg_json_path_key(path, "axis");
         return kg_json_fail(reader, &at, "must not be zero");
     }
-    KG_TRY(kg_json_bool(reader, item, path, "enable_limit", enable));
-    KG_TRY(kg_json_float(reader, item, path, "lower_translation", KG_JSON_ANY, lower));
-    KG_TRY(kg_json_float(reader, item, path, "upper_translation", KG_JSON_ANY, upper));
-    if (*lower > *upper) {
-        kg_json_path at = kg_json_path_key(path, "lower_translation");
-        return kg_json_fail(reader, &at, "must be <= upper_translation");
+    return KG_OK;
+}
+
+/* Fails at path.key with "must be <= other" when lower > upper. */
+static kg_result kg_check_order(const kg_json_reader* reader, const kg_json_path* path, float lower, float upper,
+                                const char* key, const char* other)
+{
+    if (lower > upper) {
+        kg_json_path at = kg_json_path_key(path, key);
+        return kg_json_fail(reader, &at, "must be <= %s", other);
     }
     return KG_OK;
 }
 
-static kg_result kg_read_prismatic(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
-                                   const kg_scene* scene, kg_scene_joint* j)
+/* The checks between options. */
+static kg_result kg_check_options(const kg_json_reader* reader, const kg_json_path* path, const kg_scene_joint* j)
 {
-    kg_prismatic_joint_def* d = &j->prismatic;
-    KG_TRY(kg_json_check_object(reader, item, path, kPrismaticFields));
-    KG_TRY(kg_read_base(reader, item, path, &d->base));
-    KG_TRY(kg_read_axis_limits(reader, item, path, j, &d->enable_limit, &d->lower_translation,
-                               &d->upper_translation));
-    d->reference_angle = kg_scene_angle(scene, j->body_b) - kg_scene_angle(scene, j->body_a);
-    KG_TRY(kg_json_float(reader, item, path, "reference_angle", KG_JSON_ANY, &d->reference_angle));
-    KG_TRY(kg_json_bool(reader, item, path, "enable_motor", &d->enable_motor));
-    KG_TRY(kg_json_float(reader, item, path, "motor_speed", KG_JSON_ANY, &d->motor_speed));
-    KG_TRY(kg_json_float(reader, item, path, "max_motor_force", KG_JSON_NON_NEGATIVE, &d->max_motor_force));
-    KG_TRY(kg_json_bool(reader, item, path, "enable_spring", &d->enable_spring));
-    KG_TRY(kg_json_float(reader, item, path, "hertz", KG_JSON_NON_NEGATIVE, &d->hertz));
-    return kg_json_float(reader, item, path, "damping_ratio", KG_JSON_NON_NEGATIVE, &d->damping_ratio);
-}
-
-static kg_result kg_read_wheel(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
-                               kg_scene_joint* j)
-{
-    kg_wheel_joint_def* d = &j->wheel;
-    KG_TRY(kg_json_check_object(reader, item, path, kWheelFields));
-    KG_TRY(kg_read_base(reader, item, path, &d->base));
-    KG_TRY(kg_read_axis_limits(reader, item, path, j, &d->enable_limit, &d->lower_translation,
-                               &d->upper_translation));
-    KG_TRY(kg_json_bool(reader, item, path, "enable_motor", &d->enable_motor));
-    KG_TRY(kg_json_float(reader, item, path, "motor_speed", KG_JSON_ANY, &d->motor_speed));
-    KG_TRY(kg_json_float(reader, item, path, "max_motor_torque", KG_JSON_NON_NEGATIVE, &d->max_motor_torque));
-    KG_TRY(kg_json_bool(reader, item, path, "enable_spring", &d->enable_spring));
-    KG_TRY(kg_json_float(reader, item, path, "hertz", KG_JSON_NON_NEGATIVE, &d->hertz));
-    return kg_json_float(reader, item, path, "damping_ratio", KG_JSON_NON_NEGATIVE, &d->damping_ratio);
-}
-
-static kg_result kg_read_motor(const kg_json_reader* reader, const cJSON* item, const kg_json_path* path,
-                               const kg_scene* scene, kg_scene_joint* j)
-{
-    kg_motor_joint_def* d = &j->motor;
-    KG_TRY(kg_json_check_object(reader, item, path, kMotorFields));
-    KG_TRY(kg_read_base(reader, item, path, &d->base));
-    /* default: the pose b has relative to a at the scene's start */
-    float angle_a = kg_scene_angle(scene, j->body_a);
-    kg_vec2 pa = kg_scene_position(scene, j->body_a), pb = kg_scene_position(scene, j->body_b);
-    float c = cosf(angle_a), s = sinf(angle_a), dx = pb.x - pa.x, dy = pb.y - pa.y;
-    d->linear_offset.x = c * dx + s * dy;
-    d->linear_offset.y = -s * dx + c * dy;
-    d->angular_offset = kg_scene_angle(scene, j->body_b) - angle_a;
-    KG_TRY(kg_json_vec2(reader, item, path, "linear_offset", &d->linear_offset));
-    KG_TRY(kg_json_float(reader, item, path, "angular_offset", KG_JSON_ANY, &d->angular_offset));
-    KG_TRY(kg_json_float(reader, item, path, "max_force", KG_JSON_NON_NEGATIVE, &d->max_force));
-    KG_TRY(kg_json_float(reader, item, path, "max_torque", KG_JSON_NON_NEGATIVE, &d->max_torque));
-    return kg_json_float(reader, item, path, "correction_factor", KG_JSON_UNIT, &d->correction_factor);
+    switch (j->type) {
+    case KG_JOINT_REVOLUTE:
+        return kg_check_order(reader, path, j->revolute.lower_angle, j->revolute.upper_angle, "lower_angle",
+                              "upper_angle");
+    case KG_JOINT_DISTANCE:
+        if (!(j->distance.length > 0.0f)) {
+            kg_json_path at = kg_json_path_key(path, "length");
+            return kg_json_fail(reader, &at, "is required when the anchors coincide (must be > 0)");
+        }
+        return kg_check_order(reader, path, j->distance.min_length, j->distance.max_length, "min_length",
+                              "max_length");
+    case KG_JOINT_PRISMATIC:
+        return kg_check_order(reader, path, j->prismatic.lower_translation, j->prismatic.upper_translation,
+                              "lower_translation", "upper_translation");
+    case KG_JOINT_WHEEL:
+        return kg_check_order(reader, path, j->wheel.lower_translation, j->wheel.upper_translation,
+                              "lower_translation", "upper_translation");
+    default: return KG_OK;
+    }
 }
 
 /* Whether world point p stays a finite float in body index's frame at the scene's start
@@ -333,6 +344,20 @@ static kg_result kg_check_scene_joint(const kg_json_reader* reader, const kg_jso
     return KG_OK;
 }
 
+void kg_scene_joint_init(kg_scene_joint* j, kg_joint_type type)
+{
+    memset(j, 0, sizeof *j);
+    j->type = type;
+    j->body_a = -1;
+    j->revolute = kg_default_revolute_joint_def();
+    j->distance = kg_default_distance_joint_def();
+    j->weld = kg_default_weld_joint_def();
+    j->mouse = kg_default_mouse_joint_def();
+    j->prismatic = kg_default_prismatic_joint_def();
+    j->wheel = kg_default_wheel_joint_def();
+    j->motor = kg_default_motor_joint_def();
+}
+
 kg_result kg_read_scene_joint(const kg_json_reader* reader, kg_scene* scene, const cJSON* item,
                               const kg_json_path* path)
 {
@@ -343,39 +368,34 @@ kg_result kg_read_scene_joint(const kg_json_reader* reader, kg_scene* scene, con
     const char* type = NULL;
     KG_TRY(kg_json_string(reader, item, path, "type", &type));
     int kind = -1;
-    for (int i = 0; kJointTypes[i]; ++i) {
-        kind = strcmp(type, kJointTypes[i]) == 0 ? i : kind;
+    for (int i = 0; i < KG_JOINT_KIND_COUNT; ++i) {
+        kind = strcmp(type, kJointKinds[i].name) == 0 ? i : kind;
     }
     kg_json_path type_path = kg_json_path_key(path, "type");
     if (kind < 0) {
         return kg_json_fail(reader, &type_path,
                             "must be one of revolute, distance, weld, mouse, prismatic, wheel, motor");
     }
+    const char* keys[32];
+    kg_joint_keys(&kJointKinds[kind], keys);
+    KG_TRY(kg_json_check_object(reader, item, path, keys));
     kg_scene_joint j;
-    memset(&j, 0, sizeof j);
-    j.type = (kg_joint_type)kind;
-    j.revolute = kg_default_revolute_joint_def();
-    j.distance = kg_default_distance_joint_def();
-    j.weld = kg_default_weld_joint_def();
-    j.mouse = kg_default_mouse_joint_def();
-    j.prismatic = kg_default_prismatic_joint_def();
-    j.wheel = kg_default_wheel_joint_def();
-    j.motor = kg_default_motor_joint_def();
+    kg_scene_joint_init(&j, (kg_joint_type)kind);
     KG_TRY(kg_read_joint_body(reader, scene, item, path, "a", 0, &j.body_a));
     KG_TRY(kg_read_joint_body(reader, scene, item, path, "b", 1, &j.body_b));
     if (j.body_a == j.body_b) {
         kg_json_path at = kg_json_path_key(path, "b");
         return kg_json_fail(reader, &at, "names the same body as \"a\": a joint needs two bodies");
     }
-    switch (j.type) {
-    case KG_JOINT_REVOLUTE: KG_TRY(kg_read_revolute(reader, item, path, scene, &j)); break;
-    case KG_JOINT_DISTANCE: KG_TRY(kg_read_distance(reader, item, path, &j)); break;
-    case KG_JOINT_WELD: KG_TRY(kg_read_weld(reader, item, path, scene, &j)); break;
-    case KG_JOINT_MOUSE: KG_TRY(kg_read_mouse(reader, item, path, scene, &j)); break;
-    case KG_JOINT_PRISMATIC: KG_TRY(kg_read_prismatic(reader, item, path, scene, &j)); break;
-    case KG_JOINT_WHEEL: KG_TRY(kg_read_wheel(reader, item, path, &j)); break;
-    default: KG_TRY(kg_read_motor(reader, item, path, scene, &j)); break;
+    if (j.type == KG_JOINT_MOUSE && j.body_a >= 0) {
+        kg_json_path at = kg_json_path_key(path, "a");
+        return kg_json_fail(reader, &at, "a mouse joint drags \"b\" to its target: it has no \"a\"");
     }
+    kg_joint_defaults(scene, &j);
+    KG_TRY(kg_read_anchors(reader, item, path, &kJointKinds[kind], &j));
+    KG_TRY(kg_after_anchors(reader, path, &j));
+    KG_TRY(kg_read_options(reader, item, path, &kJointKinds[kind], &j));
+    KG_TRY(kg_check_options(reader, path, &j));
     KG_TRY(kg_check_scene_joint(reader, path, scene, &j));
     if (kg_scene_add_joint(scene, &j) != KG_OK) {
         return kg_json_fail(reader, path, "%s", kg_last_error());
@@ -498,4 +518,46 @@ kg_result kg_create_scene_joints(const kg_scene* scene, kg_world* world, const k
         }
     }
     return KG_OK;
+}
+
+/* ---- writing ---- */
+
+static int kg_add_anchors(cJSON* o, const kg_joint_kind* kind, const kg_scene_joint* j)
+{
+    int ok = 1;
+    for (const kg_joint_anchor* a = kind->anchors; ok && a->key; ++a) {
+        kg_vec2 v = *kg_joint_vec2((kg_scene_joint*)j, a->offset);
+        int same = memcmp(&j->anchor_b, &j->anchor_a, sizeof v) == 0;
+        ok = (a->presence == KG_ANCHOR_SECOND && same) || kg_json_add_vec2(o, a->key, v);
+    }
+    return ok;
+}
+
+static int kg_add_options(cJSON* o, const kg_joint_kind* kind, const kg_scene_joint* j)
+{
+    int ok = 1;
+    for (const kg_joint_field* f = kind->options; ok && f->key; ++f) {
+        const void* at = (const char*)j + f->offset;
+        switch (f->kind) {
+        case KG_FIELD_FLOAT: ok = kg_json_add_float(o, f->key, *(const float*)at); break;
+        case KG_FIELD_BOOL: ok = cJSON_AddBoolToObject(o, f->key, *(const int*)at != 0) != NULL; break;
+        default: ok = kg_json_add_vec2(o, f->key, *(const kg_vec2*)at); break;
+        }
+    }
+    return ok;
+}
+
+cJSON* kg_scene_joint_json(const kg_scene* scene, const kg_scene_joint* j)
+{
+    const kg_joint_kind* kind = &kJointKinds[j->type];
+    cJSON* o = cJSON_CreateObject();
+    int ok = o && cJSON_AddStringToObject(o, "type", kind->name) &&
+             (j->body_a < 0 || cJSON_AddStringToObject(o, "a", kg_scene_body_name(scene, j->body_a))) &&
+             cJSON_AddStringToObject(o, "b", kg_scene_body_name(scene, j->body_b)) &&
+             kg_add_anchors(o, kind, j) && kg_add_options(o, kind, j);
+    if (!ok) {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
 }

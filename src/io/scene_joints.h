@@ -6,6 +6,9 @@
 #include "io/json_util.h"
 #include "kgyro/scene.h"
 
+/* j of type with every kind's definition at its default and no bodies (body_a -1). */
+void kg_scene_joint_init(kg_scene_joint* j, kg_joint_type type);
+
 /* Reads one joint entry (an object as the "joints" array holds them) into scene, whose
  * bodies are all read; messages name path. The Tiled loader builds such entries from
  * joint objects (tiled_joints.c). */
@@ -14,6 +17,10 @@ kg_result kg_read_scene_joint(const kg_json_reader* reader, kg_scene* scene, con
 
 /* Reads root's "joints" (if any) into scene, whose bodies are all read. */
 kg_result kg_read_scene_joints(const kg_json_reader* reader, kg_scene* scene, const cJSON* root);
+
+/* The entry of the "joints" array that reads back as j (NULL: out of memory): its kind,
+ * bodies by name, anchors, and every option from the table the reader reads. */
+cJSON* kg_scene_joint_json(const kg_scene* scene, const kg_scene_joint* j);
 
 /* Creates the scene's joints in world, whose scene bodies are handles. */
 kg_result kg_create_scene_joints(const kg_scene* scene, kg_world* world, const kg_body* handles);

@@ -55,9 +55,6 @@ static const char* const kBodyTypes[] = {"static", "dynamic", "kinematic", "part
  * bodies written out one by one, more than any world the engine steps interactively. */
 #define KG_SCENE_FILE_SIZE_MAX ((size_t)1 << 26)
 
-/* The most entries of a body's "shapes". */
-#define KG_SCENE_MAX_SHAPES 64
-
 /* The chains of the body being read, added to the scene after the body: their points (the
  * loader frees them) in the body frame. */
 typedef struct kg_body_chains {

@@ -1,6 +1,6 @@
 /* Saving worlds as scenes (include/kgyro/scene.h, "Saved worlds"): kg_scene_from_world
- * describes a world's bodies and built-in forces as a scene and keeps the world's
- * snapshot in it; kg_scene_save_file writes a scene as a JSON file that kg_scene_load_file
+ * describes a world's bodies (every shape, chains), built-in forces, tile maps and joints
+ * as a scene and keeps the world's snapshot in it; kg_scene_save_file writes a scene as a JSON file that kg_scene_load_file
  * reads back, every float as "%.9g" (which gives back the same float: 9 significant
  * digits tell any two floats apart, and the parser's double rounds to the float it came
  * from), the snapshot as base64 in "state" (io/scene_state.c). */
@@ -11,8 +11,12 @@
 #include "core/body_pool.h"
 #include "core/error.h"
 #include "core/world.h"
+#include "core/joint.h"
+#include "core/shape_pool.h"
+#include "collide/chain.h"
 #include "collide/tilemap.h"
 #include "io/json_util.h"
+#include "io/scene_joints.h"
 #include "io/scene_state.h"
 
 #include <stdio.h>
@@ -21,8 +25,28 @@
 
 /* ---- from a world ---- */
 
-/* Body slot i's definition as the world has it now: state, shape, material, filter. */
-static kg_body_def kg_def_of(const kg_world* world, const kg_body_pool* p, kg_body body)
+/* Whether shape slot s of world is a segment of a chain. */
+static int kg_is_chain_shape(const kg_world* world, kg_shape_id shape)
+{
+    return kg_is_chain_segment(kg_shape_geometry(&world->bodies, &world->shapes, shape.index));
+}
+
+/* Body's first shape that is not a chain segment (the body def's), or -1. */
+static int kg_first_solid(const kg_world* world, const kg_shape_id* shapes, int count)
+{
+    for (int k = 0; k < count; ++k) {
+        if (!kg_is_chain_shape(world, shapes[k])) {
+            return k;
+        }
+    }
+    return -1;
+}
+
+/* Body slot i's definition as the world has it now: state, first shape (not a chain's
+ * segment) with its material, filter and sensor flag, mass (of a body of one shape: a
+ * compound body's follows from its shapes' densities). */
+static kg_body_def kg_def_of(const kg_world* world, const kg_body_pool* p, kg_body body, const kg_shape_id* shapes,
+                             int count)
 {
     int i = (int)body.index;
     kg_body_def def = kg_default_body_def();
@@ -33,23 +57,127 @@ static kg_body_def kg_def_of(const kg_world* world, const kg_body_pool* p, kg_bo
     def.angle = def.type == KG_BODY_PARTICLE ? 0.0f : s.angle;
     def.velocity = s.velocity;
     def.angular_velocity = def.type == KG_BODY_PARTICLE ? 0.0f : s.angular_velocity;
-    if (kg_body_get_shape(world, body, &def.shape) != KG_OK) {
-        memset(&def.shape, 0, sizeof def.shape);
+    def.friction = p->friction[i];
+    def.restitution = p->restitution[i];
+    def.category = p->category[i];
+    def.mask = p->mask[i];
+    int first = kg_first_solid(world, shapes, count);
+    kg_body_shape_def shape;
+    if (first >= 0 && kg_shape_get_def(world, shapes[first], &shape) == KG_OK) {
+        def.shape = shape.geometry;
+        def.density = shape.density;
+        def.friction = shape.friction;
+        def.restitution = shape.restitution;
+        def.category = shape.category;
+        def.mask = shape.mask;
+        def.is_sensor = shape.is_sensor;
     }
     kg_mass_data md;
     int massive = def.type == KG_BODY_DYNAMIC || def.type == KG_BODY_PARTICLE;
-    if (massive && kg_body_get_mass_data(world, body, &md) == KG_OK && md.mass > 0.0f) {
+    if (massive && count <= 1 && kg_body_get_mass_data(world, body, &md) == KG_OK && md.mass > 0.0f) {
         def.mass = md.mass;
     }
-    def.friction = p->friction[i];
-    def.restitution = p->restitution[i];
     def.linear_damping = p->linear_damping[i];
     def.angular_damping = p->angular_damping[i];
-    def.category = p->category[i];
-    def.mask = p->mask[i];
     def.fixed_rotation = (p->flags[i] & KG_FLAG_FIXED_ROTATION) != 0u;
     def.bullet = (p->flags[i] & KG_FLAG_BULLET) != 0u;
     return def;
+}
+
+/* Whether chain segment b goes on from segment a (b's start and ghosts are a's points). */
+static int kg_chain_goes_on(const kg_shape* a, const kg_shape* b)
+{
+    return (a->chain & KG_CHAIN_GHOST2) && (b->chain & KG_CHAIN_GHOST1) &&
+           memcmp(&a->vertices[1], &b->vertices[0], sizeof(kg_vec2)) == 0 &&
+           memcmp(&a->vertices[3], &b->vertices[1], sizeof(kg_vec2)) == 0 &&
+           memcmp(&b->vertices[2], &a->vertices[0], sizeof(kg_vec2)) == 0;
+}
+
+/* The chain of segments [0, count) (each going on from the one before) into scene body
+ * index: a loop when the last goes on into the first, else open. Material: the first
+ * segment's. A chain of which a segment was destroyed comes out as the pieces left, their
+ * cut ends free. */
+static kg_result kg_add_world_chain(const kg_world* world, const kg_shape_id* segments, int count, kg_scene* scene,
+                                    int index)
+{
+    const kg_shape* first = kg_shape_geometry(&world->bodies, &world->shapes, segments[0].index);
+    const kg_shape* last = kg_shape_geometry(&world->bodies, &world->shapes, segments[count - 1].index);
+    int loop = count >= 3 && kg_chain_goes_on(last, first);
+    kg_vec2* points = malloc((size_t)(count + 1) * sizeof *points);
+    if (!points) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world: out of memory");
+    }
+    for (int k = 0; k < count; ++k) {
+        points[k] = kg_shape_geometry(&world->bodies, &world->shapes, segments[k].index)->vertices[0];
+    }
+    points[count] = last->vertices[1];
+    kg_body_shape_def material;
+    kg_result r = kg_shape_get_def(world, segments[0], &material);
+    kg_chain_def def = kg_default_chain_def();
+    def.points = points;
+    def.count = loop ? count : count + 1;
+    def.loop = loop;
+    def.friction = material.friction;
+    def.restitution = material.restitution;
+    def.category = material.category;
+    def.mask = material.mask;
+    r = r == KG_OK ? kg_scene_add_body_chain(scene, index, &def) : r;
+    free(points);
+    return r;
+}
+
+/* The body's shapes after its first into scene body index (in the world's order), then its
+ * chain segments, run by run, as chains. */
+static kg_result kg_add_world_shapes(const kg_world* world, const kg_shape_id* shapes, int count, kg_scene* scene,
+                                     int index)
+{
+    int first = kg_first_solid(world, shapes, count);
+    kg_result r = KG_OK;
+    for (int k = first + 1; r == KG_OK && first >= 0 && k < count; ++k) {
+        kg_body_shape_def def;
+        if (!kg_is_chain_shape(world, shapes[k])) {
+            r = kg_shape_get_def(world, shapes[k], &def);
+            def.user_data = NULL;
+            r = r == KG_OK ? kg_scene_add_body_shape(scene, index, &def) : r;
+        }
+    }
+    kg_shape_id* run = malloc((size_t)(count > 0 ? count : 1) * sizeof *run);
+    int length = 0;
+    r = r == KG_OK && !run ? kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world: out of memory") : r;
+    for (int k = 0; r == KG_OK && k <= count; ++k) {
+        int segment = k < count && kg_is_chain_shape(world, shapes[k]);
+        const kg_shape* g = segment ? kg_shape_geometry(&world->bodies, &world->shapes, shapes[k].index) : NULL;
+        const kg_shape* before =
+            length > 0 ? kg_shape_geometry(&world->bodies, &world->shapes, run[length - 1].index) : NULL;
+        if (length > 0 && (!segment || !kg_chain_goes_on(before, g))) {
+            r = kg_add_world_chain(world, run, length, scene, index);
+            length = 0;
+        }
+        if (segment) {
+            run[length++] = shapes[k];
+        }
+    }
+    free(run);
+    return r;
+}
+
+/* Adds the live body into scene under name, with all its shapes and chains. */
+static kg_result kg_add_world_body(const kg_world* world, kg_body body, const char* name, kg_scene* scene)
+{
+    const kg_body_pool* p = kg_world_read_pool(world);
+    int count = kg_body_shape_count(world, body);
+    kg_shape_id* shapes = malloc((size_t)(count > 0 ? count : 1) * sizeof *shapes);
+    kg_result r = shapes ? kg_body_get_shapes(world, body, shapes, count, &count)
+                         : kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world: out of memory");
+    if (r == KG_OK) {
+        kg_body_def def = kg_def_of(world, p, body, shapes, count);
+        r = kg_scene_add_body(scene, name, &def);
+    }
+    if (r == KG_OK) {
+        r = kg_add_world_shapes(world, shapes, count, scene, kg_scene_body_count(scene) - 1);
+    }
+    free(shapes);
+    return r;
 }
 
 /* The scene index of each body slot (-1: none), from the scene's bodies in slot order. */
@@ -177,7 +305,61 @@ static void kg_name_of(const kg_scene* scene, const char* const* names, kg_body 
     }
 }
 
-static kg_result kg_fill_scene(kg_world* world, kg_scene* scene, const char* const* names)
+/* The world's live joints, in slot order, as scene joints between the scene's bodies
+ * (index: the scene index of each body slot), anchors and axes where they are now. */
+static kg_result kg_add_world_joints(const kg_world* world, const int* index, kg_scene* scene)
+{
+    kg_result r = KG_OK;
+    for (int slot = 0; r == KG_OK && slot < kg_joints_slots(world); ++slot) {
+        kg_joint joint = kg_joint_of_slot(world, (uint32_t)slot);
+        kg_joint_type type;
+        kg_body a, b;
+        if (joint.generation == 0u || kg_joint_get_type(world, joint, &type) != KG_OK) {
+            continue;
+        }
+        kg_scene_joint j;
+        kg_scene_joint_init(&j, type);
+        r = kg_joint_get_bodies(world, joint, &a, &b);
+        j.body_a = a.generation == 0u ? -1 : index[a.index];
+        j.body_b = index[b.index];
+        r = r == KG_OK ? kg_joint_get_world_anchors(world, joint, &j.anchor_a, &j.anchor_b) : r;
+        if (r == KG_OK && (type == KG_JOINT_PRISMATIC || type == KG_JOINT_WHEEL)) {
+            r = kg_joint_get_world_axis(world, joint, &j.axis);
+        }
+        switch (type) {
+        case KG_JOINT_REVOLUTE: r = r == KG_OK ? kg_revolute_joint_get_def(world, joint, &j.revolute) : r; break;
+        case KG_JOINT_DISTANCE: r = r == KG_OK ? kg_distance_joint_get_def(world, joint, &j.distance) : r; break;
+        case KG_JOINT_WELD: r = r == KG_OK ? kg_weld_joint_get_def(world, joint, &j.weld) : r; break;
+        case KG_JOINT_MOUSE: r = r == KG_OK ? kg_mouse_joint_get_def(world, joint, &j.mouse) : r; break;
+        case KG_JOINT_PRISMATIC: r = r == KG_OK ? kg_prismatic_joint_get_def(world, joint, &j.prismatic) : r; break;
+        case KG_JOINT_WHEEL: r = r == KG_OK ? kg_wheel_joint_get_def(world, joint, &j.wheel) : r; break;
+        default: r = r == KG_OK ? kg_motor_joint_get_def(world, joint, &j.motor) : r; break;
+        }
+        r = r == KG_OK ? kg_scene_add_joint(scene, &j) : r;
+    }
+    return r;
+}
+
+/* The bodies' pivots in the scene the world was made from (origin: per body slot, its
+ * index there or -1). */
+static kg_result kg_add_pivots(const kg_scene* names_from, const int* origin, const kg_body* bodies, int count,
+                               kg_scene* scene)
+{
+    kg_vec2 pivot;
+    for (int k = 0; names_from && k < count; ++k) {
+        int from = origin[bodies[k].index];
+        if (from >= 0 && kg_scene_body_pivot(names_from, from, &pivot) &&
+            kg_scene_body_def(scene, k)->type == KG_BODY_KINEMATIC) {
+            KG_TRY(kg_scene_set_body_pivot(scene, k, pivot));
+        }
+    }
+    return KG_OK;
+}
+
+/* Fills scene from world; names_from and origin (per body slot, the body's index in
+ * names_from or -1) give the bodies' names and pivots, when given. */
+static kg_result kg_fill_scene(kg_world* world, kg_scene* scene, const kg_scene* names_from, const int* origin,
+                               const char* const* names)
 {
     *kg_scene_world_def(scene) = *kg_world_get_def(world);
     if (world->last_dt > 0.0f) {
@@ -189,33 +371,43 @@ static kg_result kg_fill_scene(kg_world* world, kg_scene* scene, const char* con
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world: out of memory");
     }
     kg_result r = kg_world_get_bodies(world, bodies, count, &count);
-    const kg_body_pool* p = kg_world_read_pool(world);
     for (int k = 0; r == KG_OK && k < count; ++k) {
-        kg_body_def def = kg_def_of(world, p, bodies[k]);
         char name[80];
         kg_name_of(scene, names, bodies[k], k, name, sizeof name);
-        r = kg_scene_add_body(scene, name, &def);
+        r = kg_add_world_body(world, bodies[k], name, scene);
     }
-    if (r == KG_OK) {
-        r = kg_add_world_forces(world, bodies, count, scene);
-    }
-    if (r == KG_OK) {
-        r = kg_add_world_maps(world, scene);
-    }
+    r = r == KG_OK ? kg_add_pivots(names_from, origin, bodies, count, scene) : r;
+    r = r == KG_OK ? kg_add_world_forces(world, bodies, count, scene) : r;
+    r = r == KG_OK ? kg_add_world_maps(world, scene) : r;
+    int* index = r == KG_OK ? kg_slot_indices(world, bodies, count) : NULL;
+    r = r == KG_OK && !index ? kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world: out of memory") : r;
+    r = r == KG_OK ? kg_add_world_joints(world, index, scene) : r;
+    free(index);
     free(bodies);
     return r == KG_OK ? kg_add_world_state(world, scene) : r;
 }
 
-/* The scene made from world, its bodies named from names (per slot, or NULL). */
-static kg_result kg_scene_of_world(const kg_world* world, const char* const* names, kg_scene** out)
+/* The scene made from world, its bodies named (and pivoted) from names_from through
+ * origin when given. */
+static kg_result kg_scene_of_world(const kg_world* world, const kg_scene* names_from, const int* origin,
+                                   kg_scene** out)
 {
     *out = NULL;
     if (kg_world_refuses(world, "kg_scene_from_world", KG_LOCK_STEP)) {
         return KG_ERROR_LOCKED;
     }
+    int slots = kg_world_get_def(world)->max_bodies;
+    const char** names = names_from ? calloc((size_t)slots, sizeof *names) : NULL;
+    if (names_from && !names) {
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world_named: out of memory");
+    }
+    for (int i = 0; names && i < slots; ++i) {
+        names[i] = origin[i] >= 0 ? kg_scene_body_name(names_from, origin[i]) : NULL;
+    }
     kg_scene* scene = NULL;
-    KG_TRY(kg_scene_create(&scene));
-    kg_result r = kg_fill_scene((kg_world*)world, scene, names);
+    kg_result r = kg_scene_create(&scene);
+    r = r == KG_OK ? kg_fill_scene((kg_world*)world, scene, names_from, origin, names) : r;
+    free(names);
     if (r != KG_OK) {
         kg_scene_destroy(scene);
         return r;
@@ -229,7 +421,7 @@ kg_result kg_scene_from_world(const kg_world* world, kg_scene** out)
     if (!world || !out) {
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_from_world: NULL argument");
     }
-    return kg_scene_of_world(world, NULL, out);
+    return kg_scene_of_world(world, NULL, NULL, out);
 }
 
 kg_result kg_scene_from_world_named(const kg_world* world, const kg_scene* names_from, const kg_body* bodies,
@@ -239,55 +431,24 @@ kg_result kg_scene_from_world_named(const kg_world* world, const kg_scene* names
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_from_world_named: NULL argument");
     }
     int slots = kg_world_get_def(world)->max_bodies;
-    const char** names = calloc((size_t)slots, sizeof *names);
-    if (!names) {
+    int* origin = malloc((size_t)slots * sizeof *origin);
+    if (!origin) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world_named: out of memory");
+    }
+    for (int i = 0; i < slots; ++i) {
+        origin[i] = -1;
     }
     for (int i = 0; i < kg_scene_body_count(names_from); ++i) {
         if (kg_body_is_valid(world, bodies[i])) {
-            names[bodies[i].index] = kg_scene_body_name(names_from, i);
+            origin[bodies[i].index] = i;
         }
     }
-    kg_result r = kg_scene_of_world(world, names, out);
-    free(names);
+    kg_result r = kg_scene_of_world(world, names_from, origin, out);
+    free(origin);
     return r;
 }
 
 /* ---- writing JSON ---- */
-
-/* A float as "%.9g" (NULL: out of memory). */
-static cJSON* kg_float_json(float v)
-{
-    char text[32];
-    snprintf(text, sizeof text, "%.9g", (double)v);
-    return cJSON_CreateRaw(text);
-}
-
-static cJSON* kg_vec2_json(kg_vec2 v)
-{
-    cJSON* a = cJSON_CreateArray();
-    if (a && (!cJSON_AddItemToArray(a, kg_float_json(v.x)) || !cJSON_AddItemToArray(a, kg_float_json(v.y)))) {
-        cJSON_Delete(a);
-        return NULL;
-    }
-    return a;
-}
-
-/* Adds key: item to object; 0 when item is NULL (out of memory). */
-static int kg_json_add(cJSON* object, const char* key, cJSON* item)
-{
-    return item && cJSON_AddItemToObject(object, key, item);
-}
-
-static int kg_json_add_float(cJSON* object, const char* key, float v)
-{
-    return kg_json_add(object, key, kg_float_json(v));
-}
-
-static int kg_json_add_vec2(cJSON* object, const char* key, kg_vec2 v)
-{
-    return kg_json_add(object, key, kg_vec2_json(v));
-}
 
 static cJSON* kg_shape_json(const kg_shape_def* s)
 {
@@ -328,18 +489,95 @@ static int kg_add_material(cJSON* o, const kg_body_def* d)
            (!d->bullet || cJSON_AddBoolToObject(o, "bullet", 1));
 }
 
+/* The shape and material of an entry of a body's "shapes" (body_sensor: the body's sensor
+ * flag, the entry's default). */
+static cJSON* kg_shape_entry_json(const kg_body_shape_def* s, int body_sensor)
+{
+    cJSON* o = kg_shape_json(&s->geometry);
+    int ok = o && kg_json_add_float(o, "density", s->density) && kg_json_add_float(o, "friction", s->friction) &&
+             kg_json_add_float(o, "restitution", s->restitution) &&
+             cJSON_AddNumberToObject(o, "category", (double)s->category) &&
+             cJSON_AddNumberToObject(o, "mask", (double)s->mask) &&
+             ((s->is_sensor != 0) == (body_sensor != 0) || cJSON_AddBoolToObject(o, "sensor", s->is_sensor != 0));
+    if (!ok) {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+static cJSON* kg_chain_entry_json(const kg_chain_def* c)
+{
+    cJSON* o = cJSON_CreateObject();
+    cJSON* points = cJSON_CreateArray();
+    int ok = o && cJSON_AddStringToObject(o, "type", "chain") && kg_json_add(o, "points", points);
+    points = ok ? points : (cJSON_Delete(points), NULL);
+    for (int k = 0; ok && k < c->count; ++k) {
+        ok = cJSON_AddItemToArray(points, kg_vec2_json(c->points[k]));
+    }
+    ok = ok && cJSON_AddBoolToObject(o, "loop", c->loop != 0) && kg_json_add_float(o, "friction", c->friction) &&
+         kg_json_add_float(o, "restitution", c->restitution) &&
+         cJSON_AddNumberToObject(o, "category", (double)c->category) &&
+         cJSON_AddNumberToObject(o, "mask", (double)c->mask);
+    if (!ok) {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+/* Whether body i is written with "shapes" (several shapes, or chains) rather than "shape". */
+static int kg_has_entries(const kg_scene* scene, int i)
+{
+    return kg_scene_body_shape_count(scene, i) > 1 || kg_scene_body_chain_count(scene, i) > 0;
+}
+
+/* Body i's "shapes": its own shape (if any), the others, then its chains. */
+static cJSON* kg_entries_json(const kg_scene* scene, int i)
+{
+    const kg_body_def* d = kg_scene_body_def(scene, i);
+    cJSON* list = cJSON_CreateArray();
+    int ok = list != NULL;
+    for (int k = d->shape.type == KG_SHAPE_NONE ? 1 : 0; ok && k < kg_scene_body_shape_count(scene, i); ++k) {
+        kg_body_shape_def shape;
+        ok = kg_scene_get_body_shape(scene, i, k, &shape) == KG_OK &&
+             cJSON_AddItemToArray(list, kg_shape_entry_json(&shape, d->is_sensor));
+    }
+    for (int k = 0; ok && k < kg_scene_body_chain_count(scene, i); ++k) {
+        kg_chain_def chain;
+        ok = kg_scene_get_body_chain(scene, i, k, &chain) == KG_OK &&
+             cJSON_AddItemToArray(list, kg_chain_entry_json(&chain));
+    }
+    if (!ok) {
+        cJSON_Delete(list);
+        return NULL;
+    }
+    return list;
+}
+
+static int kg_add_shapes(cJSON* o, const kg_scene* scene, int i)
+{
+    const kg_body_def* d = kg_scene_body_def(scene, i);
+    if (kg_has_entries(scene, i)) {
+        return kg_json_add(o, "shapes", kg_entries_json(scene, i));
+    }
+    return d->shape.type == KG_SHAPE_NONE || kg_json_add(o, "shape", kg_shape_json(&d->shape));
+}
+
 static cJSON* kg_body_json(const kg_scene* scene, int i)
 {
     static const char* const types[] = {"static", "dynamic", "kinematic", "particle"};
     const kg_body_def* d = kg_scene_body_def(scene, i);
     cJSON* o = cJSON_CreateObject();
     int rotates = d->type != KG_BODY_PARTICLE;
+    kg_vec2 pivot;
     int ok = o && cJSON_AddStringToObject(o, "name", kg_scene_body_name(scene, i)) &&
              cJSON_AddStringToObject(o, "type", types[d->type]) && kg_json_add_vec2(o, "position", d->position) &&
              (!rotates || kg_json_add_float(o, "angle", d->angle)) && kg_json_add_vec2(o, "velocity", d->velocity) &&
              (!rotates || kg_json_add_float(o, "angular_velocity", d->angular_velocity)) &&
-             (d->shape.type == KG_SHAPE_NONE || kg_json_add(o, "shape", kg_shape_json(&d->shape))) &&
-             kg_add_material(o, d);
+             kg_add_shapes(o, scene, i) && kg_add_material(o, d) &&
+             (!d->is_sensor || cJSON_AddBoolToObject(o, "sensor", 1)) &&
+             (!kg_scene_body_pivot(scene, i, &pivot) || kg_json_add_vec2(o, "pivot", pivot));
     if (!ok) {
         cJSON_Delete(o);
         return NULL;
@@ -496,6 +734,16 @@ static int kg_add_settings(cJSON* root, kg_scene* scene)
            cJSON_AddBoolToObject(root, "continuous", def->enable_continuous != 0);
 }
 
+static int kg_add_joints(cJSON* root, const kg_scene* scene)
+{
+    cJSON* joints = cJSON_CreateArray();
+    int ok = kg_json_add(root, "joints", joints);
+    for (int i = 0; ok && i < kg_scene_joint_count(scene); ++i) {
+        ok = cJSON_AddItemToArray(joints, kg_scene_joint_json(scene, kg_scene_get_joint(scene, i)));
+    }
+    return ok;
+}
+
 static cJSON* kg_scene_json(const kg_scene* scene)
 {
     cJSON* root = cJSON_CreateObject();
@@ -511,6 +759,9 @@ static cJSON* kg_scene_json(const kg_scene* scene)
     for (int i = 0; ok && i < kg_scene_force_count(scene); ++i) {
         ok = cJSON_AddItemToArray(forces, kg_force_json(scene, kg_scene_get_force(scene, i)));
     }
+    if (ok && kg_scene_joint_count(scene) > 0) {
+        ok = kg_add_joints(root, scene);
+    }
     if (ok && kg_scene_tilemap_count(scene) > 0) {
         ok = kg_add_tilemaps(root, scene);
     }
@@ -525,22 +776,32 @@ static cJSON* kg_scene_json(const kg_scene* scene)
     return root;
 }
 
-/* What a scene file cannot say yet; KG_OK when the scene has none of it, or holds a
- * state (which carries all of it). */
+/* A body the reader would refuse: more entries in "shapes" than it takes, or a mass with
+ * several shapes (the file gives each shape a density). */
+static kg_result kg_check_body_writable(const kg_scene* scene, int i)
+{
+    int entries = kg_scene_body_shape_count(scene, i) + kg_scene_body_chain_count(scene, i);
+    const char* name = kg_scene_body_name(scene, i);
+    if (entries > KG_SCENE_MAX_SHAPES) {
+        return kg_fail(KG_ERROR_UNSUPPORTED, "kg_scene_save_file: body %d ('%s') has %d shapes and chains, more "
+                       "than a scene file's \"shapes\" holds (%d)", i, name, entries, KG_SCENE_MAX_SHAPES);
+    }
+    if (kg_scene_body_shape_count(scene, i) > 1 && kg_scene_body_def(scene, i)->mass > 0.0f) {
+        return kg_fail(KG_ERROR_UNSUPPORTED, "kg_scene_save_file: body %d ('%s') has several shapes and a mass: "
+                       "a scene file gives each shape a density", i, name);
+    }
+    return KG_OK;
+}
+
+/* What a scene file cannot say: KG_OK when the scene has none of it. A tile map the
+ * legend cannot name is left to the state, when there is one. */
 static kg_result kg_check_writable(const kg_scene* scene)
 {
-    size_t size = 0;
-    if (kg_scene_get_state(scene, &size)) {
-        return KG_OK;
-    }
     for (int i = 0; i < kg_scene_body_count(scene); ++i) {
-        if (kg_scene_body_shape_count(scene, i) > 1 || kg_scene_body_chain_count(scene, i) > 0 ||
-            kg_scene_body_pivot(scene, i, NULL)) {
-            return kg_fail(KG_ERROR_UNSUPPORTED, "kg_scene_save_file: body %d ('%s') has several shapes, a chain or "
-                           "a pivot, which the writer does not write yet", i, kg_scene_body_name(scene, i));
-        }
+        KG_TRY(kg_check_body_writable(scene, i));
     }
-    for (int i = 0; i < kg_scene_tilemap_count(scene); ++i) {
+    size_t size = 0;
+    for (int i = 0; !kg_scene_get_state(scene, &size) && i < kg_scene_tilemap_count(scene); ++i) {
         if (!kg_map_writable(kg_scene_get_tilemap(scene, i))) {
             return kg_fail(KG_ERROR_UNSUPPORTED, "kg_scene_save_file: tile map %d has more than %d solid tile shapes, "
                            "which a scene file's legend cannot name", i, KG_LEGEND_SIZE);
