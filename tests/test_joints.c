@@ -218,9 +218,10 @@ static void run_chain(float load, int substeps, double* final_stretch, double* w
 }
 
 /* 40 links of 0.5 m hung from the world carry a load of 100 times a link's mass (4
- * sub-steps): the chain stretches less than 1% and comes to rest (falls asleep). With
- * 1,000 times at 8 sub-steps it stretches less than 1% but does not come to rest yet (its
- * links still jitter at some 0.2 m/s after 10 s: printed, not asserted, docs/joints.md). */
+ * sub-steps): the chain stretches less than 1% and comes to rest (falls asleep within the
+ * 10 s). The same with 1,000 times at 8 sub-steps: the load rings on the soft chain at
+ * 1.25 Hz, barely damped, until the over-relaxed relax pass stills it (KG_JOINT_OVERRELAX;
+ * without it, it still moved at 0.17 m/s after 10 s, docs/joints.md). */
 static void test_hanging_chain_with_heavy_load(void)
 {
     double final_stretch, worst, asleep, fastest;
@@ -235,7 +236,8 @@ static void test_hanging_chain_with_heavy_load(void)
              "fastest body %.3g m/s at 10 s, asleep at %.2f s (-1: not yet)\n",
              100.0 * final_stretch, 100.0 * worst, fastest, asleep);
     KG_CHECK(final_stretch < 0.01);
-    KG_CHECK(fastest < 1.0); /* no explosion */
+    KG_CHECK(asleep > 0.0);
+    KG_CHECK(fastest == 0.0); /* asleep: still */
 }
 
 /* A wheel on a motor (2 rad/s, at most 10 N m) turns against a load of 5 N m at its
@@ -799,7 +801,7 @@ static void test_bad_input(void)
     KG_CHECK(kg_world_joint_count(w) == 0);
     KG_CHECK(kg_world_set_joint_iterations(w, 0) == KG_ERROR_INVALID_ARGUMENT);
     KG_CHECK(kg_world_set_joint_iterations(w, 65) == KG_ERROR_INVALID_ARGUMENT);
-    KG_CHECK(kg_world_get_joint_iterations(w) == 8);
+    KG_CHECK(kg_world_get_joint_iterations(w) == 6);
     kg_distance_joint_def dd = kg_default_distance_joint_def();
     dd.base.body_b = b;
     dd.length = 0.0f;

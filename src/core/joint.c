@@ -1052,13 +1052,14 @@ typedef struct kg_joint_job {
     kg_solver_body* bodies;
     kg_solver_params prm;
     int pass;
+    int last_iteration;
 } kg_joint_job;
 
 static void kg_joint_range(void* context, int begin, int end)
 {
     const kg_joint_job* job = context;
     for (int k = begin; k < end; ++k) {
-        kg_joint_pass(job->rows, job->order[k], job->bodies, job->prm, job->pass);
+        kg_joint_pass(job->rows, job->order[k], job->bodies, job->prm, job->pass, job->last_iteration);
     }
 }
 
@@ -1074,14 +1075,15 @@ void kg_joints_pass(kg_world* world, kg_solver_body* bodies, kg_solver_params pr
     kg_joints_derive(j, world->def.max_bodies);
     int iterations = pass == KG_PASS_WARM_START ? 1 : j->iterations;
     for (int it = 0; it < iterations; ++it) {
+        int last = it == iterations - 1;
         for (int c = 0; c < KG_JOINT_COLORS; ++c) {
-            kg_joint_job job = {j->order + j->color_start[c], j->rows, bodies, prm, pass};
+            kg_joint_job job = {j->order + j->color_start[c], j->rows, bodies, prm, pass, last};
             int n = j->color_start[c + 1] - j->color_start[c];
             if (n > 0) {
                 kg_parallel_for(world->threads, n, KG_JOINT_GRAIN, kg_joint_range, &job);
             }
         }
-        kg_joint_job overflow = {j->order, j->rows, bodies, prm, pass}; /* serially, in order */
+        kg_joint_job overflow = {j->order, j->rows, bodies, prm, pass, last}; /* serially, in order */
         kg_joint_range(&overflow, j->color_start[KG_JOINT_COLORS], j->color_start[KG_JOINT_COLORS + 1]);
     }
 }

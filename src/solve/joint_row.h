@@ -121,19 +121,35 @@ KG_FN kg_vec2 kg_solve22(float k11, float k12, float k22, kg_vec2 b)
 
 /* A joint's springs, its rigid parts' position correction included, are capped at this
  * fraction of the sub-step rate. Contacts stop at a quarter (stacks explode at half,
- * docs/design.md); a joint's rows, solved 8 times a pass (kg_world_set_joint_iterations),
- * hold at three quarters, and a soft constraint under a load F settles F / (m (2 pi
- * hertz)^2) away from its target, so the higher cap is what lets a 40-link chain carry
- * 100 times a link's mass within 1% (a quarter: 3.3%) and a 10-plank cantilever droop 5%
- * of its length instead of 42% (docs/joints.md has the measurements; a full sub-step rate
- * made the chain oscillate). */
+ * docs/design.md); a joint's rows, solved KG_JOINT_ITERATIONS times a pass, hold at three
+ * quarters, and a soft constraint under a load F settles F / (m (2 pi hertz)^2) away from
+ * its target, so the higher cap is what lets a 40-link chain carry 100 times a link's mass
+ * within 1% (a quarter: 3.3%) and a 10-plank cantilever droop 5% of its length instead of
+ * 42% (docs/joints.md has the measurements; a full sub-step rate made the chain
+ * oscillate). */
 #define KG_JOINT_HERTZ_CAP 0.75f
 
 /* Each solve and relax pass runs over the joints this many times by default (warm
  * starting once): Gauss-Seidel over a chain of very unequal masses converges slowly, and
  * the soft constraint's equilibrium is the same fixed point however many times it is
- * iterated (docs/joints.md). kg_world_set_joint_iterations changes it. */
-#define KG_JOINT_ITERATIONS 8
+ * iterated. 6 with the over-relaxed relax (below) holds the chain and the cantilever
+ * better than 8 without it did (docs/joints.md). kg_world_set_joint_iterations changes
+ * it. */
+#define KG_JOINT_ITERATIONS 6
+
+/* The relax pass over-relaxes the rigid rows by this factor in every iteration but its
+ * last (successive over-relaxation). A chain's soft joints make it a spring on which a
+ * heavy load rings slowly (40 links under 1,000 times a link's mass: 1.25 Hz, with a
+ * damping ratio under 2%, the joints' damping being relative to a light link's mass); the
+ * relax pass, a rigid projection, is what stills it, but plain Gauss-Seidel takes such a
+ * long, smooth motion out at a rate of some link's mass over the load's a sweep: at 8
+ * relax iterations that chain still rang after 10 s, at 32 it fell asleep at 3.9 s.
+ * Over-relaxed sweeps carry it along the chain faster: at 6 iterations that chain falls
+ * asleep at 3.5 s, and at 100 times a link's mass at 1.1 s instead of 4.1 s
+ * (docs/joints.md). Gauss-Seidel over-relaxed converges for any factor in (0, 2); 1.5
+ * stilled the chain at 5.9 s, and nearer 2 the sweeps' own overshoot dies out more
+ * slowly (by at least the factor less 1 a sweep). */
+#define KG_JOINT_OVERRELAX 1.8f
 
 /* The softness of a hertz capped at KG_JOINT_HERTZ_CAP of the sub-step rate. */
 KG_FN kg_softness kg_joint_softness(float hertz, float damping_ratio, kg_solver_params prm)
@@ -258,39 +274,32 @@ KG_FN kg_vec2 kg_solve_point_mass(const kg_joint_row* r, const kg_joint_pair* s,
     return kg_solve22(k11, k12, k22, rhs);
 }
 
-/* The point-to-point part (revolute, weld): b's anchor on a's, soft with the joint's
- * softness where use_soft, rigid (no bias) otherwise. */
-KG_FN void kg_joint_solve_point(kg_joint_row* r, kg_joint_pair* s, int use_soft, kg_softness soft)
+/* The point-to-point part (revolute, weld): b's anchor on a's with the softness soft
+ * (the pass's rigid softness, or a weld's linear spring). */
+KG_FN void kg_joint_solve_point(kg_joint_row* r, kg_joint_pair* s, kg_softness soft)
 {
     kg_vec2 cdot = kg_joint_relative_velocity(s);
-    kg_vec2 bias = kg_v2(0.0f, 0.0f);
-    float mass_scale = 1.0f, impulse_scale = 0.0f;
-    if (use_soft) {
-        bias = kg_scale(soft.bias_rate, kg_joint_separation(r, s));
-        mass_scale = soft.mass_scale;
-        impulse_scale = soft.impulse_scale;
-    }
+    kg_vec2 bias = kg_scale(soft.bias_rate, kg_joint_separation(r, s));
     kg_vec2 x = kg_solve_point_mass(r, s, kg_add(cdot, bias));
-    kg_vec2 impulse = kg_v2(-mass_scale * x.x - impulse_scale * r->linear_impulse.x,
-                            -mass_scale * x.y - impulse_scale * r->linear_impulse.y);
+    kg_vec2 impulse = kg_v2(-soft.mass_scale * x.x - soft.impulse_scale * r->linear_impulse.x,
+                            -soft.mass_scale * x.y - soft.impulse_scale * r->linear_impulse.y);
     r->linear_impulse = kg_add(r->linear_impulse, impulse);
     kg_joint_apply(r, s, impulse, 0.0f);
 }
 
 /* An angular row pushing one way only (a limit): c is how far inside the limit (>= 0
  * when satisfied), cdot the speed it grows at, *acc its accumulated impulse (>= 0).
- * Returns the impulse to add along +cdot. Speculative when inside; soft when past it in
- * the solve pass, rigid in the relax. */
-KG_FN float kg_joint_one_sided(float c, float cdot, float mass, float* acc, kg_softness soft, int use_bias,
-                               kg_solver_params prm)
+ * Returns the impulse to add along +cdot. Speculative when inside; past it, with the
+ * pass's rigid softness. */
+KG_FN float kg_joint_one_sided(float c, float cdot, float mass, float* acc, kg_softness rigid, kg_solver_params prm)
 {
     float bias = 0.0f, mass_scale = 1.0f, impulse_scale = 0.0f;
     if (c > 0.0f) {
         bias = c * prm.inv_h; /* speculation: it may close the gap within the sub-step */
-    } else if (use_bias) {
-        bias = soft.bias_rate * c;
-        mass_scale = soft.mass_scale;
-        impulse_scale = soft.impulse_scale;
+    } else {
+        bias = rigid.bias_rate * c;
+        mass_scale = rigid.mass_scale;
+        impulse_scale = rigid.impulse_scale;
     }
     float impulse = -mass * mass_scale * (cdot + bias) - impulse_scale * (*acc);
     float next = kg_maxf(*acc + impulse, 0.0f);
@@ -299,7 +308,7 @@ KG_FN float kg_joint_one_sided(float c, float cdot, float mass, float* acc, kg_s
     return impulse;
 }
 
-KG_FN void kg_revolute_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, int use_bias)
+KG_FN void kg_revolute_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, kg_softness rigid)
 {
     float ia = r->inv_i_a, ib = r->inv_i_b;
     if ((r->options & KG_JOINT_OPT_SPRING) && r->hertz > 0.0f) {
@@ -322,19 +331,19 @@ KG_FN void kg_revolute_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params
     }
     if (r->options & KG_JOINT_OPT_LIMIT) {
         float angle = kg_joint_angle_now(r, s);
-        float lower = kg_joint_one_sided(angle - r->lower, s->b.w - s->a.w, r->axial_mass, &r->lower_impulse, r->soft,
-                                         use_bias, prm);
+        float lower =
+            kg_joint_one_sided(angle - r->lower, s->b.w - s->a.w, r->axial_mass, &r->lower_impulse, rigid, prm);
         s->a.w -= ia * lower;
         s->b.w += ib * lower;
-        float upper = kg_joint_one_sided(r->upper - angle, s->a.w - s->b.w, r->axial_mass, &r->upper_impulse, r->soft,
-                                         use_bias, prm);
+        float upper =
+            kg_joint_one_sided(r->upper - angle, s->a.w - s->b.w, r->axial_mass, &r->upper_impulse, rigid, prm);
         s->a.w += ia * upper;
         s->b.w -= ib * upper;
     }
-    kg_joint_solve_point(r, s, use_bias, r->soft);
+    kg_joint_solve_point(r, s, rigid);
 }
 
-KG_FN void kg_distance_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, int use_bias)
+KG_FN void kg_distance_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, kg_softness rigid)
 {
     kg_vec2 d = kg_joint_separation(r, s);
     float length = kg_length(d);
@@ -353,49 +362,35 @@ KG_FN void kg_distance_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params
         }
         if (limited) {
             float cdot = kg_dot(axis, kg_joint_relative_velocity(s));
-            float lower = kg_joint_one_sided(length - r->lower, cdot, r->axial_mass, &r->lower_impulse, r->soft,
-                                             use_bias, prm);
+            float lower = kg_joint_one_sided(length - r->lower, cdot, r->axial_mass, &r->lower_impulse, rigid, prm);
             kg_joint_apply(r, s, kg_scale(lower, axis), 0.0f);
             cdot = kg_dot(axis, kg_joint_relative_velocity(s));
-            float upper = kg_joint_one_sided(r->upper - length, -cdot, r->axial_mass, &r->upper_impulse, r->soft,
-                                             use_bias, prm);
+            float upper = kg_joint_one_sided(r->upper - length, -cdot, r->axial_mass, &r->upper_impulse, rigid, prm);
             kg_joint_apply(r, s, kg_scale(-upper, axis), 0.0f);
         }
         return;
     }
     /* rigid at its length */
     float cdot = kg_dot(axis, kg_joint_relative_velocity(s));
-    float bias = 0.0f, mass_scale = 1.0f, impulse_scale = 0.0f;
-    if (use_bias) {
-        bias = r->soft.bias_rate * (length - r->length);
-        mass_scale = r->soft.mass_scale;
-        impulse_scale = r->soft.impulse_scale;
-    }
-    float impulse = -mass_scale * r->axial_mass * (cdot + bias) - impulse_scale * r->spring_impulse;
+    float bias = rigid.bias_rate * (length - r->length);
+    float impulse = -rigid.mass_scale * r->axial_mass * (cdot + bias) - rigid.impulse_scale * r->spring_impulse;
     r->spring_impulse += impulse;
     kg_joint_apply(r, s, kg_scale(impulse, axis), 0.0f);
 }
 
-KG_FN void kg_weld_solve(kg_joint_row* r, kg_joint_pair* s, int use_bias)
+KG_FN void kg_weld_solve(kg_joint_row* r, kg_joint_pair* s, kg_softness rigid)
 {
-    /* angular: soft by its own hertz in every pass, else rigid with the joint's softness */
+    /* angular: soft by its own hertz in every pass, else rigid */
     {
-        int angular_spring = r->hertz2 > 0.0f;
-        kg_softness soft = angular_spring ? r->spring2 : r->soft;
-        float bias = 0.0f, mass_scale = 1.0f, impulse_scale = 0.0f;
-        if (use_bias || angular_spring) {
-            bias = soft.bias_rate * kg_joint_angle_now(r, s);
-            mass_scale = soft.mass_scale;
-            impulse_scale = soft.impulse_scale;
-        }
+        kg_softness soft = r->hertz2 > 0.0f ? r->spring2 : rigid;
+        float bias = soft.bias_rate * kg_joint_angle_now(r, s);
         float cdot = s->b.w - s->a.w;
-        float impulse = -r->axial_mass * mass_scale * (cdot + bias) - impulse_scale * r->angular_impulse;
+        float impulse = -r->axial_mass * soft.mass_scale * (cdot + bias) - soft.impulse_scale * r->angular_impulse;
         r->angular_impulse += impulse;
         s->a.w -= r->inv_i_a * impulse;
         s->b.w += r->inv_i_b * impulse;
     }
-    int linear_spring = r->hertz > 0.0f;
-    kg_joint_solve_point(r, s, use_bias || linear_spring, linear_spring ? r->spring : r->soft);
+    kg_joint_solve_point(r, s, r->hertz > 0.0f ? r->spring : rigid);
 }
 
 KG_FN void kg_mouse_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm)
@@ -466,7 +461,7 @@ KG_FN float kg_axis_speed(const kg_joint_pair* s, const kg_axis_frame* f)
 
 /* Along the axis (prismatic, wheel): the spring about translation 0, the limits. */
 KG_FN void kg_axis_spring_and_limits(kg_joint_row* r, kg_joint_pair* s, const kg_axis_frame* f, kg_solver_params prm,
-                                     int use_bias)
+                                     kg_softness rigid)
 {
     if ((r->options & KG_JOINT_OPT_SPRING) && r->hertz > 0.0f) {
         float cdot = kg_axis_speed(s, f);
@@ -477,17 +472,17 @@ KG_FN void kg_axis_spring_and_limits(kg_joint_row* r, kg_joint_pair* s, const kg
     }
     if (r->options & KG_JOINT_OPT_LIMIT) {
         float lower = kg_joint_one_sided(f->translation - r->lower, kg_axis_speed(s, f), r->axial_mass,
-                                         &r->lower_impulse, r->soft, use_bias, prm);
+                                         &r->lower_impulse, rigid, prm);
         kg_axis_apply(r, s, f, lower, 0.0f, 0.0f);
         float upper = kg_joint_one_sided(r->upper - f->translation, -kg_axis_speed(s, f), r->axial_mass,
-                                         &r->upper_impulse, r->soft, use_bias, prm);
+                                         &r->upper_impulse, rigid, prm);
         kg_axis_apply(r, s, f, -upper, 0.0f, 0.0f);
     }
 }
 
 /* A slider: b moves along a's axis only, without turning relative to a; a motor
  * (max_motor_torque is its largest force), a spring and limits along the axis. */
-KG_FN void kg_prismatic_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, int use_bias)
+KG_FN void kg_prismatic_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, kg_softness rigid)
 {
     kg_axis_frame f = kg_axis_frame_of(r, s);
     if (r->options & KG_JOINT_OPT_MOTOR) {
@@ -496,22 +491,17 @@ KG_FN void kg_prismatic_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_param
         r->motor_impulse = kg_clampf(old + impulse, -most, most);
         kg_axis_apply(r, s, &f, r->motor_impulse - old, 0.0f, 0.0f);
     }
-    kg_axis_spring_and_limits(r, s, &f, prm, use_bias);
+    kg_axis_spring_and_limits(r, s, &f, prm, rigid);
     /* across the axis and the rotation, as one 2x2 block */
     float ma = r->inv_mass_a, mb = r->inv_mass_b, ia = r->inv_i_a, ib = r->inv_i_b;
     kg_vec2 cdot = kg_v2(kg_dot(f.perp, kg_sub(s->b.v, s->a.v)) + f.s2 * s->b.w - f.s1 * s->a.w, s->b.w - s->a.w);
-    kg_vec2 bias = kg_v2(0.0f, 0.0f);
-    float mass_scale = 1.0f, impulse_scale = 0.0f;
-    if (use_bias) {
-        bias = kg_scale(r->soft.bias_rate, kg_v2(kg_dot(f.perp, f.d), kg_joint_angle_now(r, s)));
-        mass_scale = r->soft.mass_scale;
-        impulse_scale = r->soft.impulse_scale;
-    }
+    kg_vec2 bias = kg_scale(rigid.bias_rate, kg_v2(kg_dot(f.perp, f.d), kg_joint_angle_now(r, s)));
     float k11 = ma + mb + ia * f.s1 * f.s1 + ib * f.s2 * f.s2, k12 = ia * f.s1 + ib * f.s2, k22 = ia + ib;
     k22 = k22 == 0.0f ? 1.0f : k22; /* neither turns */
     kg_vec2 x = kg_solve22(k11, k12, k22, kg_add(cdot, bias));
     kg_vec2 acc = kg_v2(r->linear_impulse.x, r->angular_impulse);
-    kg_vec2 impulse = kg_v2(-mass_scale * x.x - impulse_scale * acc.x, -mass_scale * x.y - impulse_scale * acc.y);
+    kg_vec2 impulse = kg_v2(-rigid.mass_scale * x.x - rigid.impulse_scale * acc.x,
+                            -rigid.mass_scale * x.y - rigid.impulse_scale * acc.y);
     r->linear_impulse.x += impulse.x;
     r->angular_impulse += impulse.y;
     kg_axis_apply(r, s, &f, 0.0f, impulse.x, impulse.y);
@@ -519,7 +509,7 @@ KG_FN void kg_prismatic_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_param
 
 /* A wheel: b's anchor on a's axis (the suspension: a spring and limits along it), b free
  * to turn, driven by a motor on the rotation. */
-KG_FN void kg_wheel_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, int use_bias)
+KG_FN void kg_wheel_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, kg_softness rigid)
 {
     if (r->options & KG_JOINT_OPT_MOTOR) {
         float impulse = -r->angular_mass * (s->b.w - s->a.w - r->motor_speed);
@@ -530,18 +520,13 @@ KG_FN void kg_wheel_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params pr
         s->b.w += r->inv_i_b * impulse;
     }
     kg_axis_frame f = kg_axis_frame_of(r, s);
-    kg_axis_spring_and_limits(r, s, &f, prm, use_bias);
+    kg_axis_spring_and_limits(r, s, &f, prm, rigid);
     /* the point on the line */
     float cdot = kg_dot(f.perp, kg_sub(s->b.v, s->a.v)) + f.s2 * s->b.w - f.s1 * s->a.w;
-    float bias = 0.0f, mass_scale = 1.0f, impulse_scale = 0.0f;
-    if (use_bias) {
-        bias = r->soft.bias_rate * kg_dot(f.perp, f.d);
-        mass_scale = r->soft.mass_scale;
-        impulse_scale = r->soft.impulse_scale;
-    }
+    float bias = rigid.bias_rate * kg_dot(f.perp, f.d);
     float k = r->inv_mass_a + r->inv_mass_b + r->inv_i_a * f.s1 * f.s1 + r->inv_i_b * f.s2 * f.s2;
     float mass = k > 0.0f ? 1.0f / k : 0.0f;
-    float impulse = -mass_scale * mass * (cdot + bias) - impulse_scale * r->linear_impulse.x;
+    float impulse = -rigid.mass_scale * mass * (cdot + bias) - rigid.impulse_scale * r->linear_impulse.x;
     r->linear_impulse.x += impulse;
     kg_axis_apply(r, s, &f, 0.0f, impulse, 0.0f);
 }
@@ -606,10 +591,24 @@ KG_FN void kg_joint_warm_start(const kg_joint_row* r, kg_joint_pair* s)
     }
 }
 
+/* The softness of the rigid parts in a pass: the joint's soft step in the solve pass; in
+ * the relax pass no bias and no leak, each iteration but the last over-relaxed by
+ * KG_JOINT_OVERRELAX, the last a plain projection (a joint alone ends exactly rigid). */
+KG_FN kg_softness kg_joint_rigid_softness(const kg_joint_row* r, int pass, int last_iteration)
+{
+    kg_softness rigid = r->soft;
+    if (pass != KG_PASS_SOLVE) {
+        rigid.bias_rate = 0.0f;
+        rigid.mass_scale = last_iteration ? 1.0f : KG_JOINT_OVERRELAX;
+        rigid.impulse_scale = 0.0f;
+    }
+    return rigid;
+}
+
 /* One pass (KG_PASS_WARM_START, _SOLVE or _RELAX; joints have no restitution) over row
- * j and its bodies. */
+ * j and its bodies, in the pass's last iteration or not (kg_joint_rigid_softness). */
 KG_FN void kg_joint_pass(KG_GLOBAL kg_joint_row* rows, int j, KG_GLOBAL kg_solver_body* bodies,
-                         kg_solver_params prm, int pass)
+                         kg_solver_params prm, int pass, int last_iteration)
 {
     kg_joint_row r = rows[j];
     if (!r.active || pass == KG_PASS_RESTITUTION) {
@@ -620,19 +619,19 @@ KG_FN void kg_joint_pass(KG_GLOBAL kg_joint_row* rows, int j, KG_GLOBAL kg_solve
     s.b = kg_motion_of(bodies, r.b);
     s.ra = kg_rotate(s.a.dq, r.anchor_a);
     s.rb = kg_rotate(s.b.dq, r.anchor_b);
-    int use_bias = pass == KG_PASS_SOLVE;
+    kg_softness rigid = kg_joint_rigid_softness(&r, pass, last_iteration);
     if (pass == KG_PASS_WARM_START) {
         kg_joint_warm_start(&r, &s);
     } else if (r.type == KG_JOINT_ROW_REVOLUTE) {
-        kg_revolute_solve(&r, &s, prm, use_bias);
+        kg_revolute_solve(&r, &s, prm, rigid);
     } else if (r.type == KG_JOINT_ROW_DISTANCE) {
-        kg_distance_solve(&r, &s, prm, use_bias);
+        kg_distance_solve(&r, &s, prm, rigid);
     } else if (r.type == KG_JOINT_ROW_WELD) {
-        kg_weld_solve(&r, &s, use_bias);
+        kg_weld_solve(&r, &s, rigid);
     } else if (r.type == KG_JOINT_ROW_PRISMATIC) {
-        kg_prismatic_solve(&r, &s, prm, use_bias);
+        kg_prismatic_solve(&r, &s, prm, rigid);
     } else if (r.type == KG_JOINT_ROW_WHEEL) {
-        kg_wheel_solve(&r, &s, prm, use_bias);
+        kg_wheel_solve(&r, &s, prm, rigid);
     } else if (r.type == KG_JOINT_ROW_MOTOR) {
         kg_motor_joint_solve(&r, &s, prm);
     } else {

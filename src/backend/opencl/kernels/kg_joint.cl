@@ -31,7 +31,7 @@ __kernel void kg_solve_joints(int count, int iterations, int pass, __global cons
     }
     for (int it = 0; it < iterations; ++it) {
         for (int k = 0; k < count; ++k) {
-            kg_joint_pass(rows, order[k], bodies, *params, pass);
+            kg_joint_pass(rows, order[k], bodies, *params, pass, it == iterations - 1);
         }
     }
 }
