@@ -630,6 +630,29 @@ kg_result kg_cl_reserve_contacts(kg_cl_backend* b, int capacity)
 #define KG_COLOR_SERIAL_MAX 2048
 #define KG_ISLAND_GROUP_MAX 4096
 
+/* Up to these many joints each joint pass is one launch of one work-group looping over
+ * the iterations and colours (kg_solve_joint_colors_in_group), past them a launch per
+ * colour and iteration as wide as the colour (kg_solve_joint_color): on a GPU the lone
+ * group saves iterations x colours launches (5 to 50 us each) while a colour fits in it;
+ * on a CPU device (PoCL) a launch costs a few us and buys the other cores only for
+ * colours of thousands of joints (PoCL, 2 cores: joint_grid's 19,794 joints 31 ms a
+ * step against 44 on one work-item, ragdoll_rain's 500 3.3 against 4.3 launched per
+ * colour; docs/joints.md). */
+#define KG_JOINT_GROUP_MAX_GPU 1024
+#define KG_JOINT_GROUP_MAX_CPU 8192
+
+/* The environment variable name's value (clamped to [0, INT_MAX]) where it is set, else
+ * otherwise: the limits below, forced by tests. */
+static int kg_cl_limit(const char* name, int otherwise)
+{
+    const char* value = getenv(name);
+    if (value && *value) {
+        long max = strtol(value, NULL, 10);
+        return max < 0 ? 0 : max > INT_MAX ? INT_MAX : (int)max;
+    }
+    return otherwise;
+}
+
 /* Where a device goes from one work-item or work-group to rounds over the whole device:
  * on a GPU gpu_max, where rounds use its thousands of lanes; on a CPU device never, as a
  * work-item there runs as fast as a host thread and each round costs two launches (on
@@ -637,12 +660,19 @@ kg_result kg_cl_reserve_contacts(kg_cl_backend* b, int capacity)
  * `forced` sets it, for tests of the rounds on a CPU device. */
 static int kg_cl_rounds_past(const kg_cl_device* device, const char* forced, int gpu_max)
 {
-    const char* value = getenv(forced);
-    if (value && *value) {
-        long max = strtol(value, NULL, 10);
-        return max < 0 ? 0 : max > INT_MAX ? INT_MAX : (int)max;
-    }
-    return device->info.type == KG_OPENCL_DEVICE_CPU ? INT_MAX : gpu_max;
+    return kg_cl_limit(forced, device->info.type == KG_OPENCL_DEVICE_CPU ? INT_MAX : gpu_max);
+}
+
+/* The lone work-group of kg_solve_joint_colors_in_group: on a GPU as wide as the kernel
+ * allows, up to KG_CL_SINGLE_GROUP_MAX; on a CPU device one work-item, since the device
+ * runs a work-group on one core, where more work-items only add the barriers' cost.
+ * KGYRO_CL_JOINT_GROUP_SIZE sets it, for tests of the wide group on a CPU device. */
+static size_t kg_cl_joint_group_size(kg_cl_backend* b)
+{
+    size_t widest = kg_cl_single_group_size(b, b->kernels[KG_CL_K_SOLVE_JOINT_COLORS_IN_GROUP]);
+    int cpu = b->rt->device->info.type == KG_OPENCL_DEVICE_CPU;
+    size_t size = (size_t)kg_cl_limit("KGYRO_CL_JOINT_GROUP_SIZE", cpu ? 1 : (int)widest);
+    return size < 1 ? 1 : size > widest ? widest : size;
 }
 
 kg_result kg_cl_open_device(kg_world* world, kg_cl_backend* b, kg_cl_runtime* rt, const kg_cl_faults* faults)
@@ -671,6 +701,10 @@ kg_result kg_cl_open_device(kg_world* world, kg_cl_backend* b, kg_cl_runtime* rt
     }
     b->color_serial_max = kg_cl_rounds_past(rt->device, "KGYRO_CL_COLOR_SERIAL_MAX", KG_COLOR_SERIAL_MAX);
     b->island_group_max = kg_cl_rounds_past(rt->device, "KGYRO_CL_ISLAND_GROUP_MAX", KG_ISLAND_GROUP_MAX);
+    int cpu = rt->device->info.type == KG_OPENCL_DEVICE_CPU;
+    b->joint_group_max =
+        kg_cl_limit("KGYRO_CL_JOINT_GROUP_MAX", cpu ? KG_JOINT_GROUP_MAX_CPU : KG_JOINT_GROUP_MAX_GPU);
+    b->group_size[KG_CL_K_SOLVE_JOINT_COLORS_IN_GROUP] = kg_cl_joint_group_size(b);
     /* everything the host has is newer than the empty buffers */
     b->device_stale = KG_CL_ALL_ARRAYS;
     return KG_OK;
