@@ -145,8 +145,9 @@ kg_result kg_cl_solve_joints(kg_world* world, kg_cl_backend* b, int pass)
     for (int it = 0; it < iterations; ++it) {
         for (int c = 0; c <= KG_JOINT_COLORS; ++c) {
             int serial = c == KG_JOINT_COLORS, count = start[c + 1] - start[c];
+            int items = serial ? 1 : count < b->joint_color_items ? count : b->joint_color_items;
             if (count > 0) {
-                KG_LAUNCH(b, SOLVE_JOINT_COLOR, serial ? 1 : count, kLabel, KG_INT(start[c]), KG_INT(count),
+                KG_LAUNCH(b, SOLVE_JOINT_COLOR, items, kLabel, KG_INT(start[c]), KG_INT(count),
                           KG_INT(serial), KG_INT(pass), KG_MEM(b->solver_params), KG_MEM(b->joint_order),
                           KG_MEM(b->joint_rows), KG_MEM(b->solver_bodies));
             }

@@ -630,17 +630,6 @@ kg_result kg_cl_reserve_contacts(kg_cl_backend* b, int capacity)
 #define KG_COLOR_SERIAL_MAX 2048
 #define KG_ISLAND_GROUP_MAX 4096
 
-/* Up to these many joints each joint pass is one launch of one work-group looping over
- * the iterations and colours (kg_solve_joint_colors_in_group), past them a launch per
- * colour and iteration as wide as the colour (kg_solve_joint_color): on a GPU the lone
- * group saves iterations x colours launches (5 to 50 us each) while a colour fits in it;
- * on a CPU device (PoCL) a launch costs a few us and buys the other cores only for
- * colours of thousands of joints (PoCL, 2 cores: joint_grid's 19,794 joints 31 ms a
- * step against 44 on one work-item, ragdoll_rain's 500 3.3 against 4.3 launched per
- * colour; docs/joints.md). */
-#define KG_JOINT_GROUP_MAX_GPU 1024
-#define KG_JOINT_GROUP_MAX_CPU 8192
-
 /* The environment variable name's value (clamped to [0, INT_MAX]) where it is set, else
  * otherwise: the limits below, forced by tests. */
 static int kg_cl_limit(const char* name, int otherwise)
@@ -663,16 +652,33 @@ static int kg_cl_rounds_past(const kg_cl_device* device, const char* forced, int
     return kg_cl_limit(forced, device->info.type == KG_OPENCL_DEVICE_CPU ? INT_MAX : gpu_max);
 }
 
-/* The lone work-group of kg_solve_joint_colors_in_group: on a GPU as wide as the kernel
- * allows, up to KG_CL_SINGLE_GROUP_MAX; on a CPU device one work-item, since the device
- * runs a work-group on one core, where more work-items only add the barriers' cost.
- * KGYRO_CL_JOINT_GROUP_SIZE sets it, for tests of the wide group on a CPU device. */
-static size_t kg_cl_joint_group_size(kg_cl_backend* b)
+/* How the joints' passes are launched (cl_joint.c). Up to joint_group_max joints a pass is
+ * one launch of kg_solve_joint_colors_in_group, a lone work-group looping over the
+ * iterations and colours; past it kg_solve_joint_color once per colour and iteration. On
+ * a GPU the lone group is as wide as the kernel allows (up to KG_CL_SINGLE_GROUP_MAX) and
+ * saves colours x iterations launches of 5 to 50 us while a colour fits in it; past 1,024
+ * joints a colour takes a launch of a work-item a joint. A CPU device runs a work-group on
+ * one core, so its lone group is one work-item (wider ones only add the barriers' cost),
+ * and a launch per colour, worth it only for colours of thousands of joints, takes one
+ * work-item per core (groups of one, each striding over the colour: the device pays for
+ * every work-group it schedules). PoCL on 2 shared cores, ms a step (docs/joints.md):
+ * ragdoll_rain's 500 joints 2.9 on one work-item, 3.8 launched per colour; joint_grid's
+ * 19,794 44 on one work-item, 37 to 45 launched per colour. KGYRO_CL_JOINT_GROUP_MAX and
+ * KGYRO_CL_JOINT_GROUP_SIZE set the limit and the lone group's width, for tests. */
+#define KG_JOINT_GROUP_MAX_GPU 1024
+#define KG_JOINT_GROUP_MAX_CPU 8192
+
+static void kg_cl_joint_launches(kg_cl_backend* b, const kg_cl_device* device)
 {
+    int cpu = device->info.type == KG_OPENCL_DEVICE_CPU;
+    b->joint_group_max = kg_cl_limit("KGYRO_CL_JOINT_GROUP_MAX", cpu ? KG_JOINT_GROUP_MAX_CPU : KG_JOINT_GROUP_MAX_GPU);
     size_t widest = kg_cl_single_group_size(b, b->kernels[KG_CL_K_SOLVE_JOINT_COLORS_IN_GROUP]);
-    int cpu = b->rt->device->info.type == KG_OPENCL_DEVICE_CPU;
     size_t size = (size_t)kg_cl_limit("KGYRO_CL_JOINT_GROUP_SIZE", cpu ? 1 : (int)widest);
-    return size < 1 ? 1 : size > widest ? widest : size;
+    b->group_size[KG_CL_K_SOLVE_JOINT_COLORS_IN_GROUP] = size < 1 ? 1 : size > widest ? widest : size;
+    b->joint_color_items = cpu ? (device->info.compute_units > 1 ? device->info.compute_units : 1) : INT_MAX;
+    if (cpu) {
+        b->group_size[KG_CL_K_SOLVE_JOINT_COLOR] = 1;
+    }
 }
 
 kg_result kg_cl_open_device(kg_world* world, kg_cl_backend* b, kg_cl_runtime* rt, const kg_cl_faults* faults)
@@ -701,10 +707,7 @@ kg_result kg_cl_open_device(kg_world* world, kg_cl_backend* b, kg_cl_runtime* rt
     }
     b->color_serial_max = kg_cl_rounds_past(rt->device, "KGYRO_CL_COLOR_SERIAL_MAX", KG_COLOR_SERIAL_MAX);
     b->island_group_max = kg_cl_rounds_past(rt->device, "KGYRO_CL_ISLAND_GROUP_MAX", KG_ISLAND_GROUP_MAX);
-    int cpu = rt->device->info.type == KG_OPENCL_DEVICE_CPU;
-    b->joint_group_max =
-        kg_cl_limit("KGYRO_CL_JOINT_GROUP_MAX", cpu ? KG_JOINT_GROUP_MAX_CPU : KG_JOINT_GROUP_MAX_GPU);
-    b->group_size[KG_CL_K_SOLVE_JOINT_COLORS_IN_GROUP] = kg_cl_joint_group_size(b);
+    kg_cl_joint_launches(b, rt->device);
     /* everything the host has is newer than the empty buffers */
     b->device_stale = KG_CL_ALL_ARRAYS;
     return KG_OK;

@@ -189,6 +189,7 @@ typedef struct kg_cl_backend {
     int color_serial_max;                 /* contacts coloured by one work-item at most */
     int island_group_max;                 /* bodies whose islands one work-group finds at most */
     int joint_group_max;                  /* joints whose passes one work-group solves at most */
+    int joint_color_items;                /* work-items of a launch per joint colour at most */
     cl_mem targets;                       /* applicator targets (solve/force_body.h), max_bodies */
     /* sleeping (kernels/kg_sleep.cl), per body slot */
     cl_mem wake_marks;                    /* per island name: to be woken this step */
