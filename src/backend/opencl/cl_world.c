@@ -663,8 +663,9 @@ static int kg_cl_rounds_past(const kg_cl_device* device, const char* forced, int
  * work-item per core (groups of one, each striding over the colour: the device pays for
  * every work-group it schedules). PoCL on 2 shared cores, ms a step (docs/joints.md):
  * ragdoll_rain's 500 joints 2.9 on one work-item, 3.8 launched per colour; joint_grid's
- * 19,794 44 on one work-item, 37 to 45 launched per colour. KGYRO_CL_JOINT_GROUP_MAX and
- * KGYRO_CL_JOINT_GROUP_SIZE set the limit and the lone group's width, for tests. */
+ * 19,794 43 on one work-item, 36.5 launched per colour while the other core is free (46
+ * while it is busy). KGYRO_CL_JOINT_GROUP_MAX and KGYRO_CL_JOINT_GROUP_SIZE set the limit
+ * and the lone group's width, for tests. */
 #define KG_JOINT_GROUP_MAX_GPU 1024
 #define KG_JOINT_GROUP_MAX_CPU 8192
 
