@@ -2,6 +2,7 @@
  * first kinds can meet, with the numbers asserted and printed. */
 #include "kg_test.h"
 #include "kg_test_world.h"
+#include "core/joint.h" /* white box: the joints' colours and their overflow */
 #include "kgyro/scene.h"
 
 #define DT (1.0f / 60.0f)
@@ -652,6 +653,18 @@ static void joint_scene(kg_world* w)
         add_body(w, (kg_vec2){-6.0f + 0.7f * (float)(i % 20), 11.0f + 0.8f * (float)(i / 20)}, kg_box_shape(0.4f, 0.4f),
                  1.0f);
     }
+    /* a hub of 14 hinged spokes: more joints on one body than there are colours, so the
+     * last two are the overflow's, solved serially */
+    kg_body hub = add_body(w, (kg_vec2){-16.0f, 4.0f}, kg_circle_shape(0.5f), 1.0f);
+    for (int k = 0; k < KG_JOINT_COLORS + 2; ++k) {
+        float angle = 6.2831853f * (float)k / (float)(KG_JOINT_COLORS + 2);
+        kg_vec2 dir = {cosf(angle), sinf(angle)};
+        kg_body spoke = add_body(w, (kg_vec2){-16.0f + 1.2f * dir.x, 4.0f + 1.2f * dir.y}, kg_circle_shape(0.15f), 1.0f);
+        hinge(w, hub, spoke, (kg_vec2){-16.0f + 0.6f * dir.x, 4.0f + 0.6f * dir.y}, NULL);
+    }
+    int color_start[KG_JOINT_COLORS + 2];
+    kg_joints_order(w, color_start);
+    KG_CHECK(color_start[KG_JOINT_COLORS + 1] - color_start[KG_JOINT_COLORS] == 2);
 }
 
 static void run_joint_scene_on(kg_backend backend, int threads, int steps, kg_body_state* out, int* count)
@@ -729,15 +742,27 @@ static void test_cpu_and_opencl_bitwise_equal(void)
     } else {
         KG_CHECK(worst < 0.01);
     }
-    /* the islands and the colours in rounds over the whole device, as a GPU runs them */
+    /* the islands and the colours in rounds over the whole device, and the joints' passes
+     * in one work-group of 64 work-items, as a GPU runs them */
     setenv("KGYRO_CL_ISLAND_GROUP_MAX", "16", 1);
     setenv("KGYRO_CL_COLOR_SERIAL_MAX", "16", 1);
+    setenv("KGYRO_CL_JOINT_GROUP_SIZE", "64", 1);
     run_joint_scene_on(KG_BACKEND_CPU, 1, 240, cpu, &n_cpu);
     run_joint_scene_on(KG_BACKEND_OPENCL, 1, 240, cl, &n_cl);
     unsetenv("KGYRO_CL_ISLAND_GROUP_MAX");
     unsetenv("KGYRO_CL_COLOR_SERIAL_MAX");
+    unsetenv("KGYRO_CL_JOINT_GROUP_SIZE");
     int same = n_cpu == n_cl && memcmp(cpu, cl, (size_t)n_cpu * sizeof cpu[0]) == 0;
-    measured("measured: the same with the device's islands and colours in rounds: %s after 240 steps\n",
+    measured("measured: the same with the device's islands and colours in rounds, the joints in a group of 64: %s "
+             "after 240 steps\n",
+             same ? "bitwise equal" : "DIFFER");
+    KG_CHECK(same || !bitwise);
+    /* the joints' passes a launch per colour and iteration, as a GPU runs thousands */
+    setenv("KGYRO_CL_JOINT_GROUP_MAX", "16", 1);
+    run_joint_scene_on(KG_BACKEND_OPENCL, 1, 240, cl, &n_cl);
+    unsetenv("KGYRO_CL_JOINT_GROUP_MAX");
+    same = n_cpu == n_cl && memcmp(cpu, cl, (size_t)n_cpu * sizeof cpu[0]) == 0;
+    measured("measured: the same with a launch per joint colour: %s after 240 steps\n",
              same ? "bitwise equal" : "DIFFER");
     KG_CHECK(same || !bitwise);
     /* a device failure inside a step hands the world to the CPU, which redoes the step

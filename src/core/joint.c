@@ -1058,9 +1058,8 @@ typedef struct kg_joint_job {
 static void kg_joint_range(void* context, int begin, int end)
 {
     const kg_joint_job* job = context;
-    for (int k = begin; k < end; ++k) {
-        kg_joint_pass(job->rows, job->order[k], job->bodies, job->prm, job->pass, job->last_iteration);
-    }
+    kg_joint_share(0, 1, job->order, begin, end, 0, job->rows, job->bodies, job->prm, job->pass,
+                   job->last_iteration);
 }
 
 /* Joints a thread takes at a time within a colour. */
@@ -1088,15 +1087,15 @@ void kg_joints_pass(kg_world* world, kg_solver_body* bodies, kg_solver_params pr
     }
 }
 
-const kg_i32* kg_joints_order(kg_world* world, int* count)
+const kg_i32* kg_joints_order(kg_world* world, int color_start[KG_JOINT_COLORS + 2])
 {
     struct kg_joints* j = world->joints;
-    *count = 0;
+    memset(color_start, 0, (KG_JOINT_COLORS + 2) * sizeof *color_start);
     if (!j || j->count == 0) {
         return NULL;
     }
     kg_joints_derive(j, world->def.max_bodies);
-    *count = j->color_start[KG_JOINT_COLORS + 1];
+    memcpy(color_start, j->color_start, sizeof j->color_start);
     return j->order;
 }
 

@@ -10,10 +10,6 @@
 #include "solve/joint_row.h"
 
 struct kg_joints;
-
-/* Joints take up to this many colours (no two joints of one share a body, static bodies
- * included), each solved in parallel; the rest are the overflow, solved serially after. */
-#define KG_JOINT_COLORS 12
 struct kg_pair;
 
 void kg_joints_destroy(kg_world* world);
@@ -55,8 +51,10 @@ const kg_u32* kg_joints_apart(kg_world* world, int* count);
 kg_joint_row* kg_joints_rows(kg_world* world, int* slots);
 kg_u32 kg_joints_version(const kg_world* world);
 /* The live joints colour by colour, the overflow's last (the order the passes take them
- * in: within a colour any order gives the same bits), and their number. */
-const kg_i32* kg_joints_order(kg_world* world, int* count);
+ * in: within a colour any order gives the same bits); colour c's are order[color_start[c],
+ * color_start[c + 1]), the overflow is c = KG_JOINT_COLORS, and color_start[KG_JOINT_COLORS
+ * + 1] is their number (all zero without joints). */
+const kg_i32* kg_joints_order(kg_world* world, int color_start[KG_JOINT_COLORS + 2]);
 
 /* Body slot `slot` (handle body) is being destroyed: its joints go with it, each listed
  * for kg_world_get_joint_events, the other bodies woken. */

@@ -22,6 +22,10 @@
 #define KG_JOINT_ROW_WHEEL 5
 #define KG_JOINT_ROW_MOTOR 6
 
+/* Joints take up to this many colours (no two joints of one share a body, static bodies
+ * included), each solved in parallel; the rest are the overflow, solved serially after. */
+#define KG_JOINT_COLORS 12
+
 /* kg_joint_row.options */
 #define KG_JOINT_OPT_LIMIT 1u
 #define KG_JOINT_OPT_MOTOR 2u
@@ -640,6 +644,19 @@ KG_FN void kg_joint_pass(KG_GLOBAL kg_joint_row* rows, int j, KG_GLOBAL kg_solve
     kg_store_motion(bodies, r.a, s.a);
     kg_store_motion(bodies, r.b, s.b);
     rows[j] = r;
+}
+
+/* Work-item `item` of `items` in a pass over the joints order[begin, end) of a colour:
+ * every items-th from begin + item (they share no body); or, serial (the overflow, whose
+ * joints may), all of them in order by work-item 0. */
+KG_FN void kg_joint_share(int item, int items, KG_GLOBAL const kg_i32* order, int begin, int end, int serial,
+                          KG_GLOBAL kg_joint_row* rows, KG_GLOBAL kg_solver_body* bodies, kg_solver_params prm,
+                          int pass, int last_iteration)
+{
+    int step = serial ? 1 : items;
+    for (int k = begin + item; (!serial || item == 0) && k < end; k += step) {
+        kg_joint_pass(rows, order[k], bodies, prm, pass, last_iteration);
+    }
 }
 
 /* Whether the pair of body slots (a, b), a < b, is in apart (count pairs of two slots,

@@ -6,7 +6,8 @@
  *            no contact (their touching flag cleared before the prefix sum)
  *   wake     a joint wakes its sleeping body's island like a contact
  *   solve    the rows written, prepared after the bodies are loaded, then each pass over
- *            the joints (one work-item, serially, as the CPU) before the contacts'
+ *            the joints before the contacts': a colour's joints in parallel, the
+ *            overflow's serially, as the CPU
  *   sleep    the joints' links in the islands
  *   end      the rows read back after the drain (their impulses warm start the next step)
  *
@@ -41,13 +42,18 @@ static kg_result kg_cl_joint_lists(kg_world* world, kg_cl_backend* b)
     if (b->joint_lists_sent && b->joint_version == kg_joints_version(world)) {
         return KG_OK;
     }
-    int links = 0, apart = 0, ordered = 0;
+    int links = 0, apart = 0;
     const kg_u32* link_list = kg_joints_links(world, &links);
     const kg_u32* apart_list = kg_joints_apart(world, &apart);
-    const kg_i32* order = kg_joints_order(world, &ordered);
+    const kg_i32* order = kg_joints_order(world, b->joint_colors);
+    int ordered = b->joint_colors[KG_JOINT_COLORS + 1];
     KG_TRY(kg_cl_fit(b, &b->joint_links, &b->joint_link_capacity, links, 2 * sizeof(kg_u32)));
     KG_TRY(kg_cl_fit(b, &b->joint_apart, &b->joint_apart_capacity, apart, 2 * sizeof(kg_u32)));
     KG_TRY(kg_cl_fit(b, &b->joint_order, &b->joint_order_capacity, ordered, sizeof(kg_i32)));
+    if (!b->joint_color_start) {
+        KG_TRY(kg_cl_buffer(b, sizeof b->joint_colors, &b->joint_color_start));
+    }
+    KG_TRY(kg_cl_write(b, b->joint_color_start, 0, sizeof b->joint_colors, b->joint_colors, 1));
     if (ordered > 0) {
         KG_TRY(kg_cl_write(b, b->joint_order, 0, (size_t)ordered * sizeof(kg_i32), order, 1));
     }
@@ -59,7 +65,6 @@ static kg_result kg_cl_joint_lists(kg_world* world, kg_cl_backend* b)
     }
     b->joint_link_count = links;
     b->joint_apart_count = apart;
-    b->joint_order_count = ordered;
     b->joint_version = kg_joints_version(world);
     b->joint_lists_sent = 1;
     return KG_OK;
@@ -126,13 +131,29 @@ kg_result kg_cl_prepare_joints(kg_world* world, kg_cl_backend* b)
 
 kg_result kg_cl_solve_joints(kg_world* world, kg_cl_backend* b, int pass)
 {
-    int slots = b->joint_slots;
-    if (slots == 0) {
+    const int* start = b->joint_colors;
+    if (b->joint_slots == 0 || start[KG_JOINT_COLORS + 1] == 0) {
         return KG_OK;
     }
     int iterations = pass == KG_PASS_WARM_START ? 1 : kg_world_get_joint_iterations(world);
-    KG_LAUNCH(b, SOLVE_JOINTS, 1, kLabel, KG_INT(b->joint_order_count), KG_INT(iterations), KG_INT(pass),
-              KG_MEM(b->solver_params), KG_MEM(b->joint_order), KG_MEM(b->joint_rows), KG_MEM(b->solver_bodies));
+    if (start[KG_JOINT_COLORS + 1] <= b->joint_group_max) { /* few: the pass in one launch */
+        KG_LAUNCH(b, SOLVE_JOINT_COLORS_IN_GROUP, (int)b->group_size[KG_CL_K_SOLVE_JOINT_COLORS_IN_GROUP], kLabel,
+                  KG_INT(iterations), KG_INT(pass), KG_MEM(b->joint_color_start), KG_MEM(b->solver_params),
+                  KG_MEM(b->joint_order), KG_MEM(b->joint_rows), KG_MEM(b->solver_bodies));
+        return KG_OK;
+    }
+    for (int it = 0; it < iterations; ++it) {
+        for (int c = 0; c <= KG_JOINT_COLORS; ++c) {
+            int serial = c == KG_JOINT_COLORS, count = start[c + 1] - start[c];
+            int items = serial ? 1 : count < b->joint_color_items ? count : b->joint_color_items;
+            if (count > 0) {
+                KG_LAUNCH(b, SOLVE_JOINT_COLOR, items, kLabel, KG_INT(start[c]), KG_INT(count),
+                          KG_INT(serial), KG_INT(pass), KG_INT(it == iterations - 1), KG_MEM(b->solver_params),
+                          KG_MEM(b->joint_order),
+                          KG_MEM(b->joint_rows), KG_MEM(b->solver_bodies));
+            }
+        }
+    }
     return KG_OK;
 }
 
@@ -152,6 +173,7 @@ void kg_cl_release_joints(kg_cl_backend* b)
     kg_cl_release(b, &b->joint_links);
     kg_cl_release(b, &b->joint_apart);
     kg_cl_release(b, &b->joint_order);
+    kg_cl_release(b, &b->joint_color_start);
     b->joint_row_capacity = b->joint_link_capacity = b->joint_apart_capacity = b->joint_order_capacity = 0;
     b->joint_lists_sent = 0;
     b->joint_slots = 0;

@@ -630,6 +630,18 @@ kg_result kg_cl_reserve_contacts(kg_cl_backend* b, int capacity)
 #define KG_COLOR_SERIAL_MAX 2048
 #define KG_ISLAND_GROUP_MAX 4096
 
+/* The environment variable name's value (clamped to [0, INT_MAX]) where it is set, else
+ * otherwise: the limits below, forced by tests. */
+static int kg_cl_limit(const char* name, int otherwise)
+{
+    const char* value = getenv(name);
+    if (value && *value) {
+        long max = strtol(value, NULL, 10);
+        return max < 0 ? 0 : max > INT_MAX ? INT_MAX : (int)max;
+    }
+    return otherwise;
+}
+
 /* Where a device goes from one work-item or work-group to rounds over the whole device:
  * on a GPU gpu_max, where rounds use its thousands of lanes; on a CPU device never, as a
  * work-item there runs as fast as a host thread and each round costs two launches (on
@@ -637,12 +649,37 @@ kg_result kg_cl_reserve_contacts(kg_cl_backend* b, int capacity)
  * `forced` sets it, for tests of the rounds on a CPU device. */
 static int kg_cl_rounds_past(const kg_cl_device* device, const char* forced, int gpu_max)
 {
-    const char* value = getenv(forced);
-    if (value && *value) {
-        long max = strtol(value, NULL, 10);
-        return max < 0 ? 0 : max > INT_MAX ? INT_MAX : (int)max;
+    return kg_cl_limit(forced, device->info.type == KG_OPENCL_DEVICE_CPU ? INT_MAX : gpu_max);
+}
+
+/* How the joints' passes are launched (cl_joint.c). Up to joint_group_max joints a pass is
+ * one launch of kg_solve_joint_colors_in_group, a lone work-group looping over the
+ * iterations and colours; past it kg_solve_joint_color once per colour and iteration. On
+ * a GPU the lone group is as wide as the kernel allows (up to KG_CL_SINGLE_GROUP_MAX) and
+ * saves colours x iterations launches of 5 to 50 us while a colour fits in it; past 1,024
+ * joints a colour takes a launch of a work-item a joint. A CPU device runs a work-group on
+ * one core, so its lone group is one work-item (wider ones only add the barriers' cost),
+ * and a launch per colour, worth it only for colours of thousands of joints, takes one
+ * work-item per core (groups of one, each striding over the colour: the device pays for
+ * every work-group it schedules). PoCL on 2 shared cores, ms a step (docs/joints.md):
+ * ragdoll_rain's 500 joints 2.9 on one work-item, 3.8 launched per colour; joint_grid's
+ * 19,794 43 on one work-item, 36.5 launched per colour while the other core is free (46
+ * while it is busy). KGYRO_CL_JOINT_GROUP_MAX and KGYRO_CL_JOINT_GROUP_SIZE set the limit
+ * and the lone group's width, for tests. */
+#define KG_JOINT_GROUP_MAX_GPU 1024
+#define KG_JOINT_GROUP_MAX_CPU 8192
+
+static void kg_cl_joint_launches(kg_cl_backend* b, const kg_cl_device* device)
+{
+    int cpu = device->info.type == KG_OPENCL_DEVICE_CPU;
+    b->joint_group_max = kg_cl_limit("KGYRO_CL_JOINT_GROUP_MAX", cpu ? KG_JOINT_GROUP_MAX_CPU : KG_JOINT_GROUP_MAX_GPU);
+    size_t widest = kg_cl_single_group_size(b, b->kernels[KG_CL_K_SOLVE_JOINT_COLORS_IN_GROUP]);
+    size_t size = (size_t)kg_cl_limit("KGYRO_CL_JOINT_GROUP_SIZE", cpu ? 1 : (int)widest);
+    b->group_size[KG_CL_K_SOLVE_JOINT_COLORS_IN_GROUP] = size < 1 ? 1 : size > widest ? widest : size;
+    b->joint_color_items = cpu ? (device->info.compute_units > 1 ? device->info.compute_units : 1) : INT_MAX;
+    if (cpu) {
+        b->group_size[KG_CL_K_SOLVE_JOINT_COLOR] = 1;
     }
-    return device->info.type == KG_OPENCL_DEVICE_CPU ? INT_MAX : gpu_max;
 }
 
 kg_result kg_cl_open_device(kg_world* world, kg_cl_backend* b, kg_cl_runtime* rt, const kg_cl_faults* faults)
@@ -671,6 +708,7 @@ kg_result kg_cl_open_device(kg_world* world, kg_cl_backend* b, kg_cl_runtime* rt
     }
     b->color_serial_max = kg_cl_rounds_past(rt->device, "KGYRO_CL_COLOR_SERIAL_MAX", KG_COLOR_SERIAL_MAX);
     b->island_group_max = kg_cl_rounds_past(rt->device, "KGYRO_CL_ISLAND_GROUP_MAX", KG_ISLAND_GROUP_MAX);
+    kg_cl_joint_launches(b, rt->device);
     /* everything the host has is newer than the empty buffers */
     b->device_stale = KG_CL_ALL_ARRAYS;
     return KG_OK;

@@ -21,6 +21,7 @@
 #include "kgyro/opencl.h"
 #include "solve/force_body.h"
 #include "solve/graph_color.h"
+#include "solve/joint_row.h"
 
 /* name, pool member, 1 if a step changes it (then it is checkpointed and read back) */
 #define KG_CL_BODY_ARRAYS(X)                                                   \
@@ -74,7 +75,8 @@ typedef enum kg_cl_array {
     X(ISLAND_STIRS, kg_island_stirs, 7) X(FALL_ASLEEP, kg_fall_asleep, 14)                                    \
     X(COUNT_SHAPE_PAIRS, kg_count_shape_pairs, 16) X(WRITE_SHAPE_PAIRS, kg_write_shape_pairs, 18)             \
     X(NARROWPHASE_SHAPES, kg_narrowphase_shapes, 20) X(BUILD_SHAPE_CONTACTS, kg_build_shape_contacts, 11)     \
-    X(PREPARE_JOINTS, kg_prepare_joints, 9) X(SOLVE_JOINTS, kg_solve_joints, 7)                               \
+    X(PREPARE_JOINTS, kg_prepare_joints, 9) X(SOLVE_JOINT_COLOR, kg_solve_joint_color, 9)                     \
+    X(SOLVE_JOINT_COLORS_IN_GROUP, kg_solve_joint_colors_in_group, 7)                                         \
     X(DROP_JOINED_PAIRS, kg_drop_joined_pairs, 5) X(DROP_JOINED_SHAPE_PAIRS, kg_drop_joined_shape_pairs, 5)   \
     X(WAKE_JOINED, kg_wake_joined, 7) X(FIND_JOINED_ISLANDS, kg_find_joined_islands, 11)                      \
     X(HOOK_JOINT_ROUND, kg_hook_joint_round, 6) X(JOINT_STIRS, kg_joint_stirs, 7)
@@ -186,6 +188,8 @@ typedef struct kg_cl_backend {
                             * pairs, or the pairs of shapes' bodies */
     int color_serial_max;                 /* contacts coloured by one work-item at most */
     int island_group_max;                 /* bodies whose islands one work-group finds at most */
+    int joint_group_max;                  /* joints whose passes one work-group solves at most */
+    int joint_color_items;                /* work-items of a launch per joint colour at most */
     cl_mem targets;                       /* applicator targets (solve/force_body.h), max_bodies */
     /* sleeping (kernels/kg_sleep.cl), per body slot */
     cl_mem wake_marks;                    /* per island name: to be woken this step */
@@ -236,9 +240,11 @@ typedef struct kg_cl_backend {
     /* joints (cl_joint.c): the rows during a step, the islands' links and the pairs kept
      * apart as of joint_version */
     cl_mem joint_rows, joint_links, joint_apart, joint_order;
+    cl_mem joint_color_start; /* the order's colour ranges, as joint_colors */
     int joint_row_capacity, joint_link_capacity, joint_apart_capacity, joint_order_capacity;
     int joint_slots;      /* rows solved this step (0: none) */
-    int joint_link_count, joint_apart_count, joint_order_count;
+    int joint_link_count, joint_apart_count;
+    int joint_colors[KG_JOINT_COLORS + 2]; /* kg_joints_order's colour ranges */
     kg_u32 joint_version;
     int joint_lists_sent;
 } kg_cl_backend;

@@ -20,18 +20,28 @@ __kernel void kg_prepare_joints(int count, __global const kg_solver_params* para
     }
 }
 
-/* One pass over the joints of order (colour by colour, then the overflow: the CPU's
- * order), iterations times, serially by work-item 0: within a colour the joints share no
- * body, so the CPU's threads over a colour compute these bits. */
-__kernel void kg_solve_joints(int count, int iterations, int pass, __global const kg_solver_params* params,
-                              __global const int* order, __global kg_joint_row* rows, __global kg_solver_body* bodies)
+/* One pass over the joints order[first, first + count): one colour in parallel, or,
+ * serial != 0, the overflow in order by a single work-item (the CPU's kg_joints_pass). */
+__kernel void kg_solve_joint_color(int first, int count, int serial, int pass, int last_iteration,
+                                   __global const kg_solver_params* params, __global const int* order,
+                                   __global kg_joint_row* rows, __global kg_solver_body* bodies)
 {
-    if (get_global_id(0) != 0) {
-        return;
-    }
+    kg_joint_share((int)get_global_id(0), (int)get_global_size(0), order, first, first + count, serial, rows, bodies,
+                   *params, pass, last_iteration);
+}
+
+/* A whole pass, iterations times over every colour, then the overflow, by a single
+ * work-group with a barrier between them: one launch instead of one per colour and
+ * iteration, for joints too few to fill the device. color_start is kg_joints_order's. */
+__kernel void kg_solve_joint_colors_in_group(int iterations, int pass, __global const int* color_start,
+                                             __global const kg_solver_params* params, __global const int* order,
+                                             __global kg_joint_row* rows, __global kg_solver_body* bodies)
+{
     for (int it = 0; it < iterations; ++it) {
-        for (int k = 0; k < count; ++k) {
-            kg_joint_pass(rows, order[k], bodies, *params, pass, it == iterations - 1);
+        for (int c = 0; c <= KG_JOINT_COLORS; ++c) {
+            kg_joint_share((int)get_local_id(0), (int)get_local_size(0), order, color_start[c], color_start[c + 1],
+                           c == KG_JOINT_COLORS, rows, bodies, *params, pass, it == iterations - 1);
+            barrier(CLK_GLOBAL_MEM_FENCE);
         }
     }
 }
