@@ -288,6 +288,43 @@ static void test_names_kept(void)
     kg_scene_destroy(scene);
 }
 
+/* Saves scene to name and loads it back (NULL on failure). */
+static kg_scene* kg_resave(const kg_scene* scene, const char* name)
+{
+    char path[128];
+    kg_path(path, sizeof path, name);
+    KG_CHECK_OK(kg_scene_save_file(scene, path));
+    kg_scene* loaded = NULL;
+    KG_CHECK_OK(kg_scene_load_file(path, &loaded));
+    remove(path);
+    return loaded;
+}
+
+/* A compound body whose first shape is its sensor: the scene, and the file, say so (the
+ * entry's flag goes next to the body's "sensor"), the other shape stays solid. */
+static void test_first_shape_sensor(void)
+{
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_create(&scene));
+    kg_body_def def = kg_default_body_def();
+    def.shape = kg_circle_shape(2.0f);
+    def.is_sensor = 1;
+    KG_CHECK_OK(kg_scene_add_body(scene, "sensing", &def));
+    kg_body_shape_def extra = kg_default_body_shape_def();
+    extra.geometry = kg_box_shape(0.5f, 0.5f);
+    KG_CHECK_OK(kg_scene_add_body_shape(scene, 0, &extra));
+    kg_scene* loaded = kg_resave(scene, "sensor.json");
+    kg_body_shape_def first, second;
+    KG_CHECK_OK(kg_scene_get_body_shape(scene, 0, 0, &first));
+    KG_CHECK(first.is_sensor == 1);
+    KG_CHECK(loaded && kg_scene_body_def(loaded, 0)->is_sensor == 1);
+    KG_CHECK(loaded && kg_scene_get_body_shape(loaded, 0, 0, &first) == KG_OK && first.is_sensor == 1 &&
+             first.geometry.radius == 2.0f);
+    KG_CHECK(loaded && kg_scene_get_body_shape(loaded, 0, 1, &second) == KG_OK && second.is_sensor == 0);
+    kg_scene_destroy(loaded);
+    kg_scene_destroy(scene);
+}
+
 static void test_save_errors(void)
 {
     kg_world* world = kg_pile();
@@ -854,7 +891,8 @@ int main(void)
     }
     static const kg_test_case tests[] = {
         KG_TEST(test_floats_round_trip), KG_TEST(test_loaded_world_continues), KG_TEST(test_editor_move_applies),
-        KG_TEST(test_bad_state),         KG_TEST(test_state_must_fit),          KG_TEST(test_names_kept),             KG_TEST(test_save_errors),
+        KG_TEST(test_bad_state),         KG_TEST(test_state_must_fit),          KG_TEST(test_names_kept),
+        KG_TEST(test_first_shape_sensor),  KG_TEST(test_save_errors),
         KG_TEST(test_whole_world_from_file), KG_TEST(test_whole_world_continues),
     };
     int code = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));

@@ -5,6 +5,7 @@
 #include "kgyro/shape.h"
 
 #include "collide/shape.h"
+#include "core/body_shapes.h"
 #include "core/error.h"
 #include "io/json_util.h"
 #include "io/scene_joints.h"
@@ -441,13 +442,7 @@ kg_result kg_scene_get_body_shape(const kg_scene* scene, int index, int k, kg_bo
     }
     const kg_body_def* body = &scene->bodies[index];
     if (k == 0) {
-        *out = kg_default_body_shape_def();
-        out->geometry = body->shape;
-        out->density = body->density;
-        out->friction = body->friction;
-        out->restitution = body->restitution;
-        out->category = body->category;
-        out->mask = body->mask;
+        *out = kg_first_shape_def(body);
         return KG_OK;
     }
     int at = scene->first_extra[index];
