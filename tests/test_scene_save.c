@@ -13,6 +13,8 @@
 #include "kgyro/kgyro.h"
 #include "kgyro/scene.h"
 #include "core/joint.h"
+#include "io/json_util.h"
+#include "io/scene_joints.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -321,6 +323,70 @@ static void test_first_shape_sensor(void)
     KG_CHECK(loaded && kg_scene_get_body_shape(loaded, 0, 0, &first) == KG_OK && first.is_sensor == 1 &&
              first.geometry.radius == 2.0f);
     KG_CHECK(loaded && kg_scene_get_body_shape(loaded, 0, 1, &second) == KG_OK && second.is_sensor == 0);
+    kg_scene_destroy(loaded);
+    kg_scene_destroy(scene);
+}
+
+/* Joint j between bodies "x" and "y" of a fresh scene: kg_scene_add_joint refuses it
+ * with a message that has needle, and the scene, holding no joint, still saves. */
+static void kg_check_joint_refused(const kg_scene_joint* j, const char* needle)
+{
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_create(&scene));
+    kg_body_def def = kg_default_body_def();
+    def.shape = kg_box_shape(0.5f, 0.5f);
+    KG_CHECK_OK(kg_scene_add_body(scene, "x", &def));
+    def.position.x = 2.0f;
+    KG_CHECK_OK(kg_scene_add_body(scene, "y", &def));
+    KG_CHECK(kg_scene_add_joint(scene, j) == KG_ERROR_INVALID_ARGUMENT);
+    if (!strstr(kg_last_error(), needle)) {
+        fprintf(stderr, "  message \"%s\" lacks \"%s\"\n", kg_last_error(), needle);
+        kg_test_failures++;
+    }
+    KG_CHECK(kg_scene_joint_count(scene) == 0);
+    kg_scene_destroy(kg_resave(scene, "no_joint.json"));
+    kg_scene_destroy(scene);
+}
+
+/* What the reader refuses in a file, kg_scene_add_joint refuses in a call (one check):
+ * an unknown type, a NaN option (which would be written as a bare nan), limits out of
+ * order, a mouse joint with an "a"; the writer writes no non-finite float. A good joint
+ * goes through the file. */
+static void test_bad_joint_refused(void)
+{
+    kg_scene_joint j;
+    kg_scene_joint_init(&j, KG_JOINT_REVOLUTE);
+    j.body_a = 0;
+    j.body_b = 1;
+    j.anchor_a = j.anchor_b = (kg_vec2){1.0f, 0.0f};
+    kg_scene_joint bad = j;
+    bad.type = (kg_joint_type)1000000;
+    kg_check_joint_refused(&bad, "kg_scene_add_joint: joint 0 (a 'x', b 'y').type: 1000000 is no joint type");
+    bad = j;
+    bad.revolute.hertz = NAN;
+    kg_check_joint_refused(&bad, "joint 0 (a 'x', b 'y').hertz: must be a finite number");
+    bad = j;
+    bad.revolute.lower_angle = 1.0f;
+    bad.revolute.upper_angle = -1.0f;
+    kg_check_joint_refused(&bad, "lower_angle: must be <= upper_angle");
+    kg_scene_joint_init(&bad, KG_JOINT_MOUSE);
+    bad.body_a = 0;
+    bad.body_b = 1;
+    kg_check_joint_refused(&bad, ".a: a mouse joint drags \"b\" to its target");
+    KG_CHECK(kg_float_json(NAN) == NULL && kg_float_json(INFINITY) == NULL);
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_create(&scene));
+    kg_body_def def = kg_default_body_def();
+    def.shape = kg_box_shape(0.5f, 0.5f);
+    KG_CHECK_OK(kg_scene_add_body(scene, "x", &def));
+    def.position.x = 2.0f;
+    KG_CHECK_OK(kg_scene_add_body(scene, "y", &def));
+    j.revolute.lower_angle = -0.5f;
+    j.revolute.enable_limit = 1;
+    KG_CHECK_OK(kg_scene_add_joint(scene, &j));
+    kg_scene* loaded = kg_resave(scene, "joint.json");
+    KG_CHECK(loaded && kg_scene_joint_count(loaded) == 1 &&
+             kg_scene_get_joint(loaded, 0)->revolute.lower_angle == -0.5f);
     kg_scene_destroy(loaded);
     kg_scene_destroy(scene);
 }
@@ -892,7 +958,7 @@ int main(void)
     static const kg_test_case tests[] = {
         KG_TEST(test_floats_round_trip), KG_TEST(test_loaded_world_continues), KG_TEST(test_editor_move_applies),
         KG_TEST(test_bad_state),         KG_TEST(test_state_must_fit),          KG_TEST(test_names_kept),
-        KG_TEST(test_first_shape_sensor),  KG_TEST(test_save_errors),
+        KG_TEST(test_first_shape_sensor),  KG_TEST(test_bad_joint_refused), KG_TEST(test_save_errors),
         KG_TEST(test_whole_world_from_file), KG_TEST(test_whole_world_continues),
     };
     int code = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));

@@ -776,6 +776,8 @@ kg_result kg_scene_add_joint(kg_scene* scene, const kg_scene_joint* joint)
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_add_joint: body index out of range (a %d, b %d, %d bodies)",
                        joint->body_a, joint->body_b, scene->body_count);
     }
+    kg_json_path path = kg_joint_call_path("kg_scene_add_joint", scene, scene->joint_count, joint);
+    KG_TRY(kg_check_joint_entry(NULL, &path, scene, joint));
     if (!kg_grow((void**)&scene->joints, &scene->joint_capacity, scene->joint_count + 1, sizeof *scene->joints)) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_add_joint: out of memory");
     }

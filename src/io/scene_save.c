@@ -800,6 +800,11 @@ static kg_result kg_check_writable(const kg_scene* scene)
     for (int i = 0; i < kg_scene_body_count(scene); ++i) {
         KG_TRY(kg_check_body_writable(scene, i));
     }
+    for (int i = 0; i < kg_scene_joint_count(scene); ++i) {
+        const kg_scene_joint* j = kg_scene_get_joint(scene, i);
+        kg_json_path path = kg_joint_call_path("kg_scene_save_file", scene, i, j);
+        KG_TRY(kg_check_joint_entry(NULL, &path, scene, j));
+    }
     size_t size = 0;
     for (int i = 0; !kg_scene_get_state(scene, &size) && i < kg_scene_tilemap_count(scene); ++i) {
         if (!kg_map_writable(kg_scene_get_tilemap(scene, i))) {
@@ -820,7 +825,7 @@ kg_result kg_scene_save_file(const kg_scene* scene, const char* path)
     char* text = root ? cJSON_Print(root) : NULL;
     cJSON_Delete(root);
     if (!text) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_save_file: out of memory");
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_save_file: out of memory, or a value not finite");
     }
     FILE* f = fopen(path, "wb");
     size_t length = strlen(text);
