@@ -391,6 +391,29 @@ static void test_bad_joint_refused(void)
     kg_scene_destroy(scene);
 }
 
+/* A static body of 71 boxes, more than a file's "shapes" takes (64): saved with a state,
+ * the file gives it its first box and the state brings back all 71. */
+static void test_many_shapes_with_state(void)
+{
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, -10.0f});
+    kg_body ground = kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_box_shape(0.5f, 0.5f));
+    for (int k = 1; k < 71; ++k) {
+        kg_body_shape_def box = kg_default_body_shape_def();
+        box.geometry = kg_shape_moved(kg_box_shape(0.5f, 0.5f), (kg_vec2){(float)k, 0.0f}, 0.0f);
+        kg_shape_id id;
+        KG_CHECK_OK(kg_create_shape(world, ground, &box, &id));
+    }
+    kg_scene* loaded = kg_save_and_load(world, "many.json");
+    KG_CHECK(loaded && kg_scene_body_shape_count(loaded, 0) == 1 && kg_scene_body_chain_count(loaded, 0) == 0);
+    kg_world* again = NULL;
+    kg_body handle;
+    KG_CHECK_OK(kg_scene_instantiate(loaded, NULL, &again, &handle));
+    KG_CHECK(again && kg_body_shape_count(again, handle) == 71);
+    kg_destroy_world(again);
+    kg_scene_destroy(loaded);
+    kg_destroy_world(world);
+}
+
 static void test_save_errors(void)
 {
     kg_world* world = kg_pile();
@@ -958,7 +981,8 @@ int main(void)
     static const kg_test_case tests[] = {
         KG_TEST(test_floats_round_trip), KG_TEST(test_loaded_world_continues), KG_TEST(test_editor_move_applies),
         KG_TEST(test_bad_state),         KG_TEST(test_state_must_fit),          KG_TEST(test_names_kept),
-        KG_TEST(test_first_shape_sensor),  KG_TEST(test_bad_joint_refused), KG_TEST(test_save_errors),
+        KG_TEST(test_first_shape_sensor),  KG_TEST(test_bad_joint_refused),
+        KG_TEST(test_many_shapes_with_state), KG_TEST(test_save_errors),
         KG_TEST(test_whole_world_from_file), KG_TEST(test_whole_world_continues),
     };
     int code = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));

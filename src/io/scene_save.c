@@ -526,10 +526,26 @@ static cJSON* kg_chain_entry_json(const kg_chain_def* c)
     return o;
 }
 
-/* Whether body i is written with "shapes" (several shapes, or chains) rather than "shape". */
+/* How many entries body i's "shapes" would hold. */
+static int kg_entry_count(const kg_scene* scene, int i)
+{
+    return kg_scene_body_shape_count(scene, i) + kg_scene_body_chain_count(scene, i);
+}
+
+/* Whether the scene has a state, which brings back every shape of its bodies. */
+static int kg_has_state(const kg_scene* scene)
+{
+    size_t size = 0;
+    return kg_scene_get_state(scene, &size) != NULL;
+}
+
+/* Whether body i is written with "shapes" (several shapes, or chains) rather than "shape".
+ * A body of more entries than the reader takes is written with its own shape alone when
+ * the scene has a state, which brings back the others. */
 static int kg_has_entries(const kg_scene* scene, int i)
 {
-    return kg_scene_body_shape_count(scene, i) > 1 || kg_scene_body_chain_count(scene, i) > 0;
+    int several = kg_scene_body_shape_count(scene, i) > 1 || kg_scene_body_chain_count(scene, i) > 0;
+    return several && !(kg_entry_count(scene, i) > KG_SCENE_MAX_SHAPES && kg_has_state(scene));
 }
 
 /* Body i's "shapes": its own shape (if any), the others, then its chains. */
@@ -776,17 +792,19 @@ static cJSON* kg_scene_json(const kg_scene* scene)
     return root;
 }
 
-/* A body the reader would refuse: more entries in "shapes" than it takes, or a mass with
- * several shapes (the file gives each shape a density). */
+/* A body the reader would refuse: more entries in "shapes" than it takes (without a state
+ * to bring them back), or a mass with several shapes written (the file gives each shape a
+ * density). */
 static kg_result kg_check_body_writable(const kg_scene* scene, int i)
 {
-    int entries = kg_scene_body_shape_count(scene, i) + kg_scene_body_chain_count(scene, i);
+    int entries = kg_entry_count(scene, i);
     const char* name = kg_scene_body_name(scene, i);
-    if (entries > KG_SCENE_MAX_SHAPES) {
+    if (entries > KG_SCENE_MAX_SHAPES && !kg_has_state(scene)) {
         return kg_fail(KG_ERROR_UNSUPPORTED, "kg_scene_save_file: body %d ('%s') has %d shapes and chains, more "
                        "than a scene file's \"shapes\" holds (%d)", i, name, entries, KG_SCENE_MAX_SHAPES);
     }
-    if (kg_scene_body_shape_count(scene, i) > 1 && kg_scene_body_def(scene, i)->mass > 0.0f) {
+    int compound = kg_has_entries(scene, i) && kg_scene_body_shape_count(scene, i) > 1;
+    if (compound && kg_scene_body_def(scene, i)->mass > 0.0f) {
         return kg_fail(KG_ERROR_UNSUPPORTED, "kg_scene_save_file: body %d ('%s') has several shapes and a mass: "
                        "a scene file gives each shape a density", i, name);
     }
@@ -805,8 +823,7 @@ static kg_result kg_check_writable(const kg_scene* scene)
         kg_json_path path = kg_joint_call_path("kg_scene_save_file", scene, i, j);
         KG_TRY(kg_check_joint_entry(NULL, &path, scene, j));
     }
-    size_t size = 0;
-    for (int i = 0; !kg_scene_get_state(scene, &size) && i < kg_scene_tilemap_count(scene); ++i) {
+    for (int i = 0; !kg_has_state(scene) && i < kg_scene_tilemap_count(scene); ++i) {
         if (!kg_map_writable(kg_scene_get_tilemap(scene, i))) {
             return kg_fail(KG_ERROR_UNSUPPORTED, "kg_scene_save_file: tile map %d has more than %d solid tile shapes, "
                            "which a scene file's legend cannot name", i, KG_LEGEND_SIZE);
