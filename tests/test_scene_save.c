@@ -414,6 +414,45 @@ static void test_many_shapes_with_state(void)
     kg_destroy_world(world);
 }
 
+/* A dynamic box given a density-0 sensor and a density-2 circle, then the box destroyed:
+ * the circle becomes the body's own shape (its density gives the mass), the sensor comes
+ * after it, and the loaded world's body has the mass it had (pi 0.5^2 2). */
+static void test_dense_shape_first(void)
+{
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
+    kg_body body = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_box_shape(0.5f, 0.5f));
+    kg_shape_id box, sensor, circle;
+    int n = 0;
+    KG_CHECK_OK(kg_body_get_shapes(world, body, &box, 1, &n));
+    kg_body_shape_def def = kg_default_body_shape_def();
+    def.geometry = kg_circle_shape(1.5f);
+    def.density = 0.0f;
+    def.is_sensor = 1;
+    KG_CHECK_OK(kg_create_shape(world, body, &def, &sensor));
+    def.geometry = kg_shape_moved(kg_circle_shape(0.5f), (kg_vec2){1.0f, 0.0f}, 0.0f);
+    def.density = 2.0f;
+    def.is_sensor = 0;
+    KG_CHECK_OK(kg_create_shape(world, body, &def, &circle));
+    KG_CHECK_OK(kg_destroy_shape(world, box));
+    kg_mass_data before, after;
+    KG_CHECK_OK(kg_body_get_mass_data(world, body, &before));
+    kg_scene* loaded = kg_save_and_load(world, "dense.json");
+    KG_CHECK(loaded && kg_scene_body_def(loaded, 0)->density == 2.0f &&
+             kg_scene_body_def(loaded, 0)->shape.radius == 0.5f && kg_scene_body_shape_count(loaded, 0) == 2);
+    kg_body_shape_def second;
+    KG_CHECK(loaded && kg_scene_get_body_shape(loaded, 0, 1, &second) == KG_OK && second.is_sensor == 1 &&
+             second.density == 0.0f);
+    kg_world* again = NULL;
+    kg_body handle;
+    KG_CHECK_OK(kg_scene_instantiate(loaded, NULL, &again, &handle));
+    KG_CHECK(again && kg_body_get_mass_data(again, handle, &after) == KG_OK);
+    KG_CHECK_NEAR(before.mass, 3.14159265f * 0.25f * 2.0f, 1e-5f);
+    KG_CHECK(again && after.mass == before.mass);
+    kg_destroy_world(again);
+    kg_scene_destroy(loaded);
+    kg_destroy_world(world);
+}
+
 static void test_save_errors(void)
 {
     kg_world* world = kg_pile();
@@ -982,7 +1021,7 @@ int main(void)
         KG_TEST(test_floats_round_trip), KG_TEST(test_loaded_world_continues), KG_TEST(test_editor_move_applies),
         KG_TEST(test_bad_state),         KG_TEST(test_state_must_fit),          KG_TEST(test_names_kept),
         KG_TEST(test_first_shape_sensor),  KG_TEST(test_bad_joint_refused),
-        KG_TEST(test_many_shapes_with_state), KG_TEST(test_save_errors),
+        KG_TEST(test_many_shapes_with_state), KG_TEST(test_dense_shape_first), KG_TEST(test_save_errors),
         KG_TEST(test_whole_world_from_file), KG_TEST(test_whole_world_continues),
     };
     int code = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));

@@ -31,20 +31,33 @@ static int kg_is_chain_shape(const kg_world* world, kg_shape_id shape)
     return kg_is_chain_segment(kg_shape_geometry(&world->bodies, &world->shapes, shape.index));
 }
 
-/* Body's first shape that is not a chain segment (the body def's), or -1. */
-static int kg_first_solid(const kg_world* world, const kg_shape_id* shapes, int count)
+/* The first of shapes that is not a chain segment (dense: and has a density > 0), or -1. */
+static int kg_first_of(const kg_world* world, const kg_shape_id* shapes, int count, int dense)
 {
     for (int k = 0; k < count; ++k) {
-        if (!kg_is_chain_shape(world, shapes[k])) {
+        kg_body_shape_def def;
+        int solid = !kg_is_chain_shape(world, shapes[k]);
+        if (solid && (!dense || (kg_shape_get_def(world, shapes[k], &def) == KG_OK && def.density > 0.0f))) {
             return k;
         }
     }
     return -1;
 }
 
-/* Body slot i's definition as the world has it now: state, first shape (not a chain's
- * segment) with its material, filter and sensor flag, mass (of a body of one shape: a
- * compound body's follows from its shapes' densities). */
+/* The shape that becomes the body def's own, or -1: the first that is not a chain segment,
+ * on a moving body the first of those with a density > 0 if any (the body def's density
+ * then gives the mass of a compound body, which a file cannot give a mass). */
+static int kg_first_solid(const kg_world* world, kg_body body, const kg_shape_id* shapes, int count)
+{
+    kg_body_type type = KG_BODY_STATIC;
+    kg_body_get_type(world, body, &type);
+    int dense = type == KG_BODY_DYNAMIC || type == KG_BODY_PARTICLE ? kg_first_of(world, shapes, count, 1) : -1;
+    return dense >= 0 ? dense : kg_first_of(world, shapes, count, 0);
+}
+
+/* Body slot i's definition as the world has it now: state, own shape (kg_first_solid) with
+ * its material, filter and sensor flag, mass (of a body of one shape, or of one none of
+ * whose shapes has a density: a compound body's follows from its shapes' densities). */
 static kg_body_def kg_def_of(const kg_world* world, const kg_body_pool* p, kg_body body, const kg_shape_id* shapes,
                              int count)
 {
@@ -61,7 +74,7 @@ static kg_body_def kg_def_of(const kg_world* world, const kg_body_pool* p, kg_bo
     def.restitution = p->restitution[i];
     def.category = p->category[i];
     def.mask = p->mask[i];
-    int first = kg_first_solid(world, shapes, count);
+    int first = kg_first_solid(world, body, shapes, count);
     kg_body_shape_def shape;
     if (first >= 0 && kg_shape_get_def(world, shapes[first], &shape) == KG_OK) {
         def.shape = shape.geometry;
@@ -74,7 +87,7 @@ static kg_body_def kg_def_of(const kg_world* world, const kg_body_pool* p, kg_bo
     }
     kg_mass_data md;
     int massive = def.type == KG_BODY_DYNAMIC || def.type == KG_BODY_PARTICLE;
-    if (massive && count <= 1 && kg_body_get_mass_data(world, body, &md) == KG_OK && md.mass > 0.0f) {
+    if (massive && (count <= 1 || !(def.density > 0.0f)) && kg_body_get_mass_data(world, body, &md) == KG_OK && md.mass > 0.0f) {
         def.mass = md.mass;
     }
     def.linear_damping = p->linear_damping[i];
@@ -126,16 +139,16 @@ static kg_result kg_add_world_chain(const kg_world* world, const kg_shape_id* se
     return r;
 }
 
-/* The body's shapes after its first into scene body index (in the world's order), then its
- * chain segments, run by run, as chains. */
-static kg_result kg_add_world_shapes(const kg_world* world, const kg_shape_id* shapes, int count, kg_scene* scene,
-                                     int index)
+/* The body's shapes but the body def's own into scene body index (in the world's order),
+ * then its chain segments, run by run, as chains. */
+static kg_result kg_add_world_shapes(const kg_world* world, kg_body body, const kg_shape_id* shapes, int count,
+                                     kg_scene* scene, int index)
 {
-    int first = kg_first_solid(world, shapes, count);
+    int first = kg_first_solid(world, body, shapes, count);
     kg_result r = KG_OK;
-    for (int k = first + 1; r == KG_OK && first >= 0 && k < count; ++k) {
+    for (int k = 0; r == KG_OK && k < count; ++k) {
         kg_body_shape_def def;
-        if (!kg_is_chain_shape(world, shapes[k])) {
+        if (k != first && !kg_is_chain_shape(world, shapes[k])) {
             r = kg_shape_get_def(world, shapes[k], &def);
             def.user_data = NULL;
             r = r == KG_OK ? kg_scene_add_body_shape(scene, index, &def) : r;
@@ -174,7 +187,11 @@ static kg_result kg_add_world_body(const kg_world* world, kg_body body, const ch
         r = kg_scene_add_body(scene, name, &def);
     }
     if (r == KG_OK) {
-        r = kg_add_world_shapes(world, shapes, count, scene, kg_scene_body_count(scene) - 1);
+        r = kg_add_world_shapes(world, body, shapes, count, scene, kg_scene_body_count(scene) - 1);
+    } else {
+        char why[256];
+        snprintf(why, sizeof why, "%s", kg_last_error());
+        r = kg_fail(r, "kg_scene_from_world: body '%s': %s", name, why);
     }
     free(shapes);
     return r;
