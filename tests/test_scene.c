@@ -158,7 +158,7 @@ static const error_case kErrorFiles[] = {
     {"bad_density_and_mass.json", "bodies[0].mass: give density or mass, not both"},
     {"bad_infinite.json", "bodies[0].angle: must be a finite number (got inf)"},
     {"bad_mask.json", "bodies[0].mask: must be an integer in [0, 4294967295]"},
-    {"bad_missing_shape.json", "bodies[0].shape: is required (only particles may omit it)"},
+    {"bad_missing_shape.json", "bodies[0].shape: is required (only particles, static and kinematic bodies may omit it)"},
     {"bad_particle_no_mass.json", "bodies[0].mass: is required for a particle without a shape"},
     {"bad_particle_angle.json", "bodies[0].angle: particles do not rotate"},
     {"bad_pivot.json", "bodies[0].pivot: only kinematic bodies can have a pivot"},

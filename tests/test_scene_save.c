@@ -453,6 +453,34 @@ static void test_dense_shape_first(void)
     kg_destroy_world(world);
 }
 
+/* A static body of no shape, a hinge's anchor, and a kinematic one: the file omits their
+ * "shape", the reader takes them, and the loaded world has them shapeless, the hinge
+ * between the anchor and the box. */
+static void test_shapeless_anchor(void)
+{
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, -10.0f});
+    kg_shape_def none = kg_default_body_def().shape; /* KG_SHAPE_NONE */
+    kg_body anchor = kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 5.0f}, 0.0f, none);
+    kg_test_add(world, KG_BODY_KINEMATIC, (kg_vec2){3.0f, 5.0f}, 0.0f, none);
+    kg_body box = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){1.0f, 5.0f}, 0.0f, kg_box_shape(0.5f, 0.5f));
+    kg_revolute_joint_def hinge = kg_default_revolute_joint_def();
+    hinge.base.body_a = anchor;
+    hinge.base.body_b = box;
+    hinge.local_anchor_b = (kg_vec2){-1.0f, 0.0f};
+    KG_CHECK_OK(kg_create_revolute_joint(world, &hinge, NULL));
+    kg_scene* loaded = kg_save_and_load(world, "anchor.json");
+    KG_CHECK(loaded && kg_scene_body_def(loaded, 0)->shape.type == KG_SHAPE_NONE &&
+             kg_scene_body_def(loaded, 1)->shape.type == KG_SHAPE_NONE && kg_scene_joint_count(loaded) == 1);
+    kg_world* again = NULL;
+    kg_body handles[3];
+    KG_CHECK_OK(kg_scene_instantiate(loaded, NULL, &again, handles));
+    KG_CHECK(again && kg_body_shape_count(again, handles[0]) == 0 && kg_body_shape_count(again, handles[1]) == 0 &&
+             kg_world_joint_count(again) == 1);
+    kg_destroy_world(again);
+    kg_scene_destroy(loaded);
+    kg_destroy_world(world);
+}
+
 static void test_save_errors(void)
 {
     kg_world* world = kg_pile();
@@ -1021,7 +1049,8 @@ int main(void)
         KG_TEST(test_floats_round_trip), KG_TEST(test_loaded_world_continues), KG_TEST(test_editor_move_applies),
         KG_TEST(test_bad_state),         KG_TEST(test_state_must_fit),          KG_TEST(test_names_kept),
         KG_TEST(test_first_shape_sensor),  KG_TEST(test_bad_joint_refused),
-        KG_TEST(test_many_shapes_with_state), KG_TEST(test_dense_shape_first), KG_TEST(test_save_errors),
+        KG_TEST(test_many_shapes_with_state), KG_TEST(test_dense_shape_first),
+        KG_TEST(test_shapeless_anchor),    KG_TEST(test_save_errors),
         KG_TEST(test_whole_world_from_file), KG_TEST(test_whole_world_continues),
     };
     int code = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));
