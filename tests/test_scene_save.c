@@ -481,6 +481,31 @@ static void test_shapeless_anchor(void)
     kg_destroy_world(world);
 }
 
+/* A loop of 5 points with segment 2 (p2 to p3) destroyed is one open chain, p3 p4 p0 p1
+ * p2, its ends where the cut was; not two pieces split at the unbroken joint p4-p0. */
+static void test_broken_loop_one_chain(void)
+{
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, -10.0f});
+    kg_body ground = kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_default_body_def().shape);
+    const kg_vec2 ring[] = {{0.0f, 0.0f}, {4.0f, 0.0f}, {5.0f, 3.0f}, {2.0f, 5.0f}, {-1.0f, 3.0f}};
+    kg_chain_def def = kg_default_chain_def();
+    def.points = ring;
+    def.count = 5;
+    def.loop = 1;
+    kg_shape_id segments[5];
+    KG_CHECK_OK(kg_create_chain(world, ground, &def, segments));
+    KG_CHECK_OK(kg_destroy_shape(world, segments[2]));
+    kg_scene* loaded = kg_save_and_load(world, "broken_loop.json");
+    kg_chain_def chain;
+    KG_CHECK(loaded && kg_scene_body_chain_count(loaded, 0) == 1);
+    KG_CHECK(loaded && kg_scene_get_body_chain(loaded, 0, 0, &chain) == KG_OK && chain.count == 5 && !chain.loop);
+    for (int k = 0; loaded && k < 5 && chain.count == 5; ++k) {
+        KG_CHECK(memcmp(&chain.points[k], &ring[(k + 3) % 5], sizeof ring[0]) == 0);
+    }
+    kg_scene_destroy(loaded);
+    kg_destroy_world(world);
+}
+
 static void test_save_errors(void)
 {
     kg_world* world = kg_pile();
@@ -1050,7 +1075,7 @@ int main(void)
         KG_TEST(test_bad_state),         KG_TEST(test_state_must_fit),          KG_TEST(test_names_kept),
         KG_TEST(test_first_shape_sensor),  KG_TEST(test_bad_joint_refused),
         KG_TEST(test_many_shapes_with_state), KG_TEST(test_dense_shape_first),
-        KG_TEST(test_shapeless_anchor),    KG_TEST(test_save_errors),
+        KG_TEST(test_shapeless_anchor),    KG_TEST(test_broken_loop_one_chain), KG_TEST(test_save_errors),
         KG_TEST(test_whole_world_from_file), KG_TEST(test_whole_world_continues),
     };
     int code = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));

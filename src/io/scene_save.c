@@ -109,7 +109,7 @@ static int kg_chain_goes_on(const kg_shape* a, const kg_shape* b)
 /* The chain of segments [0, count) (each going on from the one before) into scene body
  * index: a loop when the last goes on into the first, else open. Material: the first
  * segment's. A chain of which a segment was destroyed comes out as the pieces left, their
- * cut ends free. */
+ * cut ends free (kg_add_world_runs). */
 static kg_result kg_add_world_chain(const kg_world* world, const kg_shape_id* segments, int count, kg_scene* scene,
                                     int index)
 {
@@ -139,8 +139,74 @@ static kg_result kg_add_world_chain(const kg_world* world, const kg_shape_id* se
     return r;
 }
 
+/* Whether the run of segments starting at a goes on from the one ending at b (b: one past
+ * its last). */
+static int kg_run_goes_on(const kg_world* world, const kg_shape_id* segments, int end_b, int a)
+{
+    return kg_chain_goes_on(kg_shape_geometry(&world->bodies, &world->shapes, segments[end_b - 1].index),
+                            kg_shape_geometry(&world->bodies, &world->shapes, segments[a].index));
+}
+
+/* The chains of segments (count, in the world's order) into scene body index, run by run
+ * (each segment going on from the one before; starts: each run's first, then count). A
+ * loop with a segment destroyed leaves two runs, the one after the gap going on into the
+ * one before it: they are joined, as the one open chain the loop has become. */
+static kg_result kg_add_world_runs(const kg_world* world, const kg_shape_id* segments, const int* starts, int runs,
+                                   kg_shape_id* chain, int* used, kg_scene* scene, int index)
+{
+    kg_result r = KG_OK;
+    for (int i = 0; r == KG_OK && i < runs; ++i) {
+        if (used[i]) {
+            continue;
+        }
+        int before = -1, length = 0;
+        for (int j = i + 1; before < 0 && j < runs; ++j) {
+            before = !used[j] && kg_run_goes_on(world, segments, starts[j + 1], starts[i]) ? j : -1;
+        }
+        if (before >= 0) {
+            used[before] = 1;
+            for (int k = starts[before]; k < starts[before + 1]; ++k) {
+                chain[length++] = segments[k];
+            }
+        }
+        for (int k = starts[i]; k < starts[i + 1]; ++k) {
+            chain[length++] = segments[k];
+        }
+        r = kg_add_world_chain(world, chain, length, scene, index);
+    }
+    return r;
+}
+
+/* The body's chain segments (among its count shapes) into scene body index as chains. */
+static kg_result kg_add_world_chains(const kg_world* world, const kg_shape_id* shapes, int count, kg_scene* scene,
+                                     int index)
+{
+    size_t n = (size_t)(count > 0 ? count : 1);
+    kg_shape_id* segments = malloc(2 * n * sizeof *segments); /* then room for a chain */
+    int* starts = calloc(2 * n + 2, sizeof *starts);         /* then each run's used flag */
+    kg_result r = segments && starts ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world: out of memory");
+    int m = 0, runs = 0;
+    for (int k = 0; r == KG_OK && k < count; ++k) {
+        if (kg_is_chain_shape(world, shapes[k])) {
+            segments[m++] = shapes[k];
+        }
+    }
+    for (int k = 0; r == KG_OK && k < m; ++k) {
+        if (k == 0 || !kg_run_goes_on(world, segments, k, k)) {
+            starts[runs++] = k;
+        }
+    }
+    if (r == KG_OK) {
+        starts[runs] = m;
+        r = kg_add_world_runs(world, segments, starts, runs, segments + n, starts + n + 1, scene, index);
+    }
+    free(segments);
+    free(starts);
+    return r;
+}
+
 /* The body's shapes but the body def's own into scene body index (in the world's order),
- * then its chain segments, run by run, as chains. */
+ * then its chains. */
 static kg_result kg_add_world_shapes(const kg_world* world, kg_body body, const kg_shape_id* shapes, int count,
                                      kg_scene* scene, int index)
 {
@@ -154,24 +220,7 @@ static kg_result kg_add_world_shapes(const kg_world* world, kg_body body, const 
             r = r == KG_OK ? kg_scene_add_body_shape(scene, index, &def) : r;
         }
     }
-    kg_shape_id* run = malloc((size_t)(count > 0 ? count : 1) * sizeof *run);
-    int length = 0;
-    r = r == KG_OK && !run ? kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world: out of memory") : r;
-    for (int k = 0; r == KG_OK && k <= count; ++k) {
-        int segment = k < count && kg_is_chain_shape(world, shapes[k]);
-        const kg_shape* g = segment ? kg_shape_geometry(&world->bodies, &world->shapes, shapes[k].index) : NULL;
-        const kg_shape* before =
-            length > 0 ? kg_shape_geometry(&world->bodies, &world->shapes, run[length - 1].index) : NULL;
-        if (length > 0 && (!segment || !kg_chain_goes_on(before, g))) {
-            r = kg_add_world_chain(world, run, length, scene, index);
-            length = 0;
-        }
-        if (segment) {
-            run[length++] = shapes[k];
-        }
-    }
-    free(run);
-    return r;
+    return r == KG_OK ? kg_add_world_chains(world, shapes, count, scene, index) : r;
 }
 
 /* Adds the live body into scene under name, with all its shapes and chains. */
