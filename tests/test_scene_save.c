@@ -506,6 +506,38 @@ static void test_broken_loop_one_chain(void)
     kg_destroy_world(world);
 }
 
+/* A chain of point count on body 0 of scene. */
+static void kg_add_test_chain(kg_scene* scene, const kg_vec2* points, int count, int loop, float friction)
+{
+    kg_chain_def chain = kg_default_chain_def();
+    chain.points = points;
+    chain.count = count;
+    chain.loop = loop;
+    chain.friction = friction;
+    chain.category = 3u;
+    KG_CHECK_OK(kg_scene_add_body_chain(scene, 0, &chain));
+}
+
+/* A shapeless static body of 64 chains: 64 entries in "shapes", as many as the reader
+ * takes, so it is written (the body's absent own shape is no entry) and reads back. */
+static void test_chains_only_body(void)
+{
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_create(&scene));
+    kg_body_def body = kg_default_body_def();
+    body.type = KG_BODY_STATIC;
+    KG_CHECK_OK(kg_scene_add_body(scene, "rails", &body));
+    for (int k = 0; k < 64; ++k) {
+        const kg_vec2 rail[] = {{0.0f, (float)k}, {4.0f, (float)k}};
+        kg_add_test_chain(scene, rail, 2, 0, 0.5f);
+    }
+    kg_scene* loaded = kg_resave(scene, "rails.json");
+    KG_CHECK(loaded && kg_scene_body_chain_count(loaded, 0) == 64 && kg_scene_body_shape_count(loaded, 0) == 1 &&
+             kg_scene_body_def(loaded, 0)->shape.type == KG_SHAPE_NONE);
+    kg_scene_destroy(loaded);
+    kg_scene_destroy(scene);
+}
+
 static void test_save_errors(void)
 {
     kg_world* world = kg_pile();
@@ -555,18 +587,6 @@ static void test_save_errors(void)
 /* ---- a whole world: compound bodies, chains, a pivot, a joint of each kind ---- */
 
 #define KG_JOINED_BODIES 11
-
-/* A chain of point count on body 0 of scene. */
-static void kg_add_test_chain(kg_scene* scene, const kg_vec2* points, int count, int loop, float friction)
-{
-    kg_chain_def chain = kg_default_chain_def();
-    chain.points = points;
-    chain.count = count;
-    chain.loop = loop;
-    chain.friction = friction;
-    chain.category = 3u;
-    KG_CHECK_OK(kg_scene_add_body_chain(scene, 0, &chain));
-}
 
 /* Bodies 0 to 2: a ground box with an open chain and a loop, a compound crate of four
  * shapes of their own materials (one a sensor), a kinematic wall turning about a pivot. */
@@ -1075,7 +1095,8 @@ int main(void)
         KG_TEST(test_bad_state),         KG_TEST(test_state_must_fit),          KG_TEST(test_names_kept),
         KG_TEST(test_first_shape_sensor),  KG_TEST(test_bad_joint_refused),
         KG_TEST(test_many_shapes_with_state), KG_TEST(test_dense_shape_first),
-        KG_TEST(test_shapeless_anchor),    KG_TEST(test_broken_loop_one_chain), KG_TEST(test_save_errors),
+        KG_TEST(test_shapeless_anchor),    KG_TEST(test_broken_loop_one_chain),
+        KG_TEST(test_chains_only_body),    KG_TEST(test_save_errors),
         KG_TEST(test_whole_world_from_file), KG_TEST(test_whole_world_continues),
     };
     int code = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));

@@ -592,10 +592,11 @@ static cJSON* kg_chain_entry_json(const kg_chain_def* c)
     return o;
 }
 
-/* How many entries body i's "shapes" would hold. */
+/* How many entries body i's "shapes" would hold (its own shape only if it has one). */
 static int kg_entry_count(const kg_scene* scene, int i)
 {
-    return kg_scene_body_shape_count(scene, i) + kg_scene_body_chain_count(scene, i);
+    int own = kg_scene_body_def(scene, i)->shape.type != KG_SHAPE_NONE;
+    return own + kg_scene_body_shape_count(scene, i) - 1 + kg_scene_body_chain_count(scene, i);
 }
 
 /* Whether the scene has a state, which brings back every shape of its bodies. */
