@@ -397,10 +397,15 @@ cJSON* kg_vec2_json(kg_vec2 v)
     return a;
 }
 
-/* Adds key: item to object; 0 when item is NULL (out of memory). */
+/* Adds key: item to object; 0 when item is NULL (out of memory) or cannot be added (then
+ * deleted: the caller hands it over either way). */
 int kg_json_add(cJSON* object, const char* key, cJSON* item)
 {
-    return item && cJSON_AddItemToObject(object, key, item);
+    if (item && !cJSON_AddItemToObject(object, key, item)) {
+        cJSON_Delete(item);
+        return 0;
+    }
+    return item != NULL;
 }
 
 int kg_json_add_float(cJSON* object, const char* key, float v)

@@ -114,7 +114,23 @@ static const kg_joint_kind kJointKinds[] = {
     {"motor", kNoAnchors, kMotorOptions}};
 #define KG_JOINT_KIND_COUNT ((int)(sizeof kJointKinds / sizeof kJointKinds[0]))
 
-/* The keys an entry of kind may have, into keys (NULL-terminated; room for 32). */
+/* The most keys an entry may have, its NULL after them included; the largest kind
+ * (prismatic: type, a, b, 3 anchors, 15 options) has 21, which the compiler checks below. */
+#define KG_JOINT_MAX_KEYS 32
+#define KG_ITEMS(table) (sizeof table / sizeof table[0] - 1) /* but its end */
+#define KG_KEYS_FIT(anchors, options) (3 + KG_ITEMS(anchors) + KG_ITEMS(options) < KG_JOINT_MAX_KEYS)
+typedef char kg_joint_keys_fit[KG_KEYS_FIT(kPointAnchors, kRevoluteOptions) &&
+                                       KG_KEYS_FIT(kDistanceAnchors, kDistanceOptions) &&
+                                       KG_KEYS_FIT(kPointAnchors, kWeldOptions) &&
+                                       KG_KEYS_FIT(kMouseAnchors, kMouseOptions) &&
+                                       KG_KEYS_FIT(kAxisAnchors, kPrismaticOptions) &&
+                                       KG_KEYS_FIT(kAxisAnchors, kWheelOptions) &&
+                                       KG_KEYS_FIT(kNoAnchors, kMotorOptions)
+                                   ? 1
+                                   : -1];
+
+/* The keys an entry of kind may have, into keys (NULL-terminated; room for
+ * KG_JOINT_MAX_KEYS). */
 static void kg_joint_keys(const kg_joint_kind* kind, const char** keys)
 {
     int n = 0;
@@ -441,7 +457,7 @@ kg_result kg_read_scene_joint(const kg_json_reader* reader, kg_scene* scene, con
         return kg_json_fail(reader, &type_path,
                             "must be one of revolute, distance, weld, mouse, prismatic, wheel, motor");
     }
-    const char* keys[32];
+    const char* keys[KG_JOINT_MAX_KEYS];
     kg_joint_keys(&kJointKinds[kind], keys);
     KG_TRY(kg_json_check_object(reader, item, path, keys));
     kg_scene_joint j;

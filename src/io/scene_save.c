@@ -130,11 +130,13 @@ static kg_result kg_add_world_chain(const kg_world* world, const kg_shape_id* se
     def.points = points;
     def.count = loop ? count : count + 1;
     def.loop = loop;
-    def.friction = material.friction;
-    def.restitution = material.restitution;
-    def.category = material.category;
-    def.mask = material.mask;
-    r = r == KG_OK ? kg_scene_add_body_chain(scene, index, &def) : r;
+    if (r == KG_OK) {
+        def.friction = material.friction;
+        def.restitution = material.restitution;
+        def.category = material.category;
+        def.mask = material.mask;
+        r = kg_scene_add_body_chain(scene, index, &def);
+    }
     free(points);
     return r;
 }
@@ -386,9 +388,12 @@ static kg_result kg_add_world_joints(const kg_world* world, const int* index, kg
         kg_scene_joint j;
         kg_scene_joint_init(&j, type);
         r = kg_joint_get_bodies(world, joint, &a, &b);
+        if (r != KG_OK) {
+            break;
+        }
         j.body_a = a.generation == 0u ? -1 : index[a.index];
         j.body_b = index[b.index];
-        r = r == KG_OK ? kg_joint_get_world_anchors(world, joint, &j.anchor_a, &j.anchor_b) : r;
+        r = kg_joint_get_world_anchors(world, joint, &j.anchor_a, &j.anchor_b);
         if (r == KG_OK && (type == KG_JOINT_PRISMATIC || type == KG_JOINT_WHEEL)) {
             r = kg_joint_get_world_axis(world, joint, &j.axis);
         }
