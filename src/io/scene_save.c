@@ -87,7 +87,8 @@ static kg_body_def kg_def_of(const kg_world* world, const kg_body_pool* p, kg_bo
     }
     kg_mass_data md;
     int massive = def.type == KG_BODY_DYNAMIC || def.type == KG_BODY_PARTICLE;
-    if (massive && (count <= 1 || !(def.density > 0.0f)) && kg_body_get_mass_data(world, body, &md) == KG_OK && md.mass > 0.0f) {
+    int mass_needed = massive && (count <= 1 || !(def.density > 0.0f));
+    if (mass_needed && kg_body_get_mass_data(world, body, &md) == KG_OK && md.mass > 0.0f) {
         def.mass = md.mass;
     }
     def.linear_damping = p->linear_damping[i];
