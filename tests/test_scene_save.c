@@ -13,6 +13,8 @@
 #include "kgyro/kgyro.h"
 #include "kgyro/scene.h"
 #include "core/joint.h"
+#include "io/json_util.h"
+#include "io/scene_joints.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -288,6 +290,255 @@ static void test_names_kept(void)
     kg_scene_destroy(scene);
 }
 
+/* Saves scene to name and loads it back (NULL on failure). */
+static kg_scene* kg_resave(const kg_scene* scene, const char* name)
+{
+    char path[128];
+    kg_path(path, sizeof path, name);
+    KG_CHECK_OK(kg_scene_save_file(scene, path));
+    kg_scene* loaded = NULL;
+    KG_CHECK_OK(kg_scene_load_file(path, &loaded));
+    remove(path);
+    return loaded;
+}
+
+/* A compound body whose first shape is its sensor: the scene, and the file, say so (the
+ * entry's flag goes next to the body's "sensor"), the other shape stays solid. */
+static void test_first_shape_sensor(void)
+{
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_create(&scene));
+    kg_body_def def = kg_default_body_def();
+    def.shape = kg_circle_shape(2.0f);
+    def.is_sensor = 1;
+    KG_CHECK_OK(kg_scene_add_body(scene, "sensing", &def));
+    kg_body_shape_def extra = kg_default_body_shape_def();
+    extra.geometry = kg_box_shape(0.5f, 0.5f);
+    KG_CHECK_OK(kg_scene_add_body_shape(scene, 0, &extra));
+    kg_scene* loaded = kg_resave(scene, "sensor.json");
+    kg_body_shape_def first, second;
+    KG_CHECK_OK(kg_scene_get_body_shape(scene, 0, 0, &first));
+    KG_CHECK(first.is_sensor == 1);
+    KG_CHECK(loaded && kg_scene_body_def(loaded, 0)->is_sensor == 1);
+    KG_CHECK(loaded && kg_scene_get_body_shape(loaded, 0, 0, &first) == KG_OK && first.is_sensor == 1 &&
+             first.geometry.radius == 2.0f);
+    KG_CHECK(loaded && kg_scene_get_body_shape(loaded, 0, 1, &second) == KG_OK && second.is_sensor == 0);
+    kg_scene_destroy(loaded);
+    kg_scene_destroy(scene);
+}
+
+/* Joint j between bodies "x" and "y" of a fresh scene: kg_scene_add_joint refuses it
+ * with a message that has needle, and the scene, holding no joint, still saves. */
+static void kg_check_joint_refused(const kg_scene_joint* j, const char* needle)
+{
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_create(&scene));
+    kg_body_def def = kg_default_body_def();
+    def.shape = kg_box_shape(0.5f, 0.5f);
+    KG_CHECK_OK(kg_scene_add_body(scene, "x", &def));
+    def.position.x = 2.0f;
+    KG_CHECK_OK(kg_scene_add_body(scene, "y", &def));
+    KG_CHECK(kg_scene_add_joint(scene, j) == KG_ERROR_INVALID_ARGUMENT);
+    if (!strstr(kg_last_error(), needle)) {
+        fprintf(stderr, "  message \"%s\" lacks \"%s\"\n", kg_last_error(), needle);
+        kg_test_failures++;
+    }
+    KG_CHECK(kg_scene_joint_count(scene) == 0);
+    kg_scene_destroy(kg_resave(scene, "no_joint.json"));
+    kg_scene_destroy(scene);
+}
+
+/* What the reader refuses in a file, kg_scene_add_joint refuses in a call (one check):
+ * an unknown type, a NaN option (which would be written as a bare nan), limits out of
+ * order, a mouse joint with an "a"; the writer writes no non-finite float. A good joint
+ * goes through the file. */
+static void test_bad_joint_refused(void)
+{
+    kg_scene_joint j;
+    kg_scene_joint_init(&j, KG_JOINT_REVOLUTE);
+    j.body_a = 0;
+    j.body_b = 1;
+    j.anchor_a = j.anchor_b = (kg_vec2){1.0f, 0.0f};
+    kg_scene_joint bad = j;
+    bad.type = (kg_joint_type)1000000;
+    kg_check_joint_refused(&bad, "kg_scene_add_joint: joint 0 (a 'x', b 'y').type: 1000000 is no joint type");
+    bad = j;
+    bad.revolute.hertz = NAN;
+    kg_check_joint_refused(&bad, "joint 0 (a 'x', b 'y').hertz: must be a finite number");
+    bad = j;
+    bad.revolute.lower_angle = 1.0f;
+    bad.revolute.upper_angle = -1.0f;
+    kg_check_joint_refused(&bad, "lower_angle: must be <= upper_angle");
+    kg_scene_joint_init(&bad, KG_JOINT_MOUSE);
+    bad.body_a = 0;
+    bad.body_b = 1;
+    kg_check_joint_refused(&bad, ".a: a mouse joint drags \"b\" to its target");
+    KG_CHECK(kg_float_json(NAN) == NULL && kg_float_json(INFINITY) == NULL);
+    KG_CHECK(kg_json_add(NULL, "x", cJSON_CreateObject()) == 0); /* the item not added is freed (ASan: no leak) */
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_create(&scene));
+    kg_body_def def = kg_default_body_def();
+    def.shape = kg_box_shape(0.5f, 0.5f);
+    KG_CHECK_OK(kg_scene_add_body(scene, "x", &def));
+    def.position.x = 2.0f;
+    KG_CHECK_OK(kg_scene_add_body(scene, "y", &def));
+    j.revolute.lower_angle = -0.5f;
+    j.revolute.enable_limit = 1;
+    KG_CHECK_OK(kg_scene_add_joint(scene, &j));
+    kg_scene* loaded = kg_resave(scene, "joint.json");
+    KG_CHECK(loaded && kg_scene_joint_count(loaded) == 1 &&
+             kg_scene_get_joint(loaded, 0)->revolute.lower_angle == -0.5f);
+    kg_scene_destroy(loaded);
+    kg_scene_destroy(scene);
+}
+
+/* A static body of 71 boxes, more than a file's "shapes" takes (64): saved with a state,
+ * the file gives it its first box and the state brings back all 71. */
+static void test_many_shapes_with_state(void)
+{
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, -10.0f});
+    kg_body ground = kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_box_shape(0.5f, 0.5f));
+    for (int k = 1; k < 71; ++k) {
+        kg_body_shape_def box = kg_default_body_shape_def();
+        box.geometry = kg_shape_moved(kg_box_shape(0.5f, 0.5f), (kg_vec2){(float)k, 0.0f}, 0.0f);
+        kg_shape_id id;
+        KG_CHECK_OK(kg_create_shape(world, ground, &box, &id));
+    }
+    kg_scene* loaded = kg_save_and_load(world, "many.json");
+    KG_CHECK(loaded && kg_scene_body_shape_count(loaded, 0) == 1 && kg_scene_body_chain_count(loaded, 0) == 0);
+    kg_world* again = NULL;
+    kg_body handle;
+    KG_CHECK_OK(kg_scene_instantiate(loaded, NULL, &again, &handle));
+    KG_CHECK(again && kg_body_shape_count(again, handle) == 71);
+    kg_destroy_world(again);
+    kg_scene_destroy(loaded);
+    kg_destroy_world(world);
+}
+
+/* A dynamic box given a density-0 sensor and a density-2 circle, then the box destroyed:
+ * the circle becomes the body's own shape (its density gives the mass), the sensor comes
+ * after it, and the loaded world's body has the mass it had (pi 0.5^2 2). */
+static void test_dense_shape_first(void)
+{
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, 0.0f});
+    kg_body body = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_box_shape(0.5f, 0.5f));
+    kg_shape_id box, sensor, circle;
+    int n = 0;
+    KG_CHECK_OK(kg_body_get_shapes(world, body, &box, 1, &n));
+    kg_body_shape_def def = kg_default_body_shape_def();
+    def.geometry = kg_circle_shape(1.5f);
+    def.density = 0.0f;
+    def.is_sensor = 1;
+    KG_CHECK_OK(kg_create_shape(world, body, &def, &sensor));
+    def.geometry = kg_shape_moved(kg_circle_shape(0.5f), (kg_vec2){1.0f, 0.0f}, 0.0f);
+    def.density = 2.0f;
+    def.is_sensor = 0;
+    KG_CHECK_OK(kg_create_shape(world, body, &def, &circle));
+    KG_CHECK_OK(kg_destroy_shape(world, box));
+    kg_mass_data before, after;
+    KG_CHECK_OK(kg_body_get_mass_data(world, body, &before));
+    kg_scene* loaded = kg_save_and_load(world, "dense.json");
+    KG_CHECK(loaded && kg_scene_body_def(loaded, 0)->density == 2.0f &&
+             kg_scene_body_def(loaded, 0)->shape.radius == 0.5f && kg_scene_body_shape_count(loaded, 0) == 2);
+    kg_body_shape_def second;
+    KG_CHECK(loaded && kg_scene_get_body_shape(loaded, 0, 1, &second) == KG_OK && second.is_sensor == 1 &&
+             second.density == 0.0f);
+    kg_world* again = NULL;
+    kg_body handle;
+    KG_CHECK_OK(kg_scene_instantiate(loaded, NULL, &again, &handle));
+    KG_CHECK(again && kg_body_get_mass_data(again, handle, &after) == KG_OK);
+    KG_CHECK_NEAR(before.mass, 3.14159265f * 0.25f * 2.0f, 1e-5f);
+    KG_CHECK(again && after.mass == before.mass);
+    kg_destroy_world(again);
+    kg_scene_destroy(loaded);
+    kg_destroy_world(world);
+}
+
+/* A static body of no shape, a hinge's anchor, and a kinematic one: the file omits their
+ * "shape", the reader takes them, and the loaded world has them shapeless, the hinge
+ * between the anchor and the box. */
+static void test_shapeless_anchor(void)
+{
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, -10.0f});
+    kg_shape_def none = kg_default_body_def().shape; /* KG_SHAPE_NONE */
+    kg_body anchor = kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 5.0f}, 0.0f, none);
+    kg_test_add(world, KG_BODY_KINEMATIC, (kg_vec2){3.0f, 5.0f}, 0.0f, none);
+    kg_body box = kg_test_add(world, KG_BODY_DYNAMIC, (kg_vec2){1.0f, 5.0f}, 0.0f, kg_box_shape(0.5f, 0.5f));
+    kg_revolute_joint_def hinge = kg_default_revolute_joint_def();
+    hinge.base.body_a = anchor;
+    hinge.base.body_b = box;
+    hinge.local_anchor_b = (kg_vec2){-1.0f, 0.0f};
+    KG_CHECK_OK(kg_create_revolute_joint(world, &hinge, NULL));
+    kg_scene* loaded = kg_save_and_load(world, "anchor.json");
+    KG_CHECK(loaded && kg_scene_body_def(loaded, 0)->shape.type == KG_SHAPE_NONE &&
+             kg_scene_body_def(loaded, 1)->shape.type == KG_SHAPE_NONE && kg_scene_joint_count(loaded) == 1);
+    kg_world* again = NULL;
+    kg_body handles[3];
+    KG_CHECK_OK(kg_scene_instantiate(loaded, NULL, &again, handles));
+    KG_CHECK(again && kg_body_shape_count(again, handles[0]) == 0 && kg_body_shape_count(again, handles[1]) == 0 &&
+             kg_world_joint_count(again) == 1);
+    kg_destroy_world(again);
+    kg_scene_destroy(loaded);
+    kg_destroy_world(world);
+}
+
+/* A loop of 5 points with segment 2 (p2 to p3) destroyed is one open chain, p3 p4 p0 p1
+ * p2, its ends where the cut was; not two pieces split at the unbroken joint p4-p0. */
+static void test_broken_loop_one_chain(void)
+{
+    kg_world* world = kg_test_cpu_world((kg_vec2){0.0f, -10.0f});
+    kg_body ground = kg_test_add(world, KG_BODY_STATIC, (kg_vec2){0.0f, 0.0f}, 0.0f, kg_default_body_def().shape);
+    const kg_vec2 ring[] = {{0.0f, 0.0f}, {4.0f, 0.0f}, {5.0f, 3.0f}, {2.0f, 5.0f}, {-1.0f, 3.0f}};
+    kg_chain_def def = kg_default_chain_def();
+    def.points = ring;
+    def.count = 5;
+    def.loop = 1;
+    kg_shape_id segments[5];
+    KG_CHECK_OK(kg_create_chain(world, ground, &def, segments));
+    KG_CHECK_OK(kg_destroy_shape(world, segments[2]));
+    kg_scene* loaded = kg_save_and_load(world, "broken_loop.json");
+    kg_chain_def chain;
+    KG_CHECK(loaded && kg_scene_body_chain_count(loaded, 0) == 1);
+    KG_CHECK(loaded && kg_scene_get_body_chain(loaded, 0, 0, &chain) == KG_OK && chain.count == 5 && !chain.loop);
+    for (int k = 0; loaded && k < 5 && chain.count == 5; ++k) {
+        KG_CHECK(memcmp(&chain.points[k], &ring[(k + 3) % 5], sizeof ring[0]) == 0);
+    }
+    kg_scene_destroy(loaded);
+    kg_destroy_world(world);
+}
+
+/* A chain of point count on body 0 of scene. */
+static void kg_add_test_chain(kg_scene* scene, const kg_vec2* points, int count, int loop, float friction)
+{
+    kg_chain_def chain = kg_default_chain_def();
+    chain.points = points;
+    chain.count = count;
+    chain.loop = loop;
+    chain.friction = friction;
+    chain.category = 3u;
+    KG_CHECK_OK(kg_scene_add_body_chain(scene, 0, &chain));
+}
+
+/* A shapeless static body of 64 chains: 64 entries in "shapes", as many as the reader
+ * takes, so it is written (the body's absent own shape is no entry) and reads back. */
+static void test_chains_only_body(void)
+{
+    kg_scene* scene = NULL;
+    KG_CHECK_OK(kg_scene_create(&scene));
+    kg_body_def body = kg_default_body_def();
+    body.type = KG_BODY_STATIC;
+    KG_CHECK_OK(kg_scene_add_body(scene, "rails", &body));
+    for (int k = 0; k < 64; ++k) {
+        const kg_vec2 rail[] = {{0.0f, (float)k}, {4.0f, (float)k}};
+        kg_add_test_chain(scene, rail, 2, 0, 0.5f);
+    }
+    kg_scene* loaded = kg_resave(scene, "rails.json");
+    KG_CHECK(loaded && kg_scene_body_chain_count(loaded, 0) == 64 && kg_scene_body_shape_count(loaded, 0) == 1 &&
+             kg_scene_body_def(loaded, 0)->shape.type == KG_SHAPE_NONE);
+    kg_scene_destroy(loaded);
+    kg_scene_destroy(scene);
+}
+
 static void test_save_errors(void)
 {
     kg_world* world = kg_pile();
@@ -337,18 +588,6 @@ static void test_save_errors(void)
 /* ---- a whole world: compound bodies, chains, a pivot, a joint of each kind ---- */
 
 #define KG_JOINED_BODIES 11
-
-/* A chain of point count on body 0 of scene. */
-static void kg_add_test_chain(kg_scene* scene, const kg_vec2* points, int count, int loop, float friction)
-{
-    kg_chain_def chain = kg_default_chain_def();
-    chain.points = points;
-    chain.count = count;
-    chain.loop = loop;
-    chain.friction = friction;
-    chain.category = 3u;
-    KG_CHECK_OK(kg_scene_add_body_chain(scene, 0, &chain));
-}
 
 /* Bodies 0 to 2: a ground box with an open chain and a loop, a compound crate of four
  * shapes of their own materials (one a sensor), a kinematic wall turning about a pivot. */
@@ -854,7 +1093,11 @@ int main(void)
     }
     static const kg_test_case tests[] = {
         KG_TEST(test_floats_round_trip), KG_TEST(test_loaded_world_continues), KG_TEST(test_editor_move_applies),
-        KG_TEST(test_bad_state),         KG_TEST(test_state_must_fit),          KG_TEST(test_names_kept),             KG_TEST(test_save_errors),
+        KG_TEST(test_bad_state),         KG_TEST(test_state_must_fit),          KG_TEST(test_names_kept),
+        KG_TEST(test_first_shape_sensor),  KG_TEST(test_bad_joint_refused),
+        KG_TEST(test_many_shapes_with_state), KG_TEST(test_dense_shape_first),
+        KG_TEST(test_shapeless_anchor),    KG_TEST(test_broken_loop_one_chain),
+        KG_TEST(test_chains_only_body),    KG_TEST(test_save_errors),
         KG_TEST(test_whole_world_from_file), KG_TEST(test_whole_world_continues),
     };
     int code = kg_run_tests(tests, (int)(sizeof tests / sizeof tests[0]));

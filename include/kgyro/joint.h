@@ -182,9 +182,10 @@ KG_API kg_result kg_destroy_joint(kg_world* world, kg_joint joint);
 KG_API int kg_joint_is_valid(const kg_world* world, kg_joint joint);
 KG_API int kg_world_joint_count(const kg_world* world);
 /* How many times each solve and relax pass of a sub-step runs over the joints (in [1,
- * 64], default 6; warm starting is once; the relax pass over-relaxed but in its last): fewer for many light joints (a 100 x 100 grid
- * costs about iterations x 2 row evaluations a joint a sub-step), more for long chains of
- * unequal masses (docs/joints.md). */
+ * 64], default 6; warm starting is once; the relax pass over-relaxed but in its last):
+ * fewer for many light joints (a 100 x 100 grid costs about iterations x 2 row
+ * evaluations a joint a sub-step), more for long chains of unequal masses
+ * (docs/joints.md). */
 KG_API kg_result kg_world_set_joint_iterations(kg_world* world, int iterations);
 KG_API int kg_world_get_joint_iterations(const kg_world* world);
 

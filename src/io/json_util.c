@@ -240,6 +240,19 @@ kg_result kg_json_require(const kg_json_reader* reader, const cJSON* object, con
     return kg_json_fail(reader, &field_path, "is required");
 }
 
+const char* kg_json_rule_broken(float f, kg_json_rule rule)
+{
+    if (!isfinite(f)) {
+        return "must be a finite number";
+    }
+    switch (rule) {
+    case KG_JSON_POSITIVE: return f > 0.0f ? NULL : "must be > 0";
+    case KG_JSON_NON_NEGATIVE: return f >= 0.0f ? NULL : "must be >= 0";
+    case KG_JSON_UNIT: return f >= 0.0f && f <= 1.0f ? NULL : "must be in [0, 1]";
+    default: return NULL;
+    }
+}
+
 static kg_result kg_json_number_value(const kg_json_reader* reader, const cJSON* value, const kg_json_path* path,
                                       kg_json_rule rule, float* out)
 {
@@ -250,24 +263,9 @@ static kg_result kg_json_number_value(const kg_json_reader* reader, const cJSON*
     if (!isfinite(f)) {
         return kg_json_fail(reader, path, "must be a finite number (got %g)", value->valuedouble);
     }
-    switch (rule) {
-    case KG_JSON_ANY:
-        break;
-    case KG_JSON_POSITIVE:
-        if (!(f > 0.0f)) {
-            return kg_json_fail(reader, path, "must be > 0");
-        }
-        break;
-    case KG_JSON_NON_NEGATIVE:
-        if (!(f >= 0.0f)) {
-            return kg_json_fail(reader, path, "must be >= 0");
-        }
-        break;
-    case KG_JSON_UNIT:
-        if (!(f >= 0.0f && f <= 1.0f)) {
-            return kg_json_fail(reader, path, "must be in [0, 1]");
-        }
-        break;
+    const char* broken = kg_json_rule_broken(f, rule);
+    if (broken) {
+        return kg_json_fail(reader, path, "%s", broken);
     }
     *out = f;
     return KG_OK;
@@ -377,9 +375,13 @@ kg_result kg_json_string(const kg_json_reader* reader, const cJSON* object, cons
 
 /* ---- writing ---- */
 
-/* A float as "%.9g" (NULL: out of memory). */
+/* A float as "%.9g" (NULL: out of memory, or v not finite: JSON has no NaN or infinity,
+ * and a bare "nan" would make the file unreadable). */
 cJSON* kg_float_json(float v)
 {
+    if (!isfinite(v)) {
+        return NULL;
+    }
     char text[32];
     snprintf(text, sizeof text, "%.9g", (double)v);
     return cJSON_CreateRaw(text);
@@ -395,10 +397,15 @@ cJSON* kg_vec2_json(kg_vec2 v)
     return a;
 }
 
-/* Adds key: item to object; 0 when item is NULL (out of memory). */
+/* Adds key: item to object; 0 when item is NULL (out of memory) or cannot be added (then
+ * deleted: the caller hands it over either way). */
 int kg_json_add(cJSON* object, const char* key, cJSON* item)
 {
-    return item && cJSON_AddItemToObject(object, key, item);
+    if (item && !cJSON_AddItemToObject(object, key, item)) {
+        cJSON_Delete(item);
+        return 0;
+    }
+    return item != NULL;
 }
 
 int kg_json_add_float(cJSON* object, const char* key, float v)

@@ -44,6 +44,10 @@ typedef struct kg_json_reader {
  * hostile file cannot send escape sequences to a terminal or break a log's encoding. */
 void kg_json_clean_text(char* out, size_t size, const char* text);
 
+/* The message of what f breaks of rule ("must be > 0"...; not finite breaks every rule),
+ * NULL when it keeps it. */
+const char* kg_json_rule_broken(float f, kg_json_rule rule);
+
 kg_result kg_json_fail(const kg_json_reader* reader, const kg_json_path* path, const char* fmt, ...)
     KG_PRINTF(3, 4);
 /* A failure with no JSON path (a file that cannot be read, out of memory): the message,
@@ -91,7 +95,7 @@ kg_result kg_json_vec2_value(const kg_json_reader* reader, const cJSON* value, c
 
 /* Writing (kg_scene_save_file): a float as "%.9g", which reads back as the same float
  * (9 significant digits tell any two floats apart), and [x, y] of two; NULL when out of
- * memory. */
+ * memory or a value is not finite (JSON has no NaN or infinity). */
 cJSON* kg_float_json(float v);
 cJSON* kg_vec2_json(kg_vec2 v);
 /* Adds key: item to object; 0 when item is NULL (out of memory) or it cannot. */

@@ -5,6 +5,7 @@
 #include "kgyro/shape.h"
 
 #include "collide/shape.h"
+#include "core/body_shapes.h"
 #include "core/error.h"
 #include "io/json_util.h"
 #include "io/scene_joints.h"
@@ -441,13 +442,7 @@ kg_result kg_scene_get_body_shape(const kg_scene* scene, int index, int k, kg_bo
     }
     const kg_body_def* body = &scene->bodies[index];
     if (k == 0) {
-        *out = kg_default_body_shape_def();
-        out->geometry = body->shape;
-        out->density = body->density;
-        out->friction = body->friction;
-        out->restitution = body->restitution;
-        out->category = body->category;
-        out->mask = body->mask;
+        *out = kg_first_shape_def(body);
         return KG_OK;
     }
     int at = scene->first_extra[index];
@@ -781,6 +776,8 @@ kg_result kg_scene_add_joint(kg_scene* scene, const kg_scene_joint* joint)
         return kg_fail(KG_ERROR_INVALID_ARGUMENT, "kg_scene_add_joint: body index out of range (a %d, b %d, %d bodies)",
                        joint->body_a, joint->body_b, scene->body_count);
     }
+    kg_json_path path = kg_joint_call_path("kg_scene_add_joint", scene, scene->joint_count, joint);
+    KG_TRY(kg_check_joint_entry(NULL, &path, scene, joint));
     if (!kg_grow((void**)&scene->joints, &scene->joint_capacity, scene->joint_count + 1, sizeof *scene->joints)) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_add_joint: out of memory");
     }

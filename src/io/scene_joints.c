@@ -7,6 +7,7 @@
 #include "core/joint.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
@@ -113,7 +114,23 @@ static const kg_joint_kind kJointKinds[] = {
     {"motor", kNoAnchors, kMotorOptions}};
 #define KG_JOINT_KIND_COUNT ((int)(sizeof kJointKinds / sizeof kJointKinds[0]))
 
-/* The keys an entry of kind may have, into keys (NULL-terminated; room for 32). */
+/* The most keys an entry may have, its NULL after them included; the largest kind
+ * (prismatic: type, a, b, 3 anchors, 15 options) has 21, which the compiler checks below. */
+#define KG_JOINT_MAX_KEYS 32
+#define KG_ITEMS(table) (sizeof table / sizeof table[0] - 1) /* but its end */
+#define KG_KEYS_FIT(anchors, options) (3 + KG_ITEMS(anchors) + KG_ITEMS(options) < KG_JOINT_MAX_KEYS)
+typedef char kg_joint_keys_fit[KG_KEYS_FIT(kPointAnchors, kRevoluteOptions) &&
+                                       KG_KEYS_FIT(kDistanceAnchors, kDistanceOptions) &&
+                                       KG_KEYS_FIT(kPointAnchors, kWeldOptions) &&
+                                       KG_KEYS_FIT(kMouseAnchors, kMouseOptions) &&
+                                       KG_KEYS_FIT(kAxisAnchors, kPrismaticOptions) &&
+                                       KG_KEYS_FIT(kAxisAnchors, kWheelOptions) &&
+                                       KG_KEYS_FIT(kNoAnchors, kMotorOptions)
+                                   ? 1
+                                   : -1];
+
+/* The keys an entry of kind may have, into keys (NULL-terminated; room for
+ * KG_JOINT_MAX_KEYS). */
 static void kg_joint_keys(const kg_joint_kind* kind, const char** keys)
 {
     int n = 0;
@@ -232,13 +249,29 @@ static kg_result kg_after_anchors(const kg_json_reader* reader, const kg_json_pa
     return KG_OK;
 }
 
+/* A failure at path: the reader's (a file's path, KG_ERROR_PARSE), or with no reader a
+ * call's (path names the call and the joint, KG_ERROR_INVALID_ARGUMENT). */
+KG_PRINTF(3, 4)
+static kg_result kg_joint_fail(const kg_json_reader* reader, const kg_json_path* path, const char* fmt, ...)
+{
+    char what[256];
+    va_list args;
+    va_start(args, fmt);
+    vsnprintf(what, sizeof what, fmt, args);
+    va_end(args);
+    if (reader) {
+        return kg_json_fail(reader, path, "%s", what);
+    }
+    return kg_fail(KG_ERROR_INVALID_ARGUMENT, "%s: %s", path->text, what);
+}
+
 /* Fails at path.key with "must be <= other" when lower > upper. */
 static kg_result kg_check_order(const kg_json_reader* reader, const kg_json_path* path, float lower, float upper,
                                 const char* key, const char* other)
 {
     if (lower > upper) {
         kg_json_path at = kg_json_path_key(path, key);
-        return kg_json_fail(reader, &at, "must be <= %s", other);
+        return kg_joint_fail(reader, &at, "must be <= %s", other);
     }
     return KG_OK;
 }
@@ -253,7 +286,7 @@ static kg_result kg_check_options(const kg_json_reader* reader, const kg_json_pa
     case KG_JOINT_DISTANCE:
         if (!(j->distance.length > 0.0f)) {
             kg_json_path at = kg_json_path_key(path, "length");
-            return kg_json_fail(reader, &at, "is required when the anchors coincide (must be > 0)");
+            return kg_joint_fail(reader, &at, "is required when the anchors coincide (must be > 0)");
         }
         return kg_check_order(reader, path, j->distance.min_length, j->distance.max_length, "min_length",
                               "max_length");
@@ -287,13 +320,13 @@ static kg_result kg_check_scene_joint(const kg_json_reader* reader, const kg_jso
                                       const kg_scene_joint* j)
 {
     if (!kg_local_fits(scene, j->body_a, j->anchor_a) || !kg_local_fits(scene, j->body_b, j->anchor_b)) {
-        return kg_json_fail(reader, path, "an anchor is too far from its body (over 1e37 m)");
+        return kg_joint_fail(reader, path, "an anchor is too far from its body (over 1e37 m)");
     }
     if (j->type == KG_JOINT_PRISMATIC || j->type == KG_JOINT_WHEEL) {
         double ax = j->axis.x, ay = j->axis.y;
         if (!(fabs(ax) < 1e18 && fabs(ay) < 1e18) || !(sqrt(ax * ax + ay * ay) > 1e-3)) {
             kg_json_path at = kg_json_path_key(path, "axis");
-            return kg_json_fail(reader, &at, "must be longer than 0.001 and shorter than 1e18");
+            return kg_joint_fail(reader, &at, "must be longer than 0.001 and shorter than 1e18");
         }
     }
     const char* call = "joint";
@@ -339,9 +372,57 @@ static kg_result kg_check_scene_joint(const kg_json_reader* reader, const kg_jso
         const char* message = kg_last_error();
         size_t skip = strncmp(message, "joint: ", 7) == 0 ? 7 : 0;
         snprintf(why, sizeof why, "%s", message + skip);
-        return kg_json_fail(reader, path, "%s", why);
+        return kg_joint_fail(reader, path, "%s", why);
     }
     return KG_OK;
+}
+
+/* Each float option of j's kind by the rule the reader reads it with. */
+static kg_result kg_check_fields(const kg_json_reader* reader, const kg_json_path* path, const kg_scene_joint* j)
+{
+    for (const kg_joint_field* f = kJointKinds[j->type].options; f->key; ++f) {
+        const float* at = (const float*)((const char*)j + f->offset);
+        int floats = f->kind == KG_FIELD_FLOAT ? 1 : f->kind == KG_FIELD_VEC2 ? 2 : 0;
+        for (int k = 0; k < floats; ++k) {
+            const char* broken = kg_json_rule_broken(at[k], f->rule);
+            if (broken) {
+                kg_json_path at_key = kg_json_path_key(path, f->key);
+                return kg_joint_fail(reader, &at_key, "%s", broken);
+            }
+        }
+    }
+    return KG_OK;
+}
+
+kg_result kg_check_joint_entry(const kg_json_reader* reader, const kg_json_path* path, const kg_scene* scene,
+                               const kg_scene_joint* j)
+{
+    if ((int)j->type < 0 || (int)j->type >= KG_JOINT_KIND_COUNT) {
+        kg_json_path at = kg_json_path_key(path, "type");
+        return kg_joint_fail(reader, &at, "%d is no joint type (0 to %d)", (int)j->type, KG_JOINT_KIND_COUNT - 1);
+    }
+    if (j->body_a == j->body_b) {
+        kg_json_path at = kg_json_path_key(path, "b");
+        return kg_joint_fail(reader, &at, "names the same body as \"a\": a joint needs two bodies");
+    }
+    if (j->type == KG_JOINT_MOUSE && j->body_a >= 0) {
+        kg_json_path at = kg_json_path_key(path, "a");
+        return kg_joint_fail(reader, &at, "a mouse joint drags \"b\" to its target: it has no \"a\"");
+    }
+    KG_TRY(kg_check_fields(reader, path, j));
+    KG_TRY(kg_check_options(reader, path, j));
+    return kg_check_scene_joint(reader, path, scene, j);
+}
+
+kg_json_path kg_joint_call_path(const char* call, const kg_scene* scene, int index, const kg_scene_joint* j)
+{
+    kg_json_path path;
+    const char* a = j->body_a < 0 ? "(the world)" : kg_scene_body_name(scene, j->body_a);
+    char clean_a[64], clean_b[64];
+    kg_json_clean_text(clean_a, sizeof clean_a, a);
+    kg_json_clean_text(clean_b, sizeof clean_b, kg_scene_body_name(scene, j->body_b));
+    snprintf(path.text, sizeof path.text, "%s: joint %d (a '%s', b '%s')", call, index, clean_a, clean_b);
+    return path;
 }
 
 void kg_scene_joint_init(kg_scene_joint* j, kg_joint_type type)
@@ -376,27 +457,18 @@ kg_result kg_read_scene_joint(const kg_json_reader* reader, kg_scene* scene, con
         return kg_json_fail(reader, &type_path,
                             "must be one of revolute, distance, weld, mouse, prismatic, wheel, motor");
     }
-    const char* keys[32];
+    const char* keys[KG_JOINT_MAX_KEYS];
     kg_joint_keys(&kJointKinds[kind], keys);
     KG_TRY(kg_json_check_object(reader, item, path, keys));
     kg_scene_joint j;
     kg_scene_joint_init(&j, (kg_joint_type)kind);
     KG_TRY(kg_read_joint_body(reader, scene, item, path, "a", 0, &j.body_a));
     KG_TRY(kg_read_joint_body(reader, scene, item, path, "b", 1, &j.body_b));
-    if (j.body_a == j.body_b) {
-        kg_json_path at = kg_json_path_key(path, "b");
-        return kg_json_fail(reader, &at, "names the same body as \"a\": a joint needs two bodies");
-    }
-    if (j.type == KG_JOINT_MOUSE && j.body_a >= 0) {
-        kg_json_path at = kg_json_path_key(path, "a");
-        return kg_json_fail(reader, &at, "a mouse joint drags \"b\" to its target: it has no \"a\"");
-    }
     kg_joint_defaults(scene, &j);
     KG_TRY(kg_read_anchors(reader, item, path, &kJointKinds[kind], &j));
     KG_TRY(kg_after_anchors(reader, path, &j));
     KG_TRY(kg_read_options(reader, item, path, &kJointKinds[kind], &j));
-    KG_TRY(kg_check_options(reader, path, &j));
-    KG_TRY(kg_check_scene_joint(reader, path, scene, &j));
+    KG_TRY(kg_check_joint_entry(reader, path, scene, &j));
     if (kg_scene_add_joint(scene, &j) != KG_OK) {
         return kg_json_fail(reader, path, "%s", kg_last_error());
     }
@@ -549,6 +621,9 @@ static int kg_add_options(cJSON* o, const kg_joint_kind* kind, const kg_scene_jo
 
 cJSON* kg_scene_joint_json(const kg_scene* scene, const kg_scene_joint* j)
 {
+    if ((int)j->type < 0 || (int)j->type >= KG_JOINT_KIND_COUNT) {
+        return NULL; /* kg_check_joint_entry refuses it first, with a message */
+    }
     const kg_joint_kind* kind = &kJointKinds[j->type];
     cJSON* o = cJSON_CreateObject();
     int ok = o && cJSON_AddStringToObject(o, "type", kind->name) &&

@@ -407,9 +407,14 @@ static kg_result kg_read_body_shape(const kg_json_reader* reader, const cJSON* j
         }
         return KG_OK;
     }
+    if (def->type == KG_BODY_STATIC || def->type == KG_BODY_KINEMATIC) {
+        def->shape.type = KG_SHAPE_NONE; /* a joint's anchor, a pivot: touches nothing */
+        return KG_OK;
+    }
     if (def->type != KG_BODY_PARTICLE) {
         kg_json_path shape_path = kg_json_path_key(path, "shape");
-        return kg_json_fail(reader, &shape_path, "is required (only particles may omit it)");
+        return kg_json_fail(reader, &shape_path,
+                            "is required (only particles, static and kinematic bodies may omit it)");
     }
     if (!kg_has(json, "mass")) {
         kg_json_path mass_path = kg_json_path_key(path, "mass");

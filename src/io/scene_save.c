@@ -31,20 +31,33 @@ static int kg_is_chain_shape(const kg_world* world, kg_shape_id shape)
     return kg_is_chain_segment(kg_shape_geometry(&world->bodies, &world->shapes, shape.index));
 }
 
-/* Body's first shape that is not a chain segment (the body def's), or -1. */
-static int kg_first_solid(const kg_world* world, const kg_shape_id* shapes, int count)
+/* The first of shapes that is not a chain segment (dense: and has a density > 0), or -1. */
+static int kg_first_of(const kg_world* world, const kg_shape_id* shapes, int count, int dense)
 {
     for (int k = 0; k < count; ++k) {
-        if (!kg_is_chain_shape(world, shapes[k])) {
+        kg_body_shape_def def;
+        int solid = !kg_is_chain_shape(world, shapes[k]);
+        if (solid && (!dense || (kg_shape_get_def(world, shapes[k], &def) == KG_OK && def.density > 0.0f))) {
             return k;
         }
     }
     return -1;
 }
 
-/* Body slot i's definition as the world has it now: state, first shape (not a chain's
- * segment) with its material, filter and sensor flag, mass (of a body of one shape: a
- * compound body's follows from its shapes' densities). */
+/* The shape that becomes the body def's own, or -1: the first that is not a chain segment,
+ * on a moving body the first of those with a density > 0 if any (the body def's density
+ * then gives the mass of a compound body, which a file cannot give a mass). */
+static int kg_first_solid(const kg_world* world, kg_body body, const kg_shape_id* shapes, int count)
+{
+    kg_body_type type = KG_BODY_STATIC;
+    kg_body_get_type(world, body, &type);
+    int dense = type == KG_BODY_DYNAMIC || type == KG_BODY_PARTICLE ? kg_first_of(world, shapes, count, 1) : -1;
+    return dense >= 0 ? dense : kg_first_of(world, shapes, count, 0);
+}
+
+/* Body slot i's definition as the world has it now: state, own shape (kg_first_solid) with
+ * its material, filter and sensor flag, mass (of a body of one shape, or of one none of
+ * whose shapes has a density: a compound body's follows from its shapes' densities). */
 static kg_body_def kg_def_of(const kg_world* world, const kg_body_pool* p, kg_body body, const kg_shape_id* shapes,
                              int count)
 {
@@ -61,7 +74,7 @@ static kg_body_def kg_def_of(const kg_world* world, const kg_body_pool* p, kg_bo
     def.restitution = p->restitution[i];
     def.category = p->category[i];
     def.mask = p->mask[i];
-    int first = kg_first_solid(world, shapes, count);
+    int first = kg_first_solid(world, body, shapes, count);
     kg_body_shape_def shape;
     if (first >= 0 && kg_shape_get_def(world, shapes[first], &shape) == KG_OK) {
         def.shape = shape.geometry;
@@ -74,7 +87,8 @@ static kg_body_def kg_def_of(const kg_world* world, const kg_body_pool* p, kg_bo
     }
     kg_mass_data md;
     int massive = def.type == KG_BODY_DYNAMIC || def.type == KG_BODY_PARTICLE;
-    if (massive && count <= 1 && kg_body_get_mass_data(world, body, &md) == KG_OK && md.mass > 0.0f) {
+    int mass_needed = massive && (count <= 1 || !(def.density > 0.0f));
+    if (mass_needed && kg_body_get_mass_data(world, body, &md) == KG_OK && md.mass > 0.0f) {
         def.mass = md.mass;
     }
     def.linear_damping = p->linear_damping[i];
@@ -96,7 +110,7 @@ static int kg_chain_goes_on(const kg_shape* a, const kg_shape* b)
 /* The chain of segments [0, count) (each going on from the one before) into scene body
  * index: a loop when the last goes on into the first, else open. Material: the first
  * segment's. A chain of which a segment was destroyed comes out as the pieces left, their
- * cut ends free. */
+ * cut ends free (kg_add_world_runs). */
 static kg_result kg_add_world_chain(const kg_world* world, const kg_shape_id* segments, int count, kg_scene* scene,
                                     int index)
 {
@@ -117,48 +131,99 @@ static kg_result kg_add_world_chain(const kg_world* world, const kg_shape_id* se
     def.points = points;
     def.count = loop ? count : count + 1;
     def.loop = loop;
-    def.friction = material.friction;
-    def.restitution = material.restitution;
-    def.category = material.category;
-    def.mask = material.mask;
-    r = r == KG_OK ? kg_scene_add_body_chain(scene, index, &def) : r;
+    if (r == KG_OK) {
+        def.friction = material.friction;
+        def.restitution = material.restitution;
+        def.category = material.category;
+        def.mask = material.mask;
+        r = kg_scene_add_body_chain(scene, index, &def);
+    }
     free(points);
     return r;
 }
 
-/* The body's shapes after its first into scene body index (in the world's order), then its
- * chain segments, run by run, as chains. */
-static kg_result kg_add_world_shapes(const kg_world* world, const kg_shape_id* shapes, int count, kg_scene* scene,
+/* Whether the run of segments starting at a goes on from the one ending at b (b: one past
+ * its last). */
+static int kg_run_goes_on(const kg_world* world, const kg_shape_id* segments, int end_b, int a)
+{
+    return kg_chain_goes_on(kg_shape_geometry(&world->bodies, &world->shapes, segments[end_b - 1].index),
+                            kg_shape_geometry(&world->bodies, &world->shapes, segments[a].index));
+}
+
+/* The chains of segments (count, in the world's order) into scene body index, run by run
+ * (each segment going on from the one before; starts: each run's first, then count). A
+ * loop with a segment destroyed leaves two runs, the one after the gap going on into the
+ * one before it: they are joined, as the one open chain the loop has become. */
+static kg_result kg_add_world_runs(const kg_world* world, const kg_shape_id* segments, const int* starts, int runs,
+                                   kg_shape_id* chain, int* used, kg_scene* scene, int index)
+{
+    kg_result r = KG_OK;
+    for (int i = 0; r == KG_OK && i < runs; ++i) {
+        if (used[i]) {
+            continue;
+        }
+        int before = -1, length = 0;
+        for (int j = i + 1; before < 0 && j < runs; ++j) {
+            before = !used[j] && kg_run_goes_on(world, segments, starts[j + 1], starts[i]) ? j : -1;
+        }
+        if (before >= 0) {
+            used[before] = 1;
+            for (int k = starts[before]; k < starts[before + 1]; ++k) {
+                chain[length++] = segments[k];
+            }
+        }
+        for (int k = starts[i]; k < starts[i + 1]; ++k) {
+            chain[length++] = segments[k];
+        }
+        r = kg_add_world_chain(world, chain, length, scene, index);
+    }
+    return r;
+}
+
+/* The body's chain segments (among its count shapes) into scene body index as chains. */
+static kg_result kg_add_world_chains(const kg_world* world, const kg_shape_id* shapes, int count, kg_scene* scene,
                                      int index)
 {
-    int first = kg_first_solid(world, shapes, count);
+    size_t n = (size_t)(count > 0 ? count : 1);
+    kg_shape_id* segments = malloc(2 * n * sizeof *segments); /* then room for a chain */
+    int* starts = calloc(2 * n + 2, sizeof *starts);         /* then each run's used flag */
+    kg_result r = segments && starts ? KG_OK : kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world: out of memory");
+    int m = 0, runs = 0;
+    for (int k = 0; r == KG_OK && k < count; ++k) {
+        if (kg_is_chain_shape(world, shapes[k])) {
+            segments[m++] = shapes[k];
+        }
+    }
+    for (int k = 0; r == KG_OK && k < m; ++k) {
+        if (k == 0 || !kg_run_goes_on(world, segments, k, k)) {
+            starts[runs++] = k;
+        }
+    }
+    if (r == KG_OK) {
+        starts[runs] = m;
+        r = kg_add_world_runs(world, segments, starts, runs, segments + n, starts + n + 1, scene, index);
+    }
+    free(segments);
+    free(starts);
+    return r;
+}
+
+/* The body's shapes but the body def's own into scene body index (in the world's order),
+ * then its chains. */
+static kg_result kg_add_world_shapes(const kg_world* world, kg_body body, const kg_shape_id* shapes, int count,
+                                     kg_scene* scene, int index)
+{
+    int first = kg_first_solid(world, body, shapes, count);
     kg_result r = KG_OK;
-    for (int k = first + 1; r == KG_OK && first >= 0 && k < count; ++k) {
+    for (int k = 0; r == KG_OK && k < count; ++k) {
         kg_body_shape_def def;
-        if (!kg_is_chain_shape(world, shapes[k])) {
+        if (k != first && !kg_is_chain_shape(world, shapes[k])) {
             r = kg_shape_get_def(world, shapes[k], &def);
             def.user_data = NULL;
             r = r == KG_OK ? kg_scene_add_body_shape(scene, index, &def) : r;
         }
     }
-    kg_shape_id* run = malloc((size_t)(count > 0 ? count : 1) * sizeof *run);
-    int length = 0;
-    r = r == KG_OK && !run ? kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_from_world: out of memory") : r;
-    for (int k = 0; r == KG_OK && k <= count; ++k) {
-        int segment = k < count && kg_is_chain_shape(world, shapes[k]);
-        const kg_shape* g = segment ? kg_shape_geometry(&world->bodies, &world->shapes, shapes[k].index) : NULL;
-        const kg_shape* before =
-            length > 0 ? kg_shape_geometry(&world->bodies, &world->shapes, run[length - 1].index) : NULL;
-        if (length > 0 && (!segment || !kg_chain_goes_on(before, g))) {
-            r = kg_add_world_chain(world, run, length, scene, index);
-            length = 0;
-        }
-        if (segment) {
-            run[length++] = shapes[k];
-        }
-    }
-    free(run);
-    return r;
+    return r == KG_OK ? kg_add_world_chains(world, shapes, count, scene, index) : r;
 }
 
 /* Adds the live body into scene under name, with all its shapes and chains. */
@@ -174,7 +239,11 @@ static kg_result kg_add_world_body(const kg_world* world, kg_body body, const ch
         r = kg_scene_add_body(scene, name, &def);
     }
     if (r == KG_OK) {
-        r = kg_add_world_shapes(world, shapes, count, scene, kg_scene_body_count(scene) - 1);
+        r = kg_add_world_shapes(world, body, shapes, count, scene, kg_scene_body_count(scene) - 1);
+    } else {
+        char why[256];
+        snprintf(why, sizeof why, "%s", kg_last_error());
+        r = kg_fail(r, "kg_scene_from_world: body '%s': %s", name, why);
     }
     free(shapes);
     return r;
@@ -320,9 +389,12 @@ static kg_result kg_add_world_joints(const kg_world* world, const int* index, kg
         kg_scene_joint j;
         kg_scene_joint_init(&j, type);
         r = kg_joint_get_bodies(world, joint, &a, &b);
+        if (r != KG_OK) {
+            break;
+        }
         j.body_a = a.generation == 0u ? -1 : index[a.index];
         j.body_b = index[b.index];
-        r = r == KG_OK ? kg_joint_get_world_anchors(world, joint, &j.anchor_a, &j.anchor_b) : r;
+        r = kg_joint_get_world_anchors(world, joint, &j.anchor_a, &j.anchor_b);
         if (r == KG_OK && (type == KG_JOINT_PRISMATIC || type == KG_JOINT_WHEEL)) {
             r = kg_joint_get_world_axis(world, joint, &j.axis);
         }
@@ -526,10 +598,27 @@ static cJSON* kg_chain_entry_json(const kg_chain_def* c)
     return o;
 }
 
-/* Whether body i is written with "shapes" (several shapes, or chains) rather than "shape". */
+/* How many entries body i's "shapes" would hold (its own shape only if it has one). */
+static int kg_entry_count(const kg_scene* scene, int i)
+{
+    int own = kg_scene_body_def(scene, i)->shape.type != KG_SHAPE_NONE;
+    return own + kg_scene_body_shape_count(scene, i) - 1 + kg_scene_body_chain_count(scene, i);
+}
+
+/* Whether the scene has a state, which brings back every shape of its bodies. */
+static int kg_has_state(const kg_scene* scene)
+{
+    size_t size = 0;
+    return kg_scene_get_state(scene, &size) != NULL;
+}
+
+/* Whether body i is written with "shapes" (several shapes, or chains) rather than "shape".
+ * A body of more entries than the reader takes is written with its own shape alone when
+ * the scene has a state, which brings back the others. */
 static int kg_has_entries(const kg_scene* scene, int i)
 {
-    return kg_scene_body_shape_count(scene, i) > 1 || kg_scene_body_chain_count(scene, i) > 0;
+    int several = kg_scene_body_shape_count(scene, i) > 1 || kg_scene_body_chain_count(scene, i) > 0;
+    return several && !(kg_entry_count(scene, i) > KG_SCENE_MAX_SHAPES && kg_has_state(scene));
 }
 
 /* Body i's "shapes": its own shape (if any), the others, then its chains. */
@@ -776,17 +865,19 @@ static cJSON* kg_scene_json(const kg_scene* scene)
     return root;
 }
 
-/* A body the reader would refuse: more entries in "shapes" than it takes, or a mass with
- * several shapes (the file gives each shape a density). */
+/* A body the reader would refuse: more entries in "shapes" than it takes (without a state
+ * to bring them back), or a mass with several shapes written (the file gives each shape a
+ * density). */
 static kg_result kg_check_body_writable(const kg_scene* scene, int i)
 {
-    int entries = kg_scene_body_shape_count(scene, i) + kg_scene_body_chain_count(scene, i);
+    int entries = kg_entry_count(scene, i);
     const char* name = kg_scene_body_name(scene, i);
-    if (entries > KG_SCENE_MAX_SHAPES) {
+    if (entries > KG_SCENE_MAX_SHAPES && !kg_has_state(scene)) {
         return kg_fail(KG_ERROR_UNSUPPORTED, "kg_scene_save_file: body %d ('%s') has %d shapes and chains, more "
                        "than a scene file's \"shapes\" holds (%d)", i, name, entries, KG_SCENE_MAX_SHAPES);
     }
-    if (kg_scene_body_shape_count(scene, i) > 1 && kg_scene_body_def(scene, i)->mass > 0.0f) {
+    int compound = kg_has_entries(scene, i) && kg_scene_body_shape_count(scene, i) > 1;
+    if (compound && kg_scene_body_def(scene, i)->mass > 0.0f) {
         return kg_fail(KG_ERROR_UNSUPPORTED, "kg_scene_save_file: body %d ('%s') has several shapes and a mass: "
                        "a scene file gives each shape a density", i, name);
     }
@@ -800,8 +891,12 @@ static kg_result kg_check_writable(const kg_scene* scene)
     for (int i = 0; i < kg_scene_body_count(scene); ++i) {
         KG_TRY(kg_check_body_writable(scene, i));
     }
-    size_t size = 0;
-    for (int i = 0; !kg_scene_get_state(scene, &size) && i < kg_scene_tilemap_count(scene); ++i) {
+    for (int i = 0; i < kg_scene_joint_count(scene); ++i) {
+        const kg_scene_joint* j = kg_scene_get_joint(scene, i);
+        kg_json_path path = kg_joint_call_path("kg_scene_save_file", scene, i, j);
+        KG_TRY(kg_check_joint_entry(NULL, &path, scene, j));
+    }
+    for (int i = 0; !kg_has_state(scene) && i < kg_scene_tilemap_count(scene); ++i) {
         if (!kg_map_writable(kg_scene_get_tilemap(scene, i))) {
             return kg_fail(KG_ERROR_UNSUPPORTED, "kg_scene_save_file: tile map %d has more than %d solid tile shapes, "
                            "which a scene file's legend cannot name", i, KG_LEGEND_SIZE);
@@ -820,7 +915,7 @@ kg_result kg_scene_save_file(const kg_scene* scene, const char* path)
     char* text = root ? cJSON_Print(root) : NULL;
     cJSON_Delete(root);
     if (!text) {
-        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_save_file: out of memory");
+        return kg_fail(KG_ERROR_OUT_OF_MEMORY, "kg_scene_save_file: out of memory, or a value not finite");
     }
     FILE* f = fopen(path, "wb");
     size_t length = strlen(text);
