@@ -3,6 +3,7 @@
 #include "kg_test.h"
 #include "kg_test_world.h"
 #include "core/joint.h" /* white box: the joints' colours and their overflow */
+#include "solve/contact_wide.h" /* white box: which SIMD widths this CPU runs */
 #include "kgyro/scene.h"
 
 #define DT (1.0f / 60.0f)
@@ -637,15 +638,28 @@ static void joint_scene(kg_world* w)
     mo.max_torque = 5.0f;
     KG_CHECK_OK(kg_create_motor_joint(w, &mo, NULL));
     /* a hanging net of 16 x 16 balls, each hinged to its upper and left neighbours (the
-     * top row to the world): colours of some 120 joints, split across threads */
+     * top row to the world): colours of some 120 joints, split across threads and lanes;
+     * the left hinges mix the options (none, a limit, a spring, all three), so that lanes
+     * side by side take different ones */
     kg_body net[16][16];
     for (int r = 0; r < 16; ++r) {
         for (int c = 0; c < 16; ++c) {
             kg_vec2 at = {20.0f + 0.5f * (float)c, 12.0f - 0.5f * (float)r};
             net[r][c] = add_body(w, at, kg_circle_shape(0.15f), 1.0f);
             hinge(w, r > 0 ? net[r - 1][c] : null_body(), net[r][c], (kg_vec2){at.x, at.y + 0.25f}, NULL);
+            kg_revolute_joint_def left = kg_default_revolute_joint_def();
+            int options = (r + c) % 4;
+            left.enable_limit = options == 1 || options == 3;
+            left.lower_angle = -0.2f;
+            left.upper_angle = 0.2f;
+            left.enable_spring = options >= 2;
+            left.hertz = 3.0f;
+            left.damping_ratio = 0.3f;
+            left.enable_motor = options == 3;
+            left.motor_speed = 0.5f;
+            left.max_motor_torque = 2.0f;
             if (c > 0) {
-                hinge(w, net[r][c - 1], net[r][c], (kg_vec2){at.x - 0.25f, at.y}, NULL);
+                hinge(w, net[r][c - 1], net[r][c], (kg_vec2){at.x - 0.25f, at.y}, &left);
             }
         }
     }
@@ -667,14 +681,23 @@ static void joint_scene(kg_world* w)
     KG_CHECK(color_start[KG_JOINT_COLORS + 1] - color_start[KG_JOINT_COLORS] == 2);
 }
 
-static void run_joint_scene_on(kg_backend backend, int threads, int steps, kg_body_state* out, int* count)
+/* The scene stepped on backend with threads threads, the CPU's lanes width wide (0: the
+ * widest this CPU runs). */
+static void run_joint_scene_wide(kg_backend backend, int threads, int width, int steps, kg_body_state* out,
+                                 int* count)
 {
     kg_world_def def = kg_default_world_def();
     def.backend = backend;
     def.device_index = kg_test_opencl_device();
     def.threads = threads;
+    char forced[8];
+    snprintf(forced, sizeof forced, "%d", width);
+    if (width > 0) {
+        setenv("KGYRO_SIMD_WIDTH", forced, 1); /* read when the world is made */
+    }
     kg_world* w = NULL;
     KG_CHECK_OK(kg_create_world(&def, &w));
+    unsetenv("KGYRO_SIMD_WIDTH");
     KG_CHECK(kg_world_backend(w) == backend);
     joint_scene(w);
     for (int s = 0; s < steps; ++s) {
@@ -684,6 +707,11 @@ static void run_joint_scene_on(kg_backend backend, int threads, int steps, kg_bo
     KG_CHECK_OK(kg_world_get_bodies(w, bodies, 512, count));
     KG_CHECK_OK(kg_world_get_body_states(w, bodies, *count, out));
     kg_destroy_world(w);
+}
+
+static void run_joint_scene_on(kg_backend backend, int threads, int steps, kg_body_state* out, int* count)
+{
+    run_joint_scene_wide(backend, threads, 0, steps, out, count);
 }
 
 static void run_joint_scene(int threads, kg_body_state* out, int* count)
@@ -706,6 +734,29 @@ static void test_bitwise_equal_on_1_and_4_threads(void)
              same ? "bitwise equal" : "DIFFER");
     KG_CHECK(same);
     KG_CHECK(finite);
+}
+
+/* The revolute joints solved 1, 4, 8 and 16 at a time (KGYRO_SIMD_WIDTH; 8 and 16 where
+ * the CPU has AVX2 and AVX-512), on 1 and 4 threads: the same bits. */
+static void test_bitwise_equal_at_every_width(void)
+{
+    kg_body_state one[512], wide[512];
+    int n1 = 0, n = 0;
+    run_joint_scene_wide(KG_BACKEND_CPU, 1, 1, 240, one, &n1);
+    static const int widths[] = {1, 4, 8, 16};
+    for (int k = 0; k < 4; ++k) {
+        for (int threads = 1; threads <= 4; threads += 3) {
+            if (!kg_contact_rows_of(widths[k])) {
+                measured("measured: joint scene: %d lanes not run here (the CPU lacks them)\n", widths[k]);
+                break;
+            }
+            run_joint_scene_wide(KG_BACKEND_CPU, threads, widths[k], 240, wide, &n);
+            int same = n1 == n && memcmp(one, wide, (size_t)n1 * sizeof one[0]) == 0;
+            measured("measured: joint scene of %d bodies after 4 s: %d lanes on %d threads %s 1 lane on 1\n", n,
+                     widths[k], threads, same ? "bitwise equal to" : "DIFFER from");
+            KG_CHECK(same);
+        }
+    }
 }
 
 /* The OpenCL backend solves the same scene (sleeping on: the device's islands and wake
@@ -1208,6 +1259,7 @@ KG_TEST_MAIN(KG_TEST(test_revolute_pendulum_period_length_energy), KG_TEST(test_
              KG_TEST(test_distance_spring_frequency), KG_TEST(test_rope_never_overstretches),
              KG_TEST(test_weld_cantilever_and_soft_weld), KG_TEST(test_mouse_joint_drags_to_target),
              KG_TEST(test_collide_connected), KG_TEST(test_joined_bodies_sleep_and_wake_together),
-             KG_TEST(test_bitwise_equal_on_1_and_4_threads), KG_TEST(test_cpu_and_opencl_bitwise_equal),
+             KG_TEST(test_bitwise_equal_on_1_and_4_threads), KG_TEST(test_bitwise_equal_at_every_width),
+             KG_TEST(test_cpu_and_opencl_bitwise_equal),
              KG_TEST(test_bad_input), KG_TEST(test_scene_joints), KG_TEST(test_debug_draw_joints), KG_TEST(test_prismatic_limits_and_motor),
              KG_TEST(test_wheel_suspension_and_motor), KG_TEST(test_motor_joint_drives_to_pose), KG_TEST(test_breakable_joint))

@@ -6,6 +6,7 @@
 #include "core/parallel.h"
 #include "core/generation.h"
 #include "core/snapshot_io.h"
+#include "solve/contact_wide.h"
 #include "solve/joint_row.h"
 #include "solve/sleep.h"
 
@@ -52,6 +53,18 @@ struct kg_joints {
     kg_joint_event_list events;  /* handed out: destroyed before the last step, broken by it */
     int breakable;               /* joints ever given a break threshold: the step looks at them */
     int iterations;              /* of each solve and relax pass (kg_world_set_joint_iterations) */
+    /* this step's active revolute joints `lanes->width` at a time (kg_joints_prepare;
+     * lanes NULL: every joint one at a time): colour c's blocks at [block_start[c],
+     * block_start[c + 1]), lane l of block k the joint lane_joint[k width + l] (-1: a
+     * padding lane); its other active joints at others[other_start[c], other_start[c + 1]) */
+    const kg_contact_rows* lanes;
+    void* blocks;
+    kg_i32* lane_joint;
+    kg_i32* others;
+    int lane_capacity; /* blocks' lanes, lane_joint's entries */
+    int other_capacity;
+    int block_start[KG_JOINT_COLORS + 1];
+    int other_start[KG_JOINT_COLORS + 1];
 };
 
 #define KG_JOINTS_FIRST_CAPACITY 16
@@ -68,6 +81,9 @@ void kg_joints_destroy(kg_world* world)
     kg_free(j->links);
     kg_free(j->order);
     kg_free(j->body_colors);
+    kg_free(j->blocks);
+    kg_free(j->lane_joint);
+    kg_free(j->others);
     kg_free(j->pending.items);
     kg_free(j->events.items);
     kg_free(j);
@@ -1030,22 +1046,126 @@ const kg_u32* kg_joints_links(kg_world* world, int* count)
     return j->links;
 }
 
-void kg_joints_prepare(kg_world* world, const kg_solver_body* bodies, kg_solver_params prm)
+/* Room for the lanes of every colour's revolute joints (each colour's last block padded)
+ * and for the other joints; 0 without the memory. */
+static int kg_joints_reserve_lanes(struct kg_joints* j, int width)
+{
+    int lanes = j->high_water + KG_JOINT_COLORS * (width - 1);
+    if (j->lane_capacity < lanes) {
+        kg_free(j->blocks);
+        kg_free(j->lane_joint);
+        j->blocks = kg_alloc_zeroed((size_t)lanes * sizeof(kg_revolute_lanes));
+        j->lane_joint = kg_alloc_zeroed((size_t)lanes * sizeof *j->lane_joint);
+        j->lane_capacity = j->blocks && j->lane_joint ? lanes : 0;
+    }
+    if (j->other_capacity < j->high_water) {
+        kg_free(j->others);
+        j->others = kg_alloc_zeroed((size_t)j->high_water * sizeof *j->others);
+        j->other_capacity = j->others ? j->high_water : 0;
+    }
+    return j->lane_capacity >= lanes && j->other_capacity >= j->high_water;
+}
+
+/* Lane `lane` of block `block` from l (a padding lane: zeros, the still body twice):
+ * data movement only, a 4-byte field at a time. */
+static void kg_revolute_to_lane(struct kg_joints* j, int block, int lane, const kg_revolute_lanes* l)
+{
+    for (size_t f = 0; f < sizeof *l; f += 4) {
+        memcpy(kg_revolute_lane_field(j->blocks, j->lanes->width, block, lane, f), (const unsigned char*)l + f, 4);
+    }
+}
+
+static kg_revolute_lanes kg_revolute_of_lane(struct kg_joints* j, int block, int lane)
+{
+    kg_revolute_lanes l;
+    for (size_t f = 0; f < sizeof l; f += 4) {
+        memcpy((unsigned char*)&l + f, kg_revolute_lane_field(j->blocks, j->lanes->width, block, lane, f), 4);
+    }
+    return l;
+}
+
+/* Each colour's active joints: its revolute ones into blocks of lanes (the world's slot
+ * the still body), the others listed. */
+static void kg_joints_plan_lanes(struct kg_joints* j, kg_u32 still)
+{
+    int width = j->lanes->width, block = 0, other = 0;
+    kg_revolute_lanes padding;
+    memset(&padding, 0, sizeof padding);
+    padding.a = still;
+    padding.b = still;
+    for (int c = 0; c < KG_JOINT_COLORS; ++c) {
+        j->block_start[c] = block;
+        j->other_start[c] = other;
+        int lane = 0;
+        for (int k = j->color_start[c]; k < j->color_start[c + 1]; ++k) {
+            const kg_joint_row* r = &j->rows[j->order[k]];
+            if (!r->active) {
+                continue;
+            }
+            if (r->type != KG_JOINT_ROW_REVOLUTE) {
+                j->others[other++] = j->order[k];
+                continue;
+            }
+            kg_revolute_lanes l = kg_revolute_lanes_of(r);
+            l.a = l.a != KG_NULL_INDEX ? l.a : still;
+            l.b = l.b != KG_NULL_INDEX ? l.b : still;
+            kg_revolute_to_lane(j, block, lane, &l);
+            j->lane_joint[block * width + lane] = j->order[k];
+            if (++lane == width) {
+                lane = 0;
+                block += 1;
+            }
+        }
+        for (; lane > 0 && lane < width; ++lane) {
+            kg_revolute_to_lane(j, block, lane, &padding);
+            j->lane_joint[block * width + lane] = -1;
+        }
+        block += lane > 0 ? 1 : 0;
+    }
+    j->block_start[KG_JOINT_COLORS] = block;
+    j->other_start[KG_JOINT_COLORS] = other;
+}
+
+void kg_joints_prepare(kg_world* world, const kg_solver_body* bodies, kg_solver_params prm,
+                       const kg_contact_rows* lanes, kg_u32 still)
 {
     struct kg_joints* j = world->joints;
     if (!j || j->count == 0) {
         return;
     }
+    kg_joints_derive(j, world->def.max_bodies);
     const kg_body_pool* p = &world->bodies;
     for (int i = 0; i < j->high_water; ++i) {
         if (j->info[i].alive) {
             kg_joint_prepare(j->rows, i, bodies, p->inv_mass, p->inv_inertia, p->center, p->rot, p->local_center, prm);
         }
     }
+    j->lanes = kg_joints_reserve_lanes(j, lanes->width) ? lanes : NULL;
+    if (!j->lanes) {
+        kg_warn_once("joint-lanes", "out of memory for the joints' lanes: joints solved one at a time");
+        return;
+    }
+    kg_joints_plan_lanes(j, still);
 }
 
-/* A colour's joints [begin, end) of the order: they share no body, so any split of them
- * across threads computes the same bits. */
+void kg_joints_finish(kg_world* world)
+{
+    struct kg_joints* j = world->joints;
+    if (!j || j->count == 0 || !j->lanes) {
+        return;
+    }
+    int width = j->lanes->width;
+    for (int k = 0; k < j->block_start[KG_JOINT_COLORS] * width; ++k) {
+        if (j->lane_joint[k] >= 0) {
+            kg_revolute_lanes l = kg_revolute_of_lane(j, k / width, k % width);
+            kg_revolute_keep(&j->rows[j->lane_joint[k]], &l);
+        }
+    }
+}
+
+/* Joints of a colour, or of the overflow: order[begin, end) of them. They share no body
+ * (but the overflow's, run serially), so any split of them across threads computes the
+ * same bits. */
 typedef struct kg_joint_job {
     const kg_i32* order;
     kg_joint_row* rows;
@@ -1053,6 +1173,8 @@ typedef struct kg_joint_job {
     kg_solver_params prm;
     int pass;
     int last_iteration;
+    const kg_contact_rows* lanes; /* blocks [begin, end) of revolute joints in `blocks` */
+    void* blocks;
 } kg_joint_job;
 
 static void kg_joint_range(void* context, int begin, int end)
@@ -1062,8 +1184,39 @@ static void kg_joint_range(void* context, int begin, int end)
                    job->last_iteration);
 }
 
+static void kg_revolute_range(void* context, int begin, int end)
+{
+    const kg_joint_job* job = context;
+    job->lanes->run_revolute(job->blocks, begin, end, job->bodies, job->prm, job->pass, job->last_iteration);
+}
+
 /* Joints a thread takes at a time within a colour. */
 #define KG_JOINT_GRAIN 32
+
+/* Colour c's joints through one pass: its revolute joints' blocks, then its others; or,
+ * without lanes, all of them one at a time. */
+static void kg_joints_color_pass(kg_world* world, struct kg_joints* j, int c, kg_joint_job job)
+{
+    if (!j->lanes) {
+        job.order = j->order + j->color_start[c];
+        int n = j->color_start[c + 1] - j->color_start[c];
+        if (n > 0) {
+            kg_parallel_for(world->threads, n, KG_JOINT_GRAIN, kg_joint_range, &job);
+        }
+        return;
+    }
+    job.blocks = j->blocks;
+    int width = j->lanes->width, first = j->block_start[c], blocks = j->block_start[c + 1] - first;
+    if (blocks > 0) {
+        job.blocks = (unsigned char*)j->blocks + (size_t)first * width * sizeof(kg_revolute_lanes);
+        kg_parallel_for(world->threads, blocks, (KG_JOINT_GRAIN + width - 1) / width, kg_revolute_range, &job);
+    }
+    job.order = j->others + j->other_start[c];
+    int n = j->other_start[c + 1] - j->other_start[c];
+    if (n > 0) {
+        kg_parallel_for(world->threads, n, KG_JOINT_GRAIN, kg_joint_range, &job);
+    }
+}
 
 void kg_joints_pass(kg_world* world, kg_solver_body* bodies, kg_solver_params prm, int pass)
 {
@@ -1071,19 +1224,15 @@ void kg_joints_pass(kg_world* world, kg_solver_body* bodies, kg_solver_params pr
     if (!j || j->count == 0) {
         return;
     }
-    kg_joints_derive(j, world->def.max_bodies);
     int iterations = pass == KG_PASS_WARM_START ? 1 : j->iterations;
     for (int it = 0; it < iterations; ++it) {
         int last = it == iterations - 1;
+        kg_joint_job job = {j->order, j->rows, bodies, prm, pass, last, j->lanes, NULL};
         for (int c = 0; c < KG_JOINT_COLORS; ++c) {
-            kg_joint_job job = {j->order + j->color_start[c], j->rows, bodies, prm, pass, last};
-            int n = j->color_start[c + 1] - j->color_start[c];
-            if (n > 0) {
-                kg_parallel_for(world->threads, n, KG_JOINT_GRAIN, kg_joint_range, &job);
-            }
+            kg_joints_color_pass(world, j, c, job);
         }
-        kg_joint_job overflow = {j->order, j->rows, bodies, prm, pass, last}; /* serially, in order */
-        kg_joint_range(&overflow, j->color_start[KG_JOINT_COLORS], j->color_start[KG_JOINT_COLORS + 1]);
+        /* the overflow, serially, in order */
+        kg_joint_range(&job, j->color_start[KG_JOINT_COLORS], j->color_start[KG_JOINT_COLORS + 1]);
     }
 }
 

@@ -28,11 +28,17 @@ kg_result kg_check_prismatic_values(const kg_prismatic_joint_def* def, const cha
 kg_result kg_check_wheel_values(const kg_wheel_joint_def* def, const char* call);
 kg_result kg_check_motor_values(const kg_motor_joint_def* def, const char* call);
 
+struct kg_contact_rows;
+
 /* The solve stage's share: rows prepared once a step (after the bodies are loaded), then
  * one pass over every joint (warm start, solve, relax): colour by colour, each colour's
- * joints in parallel, then the overflow serially. */
-void kg_joints_prepare(kg_world* world, const kg_solver_body* bodies, kg_solver_params prm);
+ * joints in parallel (its revolute joints `lanes->width` at a time, in the solver's
+ * lanes; `still` is the solver's still body), then the overflow serially; after the
+ * sub-steps kg_joints_finish keeps the lanes' impulses in the rows. */
+void kg_joints_prepare(kg_world* world, const kg_solver_body* bodies, kg_solver_params prm,
+                       const struct kg_contact_rows* lanes, kg_u32 still);
 void kg_joints_pass(kg_world* world, kg_solver_body* bodies, kg_solver_params prm, int pass);
+void kg_joints_finish(kg_world* world);
 
 /* Drops from pairs (count of them, sorted by (a, b), a < b) the pairs of bodies joined
  * by a joint that does not collide_connected; returns how many are left. A merge with

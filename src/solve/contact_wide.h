@@ -8,6 +8,7 @@
 #define KG_CONTACT_WIDE_H
 
 #include "solve/contact_solver.h"
+#include "solve/joint_row.h"
 
 #include <stddef.h>
 #include <string.h>
@@ -22,7 +23,21 @@ typedef struct kg_contact_rows {
     void (*prepare)(void* blocks, int block, kg_solver_params prm);
     /* One pass over blocks [begin, end): gathers the lanes' bodies, runs the pass, scatters. */
     void (*run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm, kg_constraint_pass pass);
+    /* One pass over blocks [begin, end) of revolute joints (joint_revolute_row.h), in the
+     * pass's last iteration or not: a block is width kg_revolute_lanes, each 4-byte field
+     * widened to width lanes in the same order (kg_revolute_lane_field), the world's
+     * slot and a padding lane's the still body. */
+    void (*run_revolute)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm, int pass,
+                         int last_iteration);
 } kg_contact_rows;
+
+/* Lane `lane` of the 4-byte field at byte offset `offset` of kg_revolute_lanes, in block
+ * `block` of revolute joints width lanes wide. */
+static inline unsigned char* kg_revolute_lane_field(void* blocks, int width, int block, int lane, size_t offset)
+{
+    return (unsigned char*)blocks + (size_t)block * width * sizeof(kg_revolute_lanes) + (size_t)width * offset +
+           4u * (size_t)lane;
+}
 
 /* A block of width W is the width-1 constraint (kg_contact_constraint) with each of its
  * 4-byte fields widened to W lanes, in the same order: lane l of the field at byte

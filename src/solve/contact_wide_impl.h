@@ -1,7 +1,12 @@
-/* The gather, scatter and pass loop of contact_wide.h for one width (no include guard:
- * included once per width, C only, each width in a file of its own). Before including:
- * contact_row.h for the width (contact_solver.h has made width 1), and KG_LANE_OF(v,
+/* The gather, scatter and pass loops of contact_wide.h for one width, the contacts' and
+ * the revolute joints' (no include guard: included once per width, C only, each width in
+ * a file of its own). Before including: contact_row.h for the width (contact_solver.h
+ * and joint_row.h have made width 1, with joint_revolute_row.h), and KG_LANE_OF(v,
  * lane), one lane of a lane value as an lvalue. */
+
+#if KG_W > 1
+#include "solve/joint_revolute_row.h"
+#endif
 
 #define KG_WIDE3(name, w) name##_w##w
 #define KG_WIDE2(name, w) KG_WIDE3(name, w)
@@ -152,12 +157,11 @@ static inline void KG_WIDE(kg_rows_to_columns)(const kg_solver_body* bodies, kg_
 }
 #endif
 
-/* The motions of a block side's bodies, in lanes; a lane without a body is still. */
-static inline kg_wmotion KG_WIDE(kg_gather)(const kg_solver_body* bodies, const kg_wrow* r, int is_b,
-                                             unsigned* movers)
+/* The motions of the bodies of slots, in lanes; a lane without a body is still. */
+static inline kg_wmotion KG_WIDE(kg_gather)(const kg_solver_body* bodies, kg_lindex slots, unsigned* movers)
 {
     kg_lane c[KG_BODY_FLOATS];
-    KG_WIDE(kg_rows_to_columns)(bodies, is_b ? r->b : r->a, c);
+    KG_WIDE(kg_rows_to_columns)(bodies, slots, c);
     *movers = KG_WIDE(kg_movers)(c[7]);
     kg_wmotion m;
     m.v.x = c[0];
@@ -173,11 +177,10 @@ static inline kg_wmotion KG_WIDE(kg_gather)(const kg_solver_body* bodies, const 
 /* The velocities back to the bodies that take impulses (all a pass changes): the lanes
  * in movers. A moving body is in one lane of a colour at most, so no other lane or thread
  * writes it meanwhile. */
-static inline void KG_WIDE(kg_scatter)(kg_solver_body* bodies, const kg_wrow* r, int is_b, unsigned movers,
-                                       const kg_wmotion* m)
+static inline void KG_WIDE(kg_scatter)(kg_solver_body* bodies, kg_lindex slots, unsigned movers, const kg_wmotion* m)
 {
     const kg_lane c[4] = {m->v.x, m->v.y, m->w, m->dp.x};
-    KG_WIDE(kg_columns_to_rows)(bodies, is_b ? r->b : r->a, movers, c);
+    KG_WIDE(kg_columns_to_rows)(bodies, slots, movers, c);
 }
 
 /* Blocks [begin, end) through one pass: gather, row code, scatter. */
@@ -188,10 +191,10 @@ static inline __attribute__((always_inline)) void KG_WIDE(kg_run_blocks)(void* b
     for (int k = begin; k < end; ++k) {
         kg_wrow* r = (kg_wrow*)blocks + k;
         unsigned movers_a, movers_b;
-        kg_wmotion a = KG_WIDE(kg_gather)(bodies, r, 0, &movers_a), b = KG_WIDE(kg_gather)(bodies, r, 1, &movers_b);
+        kg_wmotion a = KG_WIDE(kg_gather)(bodies, r->a, &movers_a), b = KG_WIDE(kg_gather)(bodies, r->b, &movers_b);
         KG_ROWFN(kg_contact_pass)(r, &a, &b, prm, pass);
-        KG_WIDE(kg_scatter)(bodies, r, 0, movers_a, &a);
-        KG_WIDE(kg_scatter)(bodies, r, 1, movers_b, &b);
+        KG_WIDE(kg_scatter)(bodies, r->a, movers_a, &a);
+        KG_WIDE(kg_scatter)(bodies, r->b, movers_b, &b);
     }
 }
 
@@ -223,4 +226,26 @@ static void KG_WIDE(kg_run)(void* blocks, int begin, int end, kg_solver_body* bo
     }
 }
 
-const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_prepare), KG_WIDE(kg_run)};
+#define kg_wrevolute KG_ROWFN(kg_revolute_lanes)
+KG_STATIC_ASSERT(sizeof(kg_wrevolute) == KG_W * sizeof(kg_revolute_lanes), revolute_lanes_widened);
+KG_STATIC_ASSERT(offsetof(kg_wrevolute, b) == KG_W * offsetof(kg_revolute_lanes, b), revolute_slots_widened);
+
+/* Revolute joints W at a time, as the contacts: gather, the lanes' pass, scatter. The
+ * pass and the iteration are known in the loop, once for all its blocks. */
+static __attribute__((flatten)) void KG_WIDE(kg_run_revolute)(void* blocks, int begin, int end,
+                                                              kg_solver_body* bodies, kg_solver_params prm, int pass,
+                                                              int last_iteration)
+{
+    for (int k = begin; k < end; ++k) {
+        kg_wrevolute* r = (kg_wrevolute*)blocks + k;
+        unsigned movers_a, movers_b;
+        kg_wmotion a = KG_WIDE(kg_gather)(bodies, r->a, &movers_a), b = KG_WIDE(kg_gather)(bodies, r->b, &movers_b);
+        KG_ROWFN(kg_revolute_pass)(r, &a, &b, prm, pass, last_iteration);
+        KG_WIDE(kg_scatter)(bodies, r->a, movers_a, &a);
+        KG_WIDE(kg_scatter)(bodies, r->b, movers_b, &b);
+    }
+}
+#undef kg_wrevolute
+
+const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_prepare), KG_WIDE(kg_run),
+                                                  KG_WIDE(kg_run_revolute)};

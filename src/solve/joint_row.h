@@ -73,56 +73,6 @@ KG_STATIC_ASSERT(sizeof(kg_joint_row) == 220, joint_row_size);
 
 #define KG_JOINT_PI 3.14159265359f
 
-/* atan2(y, x) in [-pi, pi], the engine's own (no libm, the same bits in C and OpenCL C):
- * the octant reduced to [0, 1], then Abramowitz and Stegun 4.4.49 (error under 1e-5
- * rad in float). atan2(0, 0) is 0. */
-KG_FN float kg_atan2(float y, float x)
-{
-    float ax = fabsf(x), ay = fabsf(y);
-    float mx = kg_maxf(ax, ay), mn = kg_minf(ax, ay);
-    float t = mx > 0.0f ? mn / mx : 0.0f;
-    float s = t * t;
-    float p = 0.0028662257f;
-    p = p * s - 0.0161657367f;
-    p = p * s + 0.0429096138f;
-    p = p * s - 0.0752896400f;
-    p = p * s + 0.1065626393f;
-    p = p * s - 0.1420889944f;
-    p = p * s + 0.1999355085f;
-    p = p * s - 0.3333314528f;
-    float r = t + t * s * p;
-    r = ay > ax ? 1.57079632679f - r : r;
-    r = x < 0.0f ? KG_JOINT_PI - r : r;
-    return y < 0.0f ? -r : r;
-}
-
-/* The angle of b relative to a, in [-pi, pi]. */
-KG_FN float kg_relative_angle(kg_rot b, kg_rot a)
-{
-    float s = b.s * a.c - b.c * a.s;
-    float c = b.c * a.c + b.s * a.s;
-    return kg_atan2(s, c);
-}
-
-KG_FN float kg_unwind_angle(float angle)
-{
-    if (angle < -KG_JOINT_PI) {
-        return angle + 2.0f * KG_JOINT_PI;
-    }
-    if (angle > KG_JOINT_PI) {
-        return angle - 2.0f * KG_JOINT_PI;
-    }
-    return angle;
-}
-
-/* The solution x of K x = b for a symmetric 2x2 K = [k11 k12; k12 k22] (0 when singular). */
-KG_FN kg_vec2 kg_solve22(float k11, float k12, float k22, kg_vec2 b)
-{
-    float det = k11 * k22 - k12 * k12;
-    det = det != 0.0f ? 1.0f / det : 0.0f;
-    return kg_v2(det * (k22 * b.x - k12 * b.y), det * (k11 * b.y - k12 * b.x));
-}
-
 /* A joint's springs, its rigid parts' position correction included, are capped at this
  * fraction of the sub-step rate. Contacts stop at a quarter (stacks explode at half,
  * docs/design.md); a joint's rows, solved KG_JOINT_ITERATIONS times a pass, hold at three
@@ -154,6 +104,27 @@ KG_FN kg_vec2 kg_solve22(float k11, float k12, float k22, kg_vec2 b)
  * stilled the chain at 5.9 s, and nearer 2 the sweeps' own overshoot dies out more
  * slowly (by at least the factor less 1 a sweep). */
 #define KG_JOINT_OVERRELAX 1.8f
+
+/* The revolute joint's passes and the angles (kg_atan2, kg_relative_angle,
+ * kg_unwind_angle), one lane a float (joint_revolute_row.h; the CPU's SIMD widths are
+ * instantiated in solve/contact_wide*.c). */
+#define KG_W 1
+#define kg_lane float
+#define kg_lmask int
+#define kg_lindex kg_u32
+#define kg_lint kg_i32
+#define KG_SEL(mask, a, b) ((mask) ? (a) : (b))
+#define KG_LZERO 0.0f
+#include "solve/joint_revolute_row.h"
+#undef kg_lane
+#undef kg_lmask
+#undef kg_lindex
+#undef kg_lint
+#undef KG_SEL
+#undef KG_LZERO
+#undef KG_W
+
+KG_STATIC_ASSERT(sizeof(kg_revolute_lanes) == 33 * 4, revolute_lanes_size);
 
 /* The softness of a hertz capped at KG_JOINT_HERTZ_CAP of the sub-step rate. */
 KG_FN kg_softness kg_joint_softness(float hertz, float damping_ratio, kg_solver_params prm)
@@ -234,117 +205,77 @@ KG_FN void kg_joint_prepare(KG_GLOBAL kg_joint_row* rows, int j, KG_GLOBAL const
     rows[j] = r;
 }
 
-/* The joint's bodies as the solver sees them now. */
-typedef struct kg_joint_pair {
-    kg_body_motion a, b;
-    kg_vec2 ra, rb; /* the anchors turned by the rotation within the step */
-} kg_joint_pair;
-
+/* The passes' shared parts (joint_revolute_row.h, width 1) over a row. */
 KG_FN void kg_joint_apply(const kg_joint_row* r, kg_joint_pair* s, kg_vec2 p, float angular)
 {
-    s->a.v = kg_mul_sub(s->a.v, r->inv_mass_a, p);
-    s->a.w = s->a.w - r->inv_i_a * (kg_cross(s->ra, p) + angular);
-    s->b.v = kg_mul_add(s->b.v, r->inv_mass_b, p);
-    s->b.w = s->b.w + r->inv_i_b * (kg_cross(s->rb, p) + angular);
+    kg_joint_push(r->inv_mass_a, r->inv_i_a, r->inv_mass_b, r->inv_i_b, s, p, angular);
 }
 
-/* b's anchor point's velocity relative to a's. */
-KG_FN kg_vec2 kg_joint_relative_velocity(const kg_joint_pair* s)
-{
-    return kg_sub(kg_add(s->b.v, kg_cross_sv(s->b.w, s->rb)), kg_add(s->a.v, kg_cross_sv(s->a.w, s->ra)));
-}
-
-/* How far b's anchor is from a's now. */
 KG_FN kg_vec2 kg_joint_separation(const kg_joint_row* r, const kg_joint_pair* s)
 {
-    return kg_add(kg_add(kg_sub(s->b.dp, s->a.dp), kg_sub(s->rb, s->ra)), r->delta_center);
+    return kg_joint_offset(r->delta_center, s);
 }
 
-/* The angle of b relative to a now, less the reference. */
 KG_FN float kg_joint_angle_now(const kg_joint_row* r, const kg_joint_pair* s)
 {
-    return kg_unwind_angle(r->delta_angle + kg_relative_angle(s->b.dq, s->a.dq));
+    return kg_joint_angle(r->delta_angle, s);
 }
 
-/* The impulse x with K x = rhs, K the 2x2 mass of keeping b's anchor on a's (the
- * point-to-point part, and the mouse joint's pull). */
 KG_FN kg_vec2 kg_solve_point_mass(const kg_joint_row* r, const kg_joint_pair* s, kg_vec2 rhs)
 {
-    float ma = r->inv_mass_a, mb = r->inv_mass_b, ia = r->inv_i_a, ib = r->inv_i_b;
-    kg_vec2 ra = s->ra, rb = s->rb;
-    float k11 = ma + mb + ra.y * ra.y * ia + rb.y * rb.y * ib;
-    float k12 = -ra.y * ra.x * ia - rb.y * rb.x * ib;
-    float k22 = ma + mb + ra.x * ra.x * ia + rb.x * rb.x * ib;
-    return kg_solve22(k11, k12, k22, rhs);
+    return kg_point_mass_solve(r->inv_mass_a, r->inv_i_a, r->inv_mass_b, r->inv_i_b, s, rhs);
 }
 
-/* The point-to-point part (revolute, weld): b's anchor on a's with the softness soft
- * (the pass's rigid softness, or a weld's linear spring). */
 KG_FN void kg_joint_solve_point(kg_joint_row* r, kg_joint_pair* s, kg_softness soft)
 {
-    kg_vec2 cdot = kg_joint_relative_velocity(s);
-    kg_vec2 bias = kg_scale(soft.bias_rate, kg_joint_separation(r, s));
-    kg_vec2 x = kg_solve_point_mass(r, s, kg_add(cdot, bias));
-    kg_vec2 impulse = kg_v2(-soft.mass_scale * x.x - soft.impulse_scale * r->linear_impulse.x,
-                            -soft.mass_scale * x.y - soft.impulse_scale * r->linear_impulse.y);
-    r->linear_impulse = kg_add(r->linear_impulse, impulse);
-    kg_joint_apply(r, s, impulse, 0.0f);
+    kg_joint_point(r->inv_mass_a, r->inv_i_a, r->inv_mass_b, r->inv_i_b, r->delta_center, &r->linear_impulse, s, soft);
 }
 
-/* An angular row pushing one way only (a limit): c is how far inside the limit (>= 0
- * when satisfied), cdot the speed it grows at, *acc its accumulated impulse (>= 0).
- * Returns the impulse to add along +cdot. Speculative when inside; past it, with the
- * pass's rigid softness. */
 KG_FN float kg_joint_one_sided(float c, float cdot, float mass, float* acc, kg_softness rigid, kg_solver_params prm)
 {
-    float bias = 0.0f, mass_scale = 1.0f, impulse_scale = 0.0f;
-    if (c > 0.0f) {
-        bias = c * prm.inv_h; /* speculation: it may close the gap within the sub-step */
-    } else {
-        bias = rigid.bias_rate * c;
-        mass_scale = rigid.mass_scale;
-        impulse_scale = rigid.impulse_scale;
-    }
-    float impulse = -mass * mass_scale * (cdot + bias) - impulse_scale * (*acc);
-    float next = kg_maxf(*acc + impulse, 0.0f);
-    impulse = next - *acc;
-    *acc = next;
-    return impulse;
+    return kg_one_sided(1, c, cdot, mass, acc, rigid, prm);
 }
 
-KG_FN void kg_revolute_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, kg_softness rigid)
+/* A revolute row as its passes read it (the world: KG_NULL_INDEX, as in the row). */
+KG_FN kg_revolute_lanes kg_revolute_lanes_of(const kg_joint_row* r)
 {
-    float ia = r->inv_i_a, ib = r->inv_i_b;
-    if ((r->options & KG_JOINT_OPT_SPRING) && r->hertz > 0.0f) {
-        float c = kg_joint_angle_now(r, s);
-        float cdot = s->b.w - s->a.w;
-        float impulse = -r->spring.mass_scale * r->axial_mass * (cdot + r->spring.bias_rate * c) -
-                        r->spring.impulse_scale * r->spring_impulse;
-        r->spring_impulse += impulse;
-        s->a.w -= ia * impulse;
-        s->b.w += ib * impulse;
-    }
-    if (r->options & KG_JOINT_OPT_MOTOR) {
-        float cdot = s->b.w - s->a.w - r->motor_speed;
-        float impulse = -r->axial_mass * cdot;
-        float old = r->motor_impulse, most = prm.h * r->max_motor_torque;
-        r->motor_impulse = kg_clampf(old + impulse, -most, most);
-        impulse = r->motor_impulse - old;
-        s->a.w -= ia * impulse;
-        s->b.w += ib * impulse;
-    }
-    if (r->options & KG_JOINT_OPT_LIMIT) {
-        float angle = kg_joint_angle_now(r, s);
-        float lower =
-            kg_joint_one_sided(angle - r->lower, s->b.w - s->a.w, r->axial_mass, &r->lower_impulse, rigid, prm);
-        s->a.w -= ia * lower;
-        s->b.w += ib * lower;
-        float upper =
-            kg_joint_one_sided(r->upper - angle, s->a.w - s->b.w, r->axial_mass, &r->upper_impulse, rigid, prm);
-        s->a.w += ia * upper;
-        s->b.w -= ib * upper;
-    }
-    kg_joint_solve_point(r, s, rigid);
+    kg_revolute_lanes l;
+    l.anchor_a = r->anchor_a;
+    l.anchor_b = r->anchor_b;
+    l.delta_center = r->delta_center;
+    l.delta_angle = r->delta_angle;
+    l.inv_mass_a = r->inv_mass_a;
+    l.inv_i_a = r->inv_i_a;
+    l.inv_mass_b = r->inv_mass_b;
+    l.inv_i_b = r->inv_i_b;
+    l.axial_mass = r->axial_mass;
+    l.soft = r->soft;
+    l.spring = r->spring;
+    l.lower = r->lower;
+    l.upper = r->upper;
+    l.motor_speed = r->motor_speed;
+    l.max_motor_torque = r->max_motor_torque;
+    l.has_spring = (r->options & KG_JOINT_OPT_SPRING) && r->hertz > 0.0f ? 1.0f : 0.0f;
+    l.has_motor = (r->options & KG_JOINT_OPT_MOTOR) ? 1.0f : 0.0f;
+    l.has_limit = (r->options & KG_JOINT_OPT_LIMIT) ? 1.0f : 0.0f;
+    l.linear_impulse = r->linear_impulse;
+    l.spring_impulse = r->spring_impulse;
+    l.motor_impulse = r->motor_impulse;
+    l.lower_impulse = r->lower_impulse;
+    l.upper_impulse = r->upper_impulse;
+    l.a = r->a;
+    l.b = r->b;
+    return l;
+}
+
+/* The impulses a revolute row's passes accumulated, back into the row. */
+KG_FN void kg_revolute_keep(kg_joint_row* r, const kg_revolute_lanes* l)
+{
+    r->linear_impulse = l->linear_impulse;
+    r->spring_impulse = l->spring_impulse;
+    r->motor_impulse = l->motor_impulse;
+    r->lower_impulse = l->lower_impulse;
+    r->upper_impulse = l->upper_impulse;
 }
 
 KG_FN void kg_distance_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, kg_softness rigid)
@@ -564,10 +495,6 @@ KG_FN void kg_motor_joint_solve(kg_joint_row* r, kg_joint_pair* s, kg_solver_par
 KG_FN void kg_joint_warm_start(const kg_joint_row* r, kg_joint_pair* s)
 {
     switch (r->type) {
-    case KG_JOINT_ROW_REVOLUTE:
-        kg_joint_apply(r, s, r->linear_impulse,
-                       r->spring_impulse + r->motor_impulse + r->lower_impulse - r->upper_impulse);
-        break;
     case KG_JOINT_ROW_DISTANCE: {
         kg_vec2 d = kg_joint_separation(r, s);
         float axial = r->spring_impulse + r->lower_impulse - r->upper_impulse;
@@ -595,22 +522,33 @@ KG_FN void kg_joint_warm_start(const kg_joint_row* r, kg_joint_pair* s)
     }
 }
 
-/* The softness of the rigid parts in a pass: the joint's soft step in the solve pass; in
- * the relax pass no bias and no leak, each iteration but the last over-relaxed by
- * KG_JOINT_OVERRELAX, the last a plain projection (a joint alone ends exactly rigid). */
-KG_FN kg_softness kg_joint_rigid_softness(const kg_joint_row* r, int pass, int last_iteration)
+/* One pass over a joint of a kind other than revolute and its bodies s. */
+KG_FN void kg_joint_kind_pass(kg_joint_row* r, kg_joint_pair* s, kg_solver_params prm, int pass, int last_iteration)
 {
-    kg_softness rigid = r->soft;
-    if (pass != KG_PASS_SOLVE) {
-        rigid.bias_rate = 0.0f;
-        rigid.mass_scale = last_iteration ? 1.0f : KG_JOINT_OVERRELAX;
-        rigid.impulse_scale = 0.0f;
+    s->ra = kg_rotate(s->a.dq, r->anchor_a);
+    s->rb = kg_rotate(s->b.dq, r->anchor_b);
+    kg_softness rigid = kg_rigid_softness(r->soft, pass, last_iteration);
+    if (pass == KG_PASS_WARM_START) {
+        kg_joint_warm_start(r, s);
+    } else if (r->type == KG_JOINT_ROW_DISTANCE) {
+        kg_distance_solve(r, s, prm, rigid);
+    } else if (r->type == KG_JOINT_ROW_WELD) {
+        kg_weld_solve(r, s, rigid);
+    } else if (r->type == KG_JOINT_ROW_PRISMATIC) {
+        kg_prismatic_solve(r, s, prm, rigid);
+    } else if (r->type == KG_JOINT_ROW_WHEEL) {
+        kg_wheel_solve(r, s, prm, rigid);
+    } else if (r->type == KG_JOINT_ROW_MOTOR) {
+        kg_motor_joint_solve(r, s, prm);
+    } else {
+        kg_mouse_solve(r, s, prm);
     }
-    return rigid;
 }
 
 /* One pass (KG_PASS_WARM_START, _SOLVE or _RELAX; joints have no restitution) over row
- * j and its bodies, in the pass's last iteration or not (kg_joint_rigid_softness). */
+ * j and its bodies, in the pass's last iteration or not (kg_rigid_softness). A revolute
+ * joint runs its lane code one lane wide (joint_revolute_row.h), the code the CPU runs
+ * W joints at a time. */
 KG_FN void kg_joint_pass(KG_GLOBAL kg_joint_row* rows, int j, KG_GLOBAL kg_solver_body* bodies,
                          kg_solver_params prm, int pass, int last_iteration)
 {
@@ -621,25 +559,12 @@ KG_FN void kg_joint_pass(KG_GLOBAL kg_joint_row* rows, int j, KG_GLOBAL kg_solve
     kg_joint_pair s;
     s.a = kg_motion_of(bodies, r.a);
     s.b = kg_motion_of(bodies, r.b);
-    s.ra = kg_rotate(s.a.dq, r.anchor_a);
-    s.rb = kg_rotate(s.b.dq, r.anchor_b);
-    kg_softness rigid = kg_joint_rigid_softness(&r, pass, last_iteration);
-    if (pass == KG_PASS_WARM_START) {
-        kg_joint_warm_start(&r, &s);
-    } else if (r.type == KG_JOINT_ROW_REVOLUTE) {
-        kg_revolute_solve(&r, &s, prm, rigid);
-    } else if (r.type == KG_JOINT_ROW_DISTANCE) {
-        kg_distance_solve(&r, &s, prm, rigid);
-    } else if (r.type == KG_JOINT_ROW_WELD) {
-        kg_weld_solve(&r, &s, rigid);
-    } else if (r.type == KG_JOINT_ROW_PRISMATIC) {
-        kg_prismatic_solve(&r, &s, prm, rigid);
-    } else if (r.type == KG_JOINT_ROW_WHEEL) {
-        kg_wheel_solve(&r, &s, prm, rigid);
-    } else if (r.type == KG_JOINT_ROW_MOTOR) {
-        kg_motor_joint_solve(&r, &s, prm);
+    if (r.type == KG_JOINT_ROW_REVOLUTE) {
+        kg_revolute_lanes l = kg_revolute_lanes_of(&r);
+        kg_revolute_pass(&l, &s.a, &s.b, prm, pass, last_iteration);
+        kg_revolute_keep(&r, &l);
     } else {
-        kg_mouse_solve(&r, &s, prm);
+        kg_joint_kind_pass(&r, &s, prm, pass, last_iteration);
     }
     kg_store_motion(bodies, r.a, s.a);
     kg_store_motion(bodies, r.b, s.b);

@@ -502,7 +502,7 @@ void kg_stage_solve(kg_world* world, float dt)
     }
     /* Joints (core/joint.h): prepared once, then each pass colour by colour before the
      * contacts' colours, as Box2D's overflow constraints go first. */
-    kg_joints_prepare(world, s->bodies, cjob.prm);
+    kg_joints_prepare(world, s->bodies, cjob.prm, s->rows, s->still);
     for (int step = 0; step < n; ++step) {
         kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_integrate_velocities, &bjob);
         kg_joints_pass(world, s->bodies, cjob.prm, KG_PASS_WARM_START);
@@ -513,6 +513,7 @@ void kg_stage_solve(kg_world* world, float dt)
         kg_joints_pass(world, s->bodies, cjob.prm, KG_PASS_RELAX);
         kg_constraint_pass_run(world, &cjob, KG_PASS_RELAX);
     }
+    kg_joints_finish(world);
     if (atomic_load(&bounces)) { /* else the pass, a loop per colour, would change nothing */
         kg_constraint_pass_run(world, &cjob, KG_PASS_RESTITUTION);
     }
