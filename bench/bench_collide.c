@@ -7,6 +7,7 @@
  * broadphase pairs are then turned into manifolds by the narrowphase. */
 #define _POSIX_C_SOURCE 200809L
 
+#include "bench_util.h"
 #include "collide/broadphase.h"
 #include "collide/chain.h"
 #include "collide/shape.h"
@@ -37,32 +38,7 @@ typedef struct bench_result {
     double touching; /* mean of the pairs whose manifold has points */
 } bench_result;
 
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return 1000.0 * (double)t.tv_sec + 1.0e-6 * (double)t.tv_nsec;
-}
-
-static int compare_doubles(const void* a, const void* b)
-{
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double* values, int count)
-{
-    qsort(values, (size_t)count, sizeof *values, compare_doubles);
-    return count % 2 ? values[count / 2] : 0.5 * (values[count / 2 - 1] + values[count / 2]);
-}
-
-static float random_range(bench_scene* s, float lo, float hi)
-{
-    s->rng ^= s->rng << 13;
-    s->rng ^= s->rng >> 17;
-    s->rng ^= s->rng << 5;
-    return lo + (hi - lo) * (float)(s->rng >> 8) * (1.0f / 16777216.0f);
-}
+static float random_range(bench_scene* s, float lo, float hi) { return bench_random_range(&s->rng, lo, hi); }
 
 /* Two draws in a fixed order (the order of a call's arguments is unspecified in C). */
 static kg_vec2 random_vec(bench_scene* s, float lo, float hi)
@@ -173,11 +149,11 @@ static int run_case(int count, int steps, bench_result* result)
     double pair_sum = 0.0, touching_sum = 0.0;
     for (int step = -WARMUP_STEPS; step < steps; ++step) {
         move_scene(&scene);
-        double t0 = now_ms();
+        double t0 = bench_now_ms();
         int pair_count = find_pairs(bp, &scene.pool, &pairs, &pair_capacity);
-        double t1 = now_ms();
+        double t1 = bench_now_ms();
         int touching = collide_pairs(&scene.pool, pairs, pair_count);
-        double t2 = now_ms();
+        double t2 = bench_now_ms();
         if (step >= 0) {
             broadphase_ms[step] = t1 - t0;
             narrowphase_ms[step] = t2 - t1;
@@ -185,8 +161,8 @@ static int run_case(int count, int steps, bench_result* result)
             touching_sum += touching;
         }
     }
-    result->broadphase_ms = median(broadphase_ms, steps);
-    result->narrowphase_ms = median(narrowphase_ms, steps);
+    result->broadphase_ms = bench_median(broadphase_ms, steps);
+    result->narrowphase_ms = bench_median(narrowphase_ms, steps);
     result->pairs = pair_sum / steps;
     result->touching = touching_sum / steps;
     kg_broadphase_destroy(bp);

@@ -9,6 +9,7 @@
  * the index (paid by the first query after a step or an edit). */
 #define _POSIX_C_SOURCE 200809L
 
+#include "bench_util.h"
 #include "collide/raycast.h"
 #include "core/world.h"
 #include "kgyro/kgyro.h"
@@ -22,21 +23,8 @@
 #define QUERIES 20000
 #define SCANNED_RAYS 50
 
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return 1000.0 * (double)t.tv_sec + 1.0e-6 * (double)t.tv_nsec;
-}
-
-static kg_u32 g_rng = 0x9E3779B9u;
-static float random_range(float lo, float hi)
-{
-    g_rng ^= g_rng << 13;
-    g_rng ^= g_rng >> 17;
-    g_rng ^= g_rng << 5;
-    return lo + (hi - lo) * (float)(g_rng >> 8) * (1.0f / 16777216.0f);
-}
+static uint32_t g_rng = 0x9E3779B9u;
+static float random_range(float lo, float hi) { return bench_random_range(&g_rng, lo, hi); }
 
 static kg_world* make_world(int count, float* side)
 {
@@ -107,38 +95,38 @@ static void run(int count)
     }
     kg_query_filter filter = kg_default_query_filter();
     kg_ray_result r;
-    double t0 = now_ms();
+    double t0 = bench_now_ms();
     kg_world_cast_ray_closest(world, kg_v2(0.0f, 0.0f), kg_v2(1.0f, 0.0f), filter, &r); /* makes the index */
-    double build_ms = now_ms() - t0;
+    double build_ms = bench_now_ms() - t0;
     int hits = 0;
-    t0 = now_ms();
+    t0 = bench_now_ms();
     for (int k = 0; k < QUERIES; ++k) {
         kg_ray ray = random_ray(side);
         kg_world_cast_ray_closest(world, ray.origin, ray.translation, filter, &r);
         hits += r.hit;
     }
-    double ray_us = 1000.0 * (now_ms() - t0) / QUERIES;
+    double ray_us = 1000.0 * (bench_now_ms() - t0) / QUERIES;
     float sink = 0.0f;
-    t0 = now_ms();
+    t0 = bench_now_ms();
     for (int k = 0; k < SCANNED_RAYS; ++k) {
         sink += scan_ray(world, random_ray(side));
     }
-    double scan_us = 1000.0 * (now_ms() - t0) / SCANNED_RAYS;
+    double scan_us = 1000.0 * (bench_now_ms() - t0) / SCANNED_RAYS;
     int found = 0;
-    t0 = now_ms();
+    t0 = bench_now_ms();
     for (int k = 0; k < QUERIES; ++k) {
         kg_vec2 c = kg_v2(random_range(0.0f, side), random_range(0.0f, side));
         kg_aabb box = {{c.x - 2.0f, c.y - 2.0f}, {c.x + 2.0f, c.y + 2.0f}};
         kg_world_overlap_aabb(world, box, filter, count_found, &found);
     }
-    double box_us = 1000.0 * (now_ms() - t0) / QUERIES;
+    double box_us = 1000.0 * (bench_now_ms() - t0) / QUERIES;
     kg_shape_def ball = kg_circle_shape(0.25f);
-    t0 = now_ms();
+    t0 = bench_now_ms();
     for (int k = 0; k < QUERIES; ++k) {
         kg_ray ray = random_ray(side);
         kg_world_cast_shape_closest(world, &ball, ray.origin, 0.0f, ray.translation, filter, &r);
     }
-    double cast_us = 1000.0 * (now_ms() - t0) / QUERIES;
+    double cast_us = 1000.0 * (bench_now_ms() - t0) / QUERIES;
     printf("%8d bodies: index made in %7.2f ms; 2 m ray %6.2f us (%4.1f%% hit), scan %9.1f us, ratio %7.0f; "
            "4 m box %6.2f us (%.1f found); 2 m circle cast %6.2f us%s\n",
            count, build_ms, ray_us, 100.0 * hits / QUERIES, scan_us, scan_us / ray_us, box_us,

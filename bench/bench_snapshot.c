@@ -9,6 +9,7 @@
  * restore's median. docs/benchmarks.md quotes the figure. */
 #define _POSIX_C_SOURCE 200809L
 
+#include "bench_util.h"
 #include "kgyro/kgyro.h"
 
 #include <stdio.h>
@@ -20,21 +21,8 @@
 #define SNAPSHOTS 200
 #define RESTORES 50
 
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return 1000.0 * (double)t.tv_sec + 1.0e-6 * (double)t.tv_nsec;
-}
-
-static unsigned g_rng = 0x9E3779B9u;
-static float random_range(float lo, float hi)
-{
-    g_rng ^= g_rng << 13;
-    g_rng ^= g_rng >> 17;
-    g_rng ^= g_rng << 5;
-    return lo + (hi - lo) * (float)(g_rng >> 8) * (1.0f / 16777216.0f);
-}
+static uint32_t g_rng = 0x9E3779B9u;
+static float random_range(float lo, float hi) { return bench_random_range(&g_rng, lo, hi); }
 
 static kg_world* make_rain(int count, kg_backend backend)
 {
@@ -64,12 +52,6 @@ static kg_world* make_rain(int count, kg_backend backend)
     return world;
 }
 
-static int compare_doubles(const void* a, const void* b)
-{
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
 int main(int argc, char** argv)
 {
     int count = argc > 1 ? atoi(argv[1]) : 10000;
@@ -83,25 +65,25 @@ int main(int argc, char** argv)
     void* buffer = malloc(size);
     static double taken[SNAPSHOTS], restored[RESTORES];
     for (int k = 0; k < SNAPSHOTS; ++k) {
-        double t = now_ms();
+        double t = bench_now_ms();
         kg_result r = kg_world_snapshot(world, buffer, size, &written);
-        taken[k] = now_ms() - t;
+        taken[k] = bench_now_ms() - t;
         if (r != KG_OK) {
             fprintf(stderr, "bench_snapshot: %s\n", kg_last_error());
             return 1;
         }
     }
     for (int k = 0; k < RESTORES; ++k) {
-        double t = now_ms();
+        double t = bench_now_ms();
         kg_result r = kg_world_restore(world, buffer, written);
-        restored[k] = now_ms() - t;
+        restored[k] = bench_now_ms() - t;
         if (r != KG_OK) {
             fprintf(stderr, "bench_snapshot: %s\n", kg_last_error());
             return 1;
         }
     }
-    qsort(taken, SNAPSHOTS, sizeof taken[0], compare_doubles);
-    qsort(restored, RESTORES, sizeof restored[0], compare_doubles);
+    bench_sort(taken, SNAPSHOTS);
+    bench_sort(restored, RESTORES);
     printf("bodies %d, contacts %d, backend %s: snapshot %.2f MB, snapshot median %.3f ms (fastest %.3f), "
            "restore median %.3f ms\n", count, kg_world_contact_count(world),
            backend == KG_BACKEND_CPU ? "cpu" : "opencl", (double)written / 1.0e6, taken[SNAPSHOTS / 2], taken[0],

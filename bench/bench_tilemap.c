@@ -12,6 +12,7 @@
  * tile collision alone (kg_tilemap_collide on the final state, repeated) for both maps. */
 #define _POSIX_C_SOURCE 200809L
 
+#include "bench_util.h"
 #include "collide/tilemap.h"
 #include "kgyro/kgyro.h"
 
@@ -148,18 +149,6 @@ static void add_bodies(kg_world* world)
     }
 }
 
-static int compare_doubles(const void* a, const void* b)
-{
-    double x = *(const double*)a, y = *(const double*)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double* values, int count)
-{
-    qsort(values, (size_t)count, sizeof *values, compare_doubles);
-    return count % 2 ? values[count / 2] : 0.5 * (values[count / 2 - 1] + values[count / 2]);
-}
-
 static double stage_ms(const kg_world* world, const char* name)
 {
     kg_stage_times times;
@@ -170,13 +159,6 @@ static double stage_ms(const kg_world* world, const char* name)
         }
     }
     return 0.0;
-}
-
-static double now_ms(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return 1000.0 * (double)t.tv_sec + 1.0e-6 * (double)t.tv_nsec;
 }
 
 typedef struct bench_world {
@@ -199,21 +181,21 @@ static void* checked_malloc(size_t size)
 
 static void make_tiled(bench_world* b, int side)
 {
-    double start = now_ms();
+    double start = bench_now_ms();
     b->world = make_world();
     add_tilemap(b->world, side);
     add_bodies(b->world);
-    b->setup_ms = now_ms() - start;
+    b->setup_ms = bench_now_ms() - start;
     snprintf(b->name, sizeof b->name, "tile map %d x %d", side, side);
 }
 
 static void make_static(bench_world* b, int side)
 {
-    double start = now_ms();
+    double start = bench_now_ms();
     b->world = make_world();
     int statics = add_static_terrain(b->world, side);
     add_bodies(b->world);
-    b->setup_ms = now_ms() - start;
+    b->setup_ms = bench_now_ms() - start;
     snprintf(b->name, sizeof b->name, "static bodies (%d) %d x %d", statics, side, side);
 }
 
@@ -225,11 +207,11 @@ static double tile_collide_ms(bench_world* b)
     double* ms = checked_malloc(TILE_PASSES * sizeof *ms);
     int found = 0;
     for (int i = 0; i < TILE_PASSES; ++i) {
-        double start = now_ms();
+        double start = bench_now_ms();
         found = kg_tilemap_collide(b->world, out, room, NULL, 0);
-        ms[i] = now_ms() - start;
+        ms[i] = bench_now_ms() - start;
     }
-    double result = median(ms, TILE_PASSES);
+    double result = bench_median(ms, TILE_PASSES);
     printf("%-34s %12.3f %14d\n", b->name, result, found);
     free(out);
     free(ms);
@@ -253,10 +235,10 @@ int main(int argc, char** argv)
     }
     for (int i = 0; i < WARMUP_STEPS + steps; ++i) {
         for (int w = 0; w < WORLD_COUNT; ++w) {
-            double start = now_ms();
+            double start = bench_now_ms();
             kg_world_step(worlds[w].world, DT);
             if (i >= WARMUP_STEPS) {
-                worlds[w].step_ms[i - WARMUP_STEPS] = now_ms() - start;
+                worlds[w].step_ms[i - WARMUP_STEPS] = bench_now_ms() - start;
                 worlds[w].collide_ms[i - WARMUP_STEPS] = stage_ms(worlds[w].world, "collide");
             }
         }
@@ -266,8 +248,8 @@ int main(int argc, char** argv)
     printf("%-34s %9s %11s %12s %9s\n", "terrain", "setup ms", "step ms", "collide ms", "contacts");
     for (int w = 0; w < WORLD_COUNT; ++w) {
         bench_world* b = &worlds[w];
-        printf("%-34s %9.1f %11.3f %12.3f %9d\n", b->name, b->setup_ms, median(b->step_ms, steps),
-               median(b->collide_ms, steps), kg_world_contact_count(b->world));
+        printf("%-34s %9.1f %11.3f %12.3f %9d\n", b->name, b->setup_ms, bench_median(b->step_ms, steps),
+               bench_median(b->collide_ms, steps), kg_world_contact_count(b->world));
     }
     printf("\ntile collision alone on the final state, median of %d passes\n", TILE_PASSES);
     printf("%-34s %12s %14s\n", "terrain", "tiles ms", "tile contacts");
