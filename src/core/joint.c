@@ -1197,22 +1197,19 @@ static void kg_revolute_range(void* context, int begin, int end)
  * without lanes, all of them one at a time. */
 static void kg_joints_color_pass(kg_world* world, struct kg_joints* j, int c, kg_joint_job job)
 {
-    if (!j->lanes) {
-        job.order = j->order + j->color_start[c];
-        int n = j->color_start[c + 1] - j->color_start[c];
-        if (n > 0) {
-            kg_parallel_for(world->threads, n, KG_JOINT_GRAIN, kg_joint_range, &job);
+    const kg_i32* singles = j->order; /* the joints solved one at a time */
+    const int* single_start = j->color_start;
+    if (j->lanes) {
+        int width = j->lanes->width, first = j->block_start[c], blocks = j->block_start[c + 1] - first;
+        if (blocks > 0) {
+            job.blocks = (unsigned char*)j->blocks + (size_t)first * width * sizeof(kg_revolute_lanes);
+            kg_parallel_for(world->threads, blocks, (KG_JOINT_GRAIN + width - 1) / width, kg_revolute_range, &job);
         }
-        return;
+        singles = j->others;
+        single_start = j->other_start;
     }
-    job.blocks = j->blocks;
-    int width = j->lanes->width, first = j->block_start[c], blocks = j->block_start[c + 1] - first;
-    if (blocks > 0) {
-        job.blocks = (unsigned char*)j->blocks + (size_t)first * width * sizeof(kg_revolute_lanes);
-        kg_parallel_for(world->threads, blocks, (KG_JOINT_GRAIN + width - 1) / width, kg_revolute_range, &job);
-    }
-    job.order = j->others + j->other_start[c];
-    int n = j->other_start[c + 1] - j->other_start[c];
+    job.order = singles + single_start[c];
+    int n = single_start[c + 1] - single_start[c];
     if (n > 0) {
         kg_parallel_for(world->threads, n, KG_JOINT_GRAIN, kg_joint_range, &job);
     }
