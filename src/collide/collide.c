@@ -13,6 +13,7 @@
 #include "collide/shape_index.h"
 #include "collide/tilemap.h"
 #include "kgyro/events.h"
+#include "solve/coloring.h"
 #include "core/alloc.h"
 #include "core/error.h"
 #include "core/joint.h"
@@ -62,6 +63,9 @@ struct kg_collision {
     int* block_touching;    /* one per block of KG_PAIR_BLOCK pairs: how many touch */
     kg_contact* contacts;
     kg_contact* previous;
+    int* kept_colors;        /* per contact: the colour it keeps (solve/coloring.h, kg_kept_color) */
+    int waiting_colors;      /* how many keep none */
+    int kept_known;          /* whether kept_colors is this step's (0 in a zeroed or restored state) */
     int count;
     int previous_count;
     int body_count;          /* contacts [0, body_count) are body pairs, the rest tiles */
@@ -83,6 +87,7 @@ static void kg_free_buffers(struct kg_collision* c)
     kg_free(c->block_touching);
     kg_free(c->contacts);
     kg_free(c->previous);
+    kg_free(c->kept_colors);
 }
 
 /* The narrowphase takes the pairs in blocks of this many: a block's contacts are written
@@ -120,7 +125,8 @@ static kg_result kg_reserve(kg_world* world, int capacity)
     if (!kg_regrow((void**)&c->pairs, kept_pairs * sizeof *c->pairs, n * sizeof *c->pairs) ||
         !kg_regrow((void**)&c->block_touching, 0, kg_block_count(n) * sizeof *c->block_touching) ||
         !kg_regrow((void**)&c->contacts, (size_t)c->count * sizeof *c->contacts, n * sizeof *c->contacts) ||
-        !kg_regrow((void**)&c->previous, (size_t)c->previous_count * sizeof *c->previous, n * sizeof *c->previous)) {
+        !kg_regrow((void**)&c->previous, (size_t)c->previous_count * sizeof *c->previous, n * sizeof *c->previous) ||
+        !kg_regrow((void**)&c->kept_colors, 0, n * sizeof *c->kept_colors)) {
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate room for %d contacts", capacity);
     }
     c->capacity = capacity;
@@ -375,13 +381,25 @@ typedef struct kg_narrowphase_job {
     const kg_contact* previous;
     int previous_count; /* of body contacts, sorted by (a, b); tile contacts follow */
     kg_contact* contacts;
+    int* kept_colors;
     int* block_touching;
     int pair_count;
     float speculative;
     float dt;
     int same_shapes; /* no shape added, removed or its material set since the previous list */
     atomic_int carried, missed; /* warm starts, summed over the ranges */
+    atomic_int waiting;         /* contacts that keep no colour, summed over the ranges */
 } kg_narrowphase_job;
+
+/* The colour contacts[at] keeps (kg_kept_color, from its bodies' flags now), noted in
+ * kept[at]; returns 1 when it keeps none. The colouring of the solve stage then has
+ * nothing to do when every contact keeps its colour (a settled pile): it would otherwise
+ * read every contact again (large_pyramid: 5% of the step). */
+KG_FN_INLINE int kg_note_kept_color(const kg_contact* contacts, int* kept, int at, const kg_u32* flags)
+{
+    kept[at] = kg_kept_color(contacts[at].color, kg_color_ends_of((kg_u32)at, contacts, flags));
+    return kept[at] == KG_UNCOLORED;
+}
 
 static int kg_rested(const kg_body_pool* p, kg_u32 i) { return (p->flags[i] & KG_FLAG_RESTED) != 0; }
 
@@ -447,14 +465,15 @@ static int kg_recycle_contact(kg_contact* ct, const kg_contact* prev, const kg_b
  * material are the body pool's (the same values); its shape is looked up only to name it
  * in a contact. Keying contacts by shapes then costs large_pyramid 0.3 M instructions a
  * step (34.1 M against 33.8 M, callgrind), 0.7 M without this path. */
-static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int* carried_sum, int* missed_sum)
+static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int* carried_sum, int* missed_sum,
+                                int* waiting_sum)
 {
     const kg_body_pool* p = job->bodies;
     const kg_shape_pool* sp = job->shapes;
     int by_shapes = job->by_shapes;
     const float* friction = by_shapes ? sp->friction : p->friction;
     const float* restitution = by_shapes ? sp->restitution : p->restitution;
-    int n = begin, carried = 0, missed = 0;
+    int n = begin, carried = 0, missed = 0, waiting = 0;
     int old = begin < end ? kg_first_not_before(job->previous, job->previous_count, kg_item(job, begin)) : 0;
     const kg_u32* first_shape = job->same_shapes ? NULL : p->first_shape; /* for the bodies' shapes' check */
     for (int k = begin; k < end; ++k) {
@@ -469,7 +488,9 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
         if (kg_rested(p, key.a) && kg_rested(p, key.b)) {
             kg_keep_contact(ct, prev);
             carried += ct->manifold.point_count;
-            n += ct->manifold.point_count > 0;
+            if (ct->manifold.point_count > 0) {
+                waiting += kg_note_kept_color(job->contacts, job->kept_colors, n++, p->flags);
+            }
             continue;
         }
         if (prev && kg_recycle_contact(ct, prev, p, job->speculative, job->dt)) {
@@ -478,7 +499,7 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
                 ct->restitution = kg_maxf(restitution[ga], restitution[gb]);
             }
             carried += kg_carry_kept_impulses(&ct->manifold, &prev->manifold);
-            n += 1;
+            waiting += kg_note_kept_color(job->contacts, job->kept_colors, n++, p->flags);
             continue;
         }
         key = by_shapes ? key : kg_item(job, k);
@@ -491,36 +512,39 @@ static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int
         }
         kg_finish_contact(ct, key, friction[ga], friction[gb], restitution[ga], restitution[gb], prev, kept,
                           p->generation, &carried, &missed);
-        n += 1;
+        waiting += kg_note_kept_color(job->contacts, job->kept_colors, n++, p->flags);
     }
     *carried_sum += carried;
     *missed_sum += missed;
+    *waiting_sum += waiting;
     return n - begin;
 }
 
 static void kg_narrowphase_range(void* context, int begin, int end)
 {
     kg_narrowphase_job* job = context;
-    int carried = 0, missed = 0;
+    int carried = 0, missed = 0, waiting = 0;
     for (int block = begin; block < end; ++block) {
         int first = block * KG_PAIR_BLOCK;
         int last = first + KG_PAIR_BLOCK < job->pair_count ? first + KG_PAIR_BLOCK : job->pair_count;
-        job->block_touching[block] = kg_narrowphase_block(job, first, last, &carried, &missed);
+        job->block_touching[block] = kg_narrowphase_block(job, first, last, &carried, &missed, &waiting);
     }
     atomic_fetch_add(&job->carried, carried);
     atomic_fetch_add(&job->missed, missed);
+    atomic_fetch_add(&job->waiting, waiting);
 }
 
 /* Moves each block's contacts to follow the last block's: the contacts of the touching
  * pairs in pair order, so sorted by (a, b). Returns how many. One by one rather than by
  * memmove, whose overlapping copy costs about four times the instructions. */
-static int kg_gather_blocks(kg_contact* contacts, const int* block_touching, int pair_count)
+static int kg_gather_blocks(kg_contact* contacts, int* kept_colors, const int* block_touching, int pair_count)
 {
     int count = 0;
     for (int block = 0; (size_t)block < kg_block_count((size_t)pair_count); ++block) {
         int first = block * KG_PAIR_BLOCK;
         for (int i = 0; count != first && i < block_touching[block]; ++i) {
             contacts[count + i] = contacts[first + i];
+            kept_colors[count + i] = kept_colors[first + i];
         }
         count += block_touching[block];
     }
@@ -568,15 +592,15 @@ kg_result kg_stage_collide(kg_world* world)
     }
     kg_narrowphase_job job = {&world->bodies, &world->shapes, c->pairs, compound ? c->shape_pairs : NULL,
                               compound || c->by_shapes, c->previous, c->previous_body_count, c->contacts,
-                              c->block_touching, pair_count, world->def.speculative_distance, world->last_dt,
-                              c->shapes_known && c->shapes_version == world->shapes.version, 0, 0};
+                              c->kept_colors, c->block_touching, pair_count, world->def.speculative_distance,
+                              world->last_dt, c->shapes_known && c->shapes_version == world->shapes.version, 0, 0, 0};
     c->by_shapes = compound;
     c->shapes_version = world->shapes.version;
     c->shapes_known = 1;
     kg_parallel_for(world->threads, (int)kg_block_count((size_t)pair_count), 1, kg_narrowphase_range, &job);
     int carried = atomic_load(&job.carried);
     kg_count_warm_starts(world, carried + atomic_load(&job.missed), carried);
-    c->count = kg_gather_blocks(c->contacts, c->block_touching, pair_count);
+    c->count = kg_gather_blocks(c->contacts, c->kept_colors, c->block_touching, pair_count);
     c->body_count = c->count;
     int room = c->capacity - c->count;
     int tiles = kg_tilemap_collide(world, c->contacts + c->count, room, c->previous + c->previous_body_count,
@@ -586,8 +610,22 @@ kg_result kg_stage_collide(kg_world* world)
                      "the extra ones were dropped this step; raise kg_world_def.max_contacts", tiles, room);
     }
     c->count = (int)kg_contacts_with_tiles((kg_u32)c->count, (kg_u32)tiles, (kg_u32)c->capacity);
+    int waiting = atomic_load(&job.waiting);
+    for (int k = c->body_count; k < c->count; ++k) {
+        waiting += kg_note_kept_color(c->contacts, c->kept_colors, k, world->bodies.flags);
+    }
+    c->waiting_colors = waiting;
+    c->kept_known = 1;
     return KG_OK;
 }
+
+const int* kg_collision_kept_colors(const kg_world* world, int* waiting)
+{
+    *waiting = world->collision->kept_known ? world->collision->waiting_colors : -1;
+    return world->collision->kept_colors;
+}
+
+void kg_collision_forget_kept_colors(kg_world* world) { world->collision->kept_known = 0; }
 
 kg_contact* kg_collision_contacts(kg_world* world, int* count)
 {
@@ -644,6 +682,7 @@ kg_contact* kg_collision_begin_step(kg_world* world, kg_contact** previous, int*
     c->contacts = swap;
     c->count = 0;
     c->body_count = 0;
+    c->kept_known = 0;
     *previous = c->previous;
     *previous_count = c->previous_count;
     return c->contacts;
@@ -809,7 +848,8 @@ kg_result kg_collision_from_snapshot(const kg_world* world, kg_snap_in* in, int 
     c->block_touching = kg_alloc_zeroed(kg_block_count(n) * sizeof *c->block_touching);
     c->contacts = kg_alloc_zeroed(n * sizeof *c->contacts);
     c->previous = kg_alloc_zeroed(n * sizeof *c->previous);
-    if (!c->pairs || !c->block_touching || !c->contacts || !c->previous) {
+    c->kept_colors = kg_alloc_zeroed(n * sizeof *c->kept_colors);
+    if (!c->pairs || !c->block_touching || !c->contacts || !c->previous || !c->kept_colors) {
         kg_collision_discard(c);
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate room for %d contacts", capacity);
     }

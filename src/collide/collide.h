@@ -72,6 +72,13 @@ const kg_contact* kg_collision_synced_contacts(const kg_world* world, int* count
 kg_contact* kg_collision_previous(kg_world* world, int* count);
 const kg_contact* kg_collision_synced_previous(const kg_world* world, int* count);
 
+/* The colour each current contact keeps from the last step (solve/coloring.h,
+ * kg_kept_color, KG_UNCOLORED for none) as the CPU's collide stage found it, and in
+ * *waiting how many keep none; -1 when unknown (a backend that builds contacts itself, or
+ * a body's motion changed since: kg_collision_forget_kept_colors). */
+const int* kg_collision_kept_colors(const kg_world* world, int* waiting);
+void kg_collision_forget_kept_colors(kg_world* world);
+
 /* How many of the current contacts are body pairs (the tile contacts follow). */
 int kg_collision_body_count(const kg_world* world);
 

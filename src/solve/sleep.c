@@ -90,8 +90,14 @@ void kg_stage_wake(kg_world* world)
     for (int k = 0; k < links; ++k) { /* a joint wakes its sleeping body's island like a contact */
         kg_mark_woken(joined[2 * k], joined[2 * k + 1], p->flags, p->velocity, p->omega, p->island, s->wake);
     }
+    int woke = 0;
     for (int i = 0; i < p->high_water; ++i) {
+        kg_u32 before = p->flags[i];
         kg_wake_if_marked((kg_u32)i, p->flags, p->island, s->wake, p->sleep_time);
+        woke |= p->flags[i] != before;
+    }
+    if (woke) { /* a contact on a woken body takes its colour again */
+        kg_collision_forget_kept_colors(world);
     }
     for (int i = 0; i < p->high_water; ++i) {
         s->wake[i] = 0u;

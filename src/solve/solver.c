@@ -154,6 +154,7 @@ typedef struct kg_body_job {
     kg_velocity_step* velocity_steps;
     kg_integrate_params prm;
     kg_rest_params rest;
+    atomic_int froze; /* a body got a non-finite state when loaded */
 } kg_body_job;
 
 static void kg_warn_frozen(int i) { kg_warn_once("non-finite", "body %d got a non-finite state and was frozen", i); }
@@ -167,6 +168,7 @@ static void kg_load_bodies(void* context, int begin, int end)
                                   p->xf, p->local_center, job->bodies, p->drag, p->inv_mass, p->inv_inertia,
                                   p->linear_damping, p->angular_damping, job->prm, job->velocity_steps)) {
             kg_warn_frozen(i);
+            atomic_store_explicit(&job->froze, 1, memory_order_relaxed);
         }
     }
 }
@@ -449,6 +451,20 @@ static kg_result kg_plan_blocks(struct kg_solver* s)
     return r;
 }
 
+/* The contacts' colours: those the collide stage found they keep when all of them keep
+ * one and no body's motion changed since (what colouring them would give, without reading
+ * every contact again), else coloured. */
+static void kg_color_step(kg_world* world, struct kg_solver* s, kg_contact* contacts, int count, int froze)
+{
+    int waiting = -1;
+    const int* kept = kg_collision_kept_colors(world, &waiting);
+    if (waiting == 0 && !froze) {
+        memcpy(s->colors, kept, (size_t)count * sizeof *s->colors);
+    } else {
+        kg_graph_color_contacts(&s->coloring, contacts, count, &world->bodies, s->colors);
+    }
+}
+
 kg_rest_params kg_rest_params_of(const kg_world_def* def, float dt)
 {
     kg_rest_params rest = {dt, def->sleep_speed, def->enable_sleep};
@@ -485,13 +501,13 @@ void kg_stage_solve(kg_world* world, float dt)
     float h = dt / (float)n;
     kg_body_pool* p = &world->bodies;
     kg_body_job bjob = {p, s->bodies, s->velocity_steps, {world->def.gravity, h, world->def.max_linear_speed},
-                        kg_rest_params_of(&world->def, dt)};
+                        kg_rest_params_of(&world->def, dt), 0};
     atomic_int bounces = 0;
     kg_constraint_job cjob = {p, s->bodies, contacts, count, s, 0, &bounces, kg_solver_params_of(&world->def, h),
                               KG_PASS_SOLVE};
 
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_load_bodies, &bjob);
-    kg_graph_color_contacts(&s->coloring, contacts, count, p, s->colors);
+    kg_color_step(world, s, contacts, count, atomic_load(&bjob.froze));
     kg_count_colors(s, count);
     if (kg_plan_blocks(s) != KG_OK) {
         kg_warn_once("solver-grow", "out of memory for contact constraints: contacts ignored this step");
