@@ -94,15 +94,14 @@ KG_FN int kg_pose_kept(const kg_contact_base* base, kg_xf xfa, kg_xf xfb)
            cosine > 0.0f;
 }
 
-/* kg_contact_carry_impulses for a manifold kept from old: its points are old's, with
- * old's ids in old's order, so each takes the impulses of old's first point of its id
- * without a search (the second point its own, unless both share an id). */
+/* kg_contact_carry_impulses for a manifold m kept from old: m is a copy of old, so each
+ * point already holds old's impulses of its id (found without a search), but for a second
+ * point that shares the first's id and so takes the first's. */
 KG_FN int kg_carry_kept_impulses(kg_manifold* m, const kg_manifold* old)
 {
-    for (int i = 0; i < m->point_count; ++i) {
-        int j = i == 1 && old->points[1].id == old->points[0].id ? 0 : i;
-        m->points[i].normal_impulse = old->points[j].normal_impulse;
-        m->points[i].tangent_impulse = old->points[j].tangent_impulse;
+    if (m->point_count == 2 && old->points[1].id == old->points[0].id) {
+        m->points[1].normal_impulse = old->points[0].normal_impulse;
+        m->points[1].tangent_impulse = old->points[0].tangent_impulse;
     }
     return m->point_count;
 }
