@@ -96,6 +96,7 @@ static void destroy_scene(bench_scene* s)
 static void move_scene(bench_scene* s)
 {
     kg_body_pool* p = &s->pool;
+    const kg_rot turn = kg_rot_normalize((kg_rot){.c = 1.0f, .s = 0.01f}); /* about 0.01 rad */
     for (int i = 0; i < p->high_water; ++i) {
         kg_vec2 c = kg_add(p->center[i], s->drift[i]);
         if (c.x < 0.0f || c.x > s->side) {
@@ -105,7 +106,7 @@ static void move_scene(bench_scene* s)
             s->drift[i].y = -s->drift[i].y;
         }
         p->center[i] = c;
-        p->rot[i] = kg_rot_integrate(p->rot[i], 0.01f);
+        p->rot[i] = kg_rot_normalize(kg_rot_mul(turn, p->rot[i]));
         kg_body_update_transform(p, i);
     }
 }

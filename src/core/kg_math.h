@@ -71,16 +71,6 @@ KG_FN kg_rot kg_rot_normalize(kg_rot q)
     return r;
 }
 
-/* Advances q by angle h*omega to first order and renormalises (Box2D v3's scheme):
- * exact direction for small angles, no trig, identical bits on every backend. */
-KG_FN kg_rot kg_rot_integrate(kg_rot q, float delta_angle)
-{
-    kg_rot r;
-    r.c = q.c - delta_angle * q.s;
-    r.s = q.s + delta_angle * q.c;
-    return kg_rot_normalize(r);
-}
-
 /* q applied after r. */
 KG_FN kg_rot kg_rot_mul(kg_rot q, kg_rot r)
 {

@@ -77,7 +77,8 @@ KG_FN void kg_integrate_body_velocity(kg_u32 i, KG_GLOBAL kg_solver_body* bodies
 {
     if (bodies[i].moves) {
         kg_body_motion m = bodies[i].motion;
-        kg_apply_velocity_step(&m.v, &m.w, steps[i], prm);
+        kg_velocity_step s = steps[i];
+        kg_apply_velocity_lanes(&m.v, &m.w, &s, prm);
         bodies[i].motion.v = m.v;
         bodies[i].motion.w = m.w;
     }
@@ -89,7 +90,7 @@ KG_FN void kg_integrate_body_position(kg_u32 i, float h, KG_GLOBAL const kg_u32*
 {
     if (kg_flags_move(flags[i])) {
         kg_body_motion m = bodies[i].motion;
-        kg_integrate_position(&m.dp, &m.dq, m.v, m.w, h);
+        kg_integrate_position_lanes(&m.dp, &m.dq, m.v, m.w, h);
         bodies[i].motion.dp = m.dp;
         bodies[i].motion.dq = m.dq;
     }

@@ -17,6 +17,7 @@
 #define KG_CONTACT_SOLVER_H
 
 #include "core/kg_layout.h"
+#include "solve/integrate.h"
 
 typedef struct kg_softness {
     float bias_rate;
@@ -46,8 +47,8 @@ typedef enum kg_constraint_pass {
     KG_PASS_RESTITUTION
 } kg_constraint_pass;
 
-/* The passes over one constraint, a float a lane (contact_row.h; the CPU's SIMD widths
- * are instantiated in solve/contact_wide.c). */
+/* The passes over one constraint and a body's sub-step, a float a lane (contact_row.h,
+ * body_row.h; the CPU's SIMD widths are instantiated in solve/contact_wide.c). */
 #define KG_W 1
 #define kg_lane float
 #define kg_lmask int
@@ -56,6 +57,7 @@ typedef enum kg_constraint_pass {
 #define KG_SEL(mask, a, b) ((mask) ? (a) : (b))
 #define KG_LZERO 0.0f
 #include "solve/contact_row.h"
+#include "solve/body_row.h"
 #undef kg_lane
 #undef kg_lmask
 #undef kg_lindex

@@ -20,4 +20,27 @@ static inline kg_vf kg_blend(kg_vi mask, kg_vf a, kg_vf b) { return (kg_vf)(((kg
 #define KG_LZERO ((kg_vf){0.0f}) /* the other lanes are zeroed too */
 #define KG_LANE_OF(v, lane) ((v)[lane])
 
+#include <math.h>
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
+
+/* The correctly rounded square root of each lane (IEEE, as sqrtf): one instruction where
+ * the width has it. */
+static inline kg_vf kg_vsqrt(kg_vf x)
+{
+#if KG_W == 16 && defined(__AVX512F__)
+    return (kg_vf)_mm512_sqrt_ps((__m512)x);
+#elif KG_W == 8 && defined(__AVX__)
+    return (kg_vf)_mm256_sqrt_ps((__m256)x);
+#elif KG_W == 4 && defined(__SSE__)
+    return (kg_vf)_mm_sqrt_ps((__m128)x);
+#else
+    for (int lane = 0; lane < KG_W; ++lane) {
+        x[lane] = sqrtf(x[lane]);
+    }
+    return x;
+#endif
+}
+
 #endif

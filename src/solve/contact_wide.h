@@ -7,6 +7,7 @@
 #ifndef KG_CONTACT_WIDE_H
 #define KG_CONTACT_WIDE_H
 
+#include "solve/body_step.h"
 #include "solve/contact_solver.h"
 #include "solve/joint_row.h"
 
@@ -29,6 +30,11 @@ typedef struct kg_contact_rows {
      * slot and a padding lane's the still body. */
     void (*run_revolute)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm, int pass,
                          int last_iteration);
+    /* One sub-step's velocity update, then motion, of the bodies [begin, end)
+     * (body_row.h), width consecutive slots at a time. */
+    void (*integrate_velocities)(kg_solver_body* bodies, const kg_velocity_step* steps, int begin, int end,
+                                 kg_integrate_params prm);
+    void (*integrate_positions)(kg_solver_body* bodies, const kg_u32* flags, int begin, int end, float h);
 } kg_contact_rows;
 
 /* Lane `lane` of the 4-byte field at byte offset `offset` of kg_revolute_lanes, in block

@@ -58,7 +58,8 @@ static inline unsigned kg_movers_w16(kg_vf moves)
 
 /* The 4x4 transposes within each 128-bit quarter: quarter q of r[i] is lane 4q + i's
  * four floats (columns[0..3] of it), so a lane's scatter is one 16-byte store. */
-static inline void kg_columns_to_rows_w16(kg_solver_body* bodies, kg_vu slots, unsigned movers, const kg_vf columns[4])
+static inline void kg_columns_to_rows_w16(kg_solver_body* bodies, kg_vu slots, unsigned movers, const kg_vf columns[4],
+                                          int offset)
 {
     __m512 t0 = _mm512_unpacklo_ps((__m512)columns[0], (__m512)columns[1]);
     __m512 t1 = _mm512_unpackhi_ps((__m512)columns[0], (__m512)columns[1]);
@@ -72,7 +73,7 @@ static inline void kg_columns_to_rows_w16(kg_solver_body* bodies, kg_vu slots, u
         for (int q = 0; q < 4; ++q) {
             int lane = 4 * q + i;
             if (movers >> lane & 1u) {
-                _mm_storeu_ps((float*)&bodies[slots[lane]], quarter[q]);
+                _mm_storeu_ps((float*)&bodies[slots[lane]] + offset, quarter[q]);
             }
         }
     }

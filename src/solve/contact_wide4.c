@@ -27,13 +27,14 @@ static inline unsigned kg_movers_w4(kg_vf moves)
     return (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_slli_epi32(_mm_castps_si128((__m128)moves), 31)));
 }
 
-static inline void kg_columns_to_rows_w4(kg_solver_body* bodies, kg_vu slots, unsigned movers, const kg_vf columns[4])
+static inline void kg_columns_to_rows_w4(kg_solver_body* bodies, kg_vu slots, unsigned movers, const kg_vf columns[4],
+                                         int offset)
 {
     __m128 r[4] = {(__m128)columns[0], (__m128)columns[1], (__m128)columns[2], (__m128)columns[3]};
     _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
     for (int lane = 0; lane < 4; ++lane) {
         if (movers >> lane & 1u) {
-            _mm_storeu_ps((float*)&bodies[slots[lane]], r[lane]);
+            _mm_storeu_ps((float*)&bodies[slots[lane]] + offset, r[lane]);
         }
     }
 }

@@ -27,7 +27,8 @@ static inline unsigned kg_movers_w8(kg_vf moves)
     return (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_slli_epi32(_mm256_castps_si256((__m256)moves), 31)));
 }
 
-static inline void kg_columns_to_rows_w8(kg_solver_body* bodies, kg_vu slots, unsigned movers, const kg_vf columns[4])
+static inline void kg_columns_to_rows_w8(kg_solver_body* bodies, kg_vu slots, unsigned movers, const kg_vf columns[4],
+                                         int offset)
 {
     __m256 r[8] = {(__m256)columns[0], (__m256)columns[1], (__m256)columns[2], (__m256)columns[3]};
     for (int k = 4; k < 8; ++k) {
@@ -36,7 +37,7 @@ static inline void kg_columns_to_rows_w8(kg_solver_body* bodies, kg_vu slots, un
     kg_transpose8(r);
     for (int lane = 0; lane < 8; ++lane) {
         if (movers >> lane & 1u) {
-            _mm_storeu_ps((float*)&bodies[slots[lane]], _mm256_castps256_ps128(r[lane]));
+            _mm_storeu_ps((float*)&bodies[slots[lane]] + offset, _mm256_castps256_ps128(r[lane]));
         }
     }
 }

@@ -6,6 +6,7 @@
 
 #if KG_W > 1
 #include "solve/joint_revolute_row.h"
+#include "solve/body_row.h"
 #endif
 
 #define KG_WIDE3(name, w) name##_w##w
@@ -46,13 +47,13 @@ static inline unsigned KG_WIDE(kg_movers)(kg_lane moves)
     return mask;
 }
 
-/* The first four columns (velocities and dp.x) back into the bodies of the lanes in
- * movers. */
+/* Four columns back into four floats of the bodies of the lanes in movers, from float
+ * `offset` of each (0: the velocities and dp.x; 3: the motion, dp and dq). */
 static inline void KG_WIDE(kg_columns_to_rows)(kg_solver_body* bodies, kg_lindex slots, unsigned movers,
-                                               const kg_lane columns[4])
+                                               const kg_lane columns[4], int offset)
 {
     for (int lane = 0; lane < KG_W; ++lane) {
-        float* row = (float*)&bodies[KG_LANE_OF(slots, lane)];
+        float* row = (float*)&bodies[KG_LANE_OF(slots, lane)] + offset;
         for (int k = 0; (movers >> lane & 1u) && k < 4; ++k) {
             row[k] = KG_LANE_OF(columns[k], lane);
         }
@@ -180,7 +181,7 @@ static inline kg_wmotion KG_WIDE(kg_gather)(const kg_solver_body* bodies, kg_lin
 static inline void KG_WIDE(kg_scatter)(kg_solver_body* bodies, kg_lindex slots, unsigned movers, const kg_wmotion* m)
 {
     const kg_lane c[4] = {m->v.x, m->v.y, m->w, m->dp.x};
-    KG_WIDE(kg_columns_to_rows)(bodies, slots, movers, c);
+    KG_WIDE(kg_columns_to_rows)(bodies, slots, movers, c, 0);
 }
 
 /* Blocks [begin, end) through one pass: gather, row code, scatter. */
@@ -247,5 +248,79 @@ static __attribute__((flatten)) void KG_WIDE(kg_run_revolute)(void* blocks, int 
 }
 #undef kg_wrevolute
 
-const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W, sizeof(kg_wrow), KG_WIDE(kg_prepare), KG_WIDE(kg_run),
-                                                  KG_WIDE(kg_run_revolute)};
+/* ---- the bodies' sub-step, W consecutive slots at a time ---- */
+
+#if KG_W > 1
+/* The slots first, first + 1, ... in lanes. */
+static inline kg_lindex KG_WIDE(kg_consecutive_slots)(int first)
+{
+    kg_lindex slots;
+    for (int lane = 0; lane < KG_W; ++lane) {
+        KG_LANE_OF(slots, lane) = (kg_u32)(first + lane);
+    }
+    return slots;
+}
+#endif
+
+/* One sub-step's velocity update of the bodies [begin, end) that take impulses
+ * (body_step.h's kg_integrate_body_velocity, W at a time; the last few one at a time). */
+static void KG_WIDE(kg_integrate_velocities)(kg_solver_body* bodies, const kg_velocity_step* steps, int begin,
+                                             int end, kg_integrate_params prm)
+{
+    int i = begin;
+#if KG_W > 1 /* else every body goes through body_step.h's loop below */
+    for (; i + KG_W <= end; i += KG_W) {
+        kg_lindex slots = KG_WIDE(kg_consecutive_slots)(i);
+        unsigned movers;
+        kg_wmotion m = KG_WIDE(kg_gather)(bodies, slots, &movers);
+        const float* rows[KG_W];
+        for (int lane = 0; lane < KG_W; ++lane) {
+            rows[lane] = (const float*)&steps[i + lane];
+        }
+        kg_lane c[8]; /* dv.x, dv.y, dw, lin_factor, ang_factor, unused */
+        KG_WIDE(kg_rows8_to_lanes)(rows, 0, c);
+        KG_ROWFN(kg_velocity_lanes) s;
+        s.dv.x = c[0];
+        s.dv.y = c[1];
+        s.dw = c[2];
+        s.lin_factor = c[3];
+        s.ang_factor = c[4];
+        KG_ROWFN(kg_apply_velocity_lanes)(&m.v, &m.w, &s, prm);
+        KG_WIDE(kg_scatter)(bodies, slots, movers, &m);
+    }
+#endif
+    for (; i < end; ++i) {
+        kg_integrate_body_velocity((kg_u32)i, bodies, steps, prm);
+    }
+}
+
+/* One sub-step's motion of the bodies [begin, end) that move (body_step.h's
+ * kg_integrate_body_position, W at a time; the last few one at a time). */
+static void KG_WIDE(kg_integrate_positions)(kg_solver_body* bodies, const kg_u32* flags, int begin, int end, float h)
+{
+    int i = begin;
+#if KG_W > 1 /* else every body goes through body_step.h's loop below */
+    for (; i + KG_W <= end; i += KG_W) {
+        kg_lindex slots = KG_WIDE(kg_consecutive_slots)(i);
+        unsigned takes_impulses, moving = 0u;
+        kg_wmotion m = KG_WIDE(kg_gather)(bodies, slots, &takes_impulses);
+        for (int lane = 0; lane < KG_W; ++lane) {
+            moving |= (unsigned)kg_flags_move(flags[i + lane]) << lane;
+        }
+        KG_ROWFN(kg_integrate_position_lanes)(&m.dp, &m.dq, m.v, m.w, h);
+        const kg_lane motion[4] = {m.dp.x, m.dp.y, m.dq.c, m.dq.s};
+        KG_WIDE(kg_columns_to_rows)(bodies, slots, moving, motion, 3);
+    }
+#endif
+    for (; i < end; ++i) {
+        kg_integrate_body_position((kg_u32)i, h, flags, bodies);
+    }
+}
+
+const kg_contact_rows KG_WIDE(kg_contact_rows) = {KG_W,
+                                                  sizeof(kg_wrow),
+                                                  KG_WIDE(kg_prepare),
+                                                  KG_WIDE(kg_run),
+                                                  KG_WIDE(kg_run_revolute),
+                                                  KG_WIDE(kg_integrate_velocities),
+                                                  KG_WIDE(kg_integrate_positions)};

@@ -149,6 +149,7 @@ void kg_solver_destroy(kg_world* world)
 /* ---- per-body loops ---------------------------------------------------------------- */
 
 typedef struct kg_body_job {
+    const kg_contact_rows* rows; /* the SIMD width's body loops */
     kg_body_pool* pool;
     kg_solver_body* bodies;
     kg_velocity_step* velocity_steps;
@@ -176,17 +177,13 @@ static void kg_load_bodies(void* context, int begin, int end)
 static void kg_integrate_velocities(void* context, int begin, int end)
 {
     kg_body_job* job = context;
-    for (int i = begin; i < end; ++i) {
-        kg_integrate_body_velocity((kg_u32)i, job->bodies, job->velocity_steps, job->prm);
-    }
+    job->rows->integrate_velocities(job->bodies, job->velocity_steps, begin, end, job->prm);
 }
 
 static void kg_integrate_positions(void* context, int begin, int end)
 {
     kg_body_job* job = context;
-    for (int i = begin; i < end; ++i) {
-        kg_integrate_body_position((kg_u32)i, job->prm.h, job->pool->flags, job->bodies);
-    }
+    job->rows->integrate_positions(job->bodies, job->pool->flags, begin, end, job->prm.h);
 }
 
 static void kg_store_bodies(void* context, int begin, int end)
@@ -500,7 +497,7 @@ void kg_stage_solve(kg_world* world, float dt)
     int n = world->def.substeps;
     float h = dt / (float)n;
     kg_body_pool* p = &world->bodies;
-    kg_body_job bjob = {p, s->bodies, s->velocity_steps, {world->def.gravity, h, world->def.max_linear_speed},
+    kg_body_job bjob = {s->rows, p, s->bodies, s->velocity_steps, {world->def.gravity, h, world->def.max_linear_speed},
                         kg_rest_params_of(&world->def, dt), 0};
     atomic_int bounces = 0;
     kg_constraint_job cjob = {p, s->bodies, contacts, count, s, 0, &bounces, kg_solver_params_of(&world->def, h),
