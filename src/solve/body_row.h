@@ -1,7 +1,7 @@
-/* A body's sub-step, written once over a lane type and instantiated per width as the
- * contacts' passes are (contact_row.h; no include guard: included once per width, after
- * contact_row.h for that width): semi-implicit Euler, velocities first from the step's
- * kg_velocity_step (solve/integrate.h), then the motion from the new velocities.
+/* A body's sub-step, written once over a lane type and instantiated with the contacts'
+ * passes (no include guard: contact_row.h includes it once per width, its lane macros
+ * KG_L, kg_lv2 and kg_lq in force): semi-implicit Euler, velocities first from the
+ * step's kg_velocity_step (solve/integrate.h), then the motion from the new velocities.
  *
  *   KG_W 1      a lane is a float: one body. solve/body_step.h runs it for body i, so
  *               the kernels and the CPU's last bodies of a range are this code.
@@ -11,18 +11,10 @@
  * computed, so a lane computes the bits the body computes alone at any width. */
 
 #if KG_W == 1
-#define KG_L(name) name
-#define kg_lv2 kg_vec2
-#define kg_lq kg_rot
 #define KG_LABS(x) fabsf(x)
 #define KG_LSQRT(x) sqrtf(x)
 typedef kg_velocity_step kg_velocity_lanes;
 #else
-#define KG_L3(name, w) name##_w##w
-#define KG_L2(name, w) KG_L3(name, w)
-#define KG_L(name) KG_L2(name, KG_W)
-#define kg_lv2 KG_L(kg_lvec2)
-#define kg_lq KG_L(kg_lrot)
 #define KG_LABS(x) ((kg_lane)((kg_lint)(x) & 0x7fffffff)) /* the sign bit cleared, as fabsf */
 #define KG_LSQRT(x) kg_vsqrt(x)
 
@@ -80,10 +72,3 @@ KG_FN void KG_L(kg_integrate_position_lanes)(kg_lv2* dp, kg_lq* dq, kg_lv2 v, kg
 #undef kg_lvstep
 #undef KG_LSQRT
 #undef KG_LABS
-#undef kg_lv2
-#undef kg_lq
-#undef KG_L
-#ifdef KG_L2
-#undef KG_L2
-#undef KG_L3
-#endif

@@ -15,7 +15,9 @@
  * does not have, or a padding lane, has zero masses and impulses and changes nothing.
  *
  * Before including: KG_W; kg_lane, kg_lmask, kg_lindex and kg_lint (the float,
- * comparison, slot and count types); KG_SEL(mask, a, b) and KG_LZERO. */
+ * comparison, slot and count types); KG_SEL(mask, a, b) and KG_LZERO; wider than 1, also
+ * kg_vsqrt (contact_vector_lanes.h) for the bodies' sub-step (body_row.h, included at
+ * the end). */
 
 #if KG_W == 1
 #define KG_L(name) name
@@ -378,6 +380,9 @@ KG_FN void KG_L(kg_contact_pass)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_so
     default: KG_L(kg_contact_restitution)(c, a, b, prm); break;
     }
 }
+
+/* the bodies' sub-step over the same lanes */
+#include "solve/body_row.h"
 
 #undef kg_lv2
 #undef kg_lq

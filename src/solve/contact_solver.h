@@ -47,8 +47,9 @@ typedef enum kg_constraint_pass {
     KG_PASS_RESTITUTION
 } kg_constraint_pass;
 
-/* The passes over one constraint and a body's sub-step, a float a lane (contact_row.h,
- * body_row.h; the CPU's SIMD widths are instantiated in solve/contact_wide.c). */
+/* The passes over one constraint, and a body's sub-step (body_row.h, which contact_row.h
+ * includes), a float a lane (the CPU's SIMD widths are instantiated in
+ * solve/contact_wide*.c). */
 #define KG_W 1
 #define kg_lane float
 #define kg_lmask int
@@ -57,7 +58,6 @@ typedef enum kg_constraint_pass {
 #define KG_SEL(mask, a, b) ((mask) ? (a) : (b))
 #define KG_LZERO 0.0f
 #include "solve/contact_row.h"
-#include "solve/body_row.h"
 #undef kg_lane
 #undef kg_lmask
 #undef kg_lindex

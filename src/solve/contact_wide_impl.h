@@ -6,7 +6,6 @@
 
 #if KG_W > 1
 #include "solve/joint_revolute_row.h"
-#include "solve/body_row.h"
 #endif
 
 #define KG_WIDE3(name, w) name##_w##w
