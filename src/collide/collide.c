@@ -66,6 +66,8 @@ struct kg_collision {
     int* kept_colors;        /* per contact: the colour it keeps (solve/coloring.h, kg_kept_color) */
     int waiting_colors;      /* how many keep none */
     int kept_known;          /* whether kept_colors is this step's (0 in a zeroed or restored state) */
+    kg_u32 kept_pool_writes; /* world->pool_writes when they were found: a write since may
+                              * have changed a body's motion */
     int count;
     int previous_count;
     int body_count;          /* contacts [0, body_count) are body pairs, the rest tiles */
@@ -130,6 +132,7 @@ static kg_result kg_reserve(kg_world* world, int capacity)
         return kg_fail(KG_ERROR_OUT_OF_MEMORY, "cannot allocate room for %d contacts", capacity);
     }
     c->capacity = capacity;
+    c->kept_known = 0; /* the kept colours were not carried over */
     world->def.max_contacts = capacity;
     return KG_OK;
 }
@@ -616,12 +619,14 @@ kg_result kg_stage_collide(kg_world* world)
     }
     c->waiting_colors = waiting;
     c->kept_known = 1;
+    c->kept_pool_writes = world->pool_writes;
     return KG_OK;
 }
 
 const int* kg_collision_kept_colors(const kg_world* world, int* waiting)
 {
-    *waiting = world->collision->kept_known ? world->collision->waiting_colors : -1;
+    const struct kg_collision* c = world->collision;
+    *waiting = c->kept_known && c->kept_pool_writes == world->pool_writes ? c->waiting_colors : -1;
     return world->collision->kept_colors;
 }
 

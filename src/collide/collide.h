@@ -74,8 +74,9 @@ const kg_contact* kg_collision_synced_previous(const kg_world* world, int* count
 
 /* The colour each current contact keeps from the last step (solve/coloring.h,
  * kg_kept_color, KG_UNCOLORED for none) as the CPU's collide stage found it, and in
- * *waiting how many keep none; -1 when unknown (a backend that builds contacts itself, or
- * a body's motion changed since: kg_collision_forget_kept_colors). */
+ * *waiting how many keep none; -1 when unknown (a backend that builds contacts itself, a
+ * write to the body pool through the API since, or a body's motion changed since:
+ * kg_collision_forget_kept_colors). */
 const int* kg_collision_kept_colors(const kg_world* world, int* waiting);
 void kg_collision_forget_kept_colors(kg_world* world);
 

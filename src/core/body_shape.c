@@ -391,9 +391,14 @@ kg_result kg_shape_get_def(const kg_world* world, kg_shape_id shape, kg_body_sha
 }
 
 /* Resolves a shape for a change of material or filter, after checking the new values:
- * its slot, with its body woken and the body pool ready for writing, or -1. */
+ * its slot, with its body woken and the body pool ready for writing, or -1. Refused
+ * from a pre-solve callback, as a body's changes are (it would wake a body between the
+ * collide and solve stages). */
 static int kg_write_shape(kg_world* world, kg_shape_id shape, kg_result values)
 {
+    if (kg_world_refuses(world, "changing a shape", KG_LOCK_ALL)) {
+        return -1;
+    }
     int s = kg_resolve_shape(world, shape);
     if (s < 0 || values != KG_OK) {
         return -1;
