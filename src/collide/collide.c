@@ -291,7 +291,7 @@ static const kg_contact* kg_previous_of(const kg_contact* previous, int count, i
  * walked by the bodies alone (a, b), then checked for the bodies' generations and their
  * shapes (first_shape), which change when a one-shape body's shape is replaced: not
  * looked up (first_shape NULL) while no shape was added or removed since that list. */
-static const kg_contact* kg_previous_of_bodies(const kg_contact* previous, int count, int* old, kg_u32 a, kg_u32 b,
+KG_FN_INLINE const kg_contact* kg_previous_of_bodies(const kg_contact* previous, int count, int* old, kg_u32 a, kg_u32 b,
                                                const kg_u32* generation, const kg_u32* first_shape)
 {
     while (*old < count && kg_pair_less(previous[*old].a, previous[*old].b, a, b)) {
@@ -438,7 +438,7 @@ static void kg_finish_contact(kg_contact* ct, kg_shape_pair key, float fa, float
  * kg_finish_contact make of a kept manifold, the same bits, without reading the shapes or
  * building the manifold aside and copying it in. Its material is the caller's to mix
  * again: a shape's may have been set since. */
-static int kg_recycle_contact(kg_contact* ct, const kg_contact* prev, const kg_body_pool* p,
+KG_FN_INLINE int kg_recycle_contact(kg_contact* ct, const kg_contact* prev, const kg_body_pool* p,
                               float speculative_distance, float dt)
 {
     if (!prev->manifold.keepable) {
@@ -468,8 +468,8 @@ static int kg_recycle_contact(kg_contact* ct, const kg_contact* prev, const kg_b
  * material are the body pool's (the same values); its shape is looked up only to name it
  * in a contact. Keying contacts by shapes then costs large_pyramid 0.3 M instructions a
  * step (34.1 M against 33.8 M, callgrind), 0.7 M without this path. */
-static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int* carried_sum, int* missed_sum,
-                                int* waiting_sum)
+KG_CPU_CLONES static int kg_narrowphase_block(kg_narrowphase_job* job, int begin, int end, int* carried_sum,
+                                              int* missed_sum, int* waiting_sum)
 {
     const kg_body_pool* p = job->bodies;
     const kg_shape_pool* sp = job->shapes;

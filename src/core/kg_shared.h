@@ -50,6 +50,15 @@ typedef int32_t kg_i32;
  * most cells leave at once, keeps the loop over the cells small (0.6 M instructions of 36
  * on 100 steps of demo_platformer) */
 #define KG_FN_NOINLINE static __attribute__((noinline))
+/* A hot CPU function built twice, for AVX2 and for the baseline, the one the CPU runs
+ * chosen when the library loads (an ifunc). Scalar code gains from AVX2's wider moves
+ * and three-operand forms alone: no FMA (that is another instruction set, and the build
+ * says -ffp-contract=off), so the two give the same bits. */
+#if defined(__x86_64__) && defined(__linux__) && !defined(KG_NO_TARGET_CLONES)
+#define KG_CPU_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define KG_CPU_CLONES
+#endif
 #define KG_GLOBAL
 #define KG_FLT_MAX FLT_MAX
 #define kg_lowest_bit(x) __builtin_ctz(x) /* the index of x's lowest set bit; x != 0 */
