@@ -291,8 +291,8 @@ static const kg_contact* kg_previous_of(const kg_contact* previous, int count, i
  * walked by the bodies alone (a, b), then checked for the bodies' generations and their
  * shapes (first_shape), which change when a one-shape body's shape is replaced: not
  * looked up (first_shape NULL) while no shape was added or removed since that list. */
-KG_FN_INLINE const kg_contact* kg_previous_of_bodies(const kg_contact* previous, int count, int* old, kg_u32 a, kg_u32 b,
-                                               const kg_u32* generation, const kg_u32* first_shape)
+KG_FN_INLINE const kg_contact* kg_previous_of_bodies(const kg_contact* previous, int count, int* old, kg_u32 a,
+                                                     kg_u32 b, const kg_u32* generation, const kg_u32* first_shape)
 {
     while (*old < count && kg_pair_less(previous[*old].a, previous[*old].b, a, b)) {
         *old += 1;
@@ -398,10 +398,18 @@ typedef struct kg_narrowphase_job {
  * kept[at]; returns 1 when it keeps none. The colouring of the solve stage then has
  * nothing to do when every contact keeps its colour (a settled pile): it would otherwise
  * read every contact again (large_pyramid: 5% of the step). */
-KG_FN_INLINE int kg_note_kept_color(const kg_contact* contacts, int* kept, int at, const kg_u32* flags)
+KG_FN_INLINE int kg_note_kept_color(int* kept, int at, kg_u32 word, kg_color_ends ends)
 {
-    kept[at] = kg_kept_color(contacts[at].color, kg_color_ends_of((kg_u32)at, contacts, flags));
+    kept[at] = kg_kept_color(word, ends);
     return kept[at] == KG_UNCOLORED;
+}
+
+/* The ends of a contact between bodies a and b: both are bodies (not the static world of
+ * a tile contact), so there is no null slot to test. */
+KG_FN_INLINE kg_color_ends kg_body_pair_ends(kg_u32 a, kg_u32 b, const kg_u32* flags)
+{
+    kg_color_ends e = {a, b, kg_flags_simulated(flags[a]), kg_flags_simulated(flags[b])};
+    return e;
 }
 
 static int kg_rested(const kg_body_pool* p, kg_u32 i) { return (p->flags[i] & KG_FLAG_RESTED) != 0; }
@@ -492,7 +500,8 @@ KG_CPU_CLONES static int kg_narrowphase_block(kg_narrowphase_job* job, int begin
             kg_keep_contact(ct, prev);
             carried += ct->manifold.point_count;
             if (ct->manifold.point_count > 0) {
-                waiting += kg_note_kept_color(job->contacts, job->kept_colors, n++, p->flags);
+                waiting += kg_note_kept_color(job->kept_colors, n++, ct->color,
+                                              kg_body_pair_ends(ct->a, ct->b, p->flags));
             }
             continue;
         }
@@ -502,7 +511,8 @@ KG_CPU_CLONES static int kg_narrowphase_block(kg_narrowphase_job* job, int begin
                 ct->restitution = kg_maxf(restitution[ga], restitution[gb]);
             }
             carried += kg_carry_kept_impulses(&ct->manifold, &prev->manifold);
-            waiting += kg_note_kept_color(job->contacts, job->kept_colors, n++, p->flags);
+            waiting +=
+                kg_note_kept_color(job->kept_colors, n++, ct->color, kg_body_pair_ends(ct->a, ct->b, p->flags));
             continue;
         }
         key = by_shapes ? key : kg_item(job, k);
@@ -515,7 +525,8 @@ KG_CPU_CLONES static int kg_narrowphase_block(kg_narrowphase_job* job, int begin
         }
         kg_finish_contact(ct, key, friction[ga], friction[gb], restitution[ga], restitution[gb], prev, kept,
                           p->generation, &carried, &missed);
-        waiting += kg_note_kept_color(job->contacts, job->kept_colors, n++, p->flags);
+        waiting +=
+            kg_note_kept_color(job->kept_colors, n++, ct->color, kg_body_pair_ends(ct->a, ct->b, p->flags));
     }
     *carried_sum += carried;
     *missed_sum += missed;
@@ -615,7 +626,8 @@ kg_result kg_stage_collide(kg_world* world)
     c->count = (int)kg_contacts_with_tiles((kg_u32)c->count, (kg_u32)tiles, (kg_u32)c->capacity);
     int waiting = atomic_load(&job.waiting);
     for (int k = c->body_count; k < c->count; ++k) {
-        waiting += kg_note_kept_color(c->contacts, c->kept_colors, k, world->bodies.flags);
+        kg_color_ends ends = kg_color_ends_of((kg_u32)k, c->contacts, world->bodies.flags);
+        waiting += kg_note_kept_color(c->kept_colors, k, c->contacts[k].color, ends);
     }
     c->waiting_colors = waiting;
     c->kept_known = 1;
