@@ -63,9 +63,11 @@ typedef struct KG_L(kg_contact_constraint) {
     kg_lane friction, restitution;
     kg_lane bias_rate, mass_scale, impulse_scale; /* the contact's softness */
     kg_lane share_b;                              /* b's share of the inverse mass: where the anchors meet */
-    /* the inverse of the two normal rows' 2x2 mass (the block solve), made at prepare;
-     * block 0 when the contact has one point or the rows are too nearly redundant */
-    kg_lane inv_k11, inv_k12, inv_k22, block;
+    /* the two normal rows' 2x2 mass at prepare: its coupling k12 (how far an impulse at
+     * one point changes the other's normal velocity), and its inverse for the block
+     * solve, zeros (no block solve) when the contact has one point or the rows are too
+     * nearly redundant */
+    kg_lane k12, inv_k11, inv_k12, inv_k22;
     kg_lindex a, b;    /* body slots; KG_NULL_INDEX = the static world (or a padding lane) */
     kg_lindex contact; /* index of the contact it came from */
     kg_lint point_count;
@@ -126,9 +128,10 @@ typedef struct KG_L(kg_prepare_input) {
 
 /* Builds the constraint from a contact, its masses already set. A point the manifold
  * does not have is all zeros, so the passes, which always run both points, leave it at
- * zero. The inverse of a two-point contact's 2x2 normal mass is made here, from the
- * anchors at prepare, for the block solve; block 0 (one point at a time) when there is
- * one point or the rows are too nearly redundant. */
+ * zero. A two-point contact's 2x2 normal mass is made here, from the anchors at
+ * prepare: its coupling for the points solved one after the other, its inverse for the
+ * block solve (zeros, one point at a time, when there is one point or the rows are too
+ * nearly redundant). */
 KG_FN void KG_L(kg_contact_prepare_lanes)(kg_lrow* c, const KG_L(kg_prepare_input)* in, kg_solver_params prm)
 {
     kg_lane zero = KG_LZERO, ma = c->inv_mass_a, ia = c->inv_i_a, mb = c->inv_mass_b, ib = c->inv_i_b;
@@ -173,7 +176,7 @@ KG_FN void KG_L(kg_contact_prepare_lanes)(kg_lrow* c, const KG_L(kg_prepare_inpu
     c->inv_k11 = inv_det * k22;
     c->inv_k12 = -inv_det * k12;
     c->inv_k22 = inv_det * k11;
-    c->block = KG_SEL(ok, zero + 1.0f, zero);
+    c->k12 = k12;
 }
 
 KG_FN void KG_L(kg_apply_impulse_pair)(const kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_lv2 ra, kg_lv2 rb, kg_lv2 p)
@@ -284,20 +287,18 @@ KG_FN void KG_L(kg_contact_solve)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_s
     kg_lane acc0 = c->points[0].normal_impulse, acc1 = c->points[1].normal_impulse;
     kg_lane x0 = -(c->inv_k11 * rhs0 + c->inv_k12 * rhs1) - pb[0].impulse_scale * acc0;
     kg_lane x1 = -(c->inv_k12 * rhs0 + c->inv_k22 * rhs1) - pb[1].impulse_scale * acc1;
-    kg_lmask use_block = (c->block > zero) & (pb[0].mass_scale == pb[1].mass_scale) & (acc0 + x0 >= zero) &
+    kg_lmask use_block = (c->inv_k11 > zero) & (pb[0].mass_scale == pb[1].mass_scale) & (acc0 + x0 >= zero) &
                          (acc1 + x1 >= zero);
-    /* one point after the other: the second sees the first's impulse */
-    kg_lmotion sa = *a, sb = *b;
+    /* one point after the other: the second sees the first's impulse, through the
+     * coupling k12 (a one-point contact's second point has no mass: it pushes nothing) */
     kg_lane seq[2];
+    kg_lane v = vn[0];
     for (int j = 0; j < 2; ++j) {
         kg_lpoint* cp = &c->points[j];
-        kg_lane v = KG_L(kg_normal_velocity_at)(c, &sa, &sb, ra[j], rb[j]);
         kg_lane impulse = -cp->normal_mass * pb[j].mass_scale * (v + pb[j].bias) - pb[j].impulse_scale * cp->normal_impulse;
         seq[j] = KG_L(kg_lmax)(cp->normal_impulse + impulse, zero) - cp->normal_impulse;
         vn[j] = KG_SEL(use_block, vn[j], v);
-        if (j == 0) {
-            KG_L(kg_apply_impulse_pair)(c, &sa, &sb, ra[0], rb[0], KG_L(kg_lscale)(seq[0], c->normal));
-        }
+        v = vn[1] + c->k12 * seq[0];
     }
     /* either way, the chosen impulses applied in point order: the same operations as
      * the sequential candidate's where it is chosen */
@@ -350,7 +351,7 @@ KG_FN void KG_L(kg_contact_restitution)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b
     }
     kg_lane x0 = -(c->inv_k11 * rhs[0] + c->inv_k12 * rhs[1]);
     kg_lane x1 = -(c->inv_k12 * rhs[0] + c->inv_k22 * rhs[1]);
-    kg_lmask use_block = bounces[0] & bounces[1] & (c->block > zero) & (c->points[0].normal_impulse + x0 >= zero) &
+    kg_lmask use_block = bounces[0] & bounces[1] & (c->inv_k11 > zero) & (c->points[0].normal_impulse + x0 >= zero) &
                          (c->points[1].normal_impulse + x1 >= zero);
     kg_lane block_x[2] = {x0, x1};
     for (int j = 0; j < 2; ++j) {
