@@ -108,8 +108,15 @@ KG_FN kg_lv2 KG_L(kg_lpoint_velocity)(kg_lv2 v, kg_lane w, kg_lv2 r)
 {
     return KG_L(kg_lmake)(v.x - w * r.y, v.y + w * r.x);
 }
+/* a > b ? a : b and a < b ? a : b, lane by lane; a width may give them as the x86
+ * max and min instructions, which are defined as exactly these (KG_LMAX, KG_LMIN) */
+#ifdef KG_LMAX
+KG_FN kg_lane KG_L(kg_lmax)(kg_lane a, kg_lane b) { return KG_LMAX(a, b); }
+KG_FN kg_lane KG_L(kg_lmin)(kg_lane a, kg_lane b) { return KG_LMIN(a, b); }
+#else
 KG_FN kg_lane KG_L(kg_lmax)(kg_lane a, kg_lane b) { return KG_SEL(a > b, a, b); }
 KG_FN kg_lane KG_L(kg_lmin)(kg_lane a, kg_lane b) { return KG_SEL(a < b, a, b); }
+#endif
 
 /* What prepare reads of a contact besides the masses: its manifold (anchors relative to
  * the body origins; has_point 1 or 0 for each point) and the bodies' state. */

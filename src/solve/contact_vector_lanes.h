@@ -25,6 +25,22 @@ static inline kg_vf kg_blend(kg_vi mask, kg_vf a, kg_vf b) { return (kg_vf)(((kg
 #include <immintrin.h>
 #endif
 
+/* a > b ? a : b and a < b ? a : b in one instruction each on x86, whose MAXPS and MINPS
+ * are defined as exactly that (the second operand where the comparison fails: NaN, and
+ * zeros of either sign), so the bits are those of the select (contact_row.h's kg_lmax).
+ * The select is a comparison and two or three bitwise operations; the row's pass has
+ * ten of them. Elsewhere (NEON's max returns NaN) the select. */
+#if KG_W == 16 && defined(__AVX512F__)
+#define KG_LMAX(a, b) ((kg_vf)_mm512_max_ps((__m512)(a), (__m512)(b)))
+#define KG_LMIN(a, b) ((kg_vf)_mm512_min_ps((__m512)(a), (__m512)(b)))
+#elif KG_W == 8 && defined(__AVX__)
+#define KG_LMAX(a, b) ((kg_vf)_mm256_max_ps((__m256)(a), (__m256)(b)))
+#define KG_LMIN(a, b) ((kg_vf)_mm256_min_ps((__m256)(a), (__m256)(b)))
+#elif KG_W == 4 && defined(__SSE__)
+#define KG_LMAX(a, b) ((kg_vf)_mm_max_ps((__m128)(a), (__m128)(b)))
+#define KG_LMIN(a, b) ((kg_vf)_mm_min_ps((__m128)(a), (__m128)(b)))
+#endif
+
 /* The correctly rounded square root of each lane (IEEE, as sqrtf): one instruction where
  * the width has it. */
 static inline kg_vf kg_vsqrt(kg_vf x)
