@@ -39,18 +39,18 @@ KG_FN void KG_L(kg_apply_velocity_lanes)(kg_lv2* v, kg_lane* w, const kg_lvstep*
     kg_lane nw = s->ang_factor * (*w) + s->dw;
     float max_speed = prm.max_linear_speed;
     kg_lane ax = KG_LABS(nv.x), ay = KG_LABS(nv.y);
-    kg_lane largest = KG_SEL(ax > ay, ax, ay);
-    kg_lmask too_fast = (largest > zero + max_speed) | (nv.x * nv.x + nv.y * nv.y > zero + max_speed * max_speed);
+    kg_lane largest = KG_SEL(KG_LGT(ax, ay), ax, ay);
+    kg_lmask too_fast = KG_LGT(largest, zero + max_speed) | KG_LGT(nv.x * nv.x + nv.y * nv.y, zero + max_speed * max_speed);
     kg_lane inv_largest = 1.0f / largest; /* inf or NaN where not too fast: not kept */
     kg_lane ux = inv_largest * nv.x, uy = inv_largest * nv.y;
     kg_lane length = KG_LSQRT(ux * ux + uy * uy);
-    kg_lmask tiny = length < zero + 1.0e-12f;
+    kg_lmask tiny = KG_LLT(length, zero + 1.0e-12f);
     kg_lane inv_length = 1.0f / length;
     kg_lane dx = KG_SEL(tiny, zero, inv_length * ux), dy = KG_SEL(tiny, zero, inv_length * uy);
     v->x = KG_SEL(too_fast, max_speed * dx, nv.x);
     v->y = KG_SEL(too_fast, max_speed * dy, nv.y);
     float max_w = KG_MAX_ROTATION_PER_SUBSTEP / prm.h;
-    *w = KG_SEL(nw < zero - max_w, zero - max_w, KG_SEL(nw > zero + max_w, zero + max_w, nw));
+    *w = KG_SEL(KG_LLT(nw, zero - max_w), zero - max_w, KG_SEL(KG_LGT(nw, zero + max_w), zero + max_w, nw));
 }
 
 /* The motion after one sub-step at velocities v and w: dp moved by h v, dq turned by h w
@@ -64,7 +64,7 @@ KG_FN void KG_L(kg_integrate_position_lanes)(kg_lv2* dp, kg_lq* dq, kg_lv2 v, kg
     kg_lane turn = h * w;
     kg_lane c = dq->c - turn * dq->s, s = dq->s + turn * dq->c;
     kg_lane magnitude = KG_LSQRT(s * s + c * c);
-    kg_lane inv = KG_SEL(magnitude > zero, 1.0f / magnitude, zero);
+    kg_lane inv = KG_SEL(KG_LGT(magnitude, zero), 1.0f / magnitude, zero);
     dq->c = c * inv;
     dq->s = s * inv;
 }

@@ -15,7 +15,8 @@
  * does not have, or a padding lane, has zero masses and impulses and changes nothing.
  *
  * Before including: KG_W; kg_lane, kg_lmask, kg_lindex and kg_lint (the float,
- * comparison, slot and count types); KG_SEL(mask, a, b) and KG_LZERO; wider than 1, also
+ * comparison, slot and count types); KG_SEL(mask, a, b), KG_LZERO and the comparisons
+ * KG_LGT, KG_LLT, KG_LGE, KG_LEQ and KG_LNE (a mask each); wider than 1, also
  * kg_vsqrt (contact_vector_lanes.h) for the bodies' sub-step (body_row.h, included at
  * the end). */
 
@@ -114,8 +115,8 @@ KG_FN kg_lv2 KG_L(kg_lpoint_velocity)(kg_lv2 v, kg_lane w, kg_lv2 r)
 KG_FN kg_lane KG_L(kg_lmax)(kg_lane a, kg_lane b) { return KG_LMAX(a, b); }
 KG_FN kg_lane KG_L(kg_lmin)(kg_lane a, kg_lane b) { return KG_LMIN(a, b); }
 #else
-KG_FN kg_lane KG_L(kg_lmax)(kg_lane a, kg_lane b) { return KG_SEL(a > b, a, b); }
-KG_FN kg_lane KG_L(kg_lmin)(kg_lane a, kg_lane b) { return KG_SEL(a < b, a, b); }
+KG_FN kg_lane KG_L(kg_lmax)(kg_lane a, kg_lane b) { return KG_SEL(KG_LGT(a, b), a, b); }
+KG_FN kg_lane KG_L(kg_lmin)(kg_lane a, kg_lane b) { return KG_SEL(KG_LLT(a, b), a, b); }
 #endif
 
 /* What prepare reads of a contact besides the masses: its manifold (anchors relative to
@@ -142,18 +143,18 @@ typedef struct KG_L(kg_prepare_input) {
 KG_FN void KG_L(kg_contact_prepare_lanes)(kg_lrow* c, const KG_L(kg_prepare_input)* in, kg_solver_params prm)
 {
     kg_lane zero = KG_LZERO, ma = c->inv_mass_a, ia = c->inv_i_a, mb = c->inv_mass_b, ib = c->inv_i_b;
-    kg_lmask against_static = ((ma == zero) & (ia == zero)) | ((mb == zero) & (ib == zero));
+    kg_lmask against_static = (KG_LEQ(ma, zero) & KG_LEQ(ia, zero)) | (KG_LEQ(mb, zero) & KG_LEQ(ib, zero));
     c->bias_rate = KG_SEL(against_static, zero + prm.static_softness.bias_rate, zero + prm.contact_softness.bias_rate);
     c->mass_scale = KG_SEL(against_static, zero + prm.static_softness.mass_scale, zero + prm.contact_softness.mass_scale);
     c->impulse_scale =
         KG_SEL(against_static, zero + prm.static_softness.impulse_scale, zero + prm.contact_softness.impulse_scale);
-    c->share_b = KG_SEL(ma + mb > zero, mb / (ma + mb), zero + 0.5f);
+    c->share_b = KG_SEL(KG_LGT(ma + mb, zero), mb / (ma + mb), zero + 0.5f);
     c->normal = in->normal;
     kg_lv2 n = in->normal, t = KG_L(kg_lright_perp)(in->normal);
     kg_lane rn[2][2]; /* cross(r, n) of each point, on a and on b */
     for (int j = 0; j < 2; ++j) {
         kg_lpoint* cp = &c->points[j];
-        kg_lmask has = in->has_point[j] > zero;
+        kg_lmask has = KG_LGT(in->has_point[j], zero);
         kg_lv2 ra = KG_L(kg_lsub)(KG_L(kg_ladd)(in->anchor_a[j], in->origin_a), in->center_a);
         kg_lv2 rb = KG_L(kg_lsub)(KG_L(kg_ladd)(in->anchor_b[j], in->origin_b), in->center_b);
         rn[j][0] = KG_SEL(has, KG_L(kg_lcross)(ra, n), zero);
@@ -168,8 +169,8 @@ KG_FN void KG_L(kg_contact_prepare_lanes)(kg_lrow* c, const KG_L(kg_prepare_inpu
         cp->normal_impulse = KG_SEL(has, in->normal_impulse[j], zero);
         cp->tangent_impulse = KG_SEL(has, in->tangent_impulse[j], zero);
         cp->max_normal_impulse = zero;
-        cp->normal_mass = KG_SEL(has & (kn > zero), 1.0f / kn, zero);
-        cp->tangent_mass = KG_SEL(has & (kt > zero), 1.0f / kt, zero);
+        cp->normal_mass = KG_SEL(has & KG_LGT(kn, zero), 1.0f / kn, zero);
+        cp->tangent_mass = KG_SEL(has & KG_LGT(kt, zero), 1.0f / kt, zero);
         cp->relative_velocity = KG_SEL(has, KG_L(kg_ldot)(n, dv), zero);
         cp->total_normal_impulse = zero;
     }
@@ -178,7 +179,7 @@ KG_FN void KG_L(kg_contact_prepare_lanes)(kg_lrow* c, const KG_L(kg_prepare_inpu
     kg_lane k22 = m + ia * rn[1][0] * rn[1][0] + ib * rn[1][1] * rn[1][1];
     kg_lane k12 = m + ia * rn[0][0] * rn[1][0] + ib * rn[0][1] * rn[1][1];
     kg_lane det = k11 * k22 - k12 * k12;
-    kg_lmask ok = (in->has_point[1] > zero) & (k11 * k11 < KG_MAX_BLOCK_CONDITION * det);
+    kg_lmask ok = KG_LGT(in->has_point[1], zero) & KG_LLT(k11 * k11, KG_MAX_BLOCK_CONDITION * det);
     kg_lane inv_det = KG_SEL(ok, 1.0f / det, zero);
     c->inv_k11 = inv_det * k22;
     c->inv_k12 = -inv_det * k12;
@@ -248,7 +249,7 @@ typedef struct KG_L(kg_point_bias) {
 KG_FN KG_L(kg_point_bias) KG_L(kg_point_bias_of)(const kg_lrow* c, kg_lane s, kg_solver_params prm, int use_bias)
 {
     KG_L(kg_point_bias) pb;
-    kg_lmask apart = s > KG_LZERO;
+    kg_lmask apart = KG_LGT(s, KG_LZERO);
     kg_lane zero = KG_LZERO;
     kg_lane push = use_bias ? KG_L(kg_lmax)(c->bias_rate * s, zero - prm.max_push_out_speed) : zero;
     pb.bias = KG_SEL(apart, s * prm.inv_h, push);
@@ -263,7 +264,7 @@ KG_FN KG_L(kg_point_bias) KG_L(kg_point_bias_of)(const kg_lrow* c, kg_lane s, kg
  * gained (up to g dt) before the bodies actually met. */
 KG_FN void KG_L(kg_accumulate_normal)(kg_lpoint* cp, kg_lane applied, kg_lane vn)
 {
-    kg_lmask first = (cp->max_normal_impulse == KG_LZERO) & (applied > KG_LZERO);
+    kg_lmask first = KG_LEQ(cp->max_normal_impulse, KG_LZERO) & KG_LGT(applied, KG_LZERO);
     cp->relative_velocity = KG_SEL(first, vn, cp->relative_velocity);
     cp->normal_impulse = cp->normal_impulse + applied;
     cp->max_normal_impulse = KG_L(kg_lmax)(cp->max_normal_impulse, applied);
@@ -294,8 +295,8 @@ KG_FN void KG_L(kg_contact_solve)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b, kg_s
     kg_lane acc0 = c->points[0].normal_impulse, acc1 = c->points[1].normal_impulse;
     kg_lane x0 = -(c->inv_k11 * rhs0 + c->inv_k12 * rhs1) - pb[0].impulse_scale * acc0;
     kg_lane x1 = -(c->inv_k12 * rhs0 + c->inv_k22 * rhs1) - pb[1].impulse_scale * acc1;
-    kg_lmask use_block = (c->inv_k11 > zero) & (pb[0].mass_scale == pb[1].mass_scale) & (acc0 + x0 >= zero) &
-                         (acc1 + x1 >= zero);
+    kg_lmask use_block = KG_LGT(c->inv_k11, zero) & KG_LEQ(pb[0].mass_scale, pb[1].mass_scale) &
+                         KG_LGE(acc0 + x0, zero) & KG_LGE(acc1 + x1, zero);
     /* one point after the other: the second sees the first's impulse, through the
      * coupling k12 (a one-point contact's second point has no mass: it pushes nothing) */
     kg_lane seq[2];
@@ -352,14 +353,14 @@ KG_FN void KG_L(kg_contact_restitution)(kg_lrow* c, kg_lmotion* a, kg_lmotion* b
     for (int j = 0; j < 2; ++j) {
         const kg_lpoint* cp = &c->points[j];
         KG_L(kg_current_anchors)(c, cp, a, b, &ra[j], &rb[j]);
-        bounces[j] = (cp->relative_velocity < zero - prm.restitution_threshold) & (cp->max_normal_impulse > zero) &
-                     (c->restitution != zero);
+        bounces[j] = KG_LLT(cp->relative_velocity, zero - prm.restitution_threshold) &
+                     KG_LGT(cp->max_normal_impulse, zero) & KG_LNE(c->restitution, zero);
         rhs[j] = KG_L(kg_normal_velocity_at)(c, a, b, ra[j], rb[j]) + c->restitution * cp->relative_velocity;
     }
     kg_lane x0 = -(c->inv_k11 * rhs[0] + c->inv_k12 * rhs[1]);
     kg_lane x1 = -(c->inv_k12 * rhs[0] + c->inv_k22 * rhs[1]);
-    kg_lmask use_block = bounces[0] & bounces[1] & (c->inv_k11 > zero) & (c->points[0].normal_impulse + x0 >= zero) &
-                         (c->points[1].normal_impulse + x1 >= zero);
+    kg_lmask use_block = bounces[0] & bounces[1] & KG_LGT(c->inv_k11, zero) &
+                         KG_LGE(c->points[0].normal_impulse + x0, zero) & KG_LGE(c->points[1].normal_impulse + x1, zero);
     kg_lane block_x[2] = {x0, x1};
     for (int j = 0; j < 2; ++j) {
         kg_lpoint* cp = &c->points[j];

@@ -1,7 +1,7 @@
 /* The lane types of contact_row.h for the CPU's SIMD widths: GCC/Clang vectors of KG_W
- * floats, masks of KG_W ints (what a comparison of two float vectors gives), and a
- * select that copies lanes bitwise. Define KG_W (4, 8 or 16), then include this, then
- * contact_row.h and contact_wide_impl.h; once per file. */
+ * floats; masks, what the comparisons KG_LGT and the like give (KG_W ints, or with
+ * AVX-512 a mask register); and a select that copies lanes bitwise. Define KG_W (4, 8
+ * or 16), then include this, then contact_row.h and contact_wide_impl.h; once per file. */
 #ifndef KG_CONTACT_VECTOR_LANES_H
 #define KG_CONTACT_VECTOR_LANES_H
 
@@ -9,20 +9,40 @@ typedef float kg_vf __attribute__((vector_size(4 * KG_W)));
 typedef int kg_vi __attribute__((vector_size(4 * KG_W)));
 typedef unsigned kg_vu __attribute__((vector_size(4 * KG_W)));
 
-/* the lanes of a where mask is set, else of b: bitwise, so the lanes are exact copies */
-static inline kg_vf kg_blend(kg_vi mask, kg_vf a, kg_vf b) { return (kg_vf)(((kg_vi)a & mask) | ((kg_vi)b & ~mask)); }
-
-#define kg_lane kg_vf
-#define kg_lmask kg_vi
-#define kg_lindex kg_vu
-#define kg_lint kg_vi
-#define KG_SEL(mask, a, b) kg_blend((mask), (a), (b))
-#define KG_LZERO ((kg_vf){0.0f}) /* the other lanes are zeroed too */
-#define KG_LANE_OF(v, lane) ((v)[lane])
-
 #include <math.h>
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
+#endif
+
+#define kg_lane kg_vf
+#define kg_lindex kg_vu
+#define kg_lint kg_vi
+#define KG_LZERO ((kg_vf){0.0f}) /* the other lanes are zeroed too */
+#define KG_LANE_OF(v, lane) ((v)[lane])
+
+#if KG_W == 16 && defined(__AVX512F__)
+/* AVX-512 compares into a mask register, a bit a lane, and blends by one: a select is
+ * one instruction, where the vector masks of the other widths made it two (a masked xor
+ * and an xor) after the comparison. The predicates are C's: ordered (false with a NaN)
+ * but for !=. */
+#define kg_lmask __mmask16
+#define KG_SEL(mask, a, b) ((kg_vf)_mm512_mask_blend_ps((mask), (__m512)(b), (__m512)(a)))
+#define KG_LGT(a, b) _mm512_cmp_ps_mask((__m512)(a), (__m512)(b), _CMP_GT_OQ)
+#define KG_LLT(a, b) _mm512_cmp_ps_mask((__m512)(a), (__m512)(b), _CMP_LT_OQ)
+#define KG_LGE(a, b) _mm512_cmp_ps_mask((__m512)(a), (__m512)(b), _CMP_GE_OQ)
+#define KG_LEQ(a, b) _mm512_cmp_ps_mask((__m512)(a), (__m512)(b), _CMP_EQ_OQ)
+#define KG_LNE(a, b) _mm512_cmp_ps_mask((__m512)(a), (__m512)(b), _CMP_NEQ_UQ)
+#else
+/* the lanes of a where mask is set, else of b: bitwise, so the lanes are exact copies */
+static inline kg_vf kg_blend(kg_vi mask, kg_vf a, kg_vf b) { return (kg_vf)(((kg_vi)a & mask) | ((kg_vi)b & ~mask)); }
+
+#define kg_lmask kg_vi
+#define KG_SEL(mask, a, b) kg_blend((mask), (a), (b))
+#define KG_LGT(a, b) ((a) > (b))
+#define KG_LLT(a, b) ((a) < (b))
+#define KG_LGE(a, b) ((a) >= (b))
+#define KG_LEQ(a, b) ((a) == (b))
+#define KG_LNE(a, b) ((a) != (b))
 #endif
 
 /* a > b ? a : b and a < b ? a : b in one instruction each on x86, whose MAXPS and MINPS

@@ -63,7 +63,7 @@ KG_FN kg_lane KG_L(kg_atan2)(kg_lane y, kg_lane x)
 {
     kg_lane zero = KG_LZERO, ax = KG_LABS(x), ay = KG_LABS(y);
     kg_lane mx = KG_L(kg_lmax)(ax, ay), mn = KG_L(kg_lmin)(ax, ay);
-    kg_lane t = KG_SEL(mx > zero, mn / mx, zero);
+    kg_lane t = KG_SEL(KG_LGT(mx, zero), mn / mx, zero);
     kg_lane s = t * t;
     kg_lane p = zero + 0.0028662257f;
     p = p * s - 0.0161657367f;
@@ -74,9 +74,9 @@ KG_FN kg_lane KG_L(kg_atan2)(kg_lane y, kg_lane x)
     p = p * s + 0.1999355085f;
     p = p * s - 0.3333314528f;
     kg_lane r = t + t * s * p;
-    r = KG_SEL(ay > ax, 1.57079632679f - r, r);
-    r = KG_SEL(x < zero, KG_JOINT_PI - r, r);
-    return KG_SEL(y < zero, -r, r);
+    r = KG_SEL(KG_LGT(ay, ax), 1.57079632679f - r, r);
+    r = KG_SEL(KG_LLT(x, zero), KG_JOINT_PI - r, r);
+    return KG_SEL(KG_LLT(y, zero), -r, r);
 }
 
 /* The angle of b relative to a, in [-pi, pi]. */
@@ -89,8 +89,9 @@ KG_FN kg_lane KG_L(kg_relative_angle)(kg_lq b, kg_lq a)
 
 KG_FN kg_lane KG_L(kg_unwind_angle)(kg_lane angle)
 {
-    kg_lane wrapped = KG_SEL(angle > KG_JOINT_PI, angle - 2.0f * KG_JOINT_PI, angle);
-    return KG_SEL(angle < -KG_JOINT_PI, angle + 2.0f * KG_JOINT_PI, wrapped);
+    kg_lane pi = KG_LZERO + KG_JOINT_PI;
+    kg_lane wrapped = KG_SEL(KG_LGT(angle, pi), angle - 2.0f * KG_JOINT_PI, angle);
+    return KG_SEL(KG_LLT(angle, KG_LZERO - pi), angle + 2.0f * KG_JOINT_PI, wrapped);
 }
 
 /* The joint's bodies as the solver sees them now, with the anchors turned by the
@@ -106,7 +107,7 @@ typedef struct KG_L(kg_joint_pair) {
 KG_FN kg_lv2 KG_L(kg_solve22)(kg_lane k11, kg_lane k12, kg_lane k22, kg_lv2 b)
 {
     kg_lane zero = KG_LZERO, det = k11 * k22 - k12 * k12;
-    det = KG_SEL(det != zero, 1.0f / det, zero);
+    det = KG_SEL(KG_LNE(det, zero), 1.0f / det, zero);
     return KG_L(kg_lmake)(det * (k22 * b.x - k12 * b.y), det * (k11 * b.y - k12 * b.x));
 }
 
@@ -174,7 +175,7 @@ KG_FN kg_lane KG_L(kg_one_sided)(kg_lmask on, kg_lane c, kg_lane cdot, kg_lane m
                                  kg_solver_params prm)
 {
     kg_lane zero = KG_LZERO;
-    kg_lmask inside = c > zero;
+    kg_lmask inside = KG_LGT(c, zero);
     kg_lane bias = KG_SEL(inside, c * prm.inv_h, rigid.bias_rate * c);
     kg_lane mass_scale = KG_SEL(inside, zero + 1.0f, rigid.mass_scale);
     kg_lane impulse_scale = KG_SEL(inside, zero, rigid.impulse_scale);
@@ -195,7 +196,7 @@ KG_FN void KG_L(kg_revolute_turn)(const kg_lrev* r, kg_lpair* s, kg_lmask on, kg
 /* The joint's own spring about its reference angle (every pass). */
 KG_FN void KG_L(kg_revolute_spring)(kg_lrev* r, kg_lpair* s)
 {
-    kg_lmask on = r->has_spring != KG_LZERO;
+    kg_lmask on = KG_LNE(r->has_spring, KG_LZERO);
     kg_lane c = KG_L(kg_joint_angle)(r->delta_angle, s);
     kg_lane cdot = s->b.w - s->a.w;
     kg_lane impulse = -r->spring.mass_scale * r->axial_mass * (cdot + r->spring.bias_rate * c) -
@@ -207,11 +208,11 @@ KG_FN void KG_L(kg_revolute_spring)(kg_lrev* r, kg_lpair* s)
 /* The motor: towards motor_speed with at most max_motor_torque. */
 KG_FN void KG_L(kg_revolute_motor)(kg_lrev* r, kg_lpair* s, kg_solver_params prm)
 {
-    kg_lmask on = r->has_motor != KG_LZERO;
+    kg_lmask on = KG_LNE(r->has_motor, KG_LZERO);
     kg_lane cdot = s->b.w - s->a.w - r->motor_speed;
     kg_lane impulse = -r->axial_mass * cdot;
     kg_lane old = r->motor_impulse, most = prm.h * r->max_motor_torque, sum = old + impulse;
-    kg_lane clamped = KG_SEL(sum < -most, -most, KG_SEL(sum > most, most, sum));
+    kg_lane clamped = KG_SEL(KG_LLT(sum, -most), -most, KG_SEL(KG_LGT(sum, most), most, sum));
     r->motor_impulse = KG_SEL(on, clamped, old);
     KG_L(kg_revolute_turn)(r, s, on, clamped - old);
 }
@@ -219,7 +220,7 @@ KG_FN void KG_L(kg_revolute_motor)(kg_lrev* r, kg_lpair* s, kg_solver_params prm
 /* The limits on the angle, lower then upper. */
 KG_FN void KG_L(kg_revolute_limits)(kg_lrev* r, kg_lpair* s, kg_solver_params prm, kg_lsoft rigid)
 {
-    kg_lmask on = r->has_limit != KG_LZERO;
+    kg_lmask on = KG_LNE(r->has_limit, KG_LZERO);
     kg_lane angle = KG_L(kg_joint_angle)(r->delta_angle, s);
     kg_lane lower =
         KG_L(kg_one_sided)(on, angle - r->lower, s->b.w - s->a.w, r->axial_mass, &r->lower_impulse, rigid, prm);
