@@ -45,8 +45,9 @@ typedef struct KG_L(kg_lrot) {
 #endif
 
 typedef struct KG_L(kg_constraint_point) {
-    kg_lv2 anchor_a, anchor_b; /* from each body's centre of mass, world axes, at step start */
-    kg_lane base_separation;   /* separation minus the anchors' offset along the normal */
+    kg_lv2 anchor_a;         /* from a's centre of mass, world axes, at step start (on b:
+                              * anchor_a + b_to_a, the constraint's) */
+    kg_lane base_separation; /* at step start (kg_current_separation) */
     kg_lane normal_impulse;
     kg_lane tangent_impulse;
     kg_lane max_normal_impulse; /* largest over the sub-steps: a point that never pushed does not bounce */
@@ -60,6 +61,9 @@ typedef struct KG_L(kg_constraint_point) {
 typedef struct KG_L(kg_contact_constraint) {
     KG_L(kg_constraint_point) points[2];
     kg_lv2 normal;
+    kg_lv2 b_to_a; /* from b's centre of mass to a's at step start: one for both points,
+                    * each point's anchor on b its anchor on a plus this (two floats a
+                    * constraint where b's own anchors were four) */
     kg_lane inv_mass_a, inv_i_a, inv_mass_b, inv_i_b;
     kg_lane friction, restitution;
     kg_lane bias_rate, mass_scale, impulse_scale; /* the contact's softness */
@@ -120,14 +124,15 @@ KG_FN kg_lane KG_L(kg_lmin)(kg_lane a, kg_lane b) { return KG_SEL(KG_LLT(a, b), 
 #endif
 
 /* What prepare reads of a contact besides the masses: its manifold (anchors relative to
- * the body origins; has_point 1 or 0 for each point) and the bodies' state. */
+ * a's origin; has_point 1 or 0 for each point) and the bodies' state. */
 typedef struct KG_L(kg_prepare_input) {
-    kg_lv2 anchor_a[2], anchor_b[2];
+    kg_lv2 anchor_a[2];
     kg_lane separation[2], normal_impulse[2], tangent_impulse[2], has_point[2];
     kg_lv2 normal;
     kg_lv2 origin_a, center_a, origin_b, center_b;
     kg_lv2 va, vb;
     kg_lane wa, wb;
+    kg_lane unused[4]; /* to a whole number of 16-lane transposes; not written */
 } KG_L(kg_prepare_input);
 
 /* Above this condition number the two normal rows are nearly redundant and the 2x2
@@ -151,12 +156,16 @@ KG_FN void KG_L(kg_contact_prepare_lanes)(kg_lrow* c, const KG_L(kg_prepare_inpu
     c->share_b = KG_SEL(KG_LGT(ma + mb, zero), mb / (ma + mb), zero + 0.5f);
     c->normal = in->normal;
     kg_lv2 n = in->normal, t = KG_L(kg_lright_perp)(in->normal);
+    /* a point is one point of both bodies: its anchor on b differs from its anchor on a
+     * by the centres' offset, the same for both points */
+    kg_lv2 b_to_a = KG_L(kg_lsub)(in->center_a, in->center_b);
+    c->b_to_a = b_to_a;
     kg_lane rn[2][2]; /* cross(r, n) of each point, on a and on b */
     for (int j = 0; j < 2; ++j) {
         kg_lpoint* cp = &c->points[j];
         kg_lmask has = KG_LGT(in->has_point[j], zero);
         kg_lv2 ra = KG_L(kg_lsub)(KG_L(kg_ladd)(in->anchor_a[j], in->origin_a), in->center_a);
-        kg_lv2 rb = KG_L(kg_lsub)(KG_L(kg_ladd)(in->anchor_b[j], in->origin_b), in->center_b);
+        kg_lv2 rb = KG_L(kg_ladd)(ra, b_to_a);
         rn[j][0] = KG_SEL(has, KG_L(kg_lcross)(ra, n), zero);
         rn[j][1] = KG_SEL(has, KG_L(kg_lcross)(rb, n), zero);
         kg_lane kn = ma + mb + ia * rn[j][0] * rn[j][0] + ib * rn[j][1] * rn[j][1];
@@ -164,8 +173,7 @@ KG_FN void KG_L(kg_contact_prepare_lanes)(kg_lrow* c, const KG_L(kg_prepare_inpu
         kg_lane kt = ma + mb + ia * rta * rta + ib * rtb * rtb;
         kg_lv2 dv = KG_L(kg_lsub)(KG_L(kg_lpoint_velocity)(in->vb, in->wb, rb), KG_L(kg_lpoint_velocity)(in->va, in->wa, ra));
         cp->anchor_a = KG_L(kg_lmake)(KG_SEL(has, ra.x, zero), KG_SEL(has, ra.y, zero));
-        cp->anchor_b = KG_L(kg_lmake)(KG_SEL(has, rb.x, zero), KG_SEL(has, rb.y, zero));
-        cp->base_separation = KG_SEL(has, in->separation[j] - KG_L(kg_ldot)(KG_L(kg_lsub)(rb, ra), n), zero);
+        cp->base_separation = KG_SEL(has, in->separation[j], zero);
         cp->normal_impulse = KG_SEL(has, in->normal_impulse[j], zero);
         cp->tangent_impulse = KG_SEL(has, in->tangent_impulse[j], zero);
         cp->max_normal_impulse = zero;
@@ -208,7 +216,7 @@ KG_FN void KG_L(kg_current_anchors)(const kg_lrow* c, const kg_lpoint* cp, const
 {
     kg_lv2 gap = KG_L(kg_lsub)(b->dp, a->dp); /* how far b's anchor point moved from a's */
     *ra = KG_L(kg_ladd)(cp->anchor_a, KG_L(kg_lscale)(c->share_b, gap));
-    *rb = KG_L(kg_lsub)(cp->anchor_b, KG_L(kg_lscale)(1.0f - c->share_b, gap));
+    *rb = KG_L(kg_ladd)(*ra, KG_L(kg_lsub)(c->b_to_a, gap)); /* b's anchor at step start, less (1 - share_b) gap */
 }
 
 KG_FN kg_lane KG_L(kg_normal_velocity_at)(const kg_lrow* c, const kg_lmotion* a, const kg_lmotion* b, kg_lv2 ra,
@@ -231,13 +239,28 @@ KG_FN void KG_L(kg_contact_warm_start)(const kg_lrow* c, kg_lmotion* a, kg_lmoti
     }
 }
 
-/* Separation of point j now, from how far the bodies moved since the manifold. */
+/* How a body's turn q since the step's start changes the reach of its points along the
+ * normal n: the point r's by dot(r, m) for m = q^-1 n - n (dot(q r, n) = dot(r, q^-1 n)),
+ * one m a body for both points. No turn gives exactly zero whatever r's size: an anchor
+ * on the static world is a world position, hundreds of metres along a long slope of
+ * tiles, where q r - r lost its last places, a different error at every step, and a box
+ * sliding across it bounced. */
+KG_FN kg_lv2 KG_L(kg_lturn_of_normal)(kg_lq q, kg_lv2 n)
+{
+    kg_lv2 unturned = KG_L(kg_lmake)(q.c * n.x + q.s * n.y, q.c * n.y - q.s * n.x);
+    return KG_L(kg_lsub)(unturned, n);
+}
+
+/* Separation of point j now, from how far the bodies moved since the manifold: its two
+ * copies moved apart by the bodies' displacements and turns. */
 KG_FN kg_lane KG_L(kg_current_separation)(const kg_lrow* c, const kg_lpoint* cp, const kg_lmotion* a,
                                           const kg_lmotion* b)
 {
-    kg_lv2 d = KG_L(kg_ladd)(KG_L(kg_lsub)(b->dp, a->dp),
-                             KG_L(kg_lsub)(KG_L(kg_lrotate)(b->dq, cp->anchor_b), KG_L(kg_lrotate)(a->dq, cp->anchor_a)));
-    return KG_L(kg_ldot)(d, c->normal) + cp->base_separation;
+    kg_lv2 anchor_b = KG_L(kg_ladd)(cp->anchor_a, c->b_to_a);
+    kg_lane moved = KG_L(kg_ldot)(KG_L(kg_lsub)(b->dp, a->dp), c->normal);
+    kg_lane turned = KG_L(kg_ldot)(anchor_b, KG_L(kg_lturn_of_normal)(b->dq, c->normal)) -
+                     KG_L(kg_ldot)(cp->anchor_a, KG_L(kg_lturn_of_normal)(a->dq, c->normal));
+    return (moved + turned) + cp->base_separation;
 }
 
 /* The velocity target of a point: a speculative gap (s > 0) may close within the

@@ -76,8 +76,8 @@ typedef enum kg_constraint_pass {
 #undef KG_LNE
 #undef KG_W
 
-KG_STATIC_ASSERT(sizeof(kg_constraint_point) == 48, constraint_point_size);
-KG_STATIC_ASSERT(sizeof(kg_contact_constraint) == 176, contact_constraint_size);
+KG_STATIC_ASSERT(sizeof(kg_constraint_point) == 40, constraint_point_size);
+KG_STATIC_ASSERT(sizeof(kg_contact_constraint) == 168, contact_constraint_size);
 
 /* What the solver reads and writes of a body, packed in 32 bytes so a constraint
  * touches two cache-line halves instead of six scattered arrays. The pool's poses stay
@@ -160,13 +160,12 @@ KG_FN void kg_prepare_input_of(kg_prepare_input* in, const kg_manifold* m, kg_ve
         const kg_manifold_point* mp = &m->points[j];
         if (j < m->point_count) {
             in->anchor_a[j] = mp->anchor_a;
-            in->anchor_b[j] = mp->anchor_b;
             in->separation[j] = mp->separation;
             in->normal_impulse[j] = mp->normal_impulse;
             in->tangent_impulse[j] = mp->tangent_impulse;
             in->has_point[j] = 1.0f;
         } else {
-            in->anchor_a[j] = in->anchor_b[j] = kg_v2(0.0f, 0.0f);
+            in->anchor_a[j] = kg_v2(0.0f, 0.0f);
             in->separation[j] = in->normal_impulse[j] = in->tangent_impulse[j] = in->has_point[j] = 0.0f;
         }
     }

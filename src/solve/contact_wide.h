@@ -57,7 +57,7 @@ static inline const unsigned char* kg_lane_field(const void* blocks, const kg_co
 }
 
 /* Until a block is prepared its own memory holds its lanes' sources: width heads, then
- * width prepare inputs (168 of each lane's 176 bytes), so that they are written where
+ * width prepare inputs (a lane's head and input fill its 168 bytes), so that they are written where
  * the rows will be, in the cache when prepare reads them, and need no memory of their
  * own. Prepare reads them all before it writes a row. */
 KG_STATIC_ASSERT(sizeof(kg_row_head) + sizeof(kg_prepare_input) <= sizeof(kg_contact_constraint),
