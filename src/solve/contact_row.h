@@ -287,10 +287,10 @@ KG_FN KG_L(kg_point_bias) KG_L(kg_point_bias_of)(const kg_lrow* c, kg_lane s, kg
  * gained (up to g dt) before the bodies actually met. */
 KG_FN void KG_L(kg_accumulate_normal)(kg_lpoint* cp, kg_lane applied, kg_lane vn)
 {
-    kg_lmask first = KG_LEQ(cp->max_normal_impulse, KG_LZERO) & KG_LGT(applied, KG_LZERO);
-    cp->relative_velocity = KG_SEL(first, vn, cp->relative_velocity);
+    kg_lane most = cp->max_normal_impulse;
+    KG_STORE_WHERE(KG_LEQ(most, KG_LZERO) & KG_LGT(applied, KG_LZERO), cp->relative_velocity, vn);
     cp->normal_impulse = cp->normal_impulse + applied;
-    cp->max_normal_impulse = KG_L(kg_lmax)(cp->max_normal_impulse, applied);
+    KG_STORE_WHERE(KG_LGT(applied, most), cp->max_normal_impulse, applied);
 }
 
 /* One Gauss-Seidel pass over the constraint: normal impulses (soft when use_bias), then

@@ -62,6 +62,7 @@ typedef enum kg_constraint_pass {
 #define KG_LGE(a, b) ((a) >= (b))
 #define KG_LEQ(a, b) ((a) == (b))
 #define KG_LNE(a, b) ((a) != (b))
+#define KG_STORE_WHERE(mask, lvalue, value) ((lvalue) = (mask) ? (value) : (lvalue))
 #include "solve/contact_row.h"
 #undef kg_lane
 #undef kg_lmask
@@ -74,6 +75,7 @@ typedef enum kg_constraint_pass {
 #undef KG_LGE
 #undef KG_LEQ
 #undef KG_LNE
+#undef KG_STORE_WHERE
 #undef KG_W
 
 KG_STATIC_ASSERT(sizeof(kg_constraint_point) == 40, constraint_point_size);

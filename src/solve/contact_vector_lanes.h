@@ -32,6 +32,7 @@ typedef unsigned kg_vu __attribute__((vector_size(4 * KG_W)));
 #define KG_LGE(a, b) _mm512_cmp_ps_mask((__m512)(a), (__m512)(b), _CMP_GE_OQ)
 #define KG_LEQ(a, b) _mm512_cmp_ps_mask((__m512)(a), (__m512)(b), _CMP_EQ_OQ)
 #define KG_LNE(a, b) _mm512_cmp_ps_mask((__m512)(a), (__m512)(b), _CMP_NEQ_UQ)
+#define KG_STORE_WHERE(mask, lvalue, value) _mm512_mask_storeu_ps((void*)&(lvalue), (mask), (__m512)(value))
 #else
 /* the lanes of a where mask is set, else of b: bitwise, so the lanes are exact copies */
 static inline kg_vf kg_blend(kg_vi mask, kg_vf a, kg_vf b) { return (kg_vf)(((kg_vi)a & mask) | ((kg_vi)b & ~mask)); }
@@ -43,6 +44,7 @@ static inline kg_vf kg_blend(kg_vi mask, kg_vf a, kg_vf b) { return (kg_vf)(((kg
 #define KG_LGE(a, b) ((a) >= (b))
 #define KG_LEQ(a, b) ((a) == (b))
 #define KG_LNE(a, b) ((a) != (b))
+#define KG_STORE_WHERE(mask, lvalue, value) ((lvalue) = KG_SEL((mask), (value), (lvalue)))
 #endif
 
 /* a > b ? a : b and a < b ? a : b in one instruction each on x86, whose MAXPS and MINPS

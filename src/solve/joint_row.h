@@ -120,6 +120,7 @@ KG_STATIC_ASSERT(sizeof(kg_joint_row) == 220, joint_row_size);
 #define KG_LGE(a, b) ((a) >= (b))
 #define KG_LEQ(a, b) ((a) == (b))
 #define KG_LNE(a, b) ((a) != (b))
+#define KG_STORE_WHERE(mask, lvalue, value) ((lvalue) = (mask) ? (value) : (lvalue))
 #include "solve/joint_revolute_row.h"
 #undef kg_lane
 #undef kg_lmask
@@ -132,6 +133,7 @@ KG_STATIC_ASSERT(sizeof(kg_joint_row) == 220, joint_row_size);
 #undef KG_LGE
 #undef KG_LEQ
 #undef KG_LNE
+#undef KG_STORE_WHERE
 #undef KG_W
 
 KG_STATIC_ASSERT(sizeof(kg_revolute_lanes) == 33 * 4, revolute_lanes_size);
