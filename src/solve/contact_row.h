@@ -16,7 +16,9 @@
  *
  * Before including: KG_W; kg_lane, kg_lmask, kg_lindex and kg_lint (the float,
  * comparison, slot and count types); KG_SEL(mask, a, b), KG_LZERO and the comparisons
- * KG_LGT, KG_LLT, KG_LGE, KG_LEQ and KG_LNE (a mask each); wider than 1, also
+ * KG_LGT, KG_LLT, KG_LGE, KG_LEQ and KG_LNE (a mask each); KG_STORE_WHERE(mask, lvalue,
+ * value), value's lanes stored where mask is set, the others left (and, where the width
+ * can, not written at all); wider than 1, also
  * kg_vsqrt (contact_vector_lanes.h) for the bodies' sub-step (body_row.h, included at
  * the end). */
 
@@ -282,9 +284,11 @@ KG_FN KG_L(kg_point_bias) KG_L(kg_point_bias_of)(const kg_lrow* c, kg_lane s, kg
 }
 
 /* Adds an impulse (already clamped so that the total stays >= 0) to point cp's
- * accumulated normal impulse, where vn is the normal velocity it answers. The first push of the step records vn as the approach
- * speed for restitution: sampled at the start of the step it would miss the speed
- * gained (up to g dt) before the bodies actually met. */
+ * accumulated normal impulse, where vn is the normal velocity it answers. The first push
+ * of the step records vn as the approach speed for restitution: sampled at the start of
+ * the step it would miss the speed gained (up to g dt) before the bodies actually met.
+ * Both records are written only where they change (KG_STORE_WHERE): after the first
+ * sub-step they seldom do, and a row line left unwritten need not go back to memory. */
 KG_FN void KG_L(kg_accumulate_normal)(kg_lpoint* cp, kg_lane applied, kg_lane vn)
 {
     kg_lane most = cp->max_normal_impulse;
