@@ -451,8 +451,11 @@ KG_FN kg_manifold kg_collide_polygons(const kg_shape* a, kg_xf xfa, const kg_sha
 
     int edge_a, edge_b;
     float separation_a = kg_max_separation(&poly_a, &poly_b, &edge_a);
+    if (separation_a > reach) { /* apart along one of a's normals: b's need not be tried */
+        return kg_empty_manifold();
+    }
     float separation_b = kg_max_separation(&poly_b, &poly_a, &edge_b);
-    if (separation_a > reach || separation_b > reach) {
+    if (separation_b > reach) {
         return kg_empty_manifold();
     }
 
