@@ -73,12 +73,11 @@ KG_FN kg_tile_segment kg_chain_segment_of(const kg_shape* chain, kg_vec2 origin)
     return s;
 }
 
-/* A body's shape moved by xf, its centroid with it (the one-sided test reads it). */
-KG_FN kg_shape kg_shape_in_frame(const kg_shape* shape, kg_xf xf)
+/* A body's shape moved by xf into *out, its centroid with it (the one-sided test reads it). */
+KG_FN void kg_shape_in_frame(kg_shape* out, const kg_shape* shape, kg_xf xf)
 {
-    kg_shape out = kg_polygon_in_frame(shape, xf);
-    out.centroid = kg_xf_point(xf, shape->centroid);
-    return out;
+    kg_polygon_in_frame(out, shape, xf);
+    out->centroid = kg_xf_point(xf, shape->centroid);
 }
 
 /* The manifold of a chain segment (a) and a body's shape (b), normal from a to b: computed
@@ -89,7 +88,8 @@ KG_FN kg_manifold kg_collide_chain_segment(const kg_shape* chain, kg_xf xfa, con
 {
     kg_vec2 origin = chain->vertices[0];
     kg_tile_segment s = kg_chain_segment_of(chain, origin);
-    kg_shape moved = kg_shape_in_frame(body, kg_relative_xf(xfa, origin, xfb));
+    kg_shape moved;
+    kg_shape_in_frame(&moved, body, kg_relative_xf(xfa, origin, xfb));
     kg_tile_hit hit = moved.count >= 2
                           ? kg_tile_collide_rounded(&s, &moved, 0, speculative_distance)
                           : kg_tile_collide_circle(&s, moved.vertices[0], moved.radius, 0, speculative_distance);
