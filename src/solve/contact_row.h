@@ -15,10 +15,8 @@
  * does not have, or a padding lane, has zero masses and impulses and changes nothing.
  *
  * Before including: KG_W; kg_lane, kg_lmask, kg_lindex and kg_lint (the float,
- * comparison, slot and count types); KG_SEL(mask, a, b), KG_LZERO and the comparisons
- * KG_LGT, KG_LLT, KG_LGE, KG_LEQ and KG_LNE (a mask each); KG_STORE_WHERE(mask, lvalue,
- * value), value's lanes stored where mask is set, the others left (and, where the width
- * can, not written at all); wider than 1, also
+ * comparison, slot and count types); KG_SEL(mask, a, b), KG_LZERO, and the comparisons
+ * and the store where a mask is set of lane_compare.h; wider than 1, also
  * kg_vsqrt (contact_vector_lanes.h) for the bodies' sub-step (body_row.h, included at
  * the end). */
 

@@ -57,12 +57,7 @@ typedef enum kg_constraint_pass {
 #define kg_lint kg_i32
 #define KG_SEL(mask, a, b) ((mask) ? (a) : (b))
 #define KG_LZERO 0.0f
-#define KG_LGT(a, b) ((a) > (b))
-#define KG_LLT(a, b) ((a) < (b))
-#define KG_LGE(a, b) ((a) >= (b))
-#define KG_LEQ(a, b) ((a) == (b))
-#define KG_LNE(a, b) ((a) != (b))
-#define KG_STORE_WHERE(mask, lvalue, value) ((lvalue) = (mask) ? (value) : (lvalue))
+#include "solve/lane_compare.h"
 #include "solve/contact_row.h"
 #undef kg_lane
 #undef kg_lmask
@@ -70,12 +65,6 @@ typedef enum kg_constraint_pass {
 #undef kg_lint
 #undef KG_SEL
 #undef KG_LZERO
-#undef KG_LGT
-#undef KG_LLT
-#undef KG_LGE
-#undef KG_LEQ
-#undef KG_LNE
-#undef KG_STORE_WHERE
 #undef KG_W
 
 KG_STATIC_ASSERT(sizeof(kg_constraint_point) == 40, constraint_point_size);

@@ -20,11 +20,19 @@ typedef unsigned kg_vu __attribute__((vector_size(4 * KG_W)));
 #define KG_LZERO ((kg_vf){0.0f}) /* the other lanes are zeroed too */
 #define KG_LANE_OF(v, lane) ((v)[lane])
 
+#include "solve/lane_compare.h"
+
 #if KG_W == 16 && defined(__AVX512F__)
 /* AVX-512 compares into a mask register, a bit a lane, and blends by one: a select is
  * one instruction, where the vector masks of the other widths made it two (a masked xor
  * and an xor) after the comparison. The predicates are C's: ordered (false with a NaN)
- * but for !=. */
+ * but for !=. A store where a mask is set is a masked store: no lane set, no write. */
+#undef KG_LGT
+#undef KG_LLT
+#undef KG_LGE
+#undef KG_LEQ
+#undef KG_LNE
+#undef KG_STORE_WHERE
 #define kg_lmask __mmask16
 #define KG_SEL(mask, a, b) ((kg_vf)_mm512_mask_blend_ps((mask), (__m512)(b), (__m512)(a)))
 #define KG_LGT(a, b) _mm512_cmp_ps_mask((__m512)(a), (__m512)(b), _CMP_GT_OQ)
@@ -39,12 +47,6 @@ static inline kg_vf kg_blend(kg_vi mask, kg_vf a, kg_vf b) { return (kg_vf)(((kg
 
 #define kg_lmask kg_vi
 #define KG_SEL(mask, a, b) kg_blend((mask), (a), (b))
-#define KG_LGT(a, b) ((a) > (b))
-#define KG_LLT(a, b) ((a) < (b))
-#define KG_LGE(a, b) ((a) >= (b))
-#define KG_LEQ(a, b) ((a) == (b))
-#define KG_LNE(a, b) ((a) != (b))
-#define KG_STORE_WHERE(mask, lvalue, value) ((lvalue) = KG_SEL((mask), (value), (lvalue)))
 #endif
 
 /* a > b ? a : b and a < b ? a : b in one instruction each on x86, whose MAXPS and MINPS

@@ -115,12 +115,7 @@ KG_STATIC_ASSERT(sizeof(kg_joint_row) == 220, joint_row_size);
 #define kg_lint kg_i32
 #define KG_SEL(mask, a, b) ((mask) ? (a) : (b))
 #define KG_LZERO 0.0f
-#define KG_LGT(a, b) ((a) > (b))
-#define KG_LLT(a, b) ((a) < (b))
-#define KG_LGE(a, b) ((a) >= (b))
-#define KG_LEQ(a, b) ((a) == (b))
-#define KG_LNE(a, b) ((a) != (b))
-#define KG_STORE_WHERE(mask, lvalue, value) ((lvalue) = (mask) ? (value) : (lvalue))
+#include "solve/lane_compare.h"
 #include "solve/joint_revolute_row.h"
 #undef kg_lane
 #undef kg_lmask
@@ -128,12 +123,6 @@ KG_STATIC_ASSERT(sizeof(kg_joint_row) == 220, joint_row_size);
 #undef kg_lint
 #undef KG_SEL
 #undef KG_LZERO
-#undef KG_LGT
-#undef KG_LLT
-#undef KG_LGE
-#undef KG_LEQ
-#undef KG_LNE
-#undef KG_STORE_WHERE
 #undef KG_W
 
 KG_STATIC_ASSERT(sizeof(kg_revolute_lanes) == 33 * 4, revolute_lanes_size);
