@@ -142,10 +142,10 @@ KG_FN void kg_constraint_head(kg_contact_constraint* c, const kg_row_head* h)
 }
 
 /* What prepare reads of a contact's manifold (a point it does not have reads zeros) and
- * of its bodies: origins (the manifold's anchors are relative to them), centres of mass
+ * of its bodies: a's origin (the manifold's anchors are relative to it), the centres of mass
  * and velocities. */
 KG_FN void kg_prepare_input_of(kg_prepare_input* in, const kg_manifold* m, kg_vec2 origin_a, kg_vec2 center_a,
-                               kg_vec2 origin_b, kg_vec2 center_b, kg_vec2 va, float wa, kg_vec2 vb, float wb)
+                               kg_vec2 center_b, kg_vec2 va, float wa, kg_vec2 vb, float wb)
 {
     for (int j = 0; j < 2; ++j) {
         const kg_manifold_point* mp = &m->points[j];
@@ -163,7 +163,6 @@ KG_FN void kg_prepare_input_of(kg_prepare_input* in, const kg_manifold* m, kg_ve
     in->normal = m->normal;
     in->origin_a = origin_a;
     in->center_a = center_a;
-    in->origin_b = origin_b;
     in->center_b = center_b;
     in->va = va;
     in->wa = wa;
@@ -241,13 +240,13 @@ KG_FN_INLINE int kg_prepare_source(const kg_contact* ct, kg_u32 index, KG_GLOBAL
         empty.friction = empty.restitution = 0.0f;
         kg_vec2 zero = kg_v2(0.0f, 0.0f);
         kg_row_head_of(head, &empty, 0u, 0.0f, 0.0f, 0.0f, 0.0f);
-        kg_prepare_input_of(in, &empty.manifold, zero, zero, zero, zero, zero, 0.0f, zero, 0.0f);
+        kg_prepare_input_of(in, &empty.manifold, zero, zero, zero, zero, 0.0f, zero, 0.0f);
         return 0;
     }
     kg_row_head_of(head, ct, index, a_moves ? inv_mass[ct->a] : 0.0f, a_moves ? inv_inertia[ct->a] : 0.0f,
                    b_moves ? inv_mass[ct->b] : 0.0f, b_moves ? inv_inertia[ct->b] : 0.0f);
     kg_side_state sa = kg_side_state_of(ct->a, bodies, xf, center), sb = kg_side_state_of(ct->b, bodies, xf, center);
-    kg_prepare_input_of(in, &ct->manifold, sa.origin, sa.center, sb.origin, sb.center, sa.v, sa.w, sb.v, sb.w);
+    kg_prepare_input_of(in, &ct->manifold, sa.origin, sa.center, sb.center, sa.v, sa.w, sb.v, sb.w);
     return 1;
 }
 
