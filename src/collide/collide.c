@@ -17,6 +17,7 @@
 #include "core/alloc.h"
 #include "core/error.h"
 #include "core/joint.h"
+#include "core/prefetch.h"
 #include "core/snapshot_io.h"
 
 #include <limits.h>
@@ -496,6 +497,12 @@ KG_CPU_CLONES static int kg_narrowphase_block(kg_narrowphase_job* job, int begin
                                            : kg_previous_of_bodies(job->previous, job->previous_count, &old, key.a,
                                                                    key.b, p->generation, first_shape);
         kg_contact* ct = &job->contacts[n]; /* a pair before it that did not touch left it free */
+        if (old + KG_CONTACTS_AHEAD < job->previous_count) {
+            kg_prefetch_bytes(&job->previous[old + KG_CONTACTS_AHEAD], sizeof(kg_contact), 0);
+        }
+        if (n + KG_CONTACTS_AHEAD < end) {
+            kg_prefetch_bytes(&job->contacts[n + KG_CONTACTS_AHEAD], sizeof(kg_contact), 1);
+        }
         if (kg_rested(p, key.a) && kg_rested(p, key.b)) {
             kg_keep_contact(ct, prev);
             carried += ct->manifold.point_count;
