@@ -1,14 +1,14 @@
-/* Software prefetches for the CPU's loops that stream through contacts (216 bytes, so
- * one spans four cache lines at most, in no fixed alignment). The hardware prefetcher
- * follows one stream well, but the loops that read or write the contacts also read the
- * bodies and write the constraint rows, and their first touch of each contact stalled
- * (many_pyramids, perf: a fifth of prepare's time on one load of the contact). */
+/* Software prefetches for the CPU's loops that stream through more than the cache holds:
+ * the narrowphase through the contacts (216 bytes, four cache lines at most, in no fixed
+ * alignment), the solver's passes through the constraint rows. The hardware prefetcher
+ * follows one plain stream well, but these loops also read the bodies and jump between
+ * the fields of what they stream, and their first touch of each line stalled. */
 #ifndef KG_PREFETCH_H
 #define KG_PREFETCH_H
 
 #include <stddef.h>
 
-/* How many contacts ahead of the one a loop works on it asks for. */
+/* How many contacts ahead of the one it works on the narrowphase asks for. */
 #define KG_CONTACTS_AHEAD 8
 
 /* Every cache line of the bytes [at, at + size), asked for to be read (write 0) or to be

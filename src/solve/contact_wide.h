@@ -22,8 +22,10 @@ typedef struct kg_contact_rows {
     /* Prepares block `block` from the sources of its width lanes, staged in it
      * (kg_staged_head, kg_staged_input). */
     void (*prepare)(void* blocks, int block, kg_solver_params prm);
-    /* One pass over blocks [begin, end): gathers the lanes' bodies, runs the pass, scatters. */
-    void (*run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm, kg_constraint_pass pass);
+    /* One pass over blocks [begin, end): gathers the lanes' bodies, runs the pass, scatters;
+     * asking for the rows ahead (stream) where they do not fit in the cache. */
+    void (*run)(void* blocks, int begin, int end, kg_solver_body* bodies, kg_solver_params prm, kg_constraint_pass pass,
+                int stream);
     /* One pass over blocks [begin, end) of revolute joints (joint_revolute_row.h), in the
      * pass's last iteration or not: a block is width kg_revolute_lanes, each 4-byte field
      * widened to width lanes in the same order (kg_revolute_lane_field), the world's

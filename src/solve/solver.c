@@ -35,6 +35,11 @@
  * time: a chunk's constraints of a colour follow those of the chunks before it, in
  * contact order, so chunks run in parallel, each with a running count per colour. */
 #define KG_CHUNK 256
+/* Rows beyond this many bytes are taken not to stay in the cache from one pass to the
+ * next (contact_wide_impl.h, KG_ROWS_AHEAD): large_pyramid's 2.5 MB do, many_pyramids'
+ * 9.7 MB do not (a core's share of the cache here is about 8 MB, measured by reading
+ * buffers of growing size). */
+#define KG_CACHED_ROW_BYTES (4u << 20)
 
 /* A body's extents, computed once for each body that takes the slot and again when a
  * shape of the world was added or removed: generation is the body's (0: none yet). Each
@@ -208,13 +213,15 @@ typedef struct kg_constraint_job {
     atomic_int* bounces; /* set by prepare when a constraint has restitution */
     kg_solver_params prm;
     kg_constraint_pass pass;
+    int stream_rows; /* the rows are more than the cache holds: the passes ask for them ahead */
 } kg_constraint_job;
 
 static void kg_pass_range(void* context, int begin, int end)
 {
     const kg_constraint_job* job = context;
     int first = job->first_block;
-    job->solver->rows->run(job->solver->blocks, first + begin, first + end, job->bodies, job->prm, job->pass);
+    job->solver->rows->run(job->solver->blocks, first + begin, first + end, job->bodies, job->prm, job->pass,
+                           job->stream_rows);
 }
 
 /* One pass over all constraints: the colours' blocks in parallel one colour after
@@ -501,7 +508,7 @@ void kg_stage_solve(kg_world* world, float dt)
                         kg_rest_params_of(&world->def, dt), 0};
     atomic_int bounces = 0;
     kg_constraint_job cjob = {p, s->bodies, contacts, count, s, 0, &bounces, kg_solver_params_of(&world->def, h),
-                              KG_PASS_SOLVE};
+                              KG_PASS_SOLVE, 0};
 
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_load_bodies, &bjob);
     kg_color_step(world, s, contacts, count, atomic_load(&bjob.froze));
@@ -510,6 +517,7 @@ void kg_stage_solve(kg_world* world, float dt)
         kg_warn_once("solver-grow", "out of memory for contact constraints: contacts ignored this step");
     }
     int blocks = s->block_start[KG_COLOR_COUNT + 1];
+    cjob.stream_rows = (size_t)blocks * s->rows->block_size > KG_CACHED_ROW_BYTES;
     if (blocks > 0) { /* else there are no contacts, or no rows to put them in */
         kg_parallel_for(world->threads, s->chunks, 1, kg_prepare_chunks, &cjob);
     }
