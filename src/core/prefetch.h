@@ -1,5 +1,5 @@
 /* Software prefetches for the CPU's loops that stream through more than the cache holds:
- * the narrowphase through the contacts (216 bytes, four cache lines at most, in no fixed
+ * the narrowphase and prepare through the contacts (216 bytes, four cache lines at most, in no fixed
  * alignment), the solver's passes through the constraint rows. The hardware prefetcher
  * follows one plain stream well, but these loops also read the bodies and jump between
  * the fields of what they stream, and their first touch of each line stalled. */
@@ -8,7 +8,7 @@
 
 #include <stddef.h>
 
-/* How many contacts ahead of the one it works on the narrowphase asks for. */
+/* How many contacts ahead of the one it works on the narrowphase (and prepare) asks for. */
 #define KG_CONTACTS_AHEAD 8
 
 /* Every cache line of the bytes [at, at + size), asked for to be read (write 0) or to be

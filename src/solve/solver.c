@@ -19,6 +19,7 @@
 #include "core/alloc.h"
 #include "core/error.h"
 #include "core/joint.h"
+#include "core/prefetch.h"
 #include "solve/body_step.h"
 #include "solve/contact_wide.h"
 #include "solve/graph_color.h"
@@ -379,6 +380,9 @@ static void kg_prepare_chunks(void* context, int begin, int end)
     int last = end * KG_CHUNK < job->count ? end * KG_CHUNK : job->count;
     for (int k = begin * KG_CHUNK; k < last; ++k) {
         kg_color_cursor* at = &cursors[colors[k]];
+        if (k + KG_CONTACTS_AHEAD < last) { /* what prepare reads: the manifold, bodies and material */
+            kg_prefetch_bytes(&job->contacts[k + KG_CONTACTS_AHEAD], offsetof(kg_contact, generation_a), 0);
+        }
         int lane = at->lane, block = lane >> shift, in_block = lane & (width - 1);
         kg_prepare_input* input = kg_staged_input(blocks, rows, block, in_block);
         if (in_block + 1 < width) {
