@@ -1,8 +1,9 @@
 /* Software prefetches for the CPU's loops that stream through more than the cache holds:
- * the narrowphase and prepare through the contacts (216 bytes, four cache lines at most, in no fixed
- * alignment), the solver's passes through the constraint rows. The hardware prefetcher
- * follows one plain stream well, but these loops also read the bodies and jump between
- * the fields of what they stream, and their first touch of each line stalled. */
+ * the narrowphase and prepare through the contacts (216 bytes, four cache lines at most,
+ * in no fixed alignment), the solver's passes through the constraint rows. The hardware
+ * prefetcher follows one plain stream well, but these loops also read the bodies and
+ * jump between the fields of what they stream, and their first touch of each line
+ * stalled. */
 #ifndef KG_PREFETCH_H
 #define KG_PREFETCH_H
 
