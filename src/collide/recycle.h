@@ -150,8 +150,13 @@ KG_FN int kg_collide_or_recycle(const kg_shape* a, kg_xf xfa, const kg_shape* b,
         }
     }
     kg_manifold fresh = kg_collide_shapes(a, xfa, b, xfb, speculative);
-    *base = kg_contact_base_of(&fresh, xfa, xfb);
-    *m = kg_manifold_of_base(base, &fresh, xfa, xfb);
+    if (fresh.point_count > 0) {
+        *base = kg_contact_base_of(&fresh, xfa, xfb);
+        *m = kg_manifold_of_base(base, &fresh, xfa, xfb);
+    } else { /* apart (most pairs of a scattering crowd): no points to place */
+        *base = kg_no_contact_base();
+        *m = fresh;
+    }
     m->keepable = kg_recyclable(a, b);
     return 0;
 }
