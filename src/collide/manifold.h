@@ -116,21 +116,53 @@ KG_FN kg_manifold kg_flip_manifold(kg_manifold m)
     return m;
 }
 
-/* A polygon moved by xf, into *out (its centroid not moved); the count is clamped so every
- * loop below stays within the arrays, and the vertices past it are not written. Written
- * in place and field by field: returned by value, or copied whole and then moved, the
- * shape was copied more than once (the smash's narrowphase spent 7% of its instructions
- * copying shapes). */
-KG_FN void kg_polygon_in_frame(kg_shape* out, const kg_shape* polygon, kg_xf xf)
+/* What a polygon moved into another frame keeps as it is: its centroid (not moved), radius
+ * and chain flags; the count is clamped so every loop below stays within the arrays.
+ * Field by field, the vertices past the count not written: returned by value, or copied
+ * whole and then moved, the shape was copied more than once (the smash's narrowphase
+ * spent 7% of its instructions copying shapes). */
+KG_FN void kg_polygon_fields(kg_shape* out, const kg_shape* polygon)
 {
     out->centroid = polygon->centroid;
     out->radius = polygon->radius;
     out->chain = polygon->chain;
     out->pad = polygon->pad;
     out->count = polygon->count < KG_MAX_VERTS ? polygon->count : KG_MAX_VERTS;
+}
+
+/* A polygon's vertices moved by xf into *out (after kg_polygon_fields); its normals turned
+ * by kg_polygon_normals_in_frame, apart, as the first separating axis test reads only the
+ * vertices of the polygon it tests against, and most pairs of a scattering crowd end
+ * there. */
+KG_FN void kg_polygon_vertices_in_frame(kg_shape* out, const kg_shape* polygon, kg_xf xf)
+{
     for (int i = 0; i < out->count; ++i) {
         out->vertices[i] = kg_xf_point(xf, polygon->vertices[i]);
-        out->normals[i] = kg_rotate(xf.q, polygon->normals[i]);
+    }
+}
+
+KG_FN void kg_polygon_normals_in_frame(kg_shape* out, const kg_shape* polygon, kg_rot q)
+{
+    for (int i = 0; i < out->count; ++i) {
+        out->normals[i] = kg_rotate(q, polygon->normals[i]);
+    }
+}
+
+/* A polygon moved by xf, into *out. */
+KG_FN void kg_polygon_in_frame(kg_shape* out, const kg_shape* polygon, kg_xf xf)
+{
+    kg_polygon_fields(out, polygon);
+    kg_polygon_vertices_in_frame(out, polygon, xf);
+    kg_polygon_normals_in_frame(out, polygon, xf.q);
+}
+
+/* A polygon moved by shift, not turned, into *out: its normals as they are. */
+KG_FN void kg_polygon_shifted(kg_shape* out, const kg_shape* polygon, kg_vec2 shift)
+{
+    kg_polygon_fields(out, polygon);
+    for (int i = 0; i < out->count; ++i) {
+        out->vertices[i] = kg_add(polygon->vertices[i], shift);
+        out->normals[i] = polygon->normals[i];
     }
 }
 
@@ -452,8 +484,10 @@ KG_FN kg_manifold kg_collide_polygons(const kg_shape* a, kg_xf xfa, const kg_sha
 {
     kg_vec2 origin = a->vertices[0];
     kg_shape poly_a, poly_b;
-    kg_polygon_in_frame(&poly_a, a, kg_translation(kg_neg(origin)));
-    kg_polygon_in_frame(&poly_b, b, kg_relative_xf(xfa, origin, xfb));
+    kg_polygon_shifted(&poly_a, a, kg_neg(origin));
+    kg_xf b_in_a = kg_relative_xf(xfa, origin, xfb);
+    kg_polygon_fields(&poly_b, b);
+    kg_polygon_vertices_in_frame(&poly_b, b, b_in_a);
     float reach = speculative_distance + (a->radius + b->radius);
 
     int edge_a, edge_b;
@@ -461,6 +495,7 @@ KG_FN kg_manifold kg_collide_polygons(const kg_shape* a, kg_xf xfa, const kg_sha
     if (separation_a > reach) { /* apart along one of a's normals: b's need not be tried */
         return kg_empty_manifold();
     }
+    kg_polygon_normals_in_frame(&poly_b, b, b_in_a.q);
     float separation_b = kg_max_separation(&poly_b, &poly_a, &edge_b);
     if (separation_b > reach) {
         return kg_empty_manifold();
@@ -491,7 +526,7 @@ KG_FN kg_manifold kg_collide_polygon_circle(const kg_shape* a, kg_xf xfa, const 
 {
     kg_vec2 origin = a->vertices[0];
     kg_shape poly;
-    kg_polygon_in_frame(&poly, a, kg_translation(kg_neg(origin)));
+    kg_polygon_shifted(&poly, a, kg_neg(origin));
     kg_vec2 center = kg_xf_point(kg_relative_xf(xfa, origin, xfb), b->vertices[0]);
     float radius = b->radius;
     float reach = radius + a->radius;
