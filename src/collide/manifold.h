@@ -177,8 +177,10 @@ KG_FN kg_xf kg_translation(kg_vec2 p)
 /* ---- polygon against polygon ---- */
 
 /* The largest separation of poly2 from poly1 along poly1's edge normals (the separating axis
- * test); *edge gets the index of that normal. Negative: the polygons overlap along every one. */
-KG_FN float kg_max_separation(const kg_shape* poly1, const kg_shape* poly2, int* edge)
+ * test); *edge gets the index of that normal. Negative: the polygons overlap along every one.
+ * The first separation past reach is returned as it is found: the pair is apart, and which
+ * axis shows it most does not matter (most pairs of a scattering crowd stop there). */
+KG_FN float kg_max_separation(const kg_shape* poly1, const kg_shape* poly2, float reach, int* edge)
 {
     float best = -KG_FLT_MAX;
     *edge = 0;
@@ -192,6 +194,9 @@ KG_FN float kg_max_separation(const kg_shape* poly1, const kg_shape* poly2, int*
         if (deepest > best) {
             best = deepest;
             *edge = i;
+        }
+        if (best > reach) {
+            break;
         }
     }
     return best;
@@ -491,12 +496,12 @@ KG_FN kg_manifold kg_collide_polygons(const kg_shape* a, kg_xf xfa, const kg_sha
     float reach = speculative_distance + (a->radius + b->radius);
 
     int edge_a, edge_b;
-    float separation_a = kg_max_separation(&poly_a, &poly_b, &edge_a);
+    float separation_a = kg_max_separation(&poly_a, &poly_b, reach, &edge_a);
     if (separation_a > reach) { /* apart along one of a's normals: b's need not be tried */
         return kg_empty_manifold();
     }
     kg_polygon_normals_in_frame(&poly_b, b, b_in_a.q);
-    float separation_b = kg_max_separation(&poly_b, &poly_a, &edge_b);
+    float separation_b = kg_max_separation(&poly_b, &poly_a, reach, &edge_b);
     if (separation_b > reach) {
         return kg_empty_manifold();
     }
