@@ -19,7 +19,7 @@
 #define KG_RECYCLE_DISTANCE 0.002f
 #define KG_RECYCLE_SINE 0.004f
 
-/* The base of a contact that is not recycled (a tile contact): zeros. */
+/* The base of a contact that is not recycled (a tile contact) or has no points: zeros. */
 KG_FN kg_contact_base kg_no_contact_base(void)
 {
     kg_contact_base base;

@@ -27,6 +27,7 @@
 
 #include "core/body_flags.h"
 #include "core/kg_layout.h"
+#include "core/prefetch.h"
 #include "core/ranges.h"
 
 #define KG_COLOR_COUNT 24
@@ -171,11 +172,6 @@ KG_FN void kg_order_by_color(int count, KG_GLOBAL const int* colors, KG_GLOBAL i
  * found by going through every priority (a sort costs some 40 log2(n) instructions a
  * contact, the walk some 50 per priority, up to 2 count priorities). */
 #define KG_COLOR_FEW_WAITING 16
-#if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
-#define kg_prefetch(address) ((void)0)
-#else
-#define kg_prefetch(address) __builtin_prefetch(address)
-#endif
 
 /* The contacts that kept no colour (colors[k] == KG_UNCOLORED), coloured in priority order. */
 KG_FN void kg_color_in_priority_order(int count, KG_GLOBAL kg_contact* contacts, KG_GLOBAL const kg_u32* flags,

@@ -129,7 +129,7 @@ typedef struct KG_L(kg_prepare_input) {
     kg_lv2 anchor_a[2];
     kg_lane separation[2], normal_impulse[2], tangent_impulse[2], has_point[2];
     kg_lv2 normal;
-    kg_lv2 origin_a, center_a, center_b; /* b's anchors are a's plus center_a - center_b */
+    kg_lv2 origin_a, center_a, center_b; /* b's lever arms are a's plus center_a - center_b */
     kg_lv2 va, vb;
     kg_lane wa, wb;
     kg_lane unused[6]; /* to a whole number of 16-lane transposes; not written */

@@ -187,7 +187,7 @@ static inline void KG_WIDE(kg_scatter)(kg_solver_body* bodies, kg_lindex slots, 
 /* How many blocks ahead a pass asks for the rows it will read and write, where they do
  * not fit in the cache (kg_contact_rows.run's `stream`): about 2.7 KB, a 16-lane block.
  * The hardware prefetcher fell behind the passes, whose reads jump between the fields
- * of a block: asked for ahead, many_pyramids' passes (9.7 MB of rows) took 4.9 ms a step
+ * of a block: asked for ahead, many_pyramids' passes (9.7 MB of rows) took 4.4 ms a step
  * where they took 5.9 (perf, alternated runs); one, two or four 16-lane blocks ahead did
  * as well, every other line did not. Rows in the cache gain nothing and pay the
  * instructions (large_pyramid's warm start, 2.5 MB of rows: 20% slower). */
