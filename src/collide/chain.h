@@ -73,13 +73,6 @@ KG_FN kg_tile_segment kg_chain_segment_of(const kg_shape* chain, kg_vec2 origin)
     return s;
 }
 
-/* A body's shape moved by xf into *out, its centroid with it (the one-sided test reads it). */
-KG_FN void kg_shape_in_frame(kg_shape* out, const kg_shape* shape, kg_xf xf)
-{
-    kg_polygon_in_frame(out, shape, xf);
-    out->centroid = kg_xf_point(xf, shape->centroid);
-}
-
 /* The manifold of a chain segment (a) and a body's shape (b), normal from a to b: computed
  * in the segment's frame shifted to p1, where coordinates stay small, then moved to the
  * world frame. */

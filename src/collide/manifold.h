@@ -156,6 +156,14 @@ KG_FN void kg_polygon_in_frame(kg_shape* out, const kg_shape* polygon, kg_xf xf)
     kg_polygon_normals_in_frame(out, polygon, xf.q);
 }
 
+/* A body's shape moved by xf into *out, its centroid with it (the one-sided tests of chain
+ * segments and tiles read it). */
+KG_FN void kg_shape_in_frame(kg_shape* out, const kg_shape* shape, kg_xf xf)
+{
+    kg_polygon_in_frame(out, shape, xf);
+    out->centroid = kg_xf_point(xf, shape->centroid);
+}
+
 /* A polygon moved by shift, not turned, into *out: its normals as they are. */
 KG_FN void kg_polygon_shifted(kg_shape* out, const kg_shape* polygon, kg_vec2 shift)
 {

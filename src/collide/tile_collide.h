@@ -626,16 +626,12 @@ KG_FN kg_tile_hit kg_tile_collide_circle(const kg_tile_segment* s, kg_vec2 cente
 /* ---- the body in the cell frame, and its contact back in the world (collide/tile_pass.h)
  * ---- */
 
-/* A body's shape moved into a cell's frame: xf is the body's pose relative to the cell. */
-KG_FN kg_shape kg_shape_in_cell(KG_GLOBAL const kg_shape* shape, kg_xf xf)
+/* A body's shape moved into a cell's frame, into *out: xf is the body's pose relative to
+ * the cell (kg_shape_in_frame, from the shape in global memory). */
+KG_FN void kg_shape_in_cell(kg_shape* out, KG_GLOBAL const kg_shape* shape, kg_xf xf)
 {
-    kg_shape out = *shape;
-    for (int i = 0; i < shape->count; ++i) {
-        out.vertices[i] = kg_xf_point(xf, shape->vertices[i]);
-        out.normals[i] = kg_rotate(xf.q, shape->normals[i]);
-    }
-    out.centroid = kg_xf_point(xf, shape->centroid);
-    return out;
+    KG_PRIVATE_VIEW(kg_shape, s, *shape);
+    kg_shape_in_frame(out, s, xf);
 }
 
 /* A contact from a manifold in the cell frame (normal from the tile to the body): normal

@@ -205,7 +205,8 @@ KG_FN_NOINLINE void kg_tile_collide_cell(const kg_tile_terrain* t, const kg_tile
     kg_vec2 cell_origin = kg_v2(m->origin.x + (float)x * m->tile_size.x, m->origin.y + (float)y * m->tile_size.y);
     kg_xf xf = b->xf[i];
     xf.p = kg_sub(xf.p, cell_origin);
-    kg_shape in_cell = kg_shape_in_cell(&b->shape[g], xf);
+    kg_shape in_cell;
+    kg_shape_in_cell(&in_cell, &b->shape[g], xf);
     kg_tile_neighbourhood nb = kg_tile_neighbourhood_of(t, m, layer, x, y);
     kg_tile_hit hit = kg_tile_collide(&nb, &in_cell, t->speculative);
     if (hit.manifold.point_count == 0) {
