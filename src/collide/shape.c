@@ -188,6 +188,15 @@ static kg_result kg_build_circle(const kg_shape_def* def, kg_shape* out)
     return KG_OK;
 }
 
+/* Whether polygon s is a parallelogram, as kg_shape.parallelogram means it: four vertices,
+ * each edge's normal exactly the opposite of the one across (a box; one turned by an angle
+ * may miss by a rounding and take the general test). */
+static kg_u32 kg_is_parallelogram(const kg_shape* s)
+{
+    return s->count == 4 && s->normals[2].x == -s->normals[0].x && s->normals[2].y == -s->normals[0].y &&
+           s->normals[3].x == -s->normals[1].x && s->normals[3].y == -s->normals[1].y;
+}
+
 static kg_result kg_build_polygon(const kg_shape_def* def, kg_shape* out)
 {
     if (def->count == 0) {
@@ -222,6 +231,7 @@ static kg_result kg_build_polygon(const kg_shape_def* def, kg_shape* out)
         return kg_fail(KG_ERROR_DEGENERATE_SHAPE, "polygon too large or too thin: its mass properties overflow");
     }
     out->centroid = md.center;
+    out->parallelogram = kg_is_parallelogram(out);
     return KG_OK;
 }
 

@@ -24,7 +24,8 @@ typedef struct kg_shape {
     float radius;
     kg_i32 count;
     kg_u32 chain; /* a chain segment's flags (collide/chain.h); 0 for every other shape */
-    kg_u32 pad;
+    kg_u32 parallelogram; /* 1: four vertices, each edge's normal exactly the opposite of the
+                           * one across (a box); the separating axis test's shortcut */
 } kg_shape;
 
 /* A shape's flags in the shape pool (core/shape_pool.h), read by the shared pair code. */
