@@ -423,12 +423,14 @@ static int kg_seen_covers(const kg_seen* seen, const kg_body_pool* bodies, int i
            kg_box_within(box, seen->box);
 }
 
-int kg_broadphase_covers(kg_broadphase* bp, const kg_body_pool* bodies, float margin)
+int kg_broadphase_same_slots(const kg_broadphase* bp, const kg_body_pool* bodies)
 {
-    if (bodies->high_water != bp->seen_count) {
-        return 0;
-    }
-    for (int i = 0; i < bodies->high_water; ++i) {
+    return bodies->high_water == bp->seen_count;
+}
+
+int kg_broadphase_covers_range(kg_broadphase* bp, const kg_body_pool* bodies, float margin, int begin, int end)
+{
+    for (int i = begin; i < end; ++i) {
         kg_aabb box;
         int takes_part = kg_broadphase_box(bodies->flags[i], bodies->aabb[i], margin, &box);
         if (!kg_seen_covers(&bp->seen[i], bodies, i, box, takes_part)) {
@@ -439,17 +441,36 @@ int kg_broadphase_covers(kg_broadphase* bp, const kg_body_pool* bodies, float ma
     return 1;
 }
 
+int kg_broadphase_covers(kg_broadphase* bp, const kg_body_pool* bodies, float margin)
+{
+    return kg_broadphase_same_slots(bp, bodies) && kg_broadphase_covers_range(bp, bodies, margin, 0, bodies->high_water);
+}
+
+static int kg_pair_kept(const kg_broadphase* bp, kg_pair pair)
+{
+    return kg_aabb_overlap(bp->proxies[pair.a].box, bp->proxies[pair.b].box);
+}
+
 int kg_broadphase_keep_pairs(const kg_broadphase* bp, const kg_pair* found, int count, kg_pair* out, int capacity)
 {
     int n = 0;
     for (int k = 0; k < count; ++k) {
-        kg_pair pair = found[k];
-        if (kg_aabb_overlap(bp->proxies[pair.a].box, bp->proxies[pair.b].box)) {
+        if (kg_pair_kept(bp, found[k])) {
             if (n < capacity) {
-                out[n] = pair;
+                out[n] = found[k];
             }
             n += 1;
         }
+    }
+    return n;
+}
+
+int kg_broadphase_mark_kept(const kg_broadphase* bp, const kg_pair* found, int begin, int end, unsigned char* kept)
+{
+    int n = 0;
+    for (int k = begin; k < end; ++k) {
+        kept[k] = (unsigned char)kg_pair_kept(bp, found[k]);
+        n += kept[k];
     }
     return n;
 }

@@ -61,11 +61,22 @@ int kg_broadphase_find_pairs(kg_broadphase* bp, const kg_body_pool* bodies, floa
  * (fattened by its own margin). Then stores those boxes for kg_broadphase_keep_pairs. */
 int kg_broadphase_covers(kg_broadphase* bp, const kg_body_pool* bodies, float margin);
 
+/* kg_broadphase_covers in parts, for threads: whether the last search looked at the same
+ * slots as the pool has now; then whether each slot of [begin, end) is covered (storing
+ * their boxes). covers = same slots and every range covered. */
+int kg_broadphase_same_slots(const kg_broadphase* bp, const kg_body_pool* bodies);
+int kg_broadphase_covers_range(kg_broadphase* bp, const kg_body_pool* bodies, float margin, int begin, int end);
+
 /* After kg_broadphase_covers said yes, given the last search's pairs (found, count): the
  * pairs a search with that margin would give now, in the same (a, b) order, as
  * kg_broadphase_find_pairs writes and counts them (the first capacity written, the total
  * returned). The other conditions of a pair are unchanged, so only the boxes are tested. */
 int kg_broadphase_keep_pairs(const kg_broadphase* bp, const kg_pair* found, int count, kg_pair* out, int capacity);
+
+/* kg_broadphase_keep_pairs in parts, for threads: marks kept[k] (1 or 0) for each found
+ * pair k of [begin, end) and returns how many are kept; the caller then writes the kept
+ * ones in order. */
+int kg_broadphase_mark_kept(const kg_broadphase* bp, const kg_pair* found, int begin, int end, unsigned char* kept);
 
 /* The grid of the last search, for tests and benchmarks (a step served by kept pairs
  * searches nothing): cell size (m) and how many boxes

@@ -52,6 +52,9 @@ struct kg_collision {
                              * pairs while kg_broadphase_covers says so */
     int found_count;        /* -1 when found holds no search's pairs */
     int found_capacity;
+    unsigned char* found_kept; /* per found pair: whether this step keeps it (threads only) */
+    int* found_blocks;      /* per block of KG_PAIR_BLOCK found pairs: how many are kept, then
+                             * where the block's kept ones go */
     int found_served;       /* whether the found pairs served a step after their search's */
     int plain_run;          /* steps to search without slack after a search with it served none */
     int plain_left;         /* of those, still to go */
@@ -85,6 +88,8 @@ struct kg_collision {
 static void kg_free_buffers(struct kg_collision* c)
 {
     kg_free(c->found);
+    kg_free(c->found_kept);
+    kg_free(c->found_blocks);
     kg_free(c->pairs);
     kg_free(c->shape_pairs);
     kg_free(c->block_touching);
@@ -200,13 +205,44 @@ static int kg_search_with_slack(kg_world* world)
     int n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->found, c->found_capacity);
     if (n > c->found_capacity) {
         int grown = kg_grown_count(n);
-        if (!kg_regrow((void**)&c->found, 0, (size_t)grown * sizeof *c->found)) {
+        if (!kg_regrow((void**)&c->found, 0, (size_t)grown * sizeof *c->found) ||
+            !kg_regrow((void**)&c->found_kept, 0, (size_t)grown) ||
+            !kg_regrow((void**)&c->found_blocks, 0, kg_block_count((size_t)grown) * sizeof *c->found_blocks)) {
+            c->found_capacity = 0; /* what was grown is kept, the capacity only for all three */
             return -1;
         }
         c->found_capacity = grown;
         n = kg_broadphase_find_pairs(c->broadphase, &world->bodies, margin, c->found, c->found_capacity);
     }
     return n;
+}
+
+typedef struct kg_cover_job {
+    kg_broadphase* broadphase;
+    const kg_body_pool* bodies;
+    float margin;
+    atomic_int covered;
+} kg_cover_job;
+
+static void kg_cover_range(void* context, int begin, int end)
+{
+    kg_cover_job* job = context;
+    if (atomic_load_explicit(&job->covered, memory_order_relaxed) &&
+        !kg_broadphase_covers_range(job->broadphase, job->bodies, job->margin, begin, end)) {
+        atomic_store_explicit(&job->covered, 0, memory_order_relaxed);
+    }
+}
+
+/* kg_broadphase_covers over the threads (serial, it was a twentieth of large_pyramid's
+ * step on two, the other thread waiting). */
+static int kg_covers(kg_world* world, float margin)
+{
+    kg_cover_job job = {world->collision->broadphase, &world->bodies, margin, 1};
+    if (!kg_broadphase_same_slots(job.broadphase, job.bodies)) {
+        return 0;
+    }
+    kg_parallel_for(world->threads, world->bodies.high_water, KG_BODY_GRAIN, kg_cover_range, &job);
+    return atomic_load(&job.covered);
 }
 
 /* Whether c->found holds every pair of this step: last step's search still covers the
@@ -216,7 +252,7 @@ static int kg_found_serves(kg_world* world)
     struct kg_collision* c = world->collision;
     float margin = world->def.speculative_distance;
     if (c->found_count >= 0) {
-        if (kg_broadphase_covers(c->broadphase, &world->bodies, margin)) {
+        if (kg_covers(world, margin)) {
             c->found_served = 1;
             return 1;
         }
@@ -230,7 +266,59 @@ static int kg_found_serves(kg_world* world)
     }
     c->found_count = kg_search_with_slack(world);
     c->found_served = 0;
-    return c->found_count >= 0 && kg_broadphase_covers(c->broadphase, &world->bodies, margin);
+    return c->found_count >= 0 && kg_covers(world, margin);
+}
+
+typedef struct kg_keep_job {
+    struct kg_collision* collision;
+    int capacity;
+} kg_keep_job;
+
+static void kg_mark_kept_range(void* context, int begin, int end)
+{
+    const kg_keep_job* job = context;
+    const struct kg_collision* c = job->collision;
+    for (int block = begin; block < end; ++block) {
+        int first = block * KG_PAIR_BLOCK;
+        int last = first + KG_PAIR_BLOCK < c->found_count ? first + KG_PAIR_BLOCK : c->found_count;
+        c->found_blocks[block] = kg_broadphase_mark_kept(c->broadphase, c->found, first, last, c->found_kept);
+    }
+}
+
+static void kg_write_kept_range(void* context, int begin, int end)
+{
+    const kg_keep_job* job = context;
+    const struct kg_collision* c = job->collision;
+    for (int block = begin; block < end; ++block) {
+        int at = c->found_blocks[block];
+        int last = (block + 1) * KG_PAIR_BLOCK < c->found_count ? (block + 1) * KG_PAIR_BLOCK : c->found_count;
+        for (int k = block * KG_PAIR_BLOCK; k < last && at < job->capacity; ++k) {
+            if (c->found_kept[k]) { /* not written past its place: that is the next block's */
+                c->pairs[at++] = c->found[k];
+            }
+        }
+    }
+}
+
+/* kg_broadphase_keep_pairs over the threads: each block's kept pairs marked and counted,
+ * the counts summed into places, the blocks written. One thread picks them in one pass. */
+static int kg_keep_pairs(kg_world* world)
+{
+    struct kg_collision* c = world->collision;
+    if (!world->threads) {
+        return kg_broadphase_keep_pairs(c->broadphase, c->found, c->found_count, c->pairs, c->capacity);
+    }
+    kg_keep_job job = {c, c->capacity};
+    int blocks = (int)kg_block_count((size_t)c->found_count);
+    kg_parallel_for(world->threads, blocks, 1, kg_mark_kept_range, &job);
+    int64_t total = 0;
+    for (int block = 0; block < blocks; ++block) {
+        int kept = c->found_blocks[block];
+        c->found_blocks[block] = (int)(total < INT_MAX ? total : INT_MAX);
+        total += kept;
+    }
+    kg_parallel_for(world->threads, blocks, 1, kg_write_kept_range, &job);
+    return (int)(total < INT_MAX ? total : INT_MAX);
 }
 
 /* This step's pairs into c->pairs, as many as fit; returns how many there are. Picked
@@ -241,7 +329,7 @@ static int kg_pairs_now(kg_world* world, int found_serves)
 {
     struct kg_collision* c = world->collision;
     if (found_serves) {
-        return kg_broadphase_keep_pairs(c->broadphase, c->found, c->found_count, c->pairs, c->capacity);
+        return kg_keep_pairs(world);
     }
     c->found_count = -1; /* this search overwrites what the broadphase saw */
     return kg_broadphase_find_pairs(c->broadphase, &world->bodies, world->def.speculative_distance, c->pairs,

@@ -17,4 +17,7 @@ void kg_thread_pool_destroy(kg_thread_pool* pool);
  * pool may be NULL (runs inline). */
 void kg_parallel_for(kg_thread_pool* pool, int count, int grain, kg_range_fn* fn, void* context);
 
+/* The grain of a loop over bodies: a body's work is small. */
+#define KG_BODY_GRAIN 256
+
 #endif

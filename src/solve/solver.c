@@ -30,7 +30,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define KG_BODY_GRAIN 256
 #define KG_CONSTRAINT_GRAIN 64
 /* The contacts are prepared (and take their impulses back) a chunk of this many at a
  * time: a chunk's constraints of a colour follow those of the chunks before it, in
@@ -280,17 +279,41 @@ static const int* kg_chunk_start(const struct kg_solver* s, int chunk)
     return s->chunk_start + (size_t)chunk * (KG_COLOR_COUNT + 1);
 }
 
-/* The chunks' places in their colours and the colours' sizes (kg_chunk_start), counted
- * from the contacts' colours. */
-static void kg_count_colors(struct kg_solver* s, int count)
+/* The counts of chunks [begin, end)'s constraints per colour, chunk k's in row k + 1 of
+ * chunk_start (kg_count_colors sums them into places). */
+typedef struct kg_count_job {
+    struct kg_solver* solver;
+    int count; /* contacts */
+} kg_count_job;
+
+static void kg_count_chunk_colors(void* context, int begin, int end)
 {
-    int next[KG_COLOR_COUNT + 1] = {0};
+    const kg_count_job* job = context;
+    struct kg_solver* s = job->solver;
+    for (int chunk = begin; chunk < end; ++chunk) {
+        int* counts = s->chunk_start + (size_t)(chunk + 1) * (KG_COLOR_COUNT + 1);
+        memset(counts, 0, (KG_COLOR_COUNT + 1) * sizeof *counts);
+        int last = (chunk + 1) * KG_CHUNK < job->count ? (chunk + 1) * KG_CHUNK : job->count;
+        for (int k = chunk * KG_CHUNK; k < last; ++k) {
+            counts[s->colors[k]] += 1;
+        }
+    }
+}
+
+/* The chunks' places in their colours and the colours' sizes (kg_chunk_start), counted
+ * from the contacts' colours: each chunk's counts in parallel (serial, this loop was 2%
+ * of large_pyramid's step on two threads, the other thread waiting), then summed. */
+static void kg_count_colors(kg_world* world, struct kg_solver* s, int count)
+{
+    kg_count_job job = {s, count};
     s->chunks = (count + KG_CHUNK - 1) / KG_CHUNK;
-    for (int chunk = 0; chunk <= s->chunks; ++chunk) {
-        memcpy(s->chunk_start + (size_t)chunk * (KG_COLOR_COUNT + 1), next, sizeof next);
-        int end = (chunk + 1) * KG_CHUNK < count ? (chunk + 1) * KG_CHUNK : count;
-        for (int k = chunk * KG_CHUNK; k < end; ++k) {
-            next[s->colors[k]] += 1;
+    memset(s->chunk_start, 0, (KG_COLOR_COUNT + 1) * sizeof *s->chunk_start);
+    kg_parallel_for(world->threads, s->chunks, 1, kg_count_chunk_colors, &job);
+    for (int chunk = 1; chunk <= s->chunks; ++chunk) {
+        const int* before = kg_chunk_start(s, chunk - 1);
+        int* place = s->chunk_start + (size_t)chunk * (KG_COLOR_COUNT + 1);
+        for (int c = 0; c <= KG_COLOR_COUNT; ++c) {
+            place[c] += before[c];
         }
     }
 }
@@ -512,7 +535,7 @@ void kg_stage_solve(kg_world* world, float dt)
 
     kg_parallel_for(world->threads, p->high_water, KG_BODY_GRAIN, kg_load_bodies, &bjob);
     kg_color_step(world, s, contacts, count, atomic_load(&bjob.froze));
-    kg_count_colors(s, count);
+    kg_count_colors(world, s, count);
     if (kg_plan_blocks(s) != KG_OK) {
         kg_warn_once("solver-grow", "out of memory for contact constraints: contacts ignored this step");
     }
