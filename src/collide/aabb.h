@@ -68,7 +68,9 @@ KG_FN int kg_broadphase_box(kg_u32 flags, kg_aabb bounds, float margin, kg_aabb*
 KG_FN int kg_boxes_pair(int moves_p, kg_aabb box_p, kg_u32 category_p, kg_u32 mask_p, int moves_q, kg_aabb box_q,
                         kg_u32 category_q, kg_u32 mask_q)
 {
-    return (moves_p || moves_q) && kg_aabb_overlap(box_p, box_q) && (category_p & mask_q) && (category_q & mask_p);
+    /* bitwise, not &&: see kg_aabb_overlap */
+    return ((moves_p | moves_q) != 0) & kg_aabb_overlap(box_p, box_q) & ((category_p & mask_q) != 0u) &
+           ((category_q & mask_p) != 0u);
 }
 
 #endif
