@@ -484,21 +484,6 @@ static void report_overlaps(const char* name, const overlap_stats* st, int cases
     KG_CHECK(st->skipped <= cases / 1000);
 }
 
-static void test_random_polygons_overlap_depth_points(void)
-{
-    g_rng = 0x5EED0001u;
-    overlap_stats st;
-    memset(&st, 0, sizeof st);
-    for (int k = 0; k < POLYGON_CASES; ++k) {
-        double size_a, size_b;
-        kg_shape a = random_polygon(&size_a), b = random_polygon(&size_b);
-        kg_xf xfa, xfb;
-        random_poses(size_a, size_b, &a, &b, &xfa, &xfb);
-        check_polygon_pair(&a, size_a, xfa, &b, size_b, xfb, &st);
-    }
-    report_overlaps("polygons", &st, POLYGON_CASES);
-    KG_CHECK(st.overlapping > POLYGON_CASES / 4 && st.separated > POLYGON_CASES / 4);
-}
 
 /* Resting contact, where a solver spends its time: a face of b laid on a random face of a,
  * turned by up to 0.01 rad, slid along it, and sunk into it or lifted off by up to 0.02 m. */
@@ -567,25 +552,43 @@ static double compare_shortcut(const kg_shape* a, double size_a, kg_xf xfa, cons
     return worst;
 }
 
-/* Boxes take the parallelogram shortcut: every brute-force check of the random polygons
- * holds for them, and the shortcut gives the search's separations. */
-static void test_random_boxes_take_the_parallelogram_shortcut(void)
+/* POLYGON_CASES pairs of shapes from make, placed by random_poses, held to
+ * check_polygon_pair and reported under name; with shortcut (parallelograms), each pair's
+ * separating axis shortcut also against the search (compare_shortcut). */
+static void check_random_pairs(const char* name, kg_shape (*make)(double* size), int shortcut)
 {
-    g_rng = 0x5EED000Bu;
     overlap_stats st;
     memset(&st, 0, sizeof st);
     double worst = 0.0;
     for (int k = 0; k < POLYGON_CASES; ++k) {
         double size_a, size_b;
-        kg_shape a = random_box(&size_a), b = random_box(&size_b);
+        kg_shape a = make(&size_a), b = make(&size_b);
         kg_xf xfa, xfb;
         random_poses(size_a, size_b, &a, &b, &xfa, &xfb);
         check_polygon_pair(&a, size_a, xfa, &b, size_b, xfb, &st);
-        worst = fmax(worst, compare_shortcut(&a, size_a, xfa, &b, size_b, xfb));
+        if (shortcut) {
+            worst = fmax(worst, compare_shortcut(&a, size_a, xfa, &b, size_b, xfb));
+        }
     }
-    report_overlaps("boxes", &st, POLYGON_CASES);
-    printf("  boxes: shortcut against search, worst separation difference %.2g\n", worst);
+    report_overlaps(name, &st, POLYGON_CASES);
+    if (shortcut) {
+        printf("  %s: shortcut against search, worst separation difference %.2g\n", name, worst);
+    }
     KG_CHECK(st.overlapping > POLYGON_CASES / 4 && st.separated > POLYGON_CASES / 4);
+}
+
+static void test_random_polygons_overlap_depth_points(void)
+{
+    g_rng = 0x5EED0001u;
+    check_random_pairs("polygons", random_polygon, 0);
+}
+
+/* Boxes take the parallelogram shortcut: every brute-force check of the random polygons
+ * holds for them, and the shortcut gives the search's separations. */
+static void test_random_boxes_take_the_parallelogram_shortcut(void)
+{
+    g_rng = 0x5EED000Bu;
+    check_random_pairs("boxes", random_box, 1);
 }
 
 /* Only four vertices whose opposite normals are exact opposites make a parallelogram: a
