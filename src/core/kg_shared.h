@@ -8,6 +8,7 @@
 #if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
 #pragma OPENCL FP_CONTRACT OFF
 typedef uint kg_u32;
+typedef ulong kg_u64;
 typedef int kg_i32;
 #define KG_FN static inline
 #define KG_FN_INLINE static inline
@@ -42,6 +43,7 @@ typedef struct kg_aabb {
 #include <float.h>
 #include "kgyro/types.h"
 typedef uint32_t kg_u32;
+typedef uint64_t kg_u64;
 typedef int32_t kg_i32;
 #define KG_FN static inline
 /* a KG_FN that a hot CPU loop needs inlined where gcc's size limits would not */
