@@ -96,7 +96,8 @@ typedef struct bench_row {
 } bench_row;
 
 /* bench_run.c */
-void bench_run(const bench_engine* engine, kg_scene* scene, const bench_scene_info* info,
+/* The scene in each of engines[0, count) into out[i], the engines' runs taken in turns. */
+void bench_run(const bench_engine* const* engines, int count, kg_scene* scene, const bench_scene_info* info,
                const bench_config* config, bench_result* out);
 /* Whether kgyro can make a world on backend; if not, why says why. */
 int bench_kgyro_backend_works(kg_backend backend, const bench_config* config, char* why, size_t size);

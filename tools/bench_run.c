@@ -567,34 +567,54 @@ static void bench_finish_stages(bench_result* out, int runs, int steps)
     }
 }
 
-void bench_run(const bench_engine* engine, kg_scene* scene, const bench_scene_info* info,
+/* Runs one scene in engines [0, count), their runs taken in turns (run 1 of each, then
+ * run 2 of each, ...), into out[i]: on a shared machine a burst of another tenant's load
+ * then falls on every engine alike instead of on one engine's runs (one engine's runs in
+ * a row, then the next engine's, moved a scene's ratio by up to a quarter here). An
+ * engine stops at its first run that does not end well. */
+void bench_run(const bench_engine* const* engines, int count, kg_scene* scene, const bench_scene_info* info,
                const bench_config* config, bench_result* out)
 {
-    memset(out, 0, sizeof *out);
-    out->check = BENCH_NO_CHECK;
     size_t per_run = (size_t)info->steps;
-    double* all_ms = malloc(((size_t)config->runs * per_run + 1) * sizeof *all_ms);
-    if (!all_ms) {
-        out->status = BENCH_FAILED;
-        snprintf(out->message, sizeof out->message, "out of memory");
-        return;
-    }
-    bench_child_report report;
-    int run = 0;
-    for (; run < config->runs; ++run) {
-        bench_run_once(engine, scene, info, config, &report, all_ms + (size_t)run * per_run);
-        bench_add_run(&report, all_ms + (size_t)run * per_run, run, out);
-        if (report.status != BENCH_OK) {
-            out->status = report.status;
-            snprintf(out->message, sizeof out->message, "run %d: %.200s", run + 1, report.message);
-            break;
+    double** all_ms = calloc((size_t)count + 1, sizeof *all_ms);
+    int* runs = calloc((size_t)count + 1, sizeof *runs);
+    for (int e = 0; e < count; ++e) {
+        memset(&out[e], 0, sizeof out[e]);
+        out[e].check = BENCH_NO_CHECK;
+        double* times = all_ms && runs ? malloc(((size_t)config->runs * per_run + 1) * sizeof *times) : NULL;
+        if (all_ms) {
+            all_ms[e] = times;
+        }
+        if (!times) {
+            out[e].status = BENCH_FAILED;
+            snprintf(out[e].message, sizeof out[e].message, "out of memory");
         }
     }
-    if (out->status == BENCH_OK) {
-        bench_summarize_times(all_ms, (size_t)run * per_run, out);
-        bench_finish_stages(out, run, info->steps);
+    bench_child_report report;
+    for (int run = 0; run < config->runs; ++run) {
+        for (int e = 0; e < count; ++e) {
+            if (out[e].status != BENCH_OK) {
+                continue;
+            }
+            double* step_ms = all_ms[e] + (size_t)run * per_run;
+            bench_run_once(engines[e], scene, info, config, &report, step_ms);
+            bench_add_run(&report, step_ms, run, &out[e]);
+            runs[e] = run + 1;
+            if (report.status != BENCH_OK) {
+                out[e].status = report.status;
+                snprintf(out[e].message, sizeof out[e].message, "run %d: %.200s", run + 1, report.message);
+            }
+        }
+    }
+    for (int e = 0; e < count; ++e) {
+        if (out[e].status == BENCH_OK) {
+            bench_summarize_times(all_ms[e], (size_t)runs[e] * per_run, &out[e]);
+            bench_finish_stages(&out[e], runs[e], info->steps);
+        }
+        free(all_ms ? all_ms[e] : NULL);
     }
     free(all_ms);
+    free(runs);
 }
 
 const char* bench_status_name(bench_status status)

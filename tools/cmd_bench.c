@@ -60,8 +60,9 @@ static void bench_usage(FILE* out)
             "Steps each scene in kgyro and in the peer engines and reports, per engine, the median and\n"
             "95th-percentile wall-clock ms per step over every step of every run, the ratio to kgyro's\n"
             "median, the peak memory of a run, and a correctness line (a pyramid's top box drift, bodies\n"
-            "below the ground, non-finite states). Every run is a fresh world in a forked child; on a\n"
-            "terminal, kgyro's runs show a progress line on stderr while they step.\n"
+            "below the ground, non-finite states). Every run is a fresh world in a forked child, the\n"
+            "engines taking their runs of a scene in turns; on a terminal, kgyro's runs show a progress\n"
+            "line on stderr while they step.\n"
             "\n"
             "SCENE is a generator name (large_pyramid, many_pyramids, smash, tumbler, rain_N,\n"
             "particles_N, pyramid_B, stack_N); :STEPS gives that scene its own step count.\n"
@@ -404,23 +405,45 @@ static void bench_note_stop(bench_session* s, int engine, const bench_scene_info
     }
 }
 
-static void bench_measure(bench_session* s, int engine, kg_scene* scene, const bench_scene_info* info,
-                          bench_result* r)
+/* Whether engine is not to be measured on this scene (missing, or stopped in its
+ * series): then r says why. */
+static int bench_unmeasured(const bench_session* s, int engine, const bench_scene_info* info, bench_result* r)
 {
     const bench_engine* e = &s->engines[engine];
     const bench_stop* stop = info->size > 0 ? bench_find_stop(s, engine, info->family) : NULL;
+    memset(r, 0, sizeof *r);
     if (!e->available) {
         r->status = BENCH_MISSING;
         snprintf(r->message, sizeof r->message, "%.*s", (int)sizeof r->message - 1, e->about); /* cut if long */
     } else if (stop) {
         r->status = BENCH_SKIPPED;
         snprintf(r->message, sizeof r->message, "%.*s", (int)sizeof r->message - 1, stop->why);
-    } else {
-        bench_run(e, scene, info, &s->options.config, r);
-        bench_note_stop(s, engine, info, r);
     }
-    if (r->status == BENCH_FAILED || r->status == BENCH_CRASHED) {
-        s->exit_code = 1;
+    return !e->available || stop;
+}
+
+/* Every engine's result on the scene into results (in engine order): those to be
+ * measured run together, their runs in turns (bench_run). */
+static void bench_measure(bench_session* s, kg_scene* scene, const bench_scene_info* info, bench_result* results)
+{
+    const bench_engine* measured[BENCH_MAX_ENGINES];
+    int which[BENCH_MAX_ENGINES], count = 0;
+    for (int i = 0; i < s->engine_count; ++i) {
+        if (!bench_unmeasured(s, i, info, &results[i])) {
+            measured[count] = &s->engines[i];
+            which[count++] = i;
+        }
+    }
+    bench_result out[BENCH_MAX_ENGINES];
+    bench_run(measured, count, scene, info, &s->options.config, out);
+    for (int k = 0; k < count; ++k) {
+        results[which[k]] = out[k];
+        bench_note_stop(s, which[k], info, &out[k]);
+    }
+    for (int i = 0; i < s->engine_count; ++i) {
+        if (results[i].status == BENCH_FAILED || results[i].status == BENCH_CRASHED) {
+            s->exit_code = 1;
+        }
     }
 }
 
@@ -438,6 +461,8 @@ static bench_row* bench_new_row(bench_session* s)
 
 static void bench_scene_engines(bench_session* s, kg_scene* scene, const bench_scene_info* info)
 {
+    bench_result results[BENCH_MAX_ENGINES];
+    bench_measure(s, scene, info, results);
     double kgyro_median = NAN;
     for (int i = 0; i < s->engine_count; ++i) {
         bench_row* row = bench_new_row(s);
@@ -448,7 +473,7 @@ static void bench_scene_engines(bench_session* s, kg_scene* scene, const bench_s
         }
         row->scene = *info;
         row->engine = s->engines[i];
-        bench_measure(s, i, scene, info, &row->result);
+        row->result = results[i];
         int ok = row->result.status == BENCH_OK;
         if (ok && isnan(kgyro_median) && row->engine.kind == BENCH_KGYRO) {
             kgyro_median = row->result.median_ms;
