@@ -279,13 +279,13 @@ static const int* kg_chunk_start(const struct kg_solver* s, int chunk)
     return s->chunk_start + (size_t)chunk * (KG_COLOR_COUNT + 1);
 }
 
-/* The counts of chunks [begin, end)'s constraints per colour, chunk k's in row k + 1 of
- * chunk_start (kg_count_colors sums them into places). */
 typedef struct kg_count_job {
     struct kg_solver* solver;
     int count; /* contacts */
 } kg_count_job;
 
+/* The counts of chunks [begin, end)'s constraints per colour, chunk k's in row k + 1 of
+ * chunk_start (kg_count_colors sums them into places). */
 static void kg_count_chunk_colors(void* context, int begin, int end)
 {
     const kg_count_job* job = context;
