@@ -171,10 +171,12 @@ KG_FN kg_bp_grid kg_bp_grid_make(float cell_size, KG_GLOBAL const kg_u32* bounds
 }
 
 /* Every step here is monotone in v (clamping too), which the neighbour argument needs.
- * The clamp is written so that a NaN lands in cell 0. */
+ * The clamp is written so that a NaN lands in cell 0. The conversion truncates a value
+ * clamped to be non-negative: its floor, without floorf (a library call on the CPU's
+ * baseline build). */
 KG_FN kg_u32 kg_bp_cell_coord(float v, float origin, float inv_cell_size, kg_u32 cells)
 {
-    float f = floorf((v - origin) * inv_cell_size);
+    float f = (v - origin) * inv_cell_size;
     f = f > 0.0f ? f : 0.0f;
     return (kg_u32)kg_minf(f, (float)(cells - 1u));
 }
