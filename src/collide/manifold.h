@@ -229,13 +229,13 @@ KG_FN float kg_parallelogram_separation(const kg_shape* poly1, const kg_shape* p
         separation[i + 2] = kg_dot(n, poly1->vertices[i + 2]) - (mid + spread);
     }
     float best = separation[0];
-    int best_edge = 0;
-    for (int i = 1; i < 4; ++i) { /* selects, not branches: which face wins is a coin toss */
-        int better = separation[i] > best;
-        best = better ? separation[i] : best;
-        best_edge = better ? i : best_edge;
+    *edge = 0;
+    for (int i = 1; i < 4; ++i) {
+        if (separation[i] > best) {
+            best = separation[i];
+            *edge = i;
+        }
     }
-    *edge = best_edge;
     return best;
 }
 
@@ -269,13 +269,14 @@ KG_FN void kg_set_incident_edge(kg_face_contact* fc, const kg_shape* inc)
         /* an edge turned against the normal runs against the tangent: upper end first */
         float upper = kg_along_face(fc, inc->vertices[i]);
         float lower = kg_along_face(fc, inc->vertices[kg_next_vertex(i, inc->count)]);
-        /* selects, not branches (joined bitwise): which edge wins is a coin toss */
-        int better = d < min_dot;
-        min_dot = better ? d : min_dot;
-        best = better ? i : best;
-        int reaching = (d < 0.0f) & (upper >= 0.0f) & (lower <= fc->face_length) & (d < min_dot_reaching);
-        min_dot_reaching = reaching ? d : min_dot_reaching;
-        best_reaching = reaching ? i : best_reaching;
+        if (d < min_dot) {
+            min_dot = d;
+            best = i;
+        }
+        if (d < 0.0f && upper >= 0.0f && lower <= fc->face_length && d < min_dot_reaching) {
+            min_dot_reaching = d;
+            best_reaching = i;
+        }
     }
     fc->i21 = best_reaching >= 0 ? best_reaching : best;
     fc->i22 = kg_next_vertex(fc->i21, inc->count);

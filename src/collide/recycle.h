@@ -90,9 +90,8 @@ KG_FN int kg_pose_kept(const kg_contact_base* base, kg_xf xfa, kg_xf xfb)
     kg_vec2 moved = kg_sub(now.p, base->pose.p);
     float sine = base->pose.q.c * now.q.s - base->pose.q.s * now.q.c;
     float cosine = base->pose.q.c * now.q.c + base->pose.q.s * now.q.s;
-    /* joined bitwise, not by &&: in a tumbling crowd each test is a coin toss */
-    return (kg_dot(moved, moved) <= KG_RECYCLE_DISTANCE * KG_RECYCLE_DISTANCE) & (fabsf(sine) <= KG_RECYCLE_SINE) &
-           (cosine > 0.0f);
+    return kg_dot(moved, moved) <= KG_RECYCLE_DISTANCE * KG_RECYCLE_DISTANCE && fabsf(sine) <= KG_RECYCLE_SINE &&
+           cosine > 0.0f;
 }
 
 /* kg_contact_carry_impulses for a manifold m kept from old: m is a copy of old, so each
