@@ -360,7 +360,8 @@ static int kg_runs_by_search(kg_broadphase* bp, kg_pair* out, int capacity, int 
 /* A long run (a large box's: a ground's, a wall's) in order of the upper slot, through
  * bits, a bitmap of the slots (zeros, left so): the slots of a run are distinct, so a bit
  * is set for each and they are read off in order. The tumbler's four walls pair with most
- * of its boxes, found in grid order: a heap sort of their runs cost 2% of its step. */
+ * of its boxes, found in grid order: a heap sort of their runs cost its search 0.08 M
+ * instructions a step more (callgrind). */
 static void kg_sort_long_run(kg_pair* run, int count, kg_u32* bits)
 {
     kg_u32 a = run[0].a, low = run[0].b, high = run[0].b;
@@ -471,7 +472,8 @@ int kg_broadphase_covers_range(kg_broadphase* bp, const kg_body_pool* bodies, fl
 
 int kg_broadphase_covers(kg_broadphase* bp, const kg_body_pool* bodies, float margin)
 {
-    return kg_broadphase_same_slots(bp, bodies) && kg_broadphase_covers_range(bp, bodies, margin, 0, bodies->high_water);
+    return kg_broadphase_same_slots(bp, bodies) &&
+           kg_broadphase_covers_range(bp, bodies, margin, 0, bodies->high_water);
 }
 
 static int kg_pair_kept(const kg_broadphase* bp, kg_pair pair)

@@ -35,18 +35,17 @@ KG_FN kg_shape_pair kg_contact_key(KG_GLOBAL const kg_contact* c)
     return kg_shape_pair_make(c->a, c->b, c->shape_a, c->shape_b);
 }
 
-/* (a0, b0) before (a1, b1): one comparison of 64-bit keys, where || and && branched
- * (the smash's narrowphase: 0.5 M instructions a step fewer, callgrind). */
-KG_FN int kg_pair_less(kg_u32 a0, kg_u32 b0, kg_u32 a1, kg_u32 b1)
-{
-    return (((kg_u64)a0 << 32) | b0) < (((kg_u64)a1 << 32) | b1);
-}
+/* (a, b) as one 64-bit key, ordered as the pair is: pairs compare in one comparison,
+ * where || and && branched (the smash's narrowphase: 0.5 M instructions a step fewer,
+ * callgrind). */
+KG_FN kg_u64 kg_pair_key(kg_u32 a, kg_u32 b) { return ((kg_u64)a << 32) | b; }
+
+KG_FN int kg_pair_less(kg_u32 a0, kg_u32 b0, kg_u32 a1, kg_u32 b1) { return kg_pair_key(a0, b0) < kg_pair_key(a1, b1); }
 
 KG_FN int kg_shape_pair_less(kg_shape_pair p, kg_shape_pair q)
 {
-    kg_u64 bodies_p = ((kg_u64)p.a << 32) | p.b, bodies_q = ((kg_u64)q.a << 32) | q.b;
-    kg_u64 shapes_p = ((kg_u64)p.shape_a << 32) | p.shape_b, shapes_q = ((kg_u64)q.shape_a << 32) | q.shape_b;
-    return (bodies_p < bodies_q) | ((bodies_p == bodies_q) & (shapes_p < shapes_q));
+    kg_u64 bodies_p = kg_pair_key(p.a, p.b), bodies_q = kg_pair_key(q.a, q.b);
+    return (bodies_p < bodies_q) | ((bodies_p == bodies_q) & kg_pair_less(p.shape_a, p.shape_b, q.shape_a, q.shape_b));
 }
 
 /* The first of last step's body contacts [0, count) not before key. */
