@@ -575,17 +575,13 @@ static void bench_finish_stages(bench_result* out, int runs, int steps)
 void bench_run(const bench_engine* const* engines, int count, kg_scene* scene, const bench_scene_info* info,
                const bench_config* config, bench_result* out)
 {
-    size_t per_run = (size_t)info->steps;
-    double** all_ms = calloc((size_t)count + 1, sizeof *all_ms);
-    int* runs = calloc((size_t)count + 1, sizeof *runs);
+    size_t per_run = (size_t)info->steps, per_engine = (size_t)config->runs * per_run + 1;
+    double* all_ms = malloc(((size_t)count * per_engine + 1) * sizeof *all_ms);
+    int* runs = calloc((size_t)count + 1, sizeof *runs); /* each engine's runs made */
     for (int e = 0; e < count; ++e) {
         memset(&out[e], 0, sizeof out[e]);
         out[e].check = BENCH_NO_CHECK;
-        double* times = all_ms && runs ? malloc(((size_t)config->runs * per_run + 1) * sizeof *times) : NULL;
-        if (all_ms) {
-            all_ms[e] = times;
-        }
-        if (!times) {
+        if (!all_ms || !runs) {
             out[e].status = BENCH_FAILED;
             snprintf(out[e].message, sizeof out[e].message, "out of memory");
         }
@@ -596,7 +592,7 @@ void bench_run(const bench_engine* const* engines, int count, kg_scene* scene, c
             if (out[e].status != BENCH_OK) {
                 continue;
             }
-            double* step_ms = all_ms[e] + (size_t)run * per_run;
+            double* step_ms = all_ms + (size_t)e * per_engine + (size_t)run * per_run;
             bench_run_once(engines[e], scene, info, config, &report, step_ms);
             bench_add_run(&report, step_ms, run, &out[e]);
             runs[e] = run + 1;
@@ -608,10 +604,9 @@ void bench_run(const bench_engine* const* engines, int count, kg_scene* scene, c
     }
     for (int e = 0; e < count; ++e) {
         if (out[e].status == BENCH_OK) {
-            bench_summarize_times(all_ms[e], (size_t)runs[e] * per_run, &out[e]);
+            bench_summarize_times(all_ms + (size_t)e * per_engine, (size_t)runs[e] * per_run, &out[e]);
             bench_finish_stages(&out[e], runs[e], info->steps);
         }
-        free(all_ms ? all_ms[e] : NULL);
     }
     free(all_ms);
     free(runs);
