@@ -1,6 +1,6 @@
-/* The broadphase's kernels: collide/broadphase.c's algorithm, one work-item per element
- * of each of its steps (collide/broadphase_grid.h), every pair in the order the CPU
- * backend lists them. Host side: cl_collide.c; the sorts are cl_sort.c's. */
+/* The broadphase's kernels: one work-item per element of each step of the search, each
+ * calling that step's function (collide/broadphase_grid.h), every pair in the order the
+ * CPU backend lists them. Host side: cl_collide.c; the sorts are cl_sort.c's. */
 #include "core/kg_layout.h"
 #include "collide/broadphase_grid.h"
 #include "kg_collide_shared.h"

@@ -1,8 +1,7 @@
 /* The joints' kernels: each maps its work-item to a joint, a pair or a link and calls the
- * function the CPU's loops call (solve/joint_row.h, solve/island.h; core/joint.c and
- * solve/sleep.c on the CPU), so both backends compute the same bits
- * (test_joints compares them on PoCL). Launched by cl_step.c, cl_collide.c and cl_sleep.c
- * while the world has joints. */
+ * function the CPU's loops call (solve/joint_row.h, solve/island.h), so both backends
+ * compute the same bits (test_joints compares them on PoCL). Launched by cl_step.c,
+ * cl_collide.c and cl_sleep.c while the world has joints. */
 #include "collide/pair_contact.h"
 #include "solve/island.h"
 #include "solve/joint_row.h"
