@@ -8,6 +8,7 @@ set(kg_solver_slow_tests
   "test_stacking_pyramid_20_for_60_s|test_stacking|test_pyramid_20_stands_60_s"
   "test_stacking_pyramid_100_from_2_5_to_8_3_s|test_stacking|test_pyramid_100_holds_from_2_5_to_8_3_s"
   "test_stacking_pile_of_1000_comes_to_rest|test_stacking|test_pile_of_1000_comes_to_rest"
+  "test_stacking_rain_of_100000_stays_bounded|test_stacking|test_rain_of_100000_stays_bounded"
   "test_determinism_pyramid_40|test_determinism|test_pyramid_40_hit_by_ball_same_bits_with_1_to_4_threads"
   "test_determinism_pile_of_1000|test_determinism|test_pile_of_1000_same_bits_with_1_to_4_threads")
 foreach(kg_entry ${kg_solver_slow_tests})
