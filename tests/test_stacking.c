@@ -372,24 +372,27 @@ static void test_pile_of_1000_comes_to_rest(void)
  * at the step's start allowed for, so every pass overshot the last. A step later bodies
  * turned at 1e36 rad/s, some went non-finite and were frozen, and the contact pool grew to
  * 4.6 GB. Over 400 steps no body may turn faster than 2,000 rad/s or move faster than
- * 150 m/s (the fastest drop falls at 70), and none may be frozen. About 30 s. */
+ * 150 m/s (the fastest drop falls at 67), and none may be frozen. About 15 s in a release
+ * build on two cores. */
 static void test_rain_of_100000_stays_bounded(void)
 {
     enum { STEPS = 400 };
     kg_scene* scene = NULL;
     KG_CHECK_OK(kg_scene_generate("rain_100000", 2u, &scene));
+    if (!scene) {
+        return;
+    }
     kg_world_def def = *kg_scene_world_def(scene);
     def.backend = KG_BACKEND_CPU;
     def.threads = 2;
     int n = kg_scene_body_count(scene);
     kg_body* bodies = malloc((size_t)n * sizeof *bodies);
     kg_body_state* states = malloc((size_t)n * sizeof *states);
-    KG_CHECK(bodies && states);
     kg_world* w = NULL;
-    KG_CHECK_OK(kg_scene_instantiate(scene, &def, &w, bodies));
+    KG_CHECK_OK(bodies && states ? kg_scene_instantiate(scene, &def, &w, bodies) : KG_ERROR_OUT_OF_MEMORY);
     double spin = 0.0, speed = 0.0;
     int spin_step = 0, speed_step = 0;
-    for (int step = 1; step <= STEPS; ++step) {
+    for (int step = 1; w && step <= STEPS; ++step) {
         KG_CHECK_OK(kg_scene_step(scene, w, bodies, DT));
         KG_CHECK_OK(kg_world_get_body_states(w, bodies, n, states));
         for (int i = 0; i < n; ++i) {
@@ -401,7 +404,7 @@ static void test_rain_of_100000_stays_bounded(void)
         }
     }
     int frozen = 0;
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; w && i < n; ++i) {
         frozen += kg_body_is_frozen(w, bodies[i]);
     }
     measured("measured: rain_100000 (seed 2), %d steps: fastest turn %.1f rad/s (step %d), fastest body %.1f m/s "
