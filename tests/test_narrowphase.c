@@ -484,7 +484,6 @@ static void report_overlaps(const char* name, const overlap_stats* st, int cases
     KG_CHECK(st->skipped <= cases / 1000);
 }
 
-
 /* Resting contact, where a solver spends its time: a face of b laid on a random face of a,
  * turned by up to 0.01 rad, slid along it, and sunk into it or lifted off by up to 0.02 m. */
 static void test_resting_polygons_overlap_depth_points(void)

@@ -399,9 +399,12 @@ static void kg_write_output(kg_broadphase* bp, kg_pair* out, int total, int capa
     memset(bp->run_next, 0, ((size_t)slot_count + 31u) / 32u * sizeof *bp->run_next);
     for (int a = 0; a < slot_count; ++a) {
         int count = (int)bp->run_count[a], start = bp->run_start[a];
-        if (count > KG_BP_SHORT_RUN && a != split && start < capacity) {
+        if (count < 2 || a == split || start >= capacity) {
+            continue; /* in order already, or not (wholly) written */
+        }
+        if (count > KG_BP_SHORT_RUN) {
             kg_sort_long_run(out + start, count, bp->run_next);
-        } else if (count >= 2 && a != split && start < capacity) {
+        } else {
             kg_bp_sort_run(out + start, count);
         }
     }
